@@ -1,0 +1,19 @@
+//! quatrot: rotational dynamics of rigid rotors in quaternion form.
+//!
+//! Source: M. P. Allen, "Quaternion parameter algorithms" (equation numbers
+//! in the doc comments refer to that note; corrections are in ERRATA.md).
+//!
+//! * [`quaternion`]: the conventions (stated once) and the quaternion algebra.
+//! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
+//! * [`potential`]: the potential-energy trait and its terms.
+//! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
+
+pub mod integrators;
+pub mod potential;
+pub mod quaternion;
+pub mod rotor;
+
+#[cfg(feature = "python")]
+mod python;
+
+pub use quaternion::Quat;

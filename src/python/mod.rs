@@ -1,0 +1,12 @@
+//! The Python extension module `quatrot` (cargo feature `python`). Each
+//! submodule converts numpy arrays at the boundary and delegates to the
+//! library; one place maps errors to Python exceptions.
+
+use pyo3::prelude::*;
+
+/// The `quatrot` Python module.
+#[pymodule]
+fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,380 @@
+//! Quaternions and the orientation conventions of the whole crate.
+//!
+//! # Conventions (stated once; every statement is tested in `tests/conventions.rs`)
+//!
+//! * **Component order.** `Quat([q0, q1, q2, q3])`, scalar first, as in eq 1 of
+//!   Allen's note: `Q = (q0, q)` with `q = (q1, q2, q3)`.
+//! * **Product.** The Hamilton product
+//!   `P*Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`.
+//!   The note's eq 2 prints `- p x q`; with that sign eqs 7, 9 and 10 contradict
+//!   each other (ERRATA.md, E-2).
+//! * **Orientation.** A unit quaternion `Q` is the orientation of a rotor. Its
+//!   matrix `A(Q)` of eq 7 maps **space-fixed to body-fixed** components,
+//!   `r_b = A r_s` (eq 6). Its transpose `R(Q) = A(Q)^T`
+//!   ([`Quat::body_to_space_matrix`]) maps body to space, `r_s = R r_b`, and is
+//!   the active rotation of the Hamilton quaternion: `R(Q) v = vec(Q*(0,v)*Q~)`.
+//!   `Q` and `-Q` give the same `A` (the double cover).
+//! * **Sandwich (eq 9).** `R_b = Q~ * R_s * Q` and `R_s = Q * R_b * Q~` for
+//!   pure quaternions `R = (0, r)`; `Q~` is the conjugate of eq 3.
+//! * **Angular velocity (eq 10).** `Q' = 1/2 Q*(0, w_b) = 1/2 (0, w_s)*Q`, so
+//!   `w_b = 2 vec(Q~*Q')` and `w_s = 2 vec(Q'*Q~)`.
+//! * **Euler angles (eq 8).** Goldstein's y-convention `(phi, theta, psi)`:
+//!   `A = Z(psi) Y(theta) Z(phi)` with passive axis rotations, i.e.
+//!   `R = Rz(phi) Ry(theta) Rz(psi)` (intrinsic z-y'-z'' active). Ranges
+//!   returned: `theta` in `[0, pi]`, `phi`, `psi` in `(-pi, pi]`; at the
+//!   singularities only `phi + psi` (theta = 0) or `psi - phi` (theta = pi) is
+//!   defined, and the inverse splits it evenly (`phi = psi` or `phi = -psi`).
+//! * **Rotation vectors.** `exp(v)` is the rotation by `|v|` about `v / |v|`
+//!   (right-handed, active), `Quat::exp(v) = (cos |v|/2, sin(|v|/2) v/|v|)`.
+//! * **nalgebra.** `nalgebra::Quaternion::new(w, i, j, k)` takes the scalar
+//!   first but stores `[i, j, k, w]`; its `UnitQuaternion` and `Rotation3` are
+//!   active rotations, so they equal `R(Q)`, body to space.
+
+use nalgebra::{Matrix3, Quaternion, Rotation3, Unit, UnitQuaternion, Vector3};
+use std::ops::{Add, AddAssign, Index, Mul, Neg, Sub};
+
+/// A quaternion `(q0, q1, q2, q3)`, scalar first (eq 1). Not necessarily unit.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Quat(pub [f64; 4]);
+
+impl Quat {
+    /// The identity `(1, 0, 0, 0)` (the element `Q~*Q` of eq 4 for unit `Q`).
+    pub const IDENTITY: Quat = Quat([1.0, 0.0, 0.0, 0.0]);
+    /// The zero quaternion.
+    pub const ZERO: Quat = Quat([0.0; 4]);
+
+    /// Builds `(q0, q1, q2, q3)`.
+    pub const fn new(q0: f64, q1: f64, q2: f64, q3: f64) -> Self {
+        Quat([q0, q1, q2, q3])
+    }
+
+    /// The pure quaternion `(0, v)`, as `Omega = (0, w)` and `R = (0, r)` of the note.
+    pub fn pure(v: &Vector3<f64>) -> Self {
+        Quat([0.0, v.x, v.y, v.z])
+    }
+
+    /// The scalar part `q0`.
+    pub fn scalar(&self) -> f64 {
+        self.0[0]
+    }
+
+    /// The vector part `(q1, q2, q3)`.
+    pub fn vector(&self) -> Vector3<f64> {
+        Vector3::new(self.0[1], self.0[2], self.0[3])
+    }
+
+    /// The conjugate `(q0, -q)` (eq 3).
+    pub fn conjugate(&self) -> Self {
+        let [a, b, c, d] = self.0;
+        Quat([a, -b, -c, -d])
+    }
+
+    /// The four-dimensional dot product `p0 q0 + p.q`.
+    pub fn dot(&self, other: &Quat) -> f64 {
+        self.0.iter().zip(other.0.iter()).map(|(a, b)| a * b).sum()
+    }
+
+    /// `|Q|^2 = q0^2 + q1^2 + q2^2 + q3^2` (eq 5).
+    pub fn norm_squared(&self) -> f64 {
+        self.dot(self)
+    }
+
+    /// `|Q|`.
+    pub fn norm(&self) -> f64 {
+        self.norm_squared().sqrt()
+    }
+
+    /// `Q / |Q|`, or `None` when the norm is zero or not finite.
+    pub fn try_normalize(&self) -> Option<Self> {
+        let n = self.norm();
+        (n > 0.0 && n.is_finite()).then(|| *self * (1.0 / n))
+    }
+
+    /// True when all four components are finite.
+    pub fn is_finite(&self) -> bool {
+        self.0.iter().all(|x| x.is_finite())
+    }
+
+    /// The matrix `A(Q)` of eq 7: space-fixed to body-fixed, `r_b = A r_s`.
+    /// For a non-unit `Q` it is `|Q|^2` times a rotation.
+    pub fn space_to_body_matrix(&self) -> Matrix3<f64> {
+        let [q0, q1, q2, q3] = self.0;
+        Matrix3::new(
+            q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3,
+            2.0 * (q1 * q2 + q0 * q3),
+            2.0 * (q1 * q3 - q0 * q2),
+            2.0 * (q1 * q2 - q0 * q3),
+            q0 * q0 - q1 * q1 + q2 * q2 - q3 * q3,
+            2.0 * (q2 * q3 + q0 * q1),
+            2.0 * (q1 * q3 + q0 * q2),
+            2.0 * (q2 * q3 - q0 * q1),
+            q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3,
+        )
+    }
+
+    /// `R(Q) = A(Q)^T`: body-fixed to space-fixed, `r_s = R r_b`.
+    pub fn body_to_space_matrix(&self) -> Matrix3<f64> {
+        self.space_to_body_matrix().transpose()
+    }
+
+    /// The partial derivatives `dA/dq_k`, k = 0..3, of the matrix of eq 7 (each
+    /// entry of `A` is a quadratic form in `Q`, so each derivative is linear).
+    /// Used for the quaternion gradient of eq 14.
+    pub fn space_to_body_matrix_derivatives(&self) -> [Matrix3<f64>; 4] {
+        let [q0, q1, q2, q3] = self.0;
+        let d = |a: f64, b: f64, c: f64, e: f64, f: f64, g: f64, h: f64, i: f64, j: f64| {
+            Matrix3::new(a, b, c, e, f, g, h, i, j) * 2.0
+        };
+        [
+            d(q0, q3, -q2, -q3, q0, q1, q2, -q1, q0),
+            d(q1, q2, q3, q2, -q1, q0, q3, -q0, -q1),
+            d(-q2, q1, -q0, q1, q2, q3, q0, q3, -q2),
+            d(-q3, q0, q1, -q0, -q3, q2, q1, q2, q3),
+        ]
+    }
+
+    /// Space-fixed components of a body-fixed vector, `R(Q) v` (inverse of eq 6).
+    pub fn body_to_space(&self, v_body: &Vector3<f64>) -> Vector3<f64> {
+        self.body_to_space_matrix() * v_body
+    }
+
+    /// Body-fixed components of a space-fixed vector, `A(Q) v` (eq 6).
+    pub fn space_to_body(&self, v_space: &Vector3<f64>) -> Vector3<f64> {
+        self.space_to_body_matrix() * v_space
+    }
+
+    /// `Q' = 1/2 Q*(0, w_b)` (eq 10, body form).
+    pub fn q_dot_from_omega_body(&self, omega_body: &Vector3<f64>) -> Quat {
+        (*self * Quat::pure(omega_body)) * 0.5
+    }
+
+    /// `Q' = 1/2 (0, w_s)*Q` (eq 10, space form).
+    pub fn q_dot_from_omega_space(&self, omega_space: &Vector3<f64>) -> Quat {
+        (Quat::pure(omega_space) * *self) * 0.5
+    }
+
+    /// `w_b = 2 vec(Q~*Q')`, the inverse of eq 10 (body form) for unit `Q`.
+    pub fn omega_body_from_q_dot(&self, q_dot: &Quat) -> Vector3<f64> {
+        (self.conjugate() * *q_dot).vector() * 2.0
+    }
+
+    /// `w_s = 2 vec(Q'*Q~)`, the inverse of eq 10 (space form) for unit `Q`.
+    pub fn omega_space_from_q_dot(&self, q_dot: &Quat) -> Vector3<f64> {
+        (*q_dot * self.conjugate()).vector() * 2.0
+    }
+
+    /// The unit quaternion of Euler angles `(phi, theta, psi)` in the y-convention (eq 8).
+    pub fn from_euler_y(phi: f64, theta: f64, psi: f64) -> Quat {
+        let (s_t, c_t) = (0.5 * theta).sin_cos();
+        let (s_sum, c_sum) = (0.5 * (psi + phi)).sin_cos();
+        let (s_dif, c_dif) = (0.5 * (psi - phi)).sin_cos();
+        Quat([c_sum * c_t, s_dif * s_t, c_dif * s_t, s_sum * c_t])
+    }
+
+    /// Euler angles `(phi, theta, psi)` of a unit quaternion in the y-convention,
+    /// inverting eq 8; accurate at and near `theta = 0` and `theta = pi` (see the
+    /// module conventions for the split of the undefined angle there).
+    pub fn to_euler_y(&self) -> (f64, f64, f64) {
+        let [q0, q1, q2, q3] = self.0;
+        let theta = 2.0 * (q1.hypot(q2)).atan2(q0.hypot(q3));
+        let sum = 2.0 * q3.atan2(q0); // psi + phi
+        let dif = 2.0 * q1.atan2(q2); // psi - phi
+        (
+            wrap_angle(0.5 * (sum - dif)),
+            theta,
+            wrap_angle(0.5 * (sum + dif)),
+        )
+    }
+
+    /// The rotation by `angle` (radians) about the unit vector `axis` (active,
+    /// right-handed): `(cos angle/2, sin(angle/2) axis)`.
+    pub fn from_axis_angle(axis: &Unit<Vector3<f64>>, angle: f64) -> Quat {
+        let (s, c) = (0.5 * angle).sin_cos();
+        Quat([c, s * axis.x, s * axis.y, s * axis.z])
+    }
+
+    /// Axis and angle of a unit quaternion, with the angle in `[0, pi]`; the axis
+    /// is `None` for the identity rotation (angle 0).
+    pub fn to_axis_angle(&self) -> (Option<Unit<Vector3<f64>>>, f64) {
+        let q = if self.0[0] < 0.0 { -*self } else { *self };
+        let v = q.vector();
+        let s = v.norm();
+        let angle = 2.0 * s.atan2(q.0[0]);
+        (Unit::try_new(v, 0.0), angle)
+    }
+
+    /// The exponential map: the unit quaternion of the rotation vector `v`
+    /// (rotation by `|v|` about `v`), accurate for small `|v|`.
+    pub fn exp(v: &Vector3<f64>) -> Quat {
+        let angle = v.norm();
+        let half = 0.5 * angle;
+        // sin(half)/angle, with its Taylor series where the quotient loses accuracy.
+        let sinc = if angle < 1e-4 {
+            0.5 - angle * angle / 48.0
+        } else {
+            half.sin() / angle
+        };
+        Quat([half.cos(), sinc * v.x, sinc * v.y, sinc * v.z])
+    }
+
+    /// The logarithm: the rotation vector of a unit quaternion, with `|v|` in `[0, pi]`.
+    pub fn ln(&self) -> Vector3<f64> {
+        match self.to_axis_angle() {
+            (Some(axis), angle) => axis.into_inner() * angle,
+            (None, _) => Vector3::zeros(),
+        }
+    }
+
+    /// The rotation angle between two unit orientations, in `[0, pi]`,
+    /// insensitive to the double cover: `2 acos |P.Q|`, computed stably as
+    /// `4 atan2(min(|P-Q|, |P+Q|), max(|P-Q|, |P+Q|))`.
+    pub fn angle_to(&self, other: &Quat) -> f64 {
+        let d = (*self - *other).norm();
+        let s = (*self + *other).norm();
+        4.0 * d.min(s).atan2(d.max(s))
+    }
+}
+
+/// Wraps an angle into `(-pi, pi]`.
+fn wrap_angle(a: f64) -> f64 {
+    let pi = std::f64::consts::PI;
+    let w = (a + pi).rem_euclid(2.0 * pi) - pi;
+    if w <= -pi {
+        w + 2.0 * pi
+    } else {
+        w
+    }
+}
+
+/// The Hamilton product (corrected eq 2).
+impl Mul for Quat {
+    type Output = Quat;
+    fn mul(self, q: Quat) -> Quat {
+        let [p0, p1, p2, p3] = self.0;
+        let [q0, q1, q2, q3] = q.0;
+        Quat([
+            p0 * q0 - p1 * q1 - p2 * q2 - p3 * q3,
+            p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2,
+            p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3,
+            p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1,
+        ])
+    }
+}
+
+impl Mul<f64> for Quat {
+    type Output = Quat;
+    fn mul(self, s: f64) -> Quat {
+        Quat(self.0.map(|x| x * s))
+    }
+}
+
+impl Add for Quat {
+    type Output = Quat;
+    fn add(self, o: Quat) -> Quat {
+        Quat(std::array::from_fn(|i| self.0[i] + o.0[i]))
+    }
+}
+
+impl AddAssign for Quat {
+    fn add_assign(&mut self, o: Quat) {
+        for (a, b) in self.0.iter_mut().zip(o.0) {
+            *a += b;
+        }
+    }
+}
+
+impl Sub for Quat {
+    type Output = Quat;
+    fn sub(self, o: Quat) -> Quat {
+        Quat(std::array::from_fn(|i| self.0[i] - o.0[i]))
+    }
+}
+
+impl Neg for Quat {
+    type Output = Quat;
+    fn neg(self) -> Quat {
+        Quat(self.0.map(|x| -x))
+    }
+}
+
+impl Index<usize> for Quat {
+    type Output = f64;
+    fn index(&self, i: usize) -> &f64 {
+        &self.0[i]
+    }
+}
+
+/// To nalgebra: the constructor takes `(w, i, j, k)`; storage is `[i, j, k, w]`.
+impl From<Quat> for Quaternion<f64> {
+    fn from(q: Quat) -> Self {
+        Quaternion::new(q.0[0], q.0[1], q.0[2], q.0[3])
+    }
+}
+
+impl From<Quaternion<f64>> for Quat {
+    fn from(q: Quaternion<f64>) -> Self {
+        Quat([q.w, q.i, q.j, q.k])
+    }
+}
+
+/// To nalgebra's unit quaternion (normalised): the body-to-space rotation `R(Q)`.
+impl From<Quat> for UnitQuaternion<f64> {
+    fn from(q: Quat) -> Self {
+        UnitQuaternion::from_quaternion(q.into())
+    }
+}
+
+impl From<UnitQuaternion<f64>> for Quat {
+    fn from(q: UnitQuaternion<f64>) -> Self {
+        q.into_inner().into()
+    }
+}
+
+/// To nalgebra's rotation matrix: `R(Q) = A(Q)^T`, body to space.
+impl From<Quat> for Rotation3<f64> {
+    fn from(q: Quat) -> Self {
+        UnitQuaternion::from(q).to_rotation_matrix()
+    }
+}
+
+/// From a rotation matrix (body to space) to the unit quaternion with `q0 >= 0`.
+impl From<Rotation3<f64>> for Quat {
+    fn from(r: Rotation3<f64>) -> Self {
+        let q = Quat::from(UnitQuaternion::from_rotation_matrix(&r));
+        if q.0[0] < 0.0 {
+            -q
+        } else {
+            q
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Doc-level sanity: the double cover gives one matrix, and the identity is neutral.
+    #[test]
+    fn double_cover_and_identity() {
+        let q = Quat::new(0.5, -0.5, 0.5, 0.5);
+        assert_eq!(q.space_to_body_matrix(), (-q).space_to_body_matrix());
+        assert_eq!(Quat::IDENTITY * q, q);
+        assert_eq!(q * Quat::IDENTITY, q);
+    }
+
+    /// The derivative matrices agree with central differences of eq 7.
+    #[test]
+    fn matrix_derivatives_match_central_differences() {
+        let q = Quat::new(0.3, -0.7, 0.2, 0.6);
+        let d = q.space_to_body_matrix_derivatives();
+        for (k, dk) in d.iter().enumerate() {
+            let h = 1e-6;
+            let mut qp = q;
+            let mut qm = q;
+            qp.0[k] += h;
+            qm.0[k] -= h;
+            let fd = (qp.space_to_body_matrix() - qm.space_to_body_matrix()) / (2.0 * h);
+            assert!((fd - dk).norm() < 1e-9, "k = {k}");
+        }
+    }
+}

@@ -1,0 +1,1 @@
+"""quatrot's validation harness: cross-code checks, fixture generators, report."""
