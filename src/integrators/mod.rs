@@ -55,4 +55,22 @@ pub trait Integrator {
     /// Writes the current body-fixed angular velocities (eq 10 for schemes
     /// that store `Q'` instead).
     fn omega_body(&self, out: &mut [Vector3<f64>]);
+
+    /// Writes `Q'` for each rotor. The default uses eq 10 with the body
+    /// angular velocity; schemes that store `Q'` override it.
+    fn q_dot(&self, out: &mut [Quat]) {
+        let mut omega = vec![Vector3::zeros(); out.len()];
+        self.omega_body(&mut omega);
+        for ((q_dot, q), w) in out.iter_mut().zip(self.orientations()).zip(&omega) {
+            *q_dot = q.q_dot_from_omega_body(w);
+        }
+    }
+
+    /// Writes `Q.N` per rotor (the zeroth component of eq 15b, up to a factor
+    /// 1/2) for schemes that store the quaternion force `N`, and returns true;
+    /// schemes working with body torques satisfy it by construction and
+    /// return false.
+    fn q_dot_n(&self, _out: &mut [f64]) -> bool {
+        false
+    }
 }
