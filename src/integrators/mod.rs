@@ -25,6 +25,9 @@ pub enum IntegratorError {
     /// The integrator cannot handle this rotor (for example a zero moment).
     #[error("rotor {rotor}: {reason}")]
     Unsupported { rotor: usize, reason: String },
+    /// A checkpoint does not match this integrator and system.
+    #[error("checkpoint: {0}")]
+    BadCheckpoint(String),
     /// The time step is not finite and positive.
     #[error("dt: must be finite and > 0, got {0}")]
     BadTimeStep(f64),
@@ -55,6 +58,14 @@ pub trait Integrator {
     /// Writes the current body-fixed angular velocities (eq 10 for schemes
     /// that store `Q'` instead).
     fn omega_body(&self, out: &mut [Vector3<f64>]);
+
+    /// The complete internal state (everything `step` reads), flattened, for
+    /// checkpoints: `restore` of it after `setup` with the same rotors and
+    /// `dt` must make the following steps bit-for-bit identical.
+    fn checkpoint(&self) -> Vec<f64>;
+
+    /// Restores a state written by [`Integrator::checkpoint`].
+    fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError>;
 
     /// Writes `Q'` for each rotor. The default uses eq 10 with the body
     /// angular velocity; schemes that store `Q'` override it.
