@@ -271,6 +271,17 @@ impl Quat {
         }
     }
 
+    /// The unit quaternion (`q0 >= 0`) of a body-to-space rotation matrix `R`,
+    /// or `None` unless `R` is a proper rotation to within `tolerance`
+    /// (largest entry of `|R^T R - I|` and `|det R - 1|`). For checked input,
+    /// e.g. from Python; trusted rotations convert with `From<Rotation3>`.
+    pub fn from_body_to_space_matrix(r: &Matrix3<f64>, tolerance: f64) -> Option<Quat> {
+        let orthogonality = (r.transpose() * r - Matrix3::identity()).amax();
+        let proper = (r.determinant() - 1.0).abs();
+        (r.iter().all(|x| x.is_finite()) && orthogonality <= tolerance && proper <= tolerance)
+            .then(|| Quat::from(Rotation3::from_matrix_unchecked(*r)))
+    }
+
     /// The rotation angle between two unit orientations, in `[0, pi]`,
     /// insensitive to the double cover: `2 acos |P.Q|`, computed stably as
     /// `4 atan2(min(|P-Q|, |P+Q|), max(|P-Q|, |P+Q|))`.

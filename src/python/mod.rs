@@ -4,9 +4,13 @@
 
 use pyo3::prelude::*;
 
+mod arrays;
+mod quaternion;
+
 /// The `quatrot` Python module.
 #[pymodule]
 fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    quaternion::register(m)?;
     Ok(())
 }
