@@ -5,10 +5,12 @@
 //!
 //! * [`quaternion`]: the conventions (stated once) and the quaternion algebra.
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
+//! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
 
 pub mod integrators;
+pub mod lattice;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;
