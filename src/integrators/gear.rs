@@ -157,11 +157,7 @@ impl<T: GearValue, const N: usize> Nordsieck<T, N> {
 
 /// Checks a checkpoint laid out as `[dt, data...]` against the scheme's `dt`
 /// and data length, and returns the data.
-pub fn checkpoint_data(
-    state: &[f64],
-    dt: f64,
-    data_len: usize,
-) -> Result<&[f64], IntegratorError> {
+pub fn checkpoint_data(state: &[f64], dt: f64, data_len: usize) -> Result<&[f64], IntegratorError> {
     match state.split_first() {
         Some((saved_dt, data)) if data.len() == data_len && saved_dt.to_bits() == dt.to_bits() => {
             Ok(data)

@@ -111,7 +111,10 @@ mod tests {
     /// Non-positive moments are rejected with the rotor index.
     #[test]
     fn rejects_non_positive_moments() {
-        let inertia = [Inertia::Spherical(1.0), Inertia::Principal(Vector3::new(1.0, 0.0, 1.0))];
+        let inertia = [
+            Inertia::Spherical(1.0),
+            Inertia::Principal(Vector3::new(1.0, 0.0, 1.0)),
+        ];
         assert_eq!(principal_moments(&inertia).unwrap_err(), 1);
     }
 }

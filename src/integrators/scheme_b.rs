@@ -27,7 +27,9 @@
 //! step; neither time reversible nor symplectic; global error of order 5 in
 //! `h` with the velocity-dependent `c0 = 3/16` and a consistent start-up.
 
-use super::gear::{checkpoint_data, second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
+use super::gear::{
+    checkpoint_data, second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT,
+};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
 use super::startup::{initial_derivatives, prepare, Startup};
 use super::{Integrator, IntegratorError, RotorState};
@@ -124,7 +126,12 @@ fn q_ddot<K: TopKind>(moments: &PrincipalMoments, q: &Quat, q_dot: &Quat, force:
     let force_body = q.conjugate() * *force * (0.5 * inv_norm2);
     let omega_body = (q.conjugate() * *q_dot).vector() * (2.0 * inv_norm2);
     let omega_dot = K::omega_dot_body(moments, &omega_body, &force_body.vector());
-    let accel_body = Quat::new(force_body.scalar() * moments.inverse_mean, omega_dot.x, omega_dot.y, omega_dot.z);
+    let accel_body = Quat::new(
+        force_body.scalar() * moments.inverse_mean,
+        omega_dot.x,
+        omega_dot.y,
+        omega_dot.z,
+    );
     kinetic + *q * accel_body * 0.5
 }
 

@@ -82,7 +82,12 @@ impl State {
     /// `self + s * rate`.
     fn advanced(&self, rate: &State, s: f64) -> State {
         State {
-            q: self.q.iter().zip(&rate.q).map(|(a, b)| *a + *b * s).collect(),
+            q: self
+                .q
+                .iter()
+                .zip(&rate.q)
+                .map(|(a, b)| *a + *b * s)
+                .collect(),
             omega_body: self
                 .omega_body
                 .iter()
@@ -195,7 +200,11 @@ pub fn initial_derivatives<K: TopKind, P: Potential>(
                 for _ in 0..RK4_SUBSTEPS {
                     y = rk.step(&y, substep);
                 }
-                let index = if direction > 0.0 { HALF_WIDTH + j } else { HALF_WIDTH - j };
+                let index = if direction > 0.0 {
+                    HALF_WIDTH + j
+                } else {
+                    HALF_WIDTH - j
+                };
                 samples[index] = y.clone();
             }
         }
