@@ -5,6 +5,16 @@
 //! scratch buffers then), and then advanced one step at a time. It is generic
 //! over the [`Potential`] so that the step is monomorphised.
 
+pub mod gear;
+pub mod rigid_body;
+pub mod scheme_a;
+pub mod scheme_b;
+pub mod startup;
+
+pub use scheme_a::{GearA, GearAOptions};
+pub use scheme_b::{FirstCorrector, GearB, GearBOptions};
+pub use startup::Startup;
+
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
