@@ -7,7 +7,7 @@
 //! * **Product.** The Hamilton product
 //!   `P*Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`.
 //!   The note's eq 2 prints `- p x q`; with that sign eqs 7, 9 and 10 contradict
-//!   each other (ERRATA.md, E-2).
+//!   each other (ERRATA.md, row eq 2).
 //! * **Orientation.** A unit quaternion `Q` is the orientation of a rotor. Its
 //!   matrix `A(Q)` of eq 7 maps **space-fixed to body-fixed** components,
 //!   `r_b = A r_s` (eq 6). Its transpose `R(Q) = A(Q)^T`
