@@ -169,6 +169,7 @@ def run(ctx: Context) -> list[Check]:
     checks += _free_sphere_checks(scenes["free rotor"], refs, have_quatrot)
     checks += _reversibility_checks(scenes, refs, have_quatrot, ctx.quick)
     checks += _minus_z_checks(refs, have_quatrot)
+    checks.append(_mapping_check(scenes["dipole lattice"], refs))
     return checks
 
 
@@ -419,6 +420,25 @@ def _reversibility_checks(scenes, refs, have_quatrot, quick) -> list[Check]:
             )
         )
     return out
+
+
+def _mapping_check(system, refs) -> Check:
+    """The quatrot orientation of a LAMMPS dipole is the frame LAMMPS's DLM
+    builds: A(Q) equals the restated space-to-body matrix, and R(Q) e_z is
+    the unit dipole."""
+    worst = 0.0
+    for mu in system.dipoles:
+        a = mu / np.linalg.norm(mu)
+        q, _ = quatrot_rotor(mu, np.zeros(3))
+        a_q = _body_to_space(q)
+        worst = max(worst, float(np.abs(a_q.T - _lammps_frame(a)).max()), float(np.abs(a_q[:, 2] - a).max()))
+    return Check(
+        name="lammps dipole to quatrot frame mapping",
+        proves="the mapped quatrot orientation is LAMMPS's DLM body frame (dipole along body z), so both codes start each comparison from the same rotor",
+        tolerance=ROUNDOFF,
+        measured=worst,
+        references=refs,
+    )
 
 
 def _minus_z_checks(refs, have_quatrot) -> list[Check]:
