@@ -165,7 +165,7 @@ def run(ctx: Context) -> list[Check]:
     for name, system in scenes.items():
         checks += _t0_checks(name, system, refs, have_quatrot)
         checks += _first_step_checks(name, system, refs, have_quatrot, ctx.quick)
-        checks += _run_checks(name, system, refs, have_quatrot, ctx.quick)
+        checks += _run_checks(name, system, refs, have_quatrot, ctx.quick, ctx.out_dir)
     checks += _free_sphere_checks(scenes["free rotor"], refs, have_quatrot)
     checks += _reversibility_checks(scenes, refs, have_quatrot, ctx.quick)
     checks += _minus_z_checks(refs, have_quatrot)
@@ -256,7 +256,30 @@ def _first_step_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
     return out
 
 
-def _run_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
+def _plot_errors(out_dir, name, dts, errors) -> list:
+    """Log-log global error against dt for each code (full mode only)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / f"lammps_dipoles_order_{name.replace(' ', '_')}.png"
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for label, e in errors.items():
+        ax.loglog(dts, np.maximum(e, 1e-16), "o-", label=label)
+    ax.loglog(dts, errors["LAMMPS dlm"][-1] * (np.array(dts) / dts[-1]) ** 2, "k:", label="dt^2")
+    ax.set_xlabel("dt (LJ time)")
+    ax.set_ylabel("max error at t_end vs DOP853")
+    ax.set_title(name)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
+def _run_checks(name, system, refs, have_quatrot, quick, out_dir) -> list[Check]:
     """Global error at t_end against DOP853: both codes second order."""
     t_end = 1.0 if quick else 4.0
     dts = [0.02, 0.01] if quick else [0.04, 0.02, 0.01, 0.005]
@@ -279,6 +302,7 @@ def _run_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
                 energy_rms[f"{label} dt={dt}"] = float(np.std(v + kinetic))
     summary = "; ".join(f"{k}: {[f'{e:.3e}' for e in v]} (order {_fitted_order(dts, v):.2f})" for k, v in errors.items())
     rms = "; ".join(f"{k} {v:.2e}" for k, v in energy_rms.items())
+    plots = [] if quick else _plot_errors(out_dir, name, dts, errors)
     out = []
     for label in [k for k in errors if k != "LAMMPS dipole"]:
         if name == "free rotor" and label == "quatrot dlm":
@@ -292,6 +316,7 @@ def _run_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
                 measured=abs(order - 2.0),
                 references=refs,
                 details=f"dt {dts}; errors {summary}; total-energy rms {rms}",
+                plots=plots,
             )
         )
     return out
