@@ -231,6 +231,7 @@ def _first_step_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
             mu_q, w_q, _, _, _ = run_quatrot(system, dt, 1, split=True)
             cross.append(np.abs(lmp.dipoles[1] - mu_q[1]).max() + np.abs(lmp.omega[1] - w_q[1]).max())
     order = _fitted_order(dts, lmp_err)
+    early = _first_steps_table(system, have_quatrot)
     out = [
         Check(
             name=f"lammps one-step error order, {name}",
@@ -250,7 +251,7 @@ def _first_step_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
                 tolerance=ORDER_TOL,
                 measured=abs(order - 3.0),
                 references=refs,
-                details=f"dt {dts}: LAMMPS - quatrot after one step {[f'{e:.3e}' for e in cross]}, fitted order {order:.3f}",
+                details=f"dt {dts}: LAMMPS - quatrot after one step {[f'{e:.3e}' for e in cross]}, fitted order {order:.3f}; {early}",
             )
         )
     return out
@@ -277,6 +278,27 @@ def _plot_errors(out_dir, name, dts, errors) -> list:
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return [path]
+
+
+def _first_steps_table(system, have_quatrot, dt=0.01, steps=10) -> str:
+    """Deviations over the first steps at one dt: LAMMPS and quatrot (split
+    sweep) from DOP853 and from each other, after steps 1, 2, 5, 10."""
+    lmp = run_lammps(system, dt, steps)
+    mu_ref, w_ref = ref.trajectory(system, lmp.time)
+
+    def dev(mu_a, w_a, mu_b, w_b, k):
+        return np.abs(mu_a[k] - mu_b[k]).max() + np.abs(w_a[k] - w_b[k]).max()
+
+    rows = []
+    mu_q = w_q = None
+    if have_quatrot:
+        mu_q, w_q, _, _, _ = run_quatrot(system, dt, steps, split=True)
+    for k in (1, 2, 5, 10):
+        row = f"step {k}: LAMMPS-ref {dev(lmp.dipoles, lmp.omega, mu_ref, w_ref, k):.2e}"
+        if mu_q is not None:
+            row += f", quatrot-ref {dev(mu_q, w_q, mu_ref, w_ref, k):.2e}, LAMMPS-quatrot {dev(lmp.dipoles, lmp.omega, mu_q, w_q, k):.2e}"
+        rows.append(row)
+    return f"first steps at dt {dt}: " + "; ".join(rows)
 
 
 def _run_checks(name, system, refs, have_quatrot, quick, out_dir) -> list[Check]:
