@@ -114,7 +114,8 @@ fn make(name: &str) -> AnyIntegrator {
             SphericalTops::Exact,
         )),
         "dlm" => AnyIntegrator::Dlm(Dlm::new(SphericalTops::Exact)),
-        _ => AnyIntegrator::Richardson(Richardson::new()),
+        "richardson" => AnyIntegrator::Richardson(Richardson::new()),
+        other => panic!("unknown test integrator {other}"),
     }
 }
 
