@@ -166,8 +166,8 @@ pub(crate) fn accumulate_pair_fields<K: MultipoleKind>(
             }
         }
         if K::DIPOLES {
-            for k in 0..4 {
-                out.field[i][k] += field_i[k];
+            for (total, part) in out.field[i].iter_mut().zip(field_i) {
+                *total += part;
             }
         }
         if K::QUADRUPOLES {
