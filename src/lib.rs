@@ -8,9 +8,11 @@
 //! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
+//! * [`observables`]: energies, norm errors and angular velocities of a state.
 
 pub mod integrators;
 pub mod lattice;
+pub mod observables;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;
