@@ -192,36 +192,43 @@ fn pair_fields<K: MultipoleKind, M: MulAdd>(
                 field,
             );
         }
-        for (&j, &g) in partners.iter().zip(geometry_index) {
-            let j = j as usize;
-            let geometry = &geometry[g as usize];
-            if K::DIPOLES && K::QUADRUPOLES {
-                let t = &geometry.dipole_tensor;
-                add_tensor_times::<M>(&mut field_i, t, &dipoles[j]);
-                add_tensor_times::<M>(&mut field[j], t, &dipoles[i]);
-            }
-            if K::DIPOLES && K::QUADRUPOLES {
-                let inv_r = geometry.inv_r;
-                let inv_r4 = (inv_r * inv_r) * (inv_r * inv_r);
-                let n = geometry.unit;
-                let (de_i, dw_j) =
-                    dipole_quadrupole(&vec3(&dipoles[i]), &quadrupoles[j], &-n, inv_r4);
-                let (de_j, dw_i) =
-                    dipole_quadrupole(&vec3(&dipoles[j]), &quadrupoles[i], &n, inv_r4);
-                for k in 0..3 {
-                    field_i[k] += de_i[k];
-                    field[j][k] += de_j[k];
+        // Rows with quadrupoles (the dipole-only row above never enters here).
+        if K::QUADRUPOLES {
+            for (&j, &g) in partners.iter().zip(geometry_index) {
+                let j = j as usize;
+                let geometry = &geometry[g as usize];
+                if K::DIPOLES && K::QUADRUPOLES {
+                    let t = &geometry.dipole_tensor;
+                    add_tensor_times::<M>(&mut field_i, t, &dipoles[j]);
+                    add_tensor_times::<M>(&mut field[j], t, &dipoles[i]);
                 }
-                conjugate_i += dw_i;
-                conjugate[j] += dw_j;
-            }
-            if K::QUADRUPOLES {
-                let inv_r = geometry.inv_r;
-                let inv_r5 = (inv_r * inv_r) * (inv_r * inv_r) * inv_r;
-                let (dw_i, dw_j) =
-                    quadrupole_quadrupole(&quadrupoles[i], &quadrupoles[j], &geometry.unit, inv_r5);
-                conjugate_i += dw_i;
-                conjugate[j] += dw_j;
+                if K::DIPOLES && K::QUADRUPOLES {
+                    let inv_r = geometry.inv_r;
+                    let inv_r4 = (inv_r * inv_r) * (inv_r * inv_r);
+                    let n = geometry.unit;
+                    let (de_i, dw_j) =
+                        dipole_quadrupole(&vec3(&dipoles[i]), &quadrupoles[j], &-n, inv_r4);
+                    let (de_j, dw_i) =
+                        dipole_quadrupole(&vec3(&dipoles[j]), &quadrupoles[i], &n, inv_r4);
+                    for k in 0..3 {
+                        field_i[k] += de_i[k];
+                        field[j][k] += de_j[k];
+                    }
+                    conjugate_i += dw_i;
+                    conjugate[j] += dw_j;
+                }
+                if K::QUADRUPOLES {
+                    let inv_r = geometry.inv_r;
+                    let inv_r5 = (inv_r * inv_r) * (inv_r * inv_r) * inv_r;
+                    let (dw_i, dw_j) = quadrupole_quadrupole(
+                        &quadrupoles[i],
+                        &quadrupoles[j],
+                        &geometry.unit,
+                        inv_r5,
+                    );
+                    conjugate_i += dw_i;
+                    conjugate[j] += dw_j;
+                }
             }
         }
         if K::DIPOLES {
