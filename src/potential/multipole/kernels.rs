@@ -192,17 +192,15 @@ fn pair_fields<K: MultipoleKind, M: MulAdd>(
                 field,
             );
         }
-        // Rows with quadrupoles (the dipole-only row above never enters here).
+        // Systems with quadrupoles (dipole-only systems never enter here).
         if K::QUADRUPOLES {
             for (&j, &g) in partners.iter().zip(geometry_index) {
                 let j = j as usize;
                 let geometry = &geometry[g as usize];
-                if K::DIPOLES && K::QUADRUPOLES {
+                if K::DIPOLES {
                     let t = &geometry.dipole_tensor;
                     add_tensor_times::<M>(&mut field_i, t, &dipoles[j]);
                     add_tensor_times::<M>(&mut field[j], t, &dipoles[i]);
-                }
-                if K::DIPOLES && K::QUADRUPOLES {
                     let inv_r = geometry.inv_r;
                     let inv_r4 = (inv_r * inv_r) * (inv_r * inv_r);
                     let n = geometry.unit;
@@ -217,18 +215,12 @@ fn pair_fields<K: MultipoleKind, M: MulAdd>(
                     conjugate_i += dw_i;
                     conjugate[j] += dw_j;
                 }
-                if K::QUADRUPOLES {
-                    let inv_r = geometry.inv_r;
-                    let inv_r5 = (inv_r * inv_r) * (inv_r * inv_r) * inv_r;
-                    let (dw_i, dw_j) = quadrupole_quadrupole(
-                        &quadrupoles[i],
-                        &quadrupoles[j],
-                        &geometry.unit,
-                        inv_r5,
-                    );
-                    conjugate_i += dw_i;
-                    conjugate[j] += dw_j;
-                }
+                let inv_r = geometry.inv_r;
+                let inv_r5 = (inv_r * inv_r) * (inv_r * inv_r) * inv_r;
+                let (dw_i, dw_j) =
+                    quadrupole_quadrupole(&quadrupoles[i], &quadrupoles[j], &geometry.unit, inv_r5);
+                conjugate_i += dw_i;
+                conjugate[j] += dw_j;
             }
         }
         if K::DIPOLES {
