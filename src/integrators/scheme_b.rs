@@ -23,7 +23,7 @@
 //! `k = 2..5`, is projected along `Q` to satisfy its constraint.
 //!
 //! Properties: 6 stored quaternions per rotor (`Q` and 5 scaled derivatives)
-//! plus the last force `N` (diagnostics only); one gradient evaluation per
+//! plus `Q.N` of the last force evaluation (diagnostics only); one gradient evaluation per
 //! step; neither time reversible nor symplectic; global error of order 5 in
 //! `h` with the velocity-dependent `c0 = 3/16` and a consistent start-up.
 
@@ -100,8 +100,9 @@ pub struct GearB {
     moments: Vec<PrincipalMoments>,
     spherical: bool,
     q: Nordsieck<Quat, 6>,
-    /// The quaternion force `N` of the last step (after the projection, if on).
-    force: Vec<Quat>,
+    /// `Q.N` of the last force evaluation, at the (predicted) `Q` where the
+    /// force `N` was evaluated, after the projection if on (eq 15b).
+    q_dot_force: Vec<f64>,
     gradient: Vec<Quat>,
 }
 
@@ -154,7 +155,7 @@ impl GearB {
             moments: Vec::new(),
             spherical: true,
             q: Nordsieck::zeros(0),
-            force: Vec::new(),
+            q_dot_force: Vec::new(),
             gradient: Vec::new(),
         }
     }
@@ -176,7 +177,7 @@ impl GearB {
         for i in 0..self.moments.len() {
             let q = self.q.r[0][i];
             let force = quaternion_force(&q, &self.gradient[i], opts.project_torque);
-            self.force[i] = force;
+            self.q_dot_force[i] = q.dot(&force);
             let q_dot = self.q.r[1][i] * (1.0 / h);
             let accel = q_ddot::<K>(&self.moments[i], &q, &q_dot, &force);
             // (c): correct.
@@ -237,10 +238,10 @@ impl Integrator for GearB {
         self.q = derivatives.q;
         self.gradient = vec![Quat::ZERO; n];
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
-        self.force = self.q.r[0]
+        self.q_dot_force = self.q.r[0]
             .iter()
             .zip(&self.gradient)
-            .map(|(q, g)| quaternion_force(q, g, self.options.project_torque))
+            .map(|(q, g)| q.dot(&quaternion_force(q, g, self.options.project_torque)))
             .collect();
         self.moments = prepared.moments;
         self.spherical = prepared.spherical;
@@ -273,26 +274,22 @@ impl Integrator for GearB {
     }
 
     fn q_dot_n(&self, out: &mut [f64]) -> bool {
-        for ((x, q), n) in out.iter_mut().zip(&self.q.r[0]).zip(&self.force) {
-            *x = q.dot(n);
-        }
+        out.copy_from_slice(&self.q_dot_force);
         true
     }
 
     fn checkpoint(&self) -> Vec<f64> {
         let mut out = vec![self.dt];
         self.q.write_flat(&mut out);
-        out.extend(self.force.iter().flat_map(|n| n.0));
+        out.extend_from_slice(&self.q_dot_force);
         out
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        let len = self.q.flat_len() + 4 * self.force.len();
+        let len = self.q.flat_len() + self.q_dot_force.len();
         let data = checkpoint_data(state, self.dt, len)?;
         let rest = self.q.read_flat(data);
-        for (n, c) in self.force.iter_mut().zip(rest.chunks_exact(4)) {
-            n.0.copy_from_slice(c);
-        }
+        self.q_dot_force.copy_from_slice(rest);
         Ok(())
     }
 }
