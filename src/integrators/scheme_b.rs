@@ -293,3 +293,69 @@ impl Integrator for GearB {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `sum_{j=0..k} r_j.r_{k-j}` for `k = 0..5`.
+    fn constraint_residuals(r: &[Quat; 6]) -> [f64; 6] {
+        std::array::from_fn(|k| (0..=k).map(|j| r[j].dot(&r[k - j])).sum())
+    }
+
+    /// The exact scaled derivatives of a free spherical top,
+    /// `Q^(k) = Q0*(W/2)^k` with `W = (0, w_b)`: unit norm at all times.
+    fn exact_free_spherical(h: f64) -> [Quat; 6] {
+        let q0 = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
+        let half_w = Quat::pure(&Vector3::new(0.7, -1.1, 0.9)) * (0.5 * h);
+        let mut r = [q0; 6];
+        for k in 1..6 {
+            r[k] = r[k - 1] * half_w * (1.0 / k as f64);
+        }
+        r
+    }
+
+    /// The higher-derivative correction leaves an exact unit-norm Nordsieck
+    /// vector unchanged, and makes a perturbed one satisfy every constraint.
+    #[test]
+    fn norm_derivative_constraints_are_enforced_and_exact_vectors_kept() {
+        let exact = exact_free_spherical(0.1);
+        let residuals = constraint_residuals(&exact);
+        assert!(
+            residuals[1..].iter().all(|x| x.abs() < 1e-15),
+            "{residuals:?}"
+        );
+        let mut r = exact;
+        for k in 1..6 {
+            enforce_norm_derivative(&mut r, k);
+        }
+        for (a, b) in r.iter().zip(&exact) {
+            assert!((*a - *b).norm() < 1e-16);
+        }
+        let mut perturbed = exact;
+        for (k, x) in perturbed.iter_mut().enumerate().skip(1) {
+            *x = *x + Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
+        }
+        for k in 1..6 {
+            enforce_norm_derivative(&mut perturbed, k);
+        }
+        let residuals = constraint_residuals(&perturbed);
+        assert!(
+            residuals[1..].iter().all(|x| x.abs() < 1e-15),
+            "{residuals:?}"
+        );
+    }
+
+    /// The general-top right-hand side reduces to the spherical one for equal
+    /// moments, projected or not.
+    #[test]
+    fn general_right_hand_side_reduces_to_spherical() {
+        let m = PrincipalMoments::new(&Inertia::Principal(Vector3::repeat(1.7))).unwrap();
+        let q = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
+        let q_dot = q.q_dot_from_omega_body(&Vector3::new(0.7, -1.1, 0.9));
+        let force = Quat::new(0.4, 1.2, -0.3, 0.8);
+        let d =
+            q_ddot::<General>(&m, &q, &q_dot, &force) - q_ddot::<Spherical>(&m, &q, &q_dot, &force);
+        assert!(d.norm() < 1e-15, "{d:?}");
+    }
+}
