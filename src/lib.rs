@@ -7,8 +7,10 @@
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
+//! * [`experiments`]: the note's experiment on the corrections of scheme B.
 //! * [`observables`]: energies, norm errors and angular velocities of a state.
 
+pub mod experiments;
 pub mod integrators;
 pub mod observables;
 pub mod potential;
