@@ -334,7 +334,7 @@ mod tests {
         }
         let mut perturbed = exact;
         for (k, x) in perturbed.iter_mut().enumerate().skip(1) {
-            *x = *x + Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
+            *x += Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
         }
         for k in 1..6 {
             enforce_norm_derivative(&mut perturbed, k);
