@@ -5,6 +5,7 @@
 //!
 //! * [`quaternion`]: the conventions (stated once) and the quaternion algebra.
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
+//! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
 //! * [`experiments`]: the note's experiment on the corrections of scheme B.
@@ -12,6 +13,7 @@
 
 pub mod experiments;
 pub mod integrators;
+pub mod lattice;
 pub mod observables;
 pub mod potential;
 pub mod quaternion;

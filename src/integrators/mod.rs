@@ -4,6 +4,20 @@
 //! initial orientations and body angular velocities (allocating all its
 //! scratch buffers then), and then advanced one step at a time. It is generic
 //! over the [`Potential`] so that the step is monomorphised.
+//!
+//! Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
+//! [`Richardson`], sharing the free-rotation flows of [`free_rotation`].
+
+mod dlm;
+pub mod free_rotation;
+mod no_squish;
+mod richardson;
+mod support;
+
+pub use dlm::Dlm;
+pub use free_rotation::SphericalTops;
+pub use no_squish::NoSquish;
+pub use richardson::Richardson;
 
 pub mod gear;
 pub mod rigid_body;
