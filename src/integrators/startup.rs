@@ -15,6 +15,7 @@
 
 use super::gear::{GearValue, Nordsieck};
 use super::rigid_body::{principal_moments, torque_body, PrincipalMoments, TopKind};
+use super::support::{unit_orientation, validate_setup};
 use super::{IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -238,54 +239,30 @@ pub struct Prepared {
     pub initial: Vec<RotorState>,
 }
 
-/// Checks `dt`, the lengths, the moments and the initial states, and
-/// normalises the initial orientations.
+/// Checks the setup arguments (shared checks of [`validate_setup`], plus
+/// moments > 0, which the Gear schemes divide by) and normalises the initial
+/// orientations.
 pub fn prepare(
     inertia: &[Inertia],
     initial: &[RotorState],
     dt: f64,
 ) -> Result<Prepared, IntegratorError> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(IntegratorError::BadTimeStep(dt));
-    }
-    if inertia.len() != initial.len() {
-        return Err(IntegratorError::Unsupported {
-            rotor: inertia.len().min(initial.len()),
-            reason: format!(
-                "{} inertias for {} initial states",
-                inertia.len(),
-                initial.len()
-            ),
-        });
-    }
+    validate_setup(inertia, initial, dt)?;
     let (moments, spherical) =
         principal_moments(inertia).map_err(|rotor| IntegratorError::Unsupported {
             rotor,
             reason: format!(
-                "moments of inertia must be finite and > 0, got {:?}",
+                "moments of inertia must all be > 0 for the Gear schemes, got {:?}",
                 inertia[rotor].principal().as_slice()
             ),
         })?;
     let initial = initial
         .iter()
-        .enumerate()
-        .map(|(rotor, s)| {
-            let orientation = s.orientation.try_normalize();
-            match orientation {
-                Some(orientation) if s.omega_body.iter().all(|w| w.is_finite()) => Ok(RotorState {
-                    orientation,
-                    omega_body: s.omega_body,
-                }),
-                _ => Err(IntegratorError::Unsupported {
-                    rotor,
-                    reason: format!(
-                        "initial state must be finite with a non-zero orientation, got {:?}",
-                        s
-                    ),
-                }),
-            }
+        .map(|s| RotorState {
+            orientation: unit_orientation(s),
+            omega_body: s.omega_body,
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect();
     Ok(Prepared {
         moments,
         spherical,
