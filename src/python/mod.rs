@@ -4,12 +4,14 @@
 
 use pyo3::prelude::*;
 
+mod baselines;
 mod dynamics;
 
 /// The `quatrot` Python module.
 #[pymodule]
 fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    baselines::register(m)?;
     dynamics::register(m)?;
     Ok(())
 }
