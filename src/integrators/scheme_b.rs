@@ -15,7 +15,8 @@
 //! the torque projection, and otherwise divided by the mean moment `I0`.
 //!
 //! The corrections of the note, each a switch of [`GearBOptions`]:
-//! torque projection `N <- N - (Q.N) Q/|Q|^2` (eq 15b), velocity projection
+//! torque projection `N <- N - (Q.N) Q/|Q|^2` (eq 15b; identical to setting
+//! `n0 = 0` in the body frame, since `Q~*Q` is a scalar), velocity projection
 //! `Q' <- Q' - (Q.Q') Q/|Q|^2` (eq 15a), renormalisation `Q <- Q/|Q|`, and the
 //! answer to the note's open question: the higher derivatives obey the
 //! derivatives of `|Q|^2 = const`, `sum_j C(k,j) Q^(j).Q^(k-j) = 0`, which in

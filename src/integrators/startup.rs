@@ -239,7 +239,7 @@ pub struct Prepared {
     pub initial: Vec<RotorState>,
 }
 
-/// Checks the setup arguments (shared checks of [`validate_setup`], plus
+/// Checks the setup arguments (the baselines' shared `validate_setup`, plus
 /// moments > 0, which the Gear schemes divide by) and normalises the initial
 /// orientations.
 pub fn prepare(
