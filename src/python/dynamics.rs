@@ -2,50 +2,35 @@
 //! ([`crate::experiments::gear_corrections`]) on pinned multipolar rotors
 //! given as numpy arrays. Converts and checks the arrays, then delegates.
 
+use super::arrays::{common_len, Items};
 use crate::experiments::gear_corrections::{correction_table, Settings, System};
 use crate::integrators::RotorState;
 use crate::potential::{Boundary, ExternalFields, MultipolePotential};
-use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
-use nalgebra::{Matrix3, Vector3};
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// The rows of a `(n, width)` float array, checking its shape.
-fn rows(
-    name: &str,
-    array: &PyReadonlyArray2<f64>,
-    n: Option<usize>,
-    width: usize,
-) -> PyResult<Vec<Vec<f64>>> {
-    let shape = array.shape();
-    if shape[1] != width || n.is_some_and(|n| shape[0] != n) {
-        let expected = n.map_or("n".to_string(), |n| n.to_string());
+/// An optional argument that must be a single item of shape `item`.
+fn single<'py>(
+    obj: Option<&Bound<'py, PyAny>>,
+    name: &'static str,
+    item: &[usize],
+) -> PyResult<Option<Items<'py>>> {
+    let Some(obj) = obj else { return Ok(None) };
+    let items = Items::new(obj, name, item)?;
+    if !common_len(&[&items])?.1 {
         return Err(PyValueError::new_err(format!(
-            "{name}: expected shape ({expected}, {width}), got {shape:?}"
+            "{name}: expected a single item of shape {item:?}"
         )));
     }
-    let view = array.as_array();
-    Ok(view.outer_iter().map(|r| r.to_vec()).collect())
-}
-
-/// A 3-vector from a `(3,)` array.
-fn vector(name: &str, array: &PyReadonlyArray1<f64>) -> PyResult<Vector3<f64>> {
-    let v = array.as_array();
-    if v.len() != 3 {
-        return Err(PyValueError::new_err(format!(
-            "{name}: expected shape (3,), got ({},)",
-            v.len()
-        )));
-    }
-    Ok(Vector3::new(v[0], v[1], v[2]))
+    Ok(Some(items))
 }
 
 /// The note's experiment: scheme A against scheme B with each correction.
 ///
-/// Arrays (float64): `sites (n, 3)`, `inertia (n, 3)` principal moments (all
+/// Arrays (float64, `n` rotors; an item without the leading `n` applies to
+/// every rotor): `sites (n, 3)`, `inertia (n, 3)` principal moments (all
 /// equal: spherical top), `orientations (n, 4)` scalar first, `omega_body
 /// (n, 3)`, optional `dipoles (n, 3)` and `quadrupoles (n, 3, 3)` (body frame,
 /// Buckingham), optional uniform `field (3,)`, optional periodic box
@@ -61,14 +46,14 @@ fn vector(name: &str, array: &PyReadonlyArray1<f64>) -> PyResult<Vector3<f64>> {
 #[allow(clippy::too_many_arguments)]
 fn gear_corrections_table<'py>(
     py: Python<'py>,
-    sites: PyReadonlyArray2<f64>,
-    inertia: PyReadonlyArray2<f64>,
-    orientations: PyReadonlyArray2<f64>,
-    omega_body: PyReadonlyArray2<f64>,
-    dipoles: Option<PyReadonlyArray2<f64>>,
-    quadrupoles: Option<PyReadonlyArray3<f64>>,
-    field: Option<PyReadonlyArray1<f64>>,
-    box_lengths: Option<PyReadonlyArray1<f64>>,
+    sites: &Bound<'py, PyAny>,
+    inertia: &Bound<'py, PyAny>,
+    orientations: &Bound<'py, PyAny>,
+    omega_body: &Bound<'py, PyAny>,
+    dipoles: Option<&Bound<'py, PyAny>>,
+    quadrupoles: Option<&Bound<'py, PyAny>>,
+    field: Option<&Bound<'py, PyAny>>,
+    box_lengths: Option<&Bound<'py, PyAny>>,
     cutoff: Option<f64>,
     dt: f64,
     t_energy: f64,
@@ -76,35 +61,23 @@ fn gear_corrections_table<'py>(
     t_stability: f64,
     sample_every: usize,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let sites = rows("sites", &sites, None, 3)?;
-    let n = sites.len();
-    let moments = rows("inertia", &inertia, Some(n), 3)?;
-    let q = rows("orientations", &orientations, Some(n), 4)?;
-    let w = rows("omega_body", &omega_body, Some(n), 3)?;
+    let sites = Items::new(sites, "sites", &[3])?;
+    let moments = Items::new(inertia, "inertia", &[3])?;
+    let q = Items::new(orientations, "orientations", &[4])?;
+    let w = Items::new(omega_body, "omega_body", &[3])?;
     let dipoles = dipoles
-        .map(|d| rows("dipoles", &d, Some(n), 3))
+        .map(|d| Items::new(d, "dipoles", &[3]))
         .transpose()?;
-    let quadrupoles = match quadrupoles {
-        Some(a) => {
-            let shape = a.shape();
-            if shape != [n, 3, 3] {
-                return Err(PyValueError::new_err(format!(
-                    "quadrupoles: expected shape ({n}, 3, 3), got {shape:?}"
-                )));
-            }
-            let view = a.as_array();
-            Some(
-                (0..n)
-                    .map(|i| Matrix3::from_fn(|r, c| view[[i, r, c]]))
-                    .collect::<Vec<_>>(),
-            )
-        }
-        None => None,
-    };
-    let field = field.map(|f| vector("field", &f)).transpose()?;
-    let boundary = match (box_lengths, cutoff) {
+    let quadrupoles = quadrupoles
+        .map(|t| Items::new(t, "quadrupoles", &[3, 3]))
+        .transpose()?;
+    let mut batch = vec![&sites, &moments, &q, &w];
+    batch.extend(dipoles.iter().chain(quadrupoles.iter()));
+    let (n, _) = common_len(&batch)?;
+    let field = single(field, "field", &[3])?.map(|f| f.vector(0));
+    let boundary = match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
         (Some(b), Some(cutoff)) => Boundary::Periodic {
-            box_lengths: vector("box_lengths", &b)?,
+            box_lengths: b.vector(0),
             cutoff,
         },
         (None, None) => Boundary::Open,
@@ -116,25 +89,23 @@ fn gear_corrections_table<'py>(
     };
     let rotors: Vec<Rotor> = (0..n)
         .map(|i| {
-            let m = Vector3::new(moments[i][0], moments[i][1], moments[i][2]);
+            let m = moments.vector(i);
             Rotor {
-                site: Vector3::new(sites[i][0], sites[i][1], sites[i][2]),
+                site: sites.vector(i),
                 inertia: if m.x == m.y && m.y == m.z {
                     Inertia::Spherical(m.x)
                 } else {
                     Inertia::Principal(m)
                 },
-                dipole_body: dipoles
-                    .as_ref()
-                    .map(|d| Vector3::new(d[i][0], d[i][1], d[i][2])),
-                quadrupole_body: quadrupoles.as_ref().map(|t| t[i]),
+                dipole_body: dipoles.as_ref().map(|d| d.vector(i)),
+                quadrupole_body: quadrupoles.as_ref().map(|t| t.matrix(i)),
             }
         })
         .collect();
     let initial: Vec<RotorState> = (0..n)
         .map(|i| RotorState {
-            orientation: Quat::new(q[i][0], q[i][1], q[i][2], q[i][3]),
-            omega_body: Vector3::new(w[i][0], w[i][1], w[i][2]),
+            orientation: q.quat(i),
+            omega_body: w.vector(i),
         })
         .collect();
     let external = ExternalFields {
