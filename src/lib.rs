@@ -8,8 +8,10 @@
 //! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
+//! * [`experiments`]: the note's experiment on the corrections of scheme B.
 //! * [`observables`]: energies, norm errors and angular velocities of a state.
 
+pub mod experiments;
 pub mod integrators;
 pub mod lattice;
 pub mod observables;

@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod baselines;
 mod potential;
+mod dynamics;
 mod quaternion;
 
 /// The `quatrot` Python module.
@@ -15,6 +16,7 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     baselines::register(m)?;
     potential::register(m)?;
+    dynamics::register(m)?;
     quaternion::register(m)?;
     Ok(())
 }
