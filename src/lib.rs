@@ -7,11 +7,13 @@
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
+//! * [`scene`]: scene files (TOML), parsed and validated into typed objects.
 
 pub mod integrators;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;
+pub mod scene;
 
 #[cfg(feature = "python")]
 mod python;
