@@ -8,11 +8,13 @@
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
 //! * [`scene`]: scene files (TOML), parsed and validated into typed objects.
+//! * [`run`]: the runner, its observers and output files.
 
 pub mod integrators;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;
+pub mod run;
 pub mod scene;
 
 #[cfg(feature = "python")]

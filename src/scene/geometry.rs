@@ -1,4 +1,4 @@
-//! Stand-in for `crate::lattice` until it lands in main (to be replaced).
+//! Stand-in for `crate::lattice` (same API) until it lands in main.
 
 use nalgebra::Vector3;
 
@@ -9,49 +9,41 @@ pub enum LatticeKind {
     Fcc,
 }
 
-impl LatticeKind {
-    fn basis(&self) -> &'static [[f64; 3]] {
-        match self {
-            LatticeKind::SimpleCubic => &[[0.0; 3]],
-            LatticeKind::Bcc => &[[0.0; 3], [0.5; 3]],
-            LatticeKind::Fcc => &[[0.0; 3], [0.5, 0.5, 0.0], [0.5, 0.0, 0.5], [0.0, 0.5, 0.5]],
-        }
-    }
-    pub fn sites_per_cell(&self) -> usize {
-        self.basis().len()
+#[derive(Debug)]
+pub struct LatticeError;
+
+impl std::fmt::Display for LatticeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("bad lattice")
     }
 }
 
 pub struct Lattice {
-    kind: LatticeKind,
-    cells: usize,
-    spacing: f64,
+    pub sites: Vec<Vector3<f64>>,
+    pub box_lengths: Vector3<f64>,
 }
 
 impl Lattice {
-    pub fn new(kind: LatticeKind, cells: usize, spacing: f64) -> Self {
-        Lattice {
-            kind,
-            cells,
-            spacing,
-        }
-    }
-    pub fn sites(&self) -> Vec<Vector3<f64>> {
-        let n = self.cells;
-        let mut out = Vec::with_capacity(n * n * n * self.kind.sites_per_cell());
-        for i in 0..n {
-            for j in 0..n {
-                for k in 0..n {
-                    for b in self.kind.basis() {
-                        let c = Vector3::new(i as f64 + b[0], j as f64 + b[1], k as f64 + b[2]);
-                        out.push(c * self.spacing);
+    pub fn cubic(kind: LatticeKind, cells: usize, spacing: f64) -> Result<Lattice, LatticeError> {
+        let basis: &[[f64; 3]] = match kind {
+            LatticeKind::SimpleCubic => &[[0.0; 3]],
+            LatticeKind::Bcc => &[[0.0; 3], [0.5; 3]],
+            LatticeKind::Fcc => &[[0.0; 3], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5], [0.5, 0.5, 0.0]],
+        };
+        let mut sites = Vec::new();
+        for x in 0..cells {
+            for y in 0..cells {
+                for z in 0..cells {
+                    for b in basis {
+                        let c = Vector3::new(x as f64 + b[0], y as f64 + b[1], z as f64 + b[2]);
+                        sites.push(c * spacing);
                     }
                 }
             }
         }
-        out
-    }
-    pub fn box_lengths(&self) -> Vector3<f64> {
-        Vector3::repeat(self.cells as f64 * self.spacing)
+        Ok(Lattice {
+            sites,
+            box_lengths: Vector3::repeat(cells as f64 * spacing),
+        })
     }
 }

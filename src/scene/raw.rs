@@ -141,7 +141,7 @@ pub enum RawLatticeKind {
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawInteractions {
-    pub terms: Vec<String>,
+    pub terms: Option<Vec<String>>,
     pub boundary: RawBoundary,
 }
 

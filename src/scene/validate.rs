@@ -142,6 +142,15 @@ fn lattice_kind(kind: RawLatticeKind) -> LatticeKind {
     }
 }
 
+/// Sites in the conventional cubic cell.
+fn sites_per_cell(kind: LatticeKind) -> u128 {
+    match kind {
+        LatticeKind::SimpleCubic => 1,
+        LatticeKind::Bcc => 2,
+        LatticeKind::Fcc => 4,
+    }
+}
+
 /// The site positions, and the lattice's periodic box if it is a lattice.
 fn sites(raw: &RawRotors) -> Result<(Vec<Vector3<f64>>, Option<Vector3<f64>>)> {
     match raw {
@@ -154,15 +163,16 @@ fn sites(raw: &RawRotors) -> Result<(Vec<Vector3<f64>>, Option<Vector3<f64>>)> {
             let cells = at_least_one("rotors.cells", *cells)?;
             let spacing = positive("rotors.spacing", *spacing)?;
             let kind = lattice_kind(*lattice);
-            let count = (cells as u128).pow(3) * kind.sites_per_cell() as u128;
+            let count = (cells as u128).pow(3) * sites_per_cell(kind);
             if count > MAX_ROTORS as u128 {
                 return Err(SceneError::field(
                     "rotors.cells",
                     format!("{cells} cells give {count} rotors, more than the limit {MAX_ROTORS}"),
                 ));
             }
-            let lattice = Lattice::new(kind, cells as usize, spacing);
-            Ok((lattice.sites(), Some(lattice.box_lengths())))
+            let lattice = Lattice::cubic(kind, cells as usize, spacing)
+                .map_err(|e| SceneError::field("rotors", e.to_string()))?;
+            Ok((lattice.sites, Some(lattice.box_lengths)))
         }
         RawRotors::Sites(RawSites { sites, .. }) => {
             if sites.is_empty() {
@@ -327,46 +337,22 @@ fn interactions(
     raw_rotors: &RawRotors,
     lattice_box: Option<Vector3<f64>>,
 ) -> Result<(Option<Interactions>, Option<Vector3<f64>>)> {
-    if raw.terms.is_empty() {
-        return Err(SceneError::field(
-            "interactions.terms",
-            "must name at least one term (or leave out [interactions])",
-        ));
-    }
     let any_dipole = rotors.iter().any(|r| r.dipole_body.is_some());
     let any_quadrupole = rotors.iter().any(|r| r.quadrupole_body.is_some());
-    let mut terms = Terms::default();
-    for (k, name) in raw.terms.iter().enumerate() {
-        let path = format!("interactions.terms[{k}]");
-        let (flag, needs_dipole, needs_quadrupole) = match name.as_str() {
-            "dipole_dipole" => (&mut terms.dipole_dipole, true, false),
-            "dipole_quadrupole" => (&mut terms.dipole_quadrupole, true, true),
-            "quadrupole_quadrupole" => (&mut terms.quadrupole_quadrupole, false, true),
-            other => {
-                return Err(SceneError::field(
-                    path,
-                    format!(
-                        "unknown term `{other}`, expected one of {}",
-                        TERM_NAMES.join(", ")
-                    ),
-                ))
-            }
-        };
-        if *flag {
-            return Err(SceneError::field(path, format!("`{name}` is listed twice")));
-        }
-        if (needs_dipole && !any_dipole) || (needs_quadrupole && !any_quadrupole) {
-            let missing = if needs_dipole && !any_dipole {
-                "dipole"
-            } else {
-                "quadrupole"
-            };
-            return Err(SceneError::field(
-                path,
-                format!("`{name}` needs rotors with a {missing}, but no rotor has one"),
-            ));
-        }
-        *flag = true;
+    // The pair terms follow from the multipoles the rotors carry.
+    let implied = Terms {
+        dipole_dipole: any_dipole,
+        dipole_quadrupole: any_dipole && any_quadrupole,
+        quadrupole_quadrupole: any_quadrupole,
+    };
+    if implied == Terms::default() {
+        return Err(SceneError::field(
+            "interactions",
+            "no rotor carries a dipole or a quadrupole, so there is nothing to interact",
+        ));
+    }
+    if let Some(listed) = &raw.terms {
+        check_terms(listed, &implied)?;
     }
     let (boundary, box_lengths) = match &raw.boundary {
         RawBoundary::Open(_) => (BoundaryChoice::Open, None),
@@ -403,7 +389,70 @@ fn interactions(
             (BoundaryChoice::Periodic { cutoff }, Some(box_lengths))
         }
     };
-    Ok((Some(Interactions { terms, boundary }), box_lengths))
+    Ok((
+        Some(Interactions {
+            terms: implied,
+            boundary,
+        }),
+        box_lengths,
+    ))
+}
+
+/// The listed terms (a check, optional in the file) must be exactly the ones
+/// the rotors' multipoles produce.
+fn check_terms(listed: &[String], implied: &Terms) -> Result<()> {
+    let mut seen = Terms::default();
+    for (k, name) in listed.iter().enumerate() {
+        let path = format!("interactions.terms[{k}]");
+        let (flag, present) = match name.as_str() {
+            "dipole_dipole" => (&mut seen.dipole_dipole, implied.dipole_dipole),
+            "dipole_quadrupole" => (&mut seen.dipole_quadrupole, implied.dipole_quadrupole),
+            "quadrupole_quadrupole" => (
+                &mut seen.quadrupole_quadrupole,
+                implied.quadrupole_quadrupole,
+            ),
+            other => {
+                return Err(SceneError::field(
+                    path,
+                    format!(
+                        "unknown term `{other}`, expected one of {}",
+                        TERM_NAMES.join(", ")
+                    ),
+                ))
+            }
+        };
+        if *flag {
+            return Err(SceneError::field(path, format!("`{name}` is listed twice")));
+        }
+        if !present {
+            return Err(SceneError::field(
+                path,
+                format!("`{name}` needs multipoles that no rotor carries"),
+            ));
+        }
+        *flag = true;
+    }
+    for (name, on, listed) in [
+        (TERM_NAMES[0], implied.dipole_dipole, seen.dipole_dipole),
+        (
+            TERM_NAMES[1],
+            implied.dipole_quadrupole,
+            seen.dipole_quadrupole,
+        ),
+        (
+            TERM_NAMES[2],
+            implied.quadrupole_quadrupole,
+            seen.quadrupole_quadrupole,
+        ),
+    ] {
+        if on && !listed {
+            return Err(SceneError::field(
+                "interactions.terms",
+                format!("the rotors' multipoles give the term `{name}`, which is not listed"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Explicit sites of a periodic system must lie in `[0, L)` on each axis.
