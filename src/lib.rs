@@ -5,12 +5,16 @@
 //!
 //! * [`quaternion`]: the conventions (stated once) and the quaternion algebra.
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
+//! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
+//! * [`observables`]: energies, norm errors and angular velocities of a state.
 //! * [`scene`]: scene files (TOML), parsed and validated into typed objects.
 //! * [`run`]: the runner, its observers and output files.
 
 pub mod integrators;
+pub mod lattice;
+pub mod observables;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;

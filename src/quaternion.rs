@@ -21,9 +21,11 @@
 //! * **Euler angles (eq 8).** Goldstein's y-convention `(phi, theta, psi)`:
 //!   `A = Z(psi) Y(theta) Z(phi)` with passive axis rotations, i.e.
 //!   `R = Rz(phi) Ry(theta) Rz(psi)` (intrinsic z-y'-z'' active). Ranges
-//!   returned: `theta` in `[0, pi]`, `phi`, `psi` in `(-pi, pi]`; at the
-//!   singularities only `phi + psi` (theta = 0) or `psi - phi` (theta = pi) is
-//!   defined, and the inverse splits it evenly (`phi = psi` or `phi = -psi`).
+//!   returned: `theta` in `[0, pi]`, `phi`, `psi` in `(-pi, pi]`. At the
+//!   singularities only `phi + psi` (`q1 = q2 = 0`, theta = 0) or `psi - phi`
+//!   (`q0 = q3 = 0`, theta = pi) is defined, and the inverse splits it evenly
+//!   (`phi = psi` or `phi = -psi`); off them, however close, both angles are
+//!   recovered from the small components, which keep full relative precision.
 //! * **Rotation vectors.** `exp(v)` is the rotation by `|v|` about `v / |v|`
 //!   (right-handed, active), `Quat::exp(v) = (cos |v|/2, sin(|v|/2) v/|v|)`.
 //! * **nalgebra.** `nalgebra::Quaternion::new(w, i, j, k)` takes the scalar
@@ -97,6 +99,17 @@ impl Quat {
 
     /// The matrix `A(Q)` of eq 7: space-fixed to body-fixed, `r_b = A r_s`.
     /// For a non-unit `Q` it is `|Q|^2` times a rotation.
+    ///
+    /// ```
+    /// use quatrot::Quat;
+    /// use nalgebra::Vector3;
+    /// // Turned by +90 degrees about space z, the body x axis points along space y.
+    /// let q = Quat::from_axis_angle(&Vector3::z_axis(), std::f64::consts::FRAC_PI_2);
+    /// let r_b = q.space_to_body_matrix() * Vector3::y();
+    /// assert!((r_b - Vector3::x()).norm() < 1e-15);
+    /// // The double cover: -Q is the same orientation.
+    /// assert_eq!(q.space_to_body_matrix(), (-q).space_to_body_matrix());
+    /// ```
     pub fn space_to_body_matrix(&self) -> Matrix3<f64> {
         let [q0, q1, q2, q3] = self.0;
         Matrix3::new(
@@ -164,6 +177,19 @@ impl Quat {
     }
 
     /// The unit quaternion of Euler angles `(phi, theta, psi)` in the y-convention (eq 8).
+    ///
+    /// ```
+    /// use quatrot::Quat;
+    /// // theta = 0: a turn by phi + psi about z; only the sum is defined, and the
+    /// // inverse splits it evenly.
+    /// let q = Quat::from_euler_y(0.2, 0.0, 0.4);
+    /// let (phi, theta, psi) = q.to_euler_y();
+    /// assert_eq!(theta, 0.0);
+    /// assert!((phi - 0.3).abs() < 1e-15 && (psi - 0.3).abs() < 1e-15);
+    /// // -Q gives the same angles.
+    /// let (phi_neg, _, psi_neg) = (-q).to_euler_y();
+    /// assert!((phi_neg - phi).abs() < 1e-15 && (psi_neg - psi).abs() < 1e-15);
+    /// ```
     pub fn from_euler_y(phi: f64, theta: f64, psi: f64) -> Quat {
         let (s_t, c_t) = (0.5 * theta).sin_cos();
         let (s_sum, c_sum) = (0.5 * (psi + phi)).sin_cos();
@@ -188,6 +214,18 @@ impl Quat {
 
     /// The rotation by `angle` (radians) about the unit vector `axis` (active,
     /// right-handed): `(cos angle/2, sin(angle/2) axis)`.
+    ///
+    /// ```
+    /// use quatrot::Quat;
+    /// use nalgebra::Vector3;
+    /// // The zero angle is the identity, whatever the axis; it has no axis back.
+    /// let q = Quat::from_axis_angle(&Vector3::x_axis(), 0.0);
+    /// assert_eq!(q, Quat::IDENTITY);
+    /// assert!(matches!(q.to_axis_angle(), (None, a) if a == 0.0));
+    /// // A full turn is -Q of the identity: the same orientation.
+    /// let full = Quat::from_axis_angle(&Vector3::x_axis(), 2.0 * std::f64::consts::PI);
+    /// assert!(full.angle_to(&Quat::IDENTITY) < 1e-7);
+    /// ```
     pub fn from_axis_angle(axis: &Unit<Vector3<f64>>, angle: f64) -> Quat {
         let (s, c) = (0.5 * angle).sin_cos();
         Quat([c, s * axis.x, s * axis.y, s * axis.z])
@@ -205,6 +243,14 @@ impl Quat {
 
     /// The exponential map: the unit quaternion of the rotation vector `v`
     /// (rotation by `|v|` about `v`), accurate for small `|v|`.
+    ///
+    /// ```
+    /// use quatrot::Quat;
+    /// use nalgebra::Vector3;
+    /// assert_eq!(Quat::exp(&Vector3::zeros()), Quat::IDENTITY);
+    /// let v = Vector3::new(1e-9, -2e-9, 0.5e-9);
+    /// assert!((Quat::exp(&v).ln() - v).norm() < 1e-24);
+    /// ```
     pub fn exp(v: &Vector3<f64>) -> Quat {
         let angle = v.norm();
         let half = 0.5 * angle;

@@ -4,6 +4,30 @@
 //! initial orientations and body angular velocities (allocating all its
 //! scratch buffers then), and then advanced one step at a time. It is generic
 //! over the [`Potential`] so that the step is monomorphised.
+//!
+//! Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
+//! [`Richardson`], sharing the free-rotation flows of [`free_rotation`].
+
+mod dlm;
+pub mod free_rotation;
+mod no_squish;
+mod richardson;
+mod support;
+
+pub use dlm::Dlm;
+pub use free_rotation::SphericalTops;
+pub use no_squish::NoSquish;
+pub use richardson::Richardson;
+
+pub mod gear;
+pub mod rigid_body;
+pub mod scheme_a;
+pub mod scheme_b;
+pub mod startup;
+
+pub use scheme_a::{GearA, GearAOptions};
+pub use scheme_b::{FirstCorrector, GearB, GearBOptions};
+pub use startup::Startup;
 
 use crate::potential::Potential;
 use crate::quaternion::Quat;

@@ -8,6 +8,10 @@
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
+pub mod multipole;
+
+pub use multipole::{Boundary, ExternalFields, MultipolePotential, PotentialError};
+
 /// A potential energy term (or a sum of terms). Implementors are plain data
 /// shared by all threads; the integrators are generic over it so the hot
 /// loop is monomorphised.
@@ -21,6 +25,13 @@ pub trait Potential: Sync {
 
     /// Adds the space-fixed torque on each rotor into `torques_space`.
     fn accumulate_torques(&self, orientations: &[Quat], torques_space: &mut [Vector3<f64>]);
+
+    /// The energy, and `dV/dq_k` added into `gradient`, in one pass where the
+    /// implementor can share the work (the default calls the two methods).
+    fn energy_and_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) -> f64 {
+        self.accumulate_gradient(orientations, gradient);
+        self.energy(orientations)
+    }
 }
 
 /// No interactions at all: free rotors.

@@ -8,6 +8,7 @@ use super::checkpoint::CheckpointWriter;
 use super::error::RunError;
 use super::observer::{Energies, Needs, Sample, Scheduled};
 use crate::integrators::Integrator;
+use crate::observables::{kinetic_energy, total_kinetic_energy};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
@@ -315,17 +316,4 @@ fn blow_up(sample: &Sample<'_>, omega_body: &[Vector3<f64>], options: &RunOption
         }
     }
     Stop::Completed
-}
-
-// Stand-ins for `crate::observables` until it lands in main.
-fn kinetic_energy(inertia: &Inertia, omega_body: &Vector3<f64>) -> f64 {
-    0.5 * omega_body.dot(&inertia.principal().component_mul(omega_body))
-}
-
-fn total_kinetic_energy(inertia: &[Inertia], omega_body: &[Vector3<f64>]) -> f64 {
-    inertia
-        .iter()
-        .zip(omega_body)
-        .map(|(i, w)| kinetic_energy(i, w))
-        .sum()
 }

@@ -6,7 +6,6 @@
 
 mod builtin;
 mod error;
-mod geometry;
 mod initial;
 mod load;
 mod model;

@@ -77,11 +77,32 @@ pub enum GearBC0 {
     ThreeTwentieths,
 }
 
+/// How the Gear schemes set the higher derivatives at t = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GearStartup {
+    /// Consistent with the equations of motion (default).
+    Consistent,
+    /// Zeros (the naive start).
+    Zeros,
+}
+
+/// How the splitting methods rotate spherical tops.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SphericalTopRotation {
+    /// The exact flow (default).
+    Exact,
+    /// The sweep about body axes used for every other top (as LAMMPS).
+    Split,
+}
+
 /// The integrator named in the scene, with its options resolved to values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum IntegratorChoice {
     /// Scheme A (coupled first-order Gear pair).
-    GearA { renormalise: bool },
+    GearA {
+        renormalise: bool,
+        startup: GearStartup,
+    },
     /// Scheme B (second-order Gear on `Q`) and its switches.
     GearB {
         c0: GearBC0,
@@ -89,11 +110,17 @@ pub enum IntegratorChoice {
         project_velocity: bool,
         renormalise: bool,
         correct_higher_derivatives: bool,
+        startup: GearStartup,
     },
     /// NO_SQUISH with `substeps` free-rotation sub-steps.
-    NoSquish { substeps: u32 },
+    NoSquish {
+        substeps: u32,
+        spherical_tops: SphericalTopRotation,
+    },
     /// The Dullweber-Leimkuhler-McLachlan splitting.
-    Dlm,
+    Dlm {
+        spherical_tops: SphericalTopRotation,
+    },
     /// The Richardson-iterated quaternion update of LAMMPS.
     Richardson,
 }
@@ -105,7 +132,7 @@ impl IntegratorChoice {
             IntegratorChoice::GearA { .. } => "gear_a",
             IntegratorChoice::GearB { .. } => "gear_b",
             IntegratorChoice::NoSquish { .. } => "no_squish",
-            IntegratorChoice::Dlm => "dlm",
+            IntegratorChoice::Dlm { .. } => "dlm",
             IntegratorChoice::Richardson => "richardson",
         }
     }

@@ -223,7 +223,7 @@ pub enum RawIntegrator {
     GearA(RawGearA),
     GearB(RawGearB),
     NoSquish(RawNoSquish),
-    Dlm(RawNoOptions),
+    Dlm(RawDlm),
     Richardson(RawNoOptions),
 }
 
@@ -232,6 +232,7 @@ pub enum RawIntegrator {
 #[serde(deny_unknown_fields)]
 pub struct RawGearA {
     pub renormalise: Option<bool>,
+    pub startup: Option<String>,
 }
 
 /// Scheme B options.
@@ -243,6 +244,7 @@ pub struct RawGearB {
     pub project_velocity: Option<bool>,
     pub renormalise: Option<bool>,
     pub correct_higher_derivatives: Option<bool>,
+    pub startup: Option<String>,
 }
 
 /// NO_SQUISH options.
@@ -250,6 +252,14 @@ pub struct RawGearB {
 #[serde(deny_unknown_fields)]
 pub struct RawNoSquish {
     pub substeps: Option<i64>,
+    pub spherical_tops: Option<String>,
+}
+
+/// DLM options.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDlm {
+    pub spherical_tops: Option<String>,
 }
 
 /// Integrators without options.
@@ -261,7 +271,7 @@ tagged!(RawIntegrator {
     "gear_a" => GearA(RawGearA),
     "gear_b" => GearB(RawGearB),
     "no_squish" => NoSquish(RawNoSquish),
-    "dlm" => Dlm(RawNoOptions),
+    "dlm" => Dlm(RawDlm),
     "richardson" => Richardson(RawNoOptions),
 });
 

@@ -2,11 +2,11 @@
 //! the field path and the value (`rotors.sites[3].inertia: must be > 0, got 0`).
 
 use super::error::SceneError;
-use super::geometry::{Lattice, LatticeKind};
 use super::initial::random_states;
 use super::model::*;
 use super::raw::*;
 use crate::integrators::RotorState;
+use crate::lattice::{Lattice, LatticeKind};
 use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
 use nalgebra::{Matrix3, Vector3};
@@ -43,7 +43,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene> {
         None => (None, None),
     };
     let fields = match &raw.fields {
-        Some(f) => fields(f, &rotors)?,
+        Some(f) => fields(f, &rotors, interactions.is_some())?,
         None => Fields::default(),
     };
     let (initial, seed) = initial(&raw.initial, &rotors)?;
@@ -473,7 +473,7 @@ fn check_inside_box(rotors: &[Rotor], box_lengths: &Vector3<f64>) -> Result<()> 
     Ok(())
 }
 
-fn fields(raw: &RawFields, rotors: &[Rotor]) -> Result<Fields> {
+fn fields(raw: &RawFields, rotors: &[Rotor], with_pairs: bool) -> Result<Fields> {
     let uniform = raw
         .uniform
         .as_ref()
@@ -498,6 +498,18 @@ fn fields(raw: &RawFields, rotors: &[Rotor]) -> Result<Fields> {
         return Err(SceneError::field(
             "fields.gradient",
             "acts on quadrupoles, but no rotor has one",
+        ));
+    }
+    let carriers = rotors
+        .iter()
+        .filter(|r| r.dipole_body.is_some() || r.quadrupole_body.is_some())
+        .count();
+    if !with_pairs && carriers > 1 {
+        return Err(SceneError::field(
+            "fields",
+            format!(
+                "{carriers} rotors carry multipoles: add [interactions] (the multipole potential always includes their pair terms)"
+            ),
         ));
     }
     Ok(Fields { uniform, gradient })
@@ -563,19 +575,36 @@ fn flag(v: Option<bool>, default: bool) -> bool {
     v.unwrap_or(default)
 }
 
+fn startup(path: &str, v: &Option<String>) -> Result<GearStartup> {
+    match v.as_deref() {
+        None | Some("consistent") => Ok(GearStartup::Consistent),
+        Some("zeros") => Ok(GearStartup::Zeros),
+        Some(other) => Err(SceneError::field(
+            path,
+            format!("must be \"consistent\" or \"zeros\", got \"{other}\""),
+        )),
+    }
+}
+
+fn spherical_tops(path: &str, v: &Option<String>) -> Result<SphericalTopRotation> {
+    match v.as_deref() {
+        None | Some("exact") => Ok(SphericalTopRotation::Exact),
+        Some("split") => Ok(SphericalTopRotation::Split),
+        Some(other) => Err(SceneError::field(
+            path,
+            format!("must be \"exact\" or \"split\", got \"{other}\""),
+        )),
+    }
+}
+
 fn integrator(raw: &RawIntegrator) -> Result<IntegratorChoice> {
     Ok(match raw {
-        RawIntegrator::GearA(RawGearA { renormalise }) => IntegratorChoice::GearA {
-            renormalise: flag(*renormalise, true),
+        RawIntegrator::GearA(o) => IntegratorChoice::GearA {
+            renormalise: flag(o.renormalise, true),
+            startup: startup("integrator.startup", &o.startup)?,
         },
-        RawIntegrator::GearB(RawGearB {
-            c0,
-            project_torque,
-            project_velocity,
-            renormalise,
-            correct_higher_derivatives,
-        }) => IntegratorChoice::GearB {
-            c0: match c0.as_deref() {
+        RawIntegrator::GearB(o) => IntegratorChoice::GearB {
+            c0: match o.c0.as_deref() {
                 None | Some("3/16") => GearBC0::ThreeSixteenths,
                 Some("3/20") => GearBC0::ThreeTwentieths,
                 Some(other) => {
@@ -585,13 +614,14 @@ fn integrator(raw: &RawIntegrator) -> Result<IntegratorChoice> {
                     ))
                 }
             },
-            project_torque: flag(*project_torque, true),
-            project_velocity: flag(*project_velocity, true),
-            renormalise: flag(*renormalise, true),
-            correct_higher_derivatives: flag(*correct_higher_derivatives, false),
+            project_torque: flag(o.project_torque, true),
+            project_velocity: flag(o.project_velocity, true),
+            renormalise: flag(o.renormalise, true),
+            correct_higher_derivatives: flag(o.correct_higher_derivatives, false),
+            startup: startup("integrator.startup", &o.startup)?,
         },
-        RawIntegrator::NoSquish(RawNoSquish { substeps }) => {
-            let substeps = at_least_one("integrator.substeps", substeps.unwrap_or(1))?;
+        RawIntegrator::NoSquish(o) => {
+            let substeps = at_least_one("integrator.substeps", o.substeps.unwrap_or(1))?;
             IntegratorChoice::NoSquish {
                 substeps: u32::try_from(substeps).map_err(|_| {
                     SceneError::field(
@@ -599,9 +629,12 @@ fn integrator(raw: &RawIntegrator) -> Result<IntegratorChoice> {
                         format!("must be <= {}, got {substeps}", u32::MAX),
                     )
                 })?,
+                spherical_tops: spherical_tops("integrator.spherical_tops", &o.spherical_tops)?,
             }
         }
-        RawIntegrator::Dlm(_) => IntegratorChoice::Dlm,
+        RawIntegrator::Dlm(o) => IntegratorChoice::Dlm {
+            spherical_tops: spherical_tops("integrator.spherical_tops", &o.spherical_tops)?,
+        },
         RawIntegrator::Richardson(_) => IntegratorChoice::Richardson,
     })
 }

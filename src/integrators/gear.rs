@@ -1,0 +1,203 @@
+//! Gear predictor-corrector machinery shared by schemes A and B (Gear 1971,
+//! ref 5 of the note), on scaled derivatives (Nordsieck vectors)
+//! `r_k = h^k/k! d^k x/dt^k`, `k = 0..N-1`.
+//!
+//! * **Predict** (a Taylor series): `r_j <- sum_{k >= j} C(k, j) r_k`, done in
+//!   place by the Pascal triangle (repeated pairwise additions).
+//! * **Correct** an equation of order `m` (1 or 2) with right-hand side `f`
+//!   evaluated at the predicted values: `delta = h^m/m! f - r_m`, then
+//!   `r_k <- r_k + c_k delta` with the coefficient tables below.
+
+use super::IntegratorError;
+use crate::quaternion::Quat;
+use nalgebra::Vector3;
+use std::ops::{Add, Mul};
+
+/// Corrector for first-order equations with 5 stored values (scheme A):
+/// `251/720, 1, 11/12, 1/3, 1/24` (Gear's table; the `c_0` of the Adams-Moulton
+/// 4-step formula in Nordsieck form).
+pub const FIRST_ORDER_5: [f64; 5] = [251.0 / 720.0, 1.0, 11.0 / 12.0, 1.0 / 3.0, 1.0 / 24.0];
+
+/// First corrector coefficient of the 6-value second-order table when the
+/// right-hand side depends on the first derivative (as eq 12 does).
+pub const C0_VELOCITY_DEPENDENT: f64 = 3.0 / 16.0;
+
+/// First corrector coefficient of the 6-value second-order table for
+/// right-hand sides that depend on the position only.
+pub const C0_POSITION_ONLY: f64 = 3.0 / 20.0;
+
+/// Corrector for second-order equations with 6 stored values (scheme B):
+/// `c0, 251/360, 1, 11/18, 1/6, 1/60`.
+pub fn second_order_6(c0: f64) -> [f64; 6] {
+    [c0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0]
+}
+
+/// A value a Gear recursion acts on (a quaternion or a 3-vector), with flat
+/// access to its components for checkpoints.
+pub trait GearValue: Copy + Add<Output = Self> + Mul<f64, Output = Self> {
+    /// The zero value.
+    const ZERO: Self;
+    /// The components, in storage order.
+    fn components(&self) -> &[f64];
+    /// The components, mutable.
+    fn components_mut(&mut self) -> &mut [f64];
+}
+
+impl GearValue for Quat {
+    const ZERO: Self = Quat::ZERO;
+    fn components(&self) -> &[f64] {
+        &self.0
+    }
+    fn components_mut(&mut self) -> &mut [f64] {
+        &mut self.0
+    }
+}
+
+impl GearValue for Vector3<f64> {
+    const ZERO: Self = Vector3::new(0.0, 0.0, 0.0);
+    fn components(&self) -> &[f64] {
+        self.as_slice()
+    }
+    fn components_mut(&mut self) -> &mut [f64] {
+        self.as_mut_slice()
+    }
+}
+
+/// The scaled derivatives `r_0..r_{N-1}` of one quantity for every rotor,
+/// stored derivative-major (`r[k][rotor]`) so that `r[0]` is the contiguous
+/// slice of current values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Nordsieck<T, const N: usize> {
+    /// `r[k][i] = h^k/k! x_i^(k)`.
+    pub r: [Vec<T>; N],
+}
+
+impl<T: GearValue, const N: usize> Nordsieck<T, N> {
+    /// All zeros, for `n` rotors.
+    pub fn zeros(n: usize) -> Self {
+        Nordsieck {
+            r: std::array::from_fn(|_| vec![T::ZERO; n]),
+        }
+    }
+
+    /// The number of rotors.
+    pub fn len(&self) -> usize {
+        self.r[0].len()
+    }
+
+    /// True when there are no rotors.
+    pub fn is_empty(&self) -> bool {
+        self.r[0].is_empty()
+    }
+
+    /// The Taylor predictor, in place, by the Pascal triangle.
+    pub fn predict(&mut self) {
+        for j in 0..N - 1 {
+            for k in (j..N - 1).rev() {
+                let (lower, upper) = self.r.split_at_mut(k + 1);
+                for (a, b) in lower[k].iter_mut().zip(&upper[0]) {
+                    *a = *a + *b;
+                }
+            }
+        }
+    }
+
+    /// The corrector for rotor `i`: `r_k <- r_k + c_k delta`.
+    pub fn correct(&mut self, i: usize, coefficients: &[f64; N], delta: T) {
+        for (r_k, c_k) in self.r.iter_mut().zip(coefficients) {
+            r_k[i] = r_k[i] + delta * *c_k;
+        }
+    }
+
+    /// The `N` scaled derivatives of rotor `i`.
+    pub fn rotor(&self, i: usize) -> [T; N] {
+        std::array::from_fn(|k| self.r[k][i])
+    }
+
+    /// Overwrites the `N` scaled derivatives of rotor `i`.
+    pub fn set_rotor(&mut self, i: usize, values: &[T; N]) {
+        for (r_k, v) in self.r.iter_mut().zip(values) {
+            r_k[i] = *v;
+        }
+    }
+
+    /// The first `M <= N` scaled derivatives (a lower-order copy).
+    pub fn truncated<const M: usize>(&self) -> Nordsieck<T, M> {
+        Nordsieck {
+            r: std::array::from_fn(|k| self.r[k].clone()),
+        }
+    }
+
+    /// The length of [`Nordsieck::write_flat`]'s output.
+    pub fn flat_len(&self) -> usize {
+        let dim = T::ZERO.components().len();
+        N * self.len() * dim
+    }
+
+    /// Appends every component, derivative-major.
+    pub fn write_flat(&self, out: &mut Vec<f64>) {
+        for v in self.r.iter().flatten() {
+            out.extend_from_slice(v.components());
+        }
+    }
+
+    /// Reads back [`Nordsieck::write_flat`]'s output; `data` must hold at
+    /// least [`Nordsieck::flat_len`] values. Returns the rest.
+    pub fn read_flat<'a>(&mut self, data: &'a [f64]) -> &'a [f64] {
+        let mut rest = data;
+        for v in self.r.iter_mut().flatten() {
+            let c = v.components_mut();
+            let (head, tail) = rest.split_at(c.len());
+            c.copy_from_slice(head);
+            rest = tail;
+        }
+        rest
+    }
+}
+
+/// Checks a checkpoint laid out as `[dt, data...]` against the scheme's `dt`
+/// and data length, and returns the data.
+pub fn checkpoint_data(state: &[f64], dt: f64, data_len: usize) -> Result<&[f64], IntegratorError> {
+    match state.split_first() {
+        Some((saved_dt, data)) if data.len() == data_len && saved_dt.to_bits() == dt.to_bits() => {
+            Ok(data)
+        }
+        Some((saved_dt, data)) => Err(IntegratorError::BadCheckpoint(format!(
+            "expected dt = {dt} and {data_len} values, got dt = {saved_dt} and {} values",
+            data.len()
+        ))),
+        None => Err(IntegratorError::BadCheckpoint("empty".into())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The predictor is the exact Taylor shift of a polynomial of degree N-1:
+    /// for x(t) = t^4 with h = 1, r_k = C(4, k) t^(4-k), shifted from t = 2 to 3.
+    #[test]
+    fn predictor_shifts_polynomials_exactly() {
+        let binom = [1.0, 4.0, 6.0, 4.0, 1.0];
+        let scaled = |t: f64| -> [Vector3<f64>; 5] {
+            std::array::from_fn(|k| Vector3::repeat(binom[k] * t.powi(4 - k as i32)))
+        };
+        let mut n = Nordsieck::<Vector3<f64>, 5>::zeros(1);
+        n.set_rotor(0, &scaled(2.0));
+        n.predict();
+        assert_eq!(n.rotor(0), scaled(3.0));
+    }
+
+    /// The flat round trip is exact.
+    #[test]
+    fn flat_round_trip() {
+        let mut n = Nordsieck::<Quat, 3>::zeros(2);
+        n.r[2][1] = Quat::new(1.0, 2.0, 3.0, 4.0);
+        let mut flat = Vec::new();
+        n.write_flat(&mut flat);
+        assert_eq!(flat.len(), n.flat_len());
+        let mut m = Nordsieck::<Quat, 3>::zeros(2);
+        assert!(m.read_flat(&flat).is_empty());
+        assert_eq!(m, n);
+    }
+}

@@ -1,0 +1,120 @@
+//! Rigid-body kinematics shared by the Gear schemes: Euler's equations in the
+//! principal body frame, and the choice (once per system, at compile time in
+//! the step) between the spherical-top shortcut and the general top.
+
+use crate::quaternion::Quat;
+use crate::rotor::Inertia;
+use nalgebra::Vector3;
+
+/// Principal moments of one rotor and their inverses, precomputed at setup.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrincipalMoments {
+    /// `(I1, I2, I3)`.
+    pub moments: Vector3<f64>,
+    /// `(1/I1, 1/I2, 1/I3)`.
+    pub inverse: Vector3<f64>,
+    /// `1/I0` with `I0 = (I1 + I2 + I3)/3`: the moment applied to the norm
+    /// component `n0` of an unprojected quaternion force (scheme B), so that
+    /// the general-top form reduces exactly to eq 12 for a spherical top.
+    pub inverse_mean: f64,
+}
+
+impl PrincipalMoments {
+    /// From the rotor's inertia, or `None` unless every moment is finite and > 0.
+    pub fn new(inertia: &Inertia) -> Option<Self> {
+        let moments = inertia.principal();
+        moments
+            .iter()
+            .all(|m| m.is_finite() && *m > 0.0)
+            .then(|| PrincipalMoments {
+                moments,
+                inverse: moments.map(|m| 1.0 / m),
+                inverse_mean: 3.0 / moments.sum(),
+            })
+    }
+}
+
+/// How the body angular acceleration follows from the body torque. The
+/// schemes pick the implementation once per system, so the step is
+/// monomorphised and a spherical top does no inertia-tensor work.
+pub trait TopKind {
+    /// True for [`Spherical`] (lets scheme B use eq 12 directly).
+    const SPHERICAL: bool;
+    /// `w_b'` from the body torque `n_b` (not divided by the moments).
+    fn omega_dot_body(
+        moments: &PrincipalMoments,
+        omega_body: &Vector3<f64>,
+        torque_body: &Vector3<f64>,
+    ) -> Vector3<f64>;
+}
+
+/// Every rotor is a spherical top: eq 11, `w_b' = n_b / I`.
+pub struct Spherical;
+
+/// General tops: Euler's equations `I w_b' = n_b - w_b x (I w_b)`.
+pub struct General;
+
+impl TopKind for Spherical {
+    const SPHERICAL: bool = true;
+    fn omega_dot_body(
+        moments: &PrincipalMoments,
+        _omega_body: &Vector3<f64>,
+        torque_body: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        torque_body * moments.inverse.x
+    }
+}
+
+impl TopKind for General {
+    const SPHERICAL: bool = false;
+    fn omega_dot_body(
+        moments: &PrincipalMoments,
+        omega_body: &Vector3<f64>,
+        torque_body: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        let angular_momentum_body = moments.moments.component_mul(omega_body);
+        (torque_body - omega_body.cross(&angular_momentum_body)).component_mul(&moments.inverse)
+    }
+}
+
+/// Body-fixed components of a space-fixed torque with the rotation of `Q`,
+/// `A(Q/|Q|) n_s` (eq 6), exact for a slightly non-unit predicted `Q`.
+pub fn torque_body(q: &Quat, torque_space: &Vector3<f64>) -> Vector3<f64> {
+    q.space_to_body(torque_space) / q.norm_squared()
+}
+
+/// The principal moments of every rotor, and whether all are spherical tops.
+/// Errors name the first rotor with a moment that is not finite and > 0.
+pub fn principal_moments(inertia: &[Inertia]) -> Result<(Vec<PrincipalMoments>, bool), usize> {
+    let moments = inertia
+        .iter()
+        .enumerate()
+        .map(|(i, inertia)| PrincipalMoments::new(inertia).ok_or(i))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((moments, inertia.iter().all(Inertia::is_spherical)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// For equal moments the general form reduces to the spherical one.
+    #[test]
+    fn general_reduces_to_spherical_for_equal_moments() {
+        let m = PrincipalMoments::new(&Inertia::Principal(Vector3::repeat(2.0))).unwrap();
+        let w = Vector3::new(0.3, -1.1, 0.7);
+        let n = Vector3::new(-0.2, 0.5, 0.9);
+        let d = General::omega_dot_body(&m, &w, &n) - Spherical::omega_dot_body(&m, &w, &n);
+        assert!(d.norm() < 1e-15);
+    }
+
+    /// Non-positive moments are rejected with the rotor index.
+    #[test]
+    fn rejects_non_positive_moments() {
+        let inertia = [
+            Inertia::Spherical(1.0),
+            Inertia::Principal(Vector3::new(1.0, 0.0, 1.0)),
+        ];
+        assert_eq!(principal_moments(&inertia).unwrap_err(), 1);
+    }
+}

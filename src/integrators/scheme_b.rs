@@ -1,0 +1,298 @@
+//! Scheme B of the note: Allen's direct integration of the second-order
+//! quaternion equation (eq 12, corrected) with the 6-value Gear
+//! predictor-corrector for second-order equations.
+//!
+//! Right-hand side (derived from eq 10, `Q' = 1/2 Q*W_b`, `W_b = (0, w_b)`:
+//! `Q'' = 1/2 Q'*W_b + 1/2 Q*W_b'` and `W_b = 2 Q~*Q'` for unit `Q`):
+//!
+//! `Q'' = Q'*Q~*Q' + 1/2 Q*(n0/I0, w_b')`, with `w_b = 2 vec(Q~*Q')`,
+//! `I w_b' = n_b - w_b x (I w_b)` (Euler) and `(n0, n_b) = 1/2 Q~*N` (eq 13
+//! inverted), `N = -dV/dQ` the unconstrained gradient of eq 14.
+//!
+//! For a spherical top this is `Q'' = Q'*Q~*Q' + 1/4 N/I` (the printed eq 12
+//! has `Q'*Q'*Q'` and `1/2 N`: ERRATA.md), computed without any body-frame
+//! work. `n0` is the norm component of `N` (`n0 = 1/2 Q.N`); it is zero after
+//! the torque projection, and otherwise divided by the mean moment `I0`.
+//!
+//! The corrections of the note, each a switch of [`GearBOptions`]:
+//! torque projection `N <- N - (Q.N) Q/|Q|^2` (eq 15b), velocity projection
+//! `Q' <- Q' - (Q.Q') Q/|Q|^2` (eq 15a), renormalisation `Q <- Q/|Q|`, and the
+//! answer to the note's open question: the higher derivatives obey the
+//! derivatives of `|Q|^2 = const`, `sum_j C(k,j) Q^(j).Q^(k-j) = 0`, which in
+//! scaled derivatives read `sum_{j=0..k} r_j.r_{k-j} = 0`; each `r_k`,
+//! `k = 2..5`, is projected along `Q` to satisfy its constraint.
+//!
+//! Properties: 6 stored quaternions per rotor (`Q` and 5 scaled derivatives)
+//! plus the last force `N` (diagnostics only); one gradient evaluation per
+//! step; neither time reversible nor symplectic; global error of order 5 in
+//! `h` with the velocity-dependent `c0 = 3/16` and a consistent start-up.
+
+use super::gear::{
+    checkpoint_data, second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT,
+};
+use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::startup::{initial_derivatives, prepare, Startup};
+use super::{Integrator, IntegratorError, RotorState};
+use crate::potential::Potential;
+use crate::quaternion::Quat;
+use crate::rotor::Inertia;
+use nalgebra::Vector3;
+
+/// The first coefficient `c0` of the second-order corrector table.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FirstCorrector {
+    /// `3/16`, Gear's value for right-hand sides that depend on `Q'` (eq 12
+    /// does). The default.
+    #[default]
+    VelocityDependent,
+    /// `3/20`, Gear's value for position-only right-hand sides.
+    PositionOnly,
+}
+
+impl FirstCorrector {
+    /// The coefficient `c0`.
+    pub fn value(self) -> f64 {
+        match self {
+            FirstCorrector::VelocityDependent => C0_VELOCITY_DEPENDENT,
+            FirstCorrector::PositionOnly => C0_POSITION_ONLY,
+        }
+    }
+}
+
+/// Options of [`GearB`]. The default is the note's recommended set: both
+/// projections and renormalisation, without the higher-derivative correction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GearBOptions {
+    /// The first corrector coefficient (default 3/16).
+    pub c0: FirstCorrector,
+    /// Project the quaternion force orthogonal to `Q` (eq 15b; default true).
+    pub project_torque: bool,
+    /// Project `Q'` orthogonal to `Q` after each step (eq 15a; default true).
+    pub project_velocity: bool,
+    /// Rescale `Q` to unit norm after each step (default true).
+    pub renormalise: bool,
+    /// Project `Q''..Q^(5)` onto the derivatives of `|Q|^2 = const`
+    /// (default false).
+    pub correct_higher_derivatives: bool,
+    /// How the higher derivatives are set at t = 0 (default consistent).
+    pub startup: Startup,
+}
+
+impl Default for GearBOptions {
+    fn default() -> Self {
+        GearBOptions {
+            c0: FirstCorrector::VelocityDependent,
+            project_torque: true,
+            project_velocity: true,
+            renormalise: true,
+            correct_higher_derivatives: false,
+            startup: Startup::Consistent,
+        }
+    }
+}
+
+/// Scheme B: the 6-value second-order Gear corrector for eq 12 (module doc).
+#[derive(Clone, Debug)]
+pub struct GearB {
+    options: GearBOptions,
+    coefficients: [f64; 6],
+    dt: f64,
+    moments: Vec<PrincipalMoments>,
+    spherical: bool,
+    q: Nordsieck<Quat, 6>,
+    /// The quaternion force `N` of the last step (after the projection, if on).
+    force: Vec<Quat>,
+    gradient: Vec<Quat>,
+}
+
+/// The quaternion force `N = -dV/dQ` (eq 14), projected orthogonal to `Q`
+/// when `project` (so that eq 15b holds).
+fn quaternion_force(q: &Quat, gradient: &Quat, project: bool) -> Quat {
+    let force = -*gradient;
+    if project {
+        force - *q * (q.dot(&force) / q.norm_squared())
+    } else {
+        force
+    }
+}
+
+/// The right-hand side of eq 12 (corrected; module doc) for one rotor.
+fn q_ddot<K: TopKind>(moments: &PrincipalMoments, q: &Quat, q_dot: &Quat, force: &Quat) -> Quat {
+    let kinetic = *q_dot * q.conjugate() * *q_dot;
+    if K::SPHERICAL {
+        return kinetic + *force * (0.25 * moments.inverse.x);
+    }
+    let inv_norm2 = 1.0 / q.norm_squared();
+    let force_body = q.conjugate() * *force * (0.5 * inv_norm2);
+    let omega_body = (q.conjugate() * *q_dot).vector() * (2.0 * inv_norm2);
+    let omega_dot = K::omega_dot_body(moments, &omega_body, &force_body.vector());
+    let accel_body = Quat::new(
+        force_body.scalar() * moments.inverse_mean,
+        omega_dot.x,
+        omega_dot.y,
+        omega_dot.z,
+    );
+    kinetic + *q * accel_body * 0.5
+}
+
+/// Projects `r_k` along `r_0` so that `sum_{j=0..k} r_j.r_{k-j} = 0`, the k-th
+/// time derivative of `|Q|^2 = const` in scaled derivatives (`k >= 1`; for
+/// `k = 1` it is the velocity projection).
+fn enforce_norm_derivative(r: &mut [Quat; 6], k: usize) {
+    let inner: f64 = (1..k).map(|j| r[j].dot(&r[k - j])).sum();
+    let f = (r[0].dot(&r[k]) + 0.5 * inner) / r[0].norm_squared();
+    r[k] = r[k] - r[0] * f;
+}
+
+impl GearB {
+    /// A scheme-B integrator with the given options (set up before stepping).
+    pub fn new(options: GearBOptions) -> Self {
+        GearB {
+            options,
+            coefficients: second_order_6(options.c0.value()),
+            dt: 0.0,
+            moments: Vec::new(),
+            spherical: true,
+            q: Nordsieck::zeros(0),
+            force: Vec::new(),
+            gradient: Vec::new(),
+        }
+    }
+
+    /// The options.
+    pub fn options(&self) -> &GearBOptions {
+        &self.options
+    }
+
+    /// One step (a)-(c) of the note plus the switched corrections.
+    fn step_with<K: TopKind, P: Potential>(&mut self, potential: &P) {
+        let h = self.dt;
+        let opts = self.options;
+        // (a): predict.
+        self.q.predict();
+        // (b): the unconstrained gradient (eq 14) at the predicted Q.
+        self.gradient.fill(Quat::ZERO);
+        potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
+        for i in 0..self.moments.len() {
+            let q = self.q.r[0][i];
+            let force = quaternion_force(&q, &self.gradient[i], opts.project_torque);
+            self.force[i] = force;
+            let q_dot = self.q.r[1][i] * (1.0 / h);
+            let accel = q_ddot::<K>(&self.moments[i], &q, &q_dot, &force);
+            // (c): correct.
+            let delta = accel * (0.5 * h * h) - self.q.r[2][i];
+            self.q.correct(i, &self.coefficients, delta);
+            if opts.renormalise || opts.project_velocity || opts.correct_higher_derivatives {
+                let mut r = self.q.rotor(i);
+                if opts.renormalise {
+                    r[0] = r[0] * (1.0 / r[0].norm());
+                }
+                if opts.project_velocity {
+                    enforce_norm_derivative(&mut r, 1);
+                }
+                if opts.correct_higher_derivatives {
+                    for k in 2..6 {
+                        enforce_norm_derivative(&mut r, k);
+                    }
+                }
+                self.q.set_rotor(i, &r);
+            }
+        }
+    }
+}
+
+impl Default for GearB {
+    fn default() -> Self {
+        GearB::new(GearBOptions::default())
+    }
+}
+
+impl Integrator for GearB {
+    fn name(&self) -> &'static str {
+        "gear_b"
+    }
+
+    fn setup<P: Potential>(
+        &mut self,
+        inertia: &[Inertia],
+        potential: &P,
+        initial: &[RotorState],
+        dt: f64,
+    ) -> Result<(), IntegratorError> {
+        let prepared = prepare(inertia, initial, dt)?;
+        let start = if prepared.spherical {
+            initial_derivatives::<Spherical, P>
+        } else {
+            initial_derivatives::<General, P>
+        };
+        let derivatives = start(
+            self.options.startup,
+            &prepared.moments,
+            potential,
+            &prepared.initial,
+            dt,
+        );
+        let n = prepared.initial.len();
+        self.dt = dt;
+        self.q = derivatives.q;
+        self.gradient = vec![Quat::ZERO; n];
+        potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
+        self.force = self.q.r[0]
+            .iter()
+            .zip(&self.gradient)
+            .map(|(q, g)| quaternion_force(q, g, self.options.project_torque))
+            .collect();
+        self.moments = prepared.moments;
+        self.spherical = prepared.spherical;
+        Ok(())
+    }
+
+    fn step<P: Potential>(&mut self, potential: &P) {
+        if self.spherical {
+            self.step_with::<Spherical, P>(potential);
+        } else {
+            self.step_with::<General, P>(potential);
+        }
+    }
+
+    fn orientations(&self) -> &[Quat] {
+        &self.q.r[0]
+    }
+
+    fn omega_body(&self, out: &mut [Vector3<f64>]) {
+        for (i, w) in out.iter_mut().enumerate() {
+            let q = self.q.r[0][i];
+            *w = (q.conjugate() * self.q.r[1][i]).vector() * (2.0 / (self.dt * q.norm_squared()));
+        }
+    }
+
+    fn q_dot(&self, out: &mut [Quat]) {
+        for (q_dot, r1) in out.iter_mut().zip(&self.q.r[1]) {
+            *q_dot = *r1 * (1.0 / self.dt);
+        }
+    }
+
+    fn q_dot_n(&self, out: &mut [f64]) -> bool {
+        for ((x, q), n) in out.iter_mut().zip(&self.q.r[0]).zip(&self.force) {
+            *x = q.dot(n);
+        }
+        true
+    }
+
+    fn checkpoint(&self) -> Vec<f64> {
+        let mut out = vec![self.dt];
+        self.q.write_flat(&mut out);
+        out.extend(self.force.iter().flat_map(|n| n.0));
+        out
+    }
+
+    fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
+        let len = self.q.flat_len() + 4 * self.force.len();
+        let data = checkpoint_data(state, self.dt, len)?;
+        let rest = self.q.read_flat(data);
+        for (n, c) in self.force.iter_mut().zip(rest.chunks_exact(4)) {
+            n.0.copy_from_slice(c);
+        }
+        Ok(())
+    }
+}

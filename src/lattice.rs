@@ -1,0 +1,84 @@
+//! Cubic lattices of fixed rotor sites: simple cubic, body-centred and
+//! face-centred cubic, `n x n x n` conventional cells in a periodic box.
+//!
+//! Explicit site lists need no type of their own: they are `Vec<Vector3<f64>>`.
+
+use nalgebra::Vector3;
+use thiserror::Error;
+
+/// The Bravais lattice of a [`Lattice`]: the basis of the conventional cubic cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LatticeKind {
+    /// One site per cell, at `(0, 0, 0)`.
+    SimpleCubic,
+    /// Two sites per cell, at `(0, 0, 0)` and `(1/2, 1/2, 1/2)`.
+    Bcc,
+    /// Four sites per cell, at `(0, 0, 0)` and the three face centres.
+    Fcc,
+}
+
+impl LatticeKind {
+    /// The sites of the conventional cell, in units of the lattice constant.
+    fn basis(self) -> &'static [[f64; 3]] {
+        match self {
+            LatticeKind::SimpleCubic => &[[0.0, 0.0, 0.0]],
+            LatticeKind::Bcc => &[[0.0, 0.0, 0.0], [0.5, 0.5, 0.5]],
+            LatticeKind::Fcc => &[
+                [0.0, 0.0, 0.0],
+                [0.0, 0.5, 0.5],
+                [0.5, 0.0, 0.5],
+                [0.5, 0.5, 0.0],
+            ],
+        }
+    }
+}
+
+/// Invalid lattice parameters.
+#[derive(Debug, Error, PartialEq)]
+pub enum LatticeError {
+    /// The number of cells per edge is zero.
+    #[error("cells: must be >= 1, got {0}")]
+    NoCells(usize),
+    /// The lattice constant is not a positive finite number.
+    #[error("spacing: must be finite and > 0, got {0}")]
+    BadSpacing(f64),
+}
+
+/// The sites of a cubic lattice and the lengths of its periodic box.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lattice {
+    /// Site positions, cell by cell (x slowest, then y, then z), basis order within a cell.
+    pub sites: Vec<Vector3<f64>>,
+    /// Edge lengths of the periodic box, `cells * spacing` along each axis.
+    pub box_lengths: Vector3<f64>,
+}
+
+impl Lattice {
+    /// `cells x cells x cells` conventional cells of lattice constant `spacing`
+    /// (length unit of the scene, > 0): `cells^3 * (1, 2, 4)` sites for
+    /// (sc, bcc, fcc), all inside `[0, cells * spacing)^3`.
+    pub fn cubic(kind: LatticeKind, cells: usize, spacing: f64) -> Result<Lattice, LatticeError> {
+        if cells == 0 {
+            return Err(LatticeError::NoCells(cells));
+        }
+        if !(spacing.is_finite() && spacing > 0.0) {
+            return Err(LatticeError::BadSpacing(spacing));
+        }
+        let basis = kind.basis();
+        let mut sites = Vec::with_capacity(cells.pow(3) * basis.len());
+        for x in 0..cells {
+            for y in 0..cells {
+                for z in 0..cells {
+                    let corner = Vector3::new(x as f64, y as f64, z as f64);
+                    for b in basis {
+                        sites.push((corner + Vector3::from(*b)) * spacing);
+                    }
+                }
+            }
+        }
+        Ok(Lattice {
+            sites,
+            box_lengths: Vector3::repeat(cells as f64 * spacing),
+        })
+    }
+}

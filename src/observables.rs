@@ -1,0 +1,71 @@
+//! Observables of a rotor system as pure functions of its state (the
+//! sampling runner calls them; potential and total energy use
+//! [`Potential::energy`]).
+
+use crate::potential::Potential;
+use crate::quaternion::Quat;
+use crate::rotor::Inertia;
+use nalgebra::Vector3;
+
+/// Kinetic energy of a spherical top from `Q'` alone: `2 I |Q'|^2` (the
+/// note's identity, equal to `1/2 I w^2` for unit `Q` with `Q.Q' = 0`).
+pub fn kinetic_energy_spherical(moment: f64, q_dot: &Quat) -> f64 {
+    2.0 * moment * q_dot.norm_squared()
+}
+
+/// Kinetic energy `1/2 w_b . I w_b` of one rotor.
+pub fn kinetic_energy(inertia: &Inertia, omega_body: &Vector3<f64>) -> f64 {
+    0.5 * omega_body.dot(&inertia.principal().component_mul(omega_body))
+}
+
+/// Body angular velocity from `Q` and `Q'`, `w_b = 2 vec(Q~*Q')/|Q|^2` (eq 10
+/// inverted; exact for a non-unit `Q` too).
+pub fn omega_body(q: &Quat, q_dot: &Quat) -> Vector3<f64> {
+    (q.conjugate() * *q_dot).vector() * (2.0 / q.norm_squared())
+}
+
+/// Space angular velocity from `Q` and `Q'`, `w_s = 2 vec(Q'*Q~)/|Q|^2`.
+pub fn omega_space(q: &Quat, q_dot: &Quat) -> Vector3<f64> {
+    (*q_dot * q.conjugate()).vector() * (2.0 / q.norm_squared())
+}
+
+/// Kinetic energy from `Q` and `Q'`: `1/2 w_b . I w_b` with `w_b` of eq 10.
+pub fn kinetic_energy_from_q_dot(inertia: &Inertia, q: &Quat, q_dot: &Quat) -> f64 {
+    kinetic_energy(inertia, &omega_body(q, q_dot))
+}
+
+/// Total kinetic energy of all rotors.
+pub fn total_kinetic_energy(inertia: &[Inertia], omega_body: &[Vector3<f64>]) -> f64 {
+    inertia
+        .iter()
+        .zip(omega_body)
+        .map(|(i, w)| kinetic_energy(i, w))
+        .sum()
+}
+
+/// Total energy: kinetic plus `Potential::energy` at the orientations.
+pub fn total_energy<P: Potential>(
+    potential: &P,
+    inertia: &[Inertia],
+    orientations: &[Quat],
+    omega_body: &[Vector3<f64>],
+) -> f64 {
+    total_kinetic_energy(inertia, omega_body) + potential.energy(orientations)
+}
+
+/// The norm error `|Q| - 1`.
+pub fn norm_error(q: &Quat) -> f64 {
+    q.norm() - 1.0
+}
+
+/// `Q.Q'`, the zeroth component of `Q~*Q'`: half the time derivative of
+/// `|Q|^2` (eq 15a), zero on the exact motion.
+pub fn norm_velocity(q: &Quat, q_dot: &Quat) -> f64 {
+    q.dot(q_dot)
+}
+
+/// `Q.N`, the zeroth component of `Q~*N` (eq 15b): twice the body-frame norm
+/// component `(N_b)_0` of the quaternion force, zero after the projection.
+pub fn norm_force(q: &Quat, force: &Quat) -> f64 {
+    q.dot(force)
+}

@@ -1,0 +1,375 @@
+//! [`MultipolePotential`]: point multipoles on fixed sites, as polynomials of
+//! the quaternions.
+
+use super::kernels::{
+    accumulate_pair_fields, Dipoles, DipolesAndQuadrupoles, MultipoleKind, Quadrupoles, SiteFields,
+    SpaceMultipoles,
+};
+use super::pairs::PairTable;
+use super::{Boundary, ExternalFields, PotentialError};
+use crate::potential::Potential;
+use crate::quaternion::Quat;
+use crate::rotor::Rotor;
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+/// Relative tolerance on the symmetry and tracelessness of body quadrupoles.
+const TRACELESS_TOLERANCE: f64 = 1e-10;
+/// Rotors per rayon task in the per-rotor loops (below this, threads cost more than they save).
+const ROTORS_PER_TASK: usize = 256;
+
+/// Which kernels a system needs, fixed at construction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Carried {
+    Nothing,
+    Dipoles,
+    Quadrupoles,
+    Both,
+}
+
+/// Point dipoles and quadrupoles on fixed sites, with optional uniform
+/// external fields.
+///
+/// The energy is a polynomial in the quaternion components: the space-frame
+/// multipoles are `mu_s = A(Q)^T mu_b` and `Theta_s = A(Q)^T Theta_b A(Q)`
+/// with `A` of eq 7 (for a non-unit `Q`, `A` is `|Q|^2` times a rotation, and
+/// the polynomial is what is differentiated), so `V` is homogeneous of degree
+/// 2 in a rotor's `Q` for its dipole terms and 4 for its quadrupole terms.
+/// The gradient of eq 14 is `dV/dq_k = dA/dq_k : B` with
+/// `B = -mu_b E^T + 2 Theta_b A W`, where `E = -dV/dmu_s` and
+/// `W = dV/dTheta_s` are the conjugate fields; the space-frame torque is
+/// `mu_s x E - 2 vec(Theta_s W)` with `vec(M)_c = eps_abc M_ab`.
+///
+/// Units are reduced with `4 pi eps0 = 1`. Left out: charges, octupoles and
+/// higher, polarisation, Ewald sums (the periodic sum is truncated at the
+/// cutoff, without shift), damping at short range.
+#[derive(Clone, Debug)]
+pub struct MultipolePotential {
+    carried: Carried,
+    dipoles_body: Vec<Vector3<f64>>,
+    quadrupoles_body: Vec<Matrix3<f64>>,
+    pairs: PairTable,
+    external: ExternalFields,
+}
+
+impl MultipolePotential {
+    /// Builds the pair list and the pair geometry once. Checks every input:
+    /// finite sites and multipoles, symmetric traceless body quadrupoles
+    /// (Buckingham convention, see [`super::convention`]), distinct sites,
+    /// a valid box and cutoff, finite symmetric external fields.
+    pub fn new(
+        rotors: &[Rotor],
+        boundary: Boundary,
+        external: ExternalFields,
+    ) -> Result<MultipolePotential, PotentialError> {
+        boundary.validate()?;
+        external.validate()?;
+        for (i, rotor) in rotors.iter().enumerate() {
+            validate_rotor(i, rotor)?;
+        }
+        let has_dipoles = rotors.iter().any(|r| r.dipole_body.is_some());
+        let has_quadrupoles = rotors.iter().any(|r| r.quadrupole_body.is_some());
+        let carried = match (has_dipoles, has_quadrupoles) {
+            (false, false) => Carried::Nothing,
+            (true, false) => Carried::Dipoles,
+            (false, true) => Carried::Quadrupoles,
+            (true, true) => Carried::Both,
+        };
+        let sites: Vec<_> = rotors.iter().map(|r| r.site).collect();
+        let pairs = if carried == Carried::Nothing {
+            PairTable::build(&[], &boundary)?
+        } else {
+            PairTable::build(&sites, &boundary)?
+        };
+        let dipoles_body = if has_dipoles {
+            rotors
+                .iter()
+                .map(|r| r.dipole_body.unwrap_or_default())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let quadrupoles_body = if has_quadrupoles {
+            rotors
+                .iter()
+                .map(|r| r.quadrupole_body.unwrap_or_default())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Ok(MultipolePotential {
+            carried,
+            dipoles_body,
+            quadrupoles_body,
+            pairs,
+            external,
+        })
+    }
+
+    /// Number of interacting pairs (each counted once).
+    pub fn pair_count(&self) -> usize {
+        self.pairs.len()
+    }
+
+    /// Number of distinct pair geometries stored (shared by equal offsets).
+    pub fn geometry_count(&self) -> usize {
+        self.pairs.geometry.len()
+    }
+
+    /// One evaluation: returns the energy and, when asked, adds the eq 14
+    /// gradient `dV/dq_k` and the space-frame torques into the given slices.
+    /// Results do not depend on the number of rayon threads for a given
+    /// block split; the pair loop is split into as many blocks as the current
+    /// rayon pool has threads and the blocks are summed in a fixed order.
+    ///
+    /// # Panics
+    /// If a slice length differs from the number of rotors (a programming
+    /// error: the bindings check shapes before calling).
+    pub fn evaluate(
+        &self,
+        orientations: &[Quat],
+        gradient: Option<&mut [Quat]>,
+        torques_space: Option<&mut [Vector3<f64>]>,
+    ) -> f64 {
+        match self.carried {
+            Carried::Nothing => 0.0,
+            Carried::Dipoles => {
+                self.evaluate_kind::<Dipoles>(orientations, gradient, torques_space)
+            }
+            Carried::Quadrupoles => {
+                self.evaluate_kind::<Quadrupoles>(orientations, gradient, torques_space)
+            }
+            Carried::Both => {
+                self.evaluate_kind::<DipolesAndQuadrupoles>(orientations, gradient, torques_space)
+            }
+        }
+    }
+
+    fn rotor_count(&self) -> usize {
+        self.dipoles_body.len().max(self.quadrupoles_body.len())
+    }
+
+    fn evaluate_kind<K: MultipoleKind>(
+        &self,
+        orientations: &[Quat],
+        gradient: Option<&mut [Quat]>,
+        torques_space: Option<&mut [Vector3<f64>]>,
+    ) -> f64 {
+        let n = self.rotor_count();
+        assert_eq!(orientations.len(), n, "orientations: one per rotor");
+        let multipoles = self.space_multipoles::<K>(orientations);
+        let mut fields = self.pair_fields::<K>(&multipoles);
+        let energy = self.energy_and_external_fields::<K>(&multipoles, &mut fields);
+        if let Some(gradient) = gradient {
+            assert_eq!(gradient.len(), n, "gradient: one per rotor");
+            self.add_gradient::<K>(orientations, &fields, gradient);
+        }
+        if let Some(torques) = torques_space {
+            assert_eq!(torques.len(), n, "torques_space: one per rotor");
+            add_torques::<K>(&multipoles, &fields, torques);
+        }
+        energy
+    }
+
+    /// `mu_s = A^T mu_b` and `Theta_s = A^T Theta_b A` for every rotor.
+    fn space_multipoles<K: MultipoleKind>(&self, orientations: &[Quat]) -> SpaceMultipoles {
+        let mut out = SpaceMultipoles::default();
+        if K::DIPOLES {
+            out.dipoles = orientations
+                .par_iter()
+                .with_min_len(ROTORS_PER_TASK)
+                .zip(&self.dipoles_body)
+                .map(|(q, mu_b)| {
+                    let mu_s = q.space_to_body_matrix().tr_mul(mu_b);
+                    [mu_s.x, mu_s.y, mu_s.z, 0.0]
+                })
+                .collect();
+        }
+        if K::QUADRUPOLES {
+            out.quadrupoles = orientations
+                .par_iter()
+                .with_min_len(ROTORS_PER_TASK)
+                .zip(&self.quadrupoles_body)
+                .map(|(q, theta_b)| {
+                    let a = q.space_to_body_matrix();
+                    a.tr_mul(theta_b) * a
+                })
+                .collect();
+        }
+        out
+    }
+
+    /// The pair fields, one block of rows per rayon thread, summed in block order.
+    fn pair_fields<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
+        let n = self.rotor_count();
+        let blocks = self.pairs.balanced_blocks(rayon::current_num_threads());
+        let mut partial: Vec<(usize, SiteFields)> = blocks
+            .into_par_iter()
+            .map(|rows| {
+                let mut fields = SiteFields::zeros::<K>(n);
+                let first = rows.start;
+                accumulate_pair_fields::<K>(&self.pairs, rows, multipoles, &mut fields);
+                (first, fields)
+            })
+            .collect();
+        let (_, mut total) = partial.remove(0);
+        for (first, fields) in &partial {
+            total.add_from(fields, *first);
+        }
+        total
+    }
+
+    /// The energy `1/2 sum (-mu.E + Theta:W)` of the pair fields plus the
+    /// external terms `-mu.E0 - 1/3 Theta:G0`; then adds the external fields
+    /// (`E0`, and `W0 = -G0/3`) to the site fields.
+    fn energy_and_external_fields<K: MultipoleKind>(
+        &self,
+        multipoles: &SpaceMultipoles,
+        fields: &mut SiteFields,
+    ) -> f64 {
+        let mut energy = 0.0;
+        if K::DIPOLES {
+            let pair: f64 = multipoles
+                .dipoles
+                .iter()
+                .zip(&fields.field)
+                .map(|(mu, e)| mu[0] * e[0] + mu[1] * e[1] + mu[2] * e[2])
+                .sum();
+            energy -= 0.5 * pair;
+            if let Some(e0) = self.external.field {
+                let total_dipole = multipoles.dipoles.iter().fold(Vector3::zeros(), |acc, mu| {
+                    acc + Vector3::new(mu[0], mu[1], mu[2])
+                });
+                energy -= total_dipole.dot(&e0);
+                for e in &mut fields.field {
+                    for k in 0..3 {
+                        e[k] += e0[k];
+                    }
+                }
+            }
+        }
+        if K::QUADRUPOLES {
+            let pair: f64 = multipoles
+                .quadrupoles
+                .iter()
+                .zip(&fields.quadrupole_conjugate)
+                .map(|(theta, w)| theta.dot(w))
+                .sum();
+            energy += 0.5 * pair;
+            if let Some(g0) = self.external.field_gradient {
+                let w0 = (g0 + g0.transpose()) / -6.0;
+                let total: Matrix3<f64> = multipoles.quadrupoles.iter().sum();
+                energy += total.dot(&w0);
+                for w in &mut fields.quadrupole_conjugate {
+                    *w += w0;
+                }
+            }
+        }
+        energy
+    }
+
+    /// Adds `dV/dq_k = dA/dq_k : B` (eq 14), `B = -mu_b E^T + 2 Theta_b A W`.
+    fn add_gradient<K: MultipoleKind>(
+        &self,
+        orientations: &[Quat],
+        fields: &SiteFields,
+        gradient: &mut [Quat],
+    ) {
+        gradient
+            .par_iter_mut()
+            .with_min_len(ROTORS_PER_TASK)
+            .enumerate()
+            .for_each(|(i, g)| {
+                let q = &orientations[i];
+                let mut b = Matrix3::zeros();
+                if K::DIPOLES {
+                    let e = &fields.field[i];
+                    b -= self.dipoles_body[i] * Vector3::new(e[0], e[1], e[2]).transpose();
+                }
+                if K::QUADRUPOLES {
+                    let a = q.space_to_body_matrix();
+                    b += self.quadrupoles_body[i] * a * fields.quadrupole_conjugate[i] * 2.0;
+                }
+                let d = q.space_to_body_matrix_derivatives();
+                *g += Quat(std::array::from_fn(|k| d[k].dot(&b)));
+            });
+    }
+}
+
+/// Adds `mu_s x E - 2 vec(Theta_s W)` to each rotor's space-frame torque.
+fn add_torques<K: MultipoleKind>(
+    multipoles: &SpaceMultipoles,
+    fields: &SiteFields,
+    torques: &mut [Vector3<f64>],
+) {
+    for (i, torque) in torques.iter_mut().enumerate() {
+        if K::DIPOLES {
+            let (mu, e) = (&multipoles.dipoles[i], &fields.field[i]);
+            *torque += Vector3::new(mu[0], mu[1], mu[2]).cross(&Vector3::new(e[0], e[1], e[2]));
+        }
+        if K::QUADRUPOLES {
+            let m = multipoles.quadrupoles[i] * fields.quadrupole_conjugate[i];
+            *torque -= Vector3::new(m.m23 - m.m32, m.m31 - m.m13, m.m12 - m.m21) * 2.0;
+        }
+    }
+}
+
+fn validate_rotor(i: usize, rotor: &Rotor) -> Result<(), PotentialError> {
+    let site = rotor.site;
+    if !site.iter().all(|x| x.is_finite()) {
+        return Err(PotentialError::new(
+            format!("rotors[{i}].site"),
+            format!("must be finite, got [{}, {}, {}]", site.x, site.y, site.z),
+        ));
+    }
+    if let Some(mu) = rotor.dipole_body {
+        if !mu.iter().all(|x| x.is_finite()) {
+            return Err(PotentialError::new(
+                format!("rotors[{i}].dipole_body"),
+                format!("must be finite, got [{}, {}, {}]", mu.x, mu.y, mu.z),
+            ));
+        }
+    }
+    if let Some(theta) = rotor.quadrupole_body {
+        let what = format!("rotors[{i}].quadrupole_body");
+        if !theta.iter().all(|x| x.is_finite()) {
+            return Err(PotentialError::new(what, "must be finite"));
+        }
+        let scale = theta.abs().max();
+        let asymmetry = (theta - theta.transpose()).abs().max();
+        if asymmetry > TRACELESS_TOLERANCE * scale {
+            return Err(PotentialError::new(
+                what,
+                format!("must be symmetric, got |Theta - Theta^T|max = {asymmetry:e}"),
+            ));
+        }
+        if theta.trace().abs() > TRACELESS_TOLERANCE * scale {
+            return Err(PotentialError::new(
+                what,
+                format!(
+                    "must be traceless (Buckingham convention), got trace {:e}",
+                    theta.trace()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl Potential for MultipolePotential {
+    fn energy(&self, orientations: &[Quat]) -> f64 {
+        self.evaluate(orientations, None, None)
+    }
+
+    fn accumulate_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) {
+        self.evaluate(orientations, Some(gradient), None);
+    }
+
+    fn accumulate_torques(&self, orientations: &[Quat], torques_space: &mut [Vector3<f64>]) {
+        self.evaluate(orientations, None, Some(torques_space));
+    }
+
+    fn energy_and_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) -> f64 {
+        self.evaluate(orientations, Some(gradient), None)
+    }
+}

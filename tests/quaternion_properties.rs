@@ -1,0 +1,107 @@
+//! Property tests (proptest) of the quaternion algebra over random inputs.
+
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use proptest::prelude::*;
+use quatrot::Quat;
+use std::f64::consts::PI;
+
+/// Round-off of a few products and sums of O(1) numbers.
+const TIGHT: f64 = 1e-13;
+/// Euler angles recovered with sin(theta) > 1e-3: round-off amplified by up to
+/// 1/sin(theta/2) ~ 2e3.
+const ANGLES: f64 = 1e-10;
+
+/// Any quaternion with components in [-2, 2].
+fn quat() -> impl Strategy<Value = Quat> {
+    prop::array::uniform4(-2.0f64..2.0).prop_map(Quat)
+}
+
+/// A unit quaternion (normalised away from the origin, so nearly isotropic).
+fn unit_quat() -> impl Strategy<Value = Quat> {
+    prop::array::uniform4(-1.0f64..1.0)
+        .prop_filter("away from zero", |c| {
+            c.iter().map(|x| x * x).sum::<f64>() > 1e-2
+        })
+        .prop_map(|c| Quat(c) * (1.0 / Quat(c).norm()))
+}
+
+fn vector(max: f64) -> impl Strategy<Value = Vector3<f64>> {
+    prop::array::uniform3(-max..max).prop_map(Vector3::from)
+}
+
+fn max_diff(a: &Quat, b: &Quat) -> f64 {
+    (*a - *b).0.iter().fold(0.0, |m, x| f64::max(m, x.abs()))
+}
+
+fn rotation_diff(a: &Quat, b: &Quat) -> f64 {
+    max_diff(a, b).min(max_diff(a, &-*b))
+}
+
+fn angle_diff(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(2.0 * PI);
+    d.min(2.0 * PI - d)
+}
+
+proptest! {
+    /// (P*Q)*S = P*(Q*S).
+    #[test]
+    fn product_is_associative(p in quat(), q in quat(), s in quat()) {
+        prop_assert!(max_diff(&((p * q) * s), &(p * (q * s))) < 100.0 * TIGHT);
+    }
+
+    /// |P*Q| = |P||Q|.
+    #[test]
+    fn norm_is_multiplicative(p in quat(), q in quat()) {
+        prop_assert!(((p * q).norm() - p.norm() * q.norm()).abs() < 10.0 * TIGHT);
+    }
+
+    /// Q*Q~ = Q~*Q = (|Q|^2, 0), so Q~ is the inverse of a unit Q; (P*Q)~ = Q~*P~.
+    #[test]
+    fn conjugate_is_the_inverse(p in quat(), q in unit_quat()) {
+        prop_assert!(max_diff(&(q * q.conjugate()), &Quat::IDENTITY) < TIGHT);
+        prop_assert!(max_diff(&(q.conjugate() * q), &Quat::IDENTITY) < TIGHT);
+        let n2 = p.norm_squared();
+        prop_assert!(max_diff(&(p * p.conjugate()), &Quat::new(n2, 0.0, 0.0, 0.0)) < 10.0 * TIGHT);
+        prop_assert!(max_diff(&(p * q).conjugate(), &(q.conjugate() * p.conjugate())) < TIGHT);
+    }
+
+    /// Q and -Q give the same A (the double cover), and the same rotated vector.
+    #[test]
+    fn double_cover(q in unit_quat(), v in vector(3.0)) {
+        prop_assert_eq!(q.space_to_body_matrix(), (-q).space_to_body_matrix());
+        prop_assert!(((-q).body_to_space(&v) - q.body_to_space(&v)).amax() < TIGHT);
+    }
+
+    /// A(Q) is orthogonal with determinant +1, and A(P*Q) = A(Q) A(P).
+    #[test]
+    fn matrix_is_a_proper_rotation(p in unit_quat(), q in unit_quat()) {
+        let a = q.space_to_body_matrix();
+        prop_assert!((a * a.transpose() - Matrix3::identity()).amax() < TIGHT);
+        prop_assert!((a.determinant() - 1.0).abs() < TIGHT);
+        let composed = (p * q).space_to_body_matrix() - q.space_to_body_matrix() * p.space_to_body_matrix();
+        prop_assert!(composed.amax() < TIGHT);
+    }
+
+    /// Euler -> Q -> A -> Q -> Euler: the rotation comes back, and the angles
+    /// too when theta is away from 0 and pi.
+    #[test]
+    fn euler_to_q_to_matrix_round_trip(phi in -PI..PI, theta in 0.0..PI, psi in -PI..PI) {
+        let q = Quat::from_euler_y(phi, theta, psi);
+        let a = q.space_to_body_matrix();
+        let back = Quat::from(Rotation3::from_matrix_unchecked(a.transpose()));
+        prop_assert!(rotation_diff(&back, &q) < TIGHT);
+        let (p, t, s) = back.to_euler_y();
+        prop_assert!(rotation_diff(&Quat::from_euler_y(p, t, s), &q) < TIGHT);
+        if theta.sin() > 1e-3 {
+            prop_assert!(angle_diff(p, phi) < ANGLES && (t - theta).abs() < ANGLES && angle_diff(s, psi) < ANGLES);
+        }
+    }
+
+    /// exp(ln Q) = +-Q, and ln(exp v) = v for |v| < pi.
+    #[test]
+    fn exp_ln_round_trip(q in unit_quat(), v in vector(1.8)) {
+        prop_assert!(rotation_diff(&Quat::exp(&q.ln()), &q) < TIGHT);
+        prop_assume!(v.norm() < PI - 1e-6);
+        prop_assert!((Quat::exp(&v).ln() - v).amax() < TIGHT);
+    }
+}
