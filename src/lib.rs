@@ -11,7 +11,9 @@
 //! * [`observables`]: energies, norm errors and angular velocities of a state.
 //! * [`scene`]: scene files (TOML), parsed and validated into typed objects.
 //! * [`run`]: the runner, its observers and output files.
+//! * [`cli`]: the `quatrot` command line.
 
+pub mod cli;
 pub mod integrators;
 pub mod lattice;
 pub mod observables;
