@@ -1,5 +1,6 @@
 //! Checkpoint files: the integrator's complete state at a step, stored as the
-//! bit patterns of its floats (JSON, so a restart is bit-for-bit exact), with
+//! bit patterns of its floats (JSON; serde_json's default float parsing is
+//! not correctly rounded, so no float is stored as a decimal), with
 //! what is needed to check that it belongs to the scene it is restarted with.
 
 use super::error::RunError;
@@ -21,7 +22,8 @@ pub struct Checkpoint {
     /// `dt.to_bits()`: a restart must use the same time step exactly.
     pub dt_bits: u64,
     pub step: u64,
-    pub reference: Option<EnergyReference>,
+    /// Bits of the reference energy `(total, scale)`, if one was computed.
+    pub reference_bits: Option<[u64; 2]>,
     /// `f64::to_bits` of [`crate::integrators::Integrator::checkpoint`].
     pub state_bits: Vec<u64>,
 }
@@ -81,6 +83,14 @@ impl Checkpoint {
         Ok(())
     }
 
+    /// The reference energy of the run.
+    pub fn reference(&self) -> Option<EnergyReference> {
+        self.reference_bits.map(|[total, scale]| EnergyReference {
+            total: f64::from_bits(total),
+            scale: f64::from_bits(scale),
+        })
+    }
+
     /// The integrator state.
     pub fn state(&self) -> Vec<f64> {
         self.state_bits.iter().map(|&b| f64::from_bits(b)).collect()
@@ -112,7 +122,7 @@ impl CheckpointWriter {
             rotors: self.rotors,
             dt_bits: self.dt.to_bits(),
             step,
-            reference,
+            reference_bits: reference.map(|r| [r.total.to_bits(), r.scale.to_bits()]),
             state_bits: state.iter().map(|x| x.to_bits()).collect(),
         };
         let text = serde_json::to_string(&checkpoint).map_err(|e| RunError::io(&self.path, e))?;

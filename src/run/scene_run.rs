@@ -151,7 +151,7 @@ pub fn run_scene<I: Integrator, P: Potential>(
         end_step: scene.steps,
         check_every: scene.record.check_every,
         energy_error_threshold: scene.record.energy_error_threshold,
-        reference: checkpoint.as_ref().and_then(|c| c.reference),
+        reference: checkpoint.as_ref().and_then(Checkpoint::reference),
     };
     let report = run(
         &mut integrator,

@@ -114,10 +114,10 @@ impl Observer for SeriesObserver {
         self.row
             .extend(self.spec.quantities.iter().map(|&q| value(q, sample)));
         if let Some((path, writer)) = &mut self.csv {
-            let mut line = format!("{},{}", sample.step, sample.time);
+            // `{:e}` is the shortest representation that reads back exactly.
+            let mut line = format!("{},{:e}", sample.step, sample.time);
             for x in &self.row {
-                line.push(',');
-                line.push_str(&x.to_string());
+                line.push_str(&format!(",{x:e}"));
             }
             writeln!(writer, "{line}").map_err(|e| RunError::io(path, e))?;
         }
