@@ -36,8 +36,11 @@ pub fn validate(raw: &RawScene) -> Result<Scene> {
             ),
         ));
     }
-    let (sites, lattice_box) = sites(&raw.rotors)?;
-    let rotors = rotors(&raw.rotors, &sites)?;
+    let Sites {
+        positions,
+        lattice_box,
+    } = sites(&raw.rotors)?;
+    let rotors = rotors(&raw.rotors, &positions)?;
     let (interactions, box_lengths) = match &raw.interactions {
         Some(i) => interactions(i, &rotors, &raw.rotors, lattice_box)?,
         None => (None, None),
@@ -152,7 +155,12 @@ fn sites_per_cell(kind: LatticeKind) -> u128 {
 }
 
 /// The site positions, and the lattice's periodic box if it is a lattice.
-fn sites(raw: &RawRotors) -> Result<(Vec<Vector3<f64>>, Option<Vector3<f64>>)> {
+struct Sites {
+    positions: Vec<Vector3<f64>>,
+    lattice_box: Option<Vector3<f64>>,
+}
+
+fn sites(raw: &RawRotors) -> Result<Sites> {
     match raw {
         RawRotors::Lattice(RawLattice {
             lattice,
@@ -172,7 +180,10 @@ fn sites(raw: &RawRotors) -> Result<(Vec<Vector3<f64>>, Option<Vector3<f64>>)> {
             }
             let lattice = Lattice::cubic(kind, cells as usize, spacing)
                 .map_err(|e| SceneError::field("rotors", e.to_string()))?;
-            Ok((lattice.sites, Some(lattice.box_lengths)))
+            Ok(Sites {
+                positions: lattice.sites,
+                lattice_box: Some(lattice.box_lengths),
+            })
         }
         RawRotors::Sites(RawSites { sites, .. }) => {
             if sites.is_empty() {
@@ -186,7 +197,10 @@ fn sites(raw: &RawRotors) -> Result<(Vec<Vector3<f64>>, Option<Vector3<f64>>)> {
                 .enumerate()
                 .map(|(i, s)| vector(&format!("rotors.sites[{i}].position"), &s.position))
                 .collect::<Result<Vec<_>>>()?;
-            Ok((positions, None))
+            Ok(Sites {
+                positions,
+                lattice_box: None,
+            })
         }
     }
 }
