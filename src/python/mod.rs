@@ -4,9 +4,12 @@
 
 use pyo3::prelude::*;
 
+mod run;
+
 /// The `quatrot` Python module.
 #[pymodule]
 fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    run::register(m)?;
     Ok(())
 }
