@@ -43,7 +43,9 @@ pub struct Dlm {
 }
 
 impl Dlm {
-    /// A DLM integrator treating spherical tops as `spherical` says.
+    /// A DLM integrator treating spherical tops as `spherical` says (default,
+    /// via `Dlm::default()`: [`SphericalTops::Exact`]; `Split` is LAMMPS's
+    /// choice).
     pub fn new(spherical: SphericalTops) -> Self {
         Dlm {
             spherical,

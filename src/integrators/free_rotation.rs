@@ -16,7 +16,9 @@
 //! spherical top; [`SphericalTops::Exact`] uses the exact flow instead.
 //!
 //! An axis with zero moment of inertia (a linear rotor) carries no kinetic
-//! energy and is skipped.
+//! energy and is skipped. Left out: the exact free flow of a symmetric top
+//! (two equal moments), which would also be a composition of two commuting
+//! exact flows; symmetric tops use the sweep.
 
 use crate::quaternion::Quat;
 use nalgebra::Vector3;

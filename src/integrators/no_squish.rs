@@ -55,7 +55,10 @@ impl NoSquish {
         None => NonZeroUsize::MIN,
     };
 
-    /// A NO_SQUISH integrator with `substeps` free-rotation sweeps per step.
+    /// A NO_SQUISH integrator with `substeps` (>= 1, no default; see the
+    /// constants) free-rotation sweeps per step, each over `dt / substeps`;
+    /// `spherical` (default [`SphericalTops::Exact`]) chooses the free flow of
+    /// spherical tops, for which `substeps` then has no effect.
     pub fn new(substeps: NonZeroUsize, spherical: SphericalTops) -> Self {
         NoSquish {
             substeps,

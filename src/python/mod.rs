@@ -4,12 +4,17 @@
 
 use pyo3::prelude::*;
 
+mod arrays;
+mod baselines;
+mod quaternion;
 mod run;
 
 /// The `quatrot` Python module.
 #[pymodule]
 fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    baselines::register(m)?;
+    quaternion::register(m)?;
     run::register(m)?;
     Ok(())
 }

@@ -110,30 +110,34 @@ def quatrot_available() -> bool:
     return hasattr(quatrot, "dlm_dipoles")
 
 
-def run_quatrot(system: DipoleSystem, dt: float, steps: int, split: bool):
+def run_quatrot(system: DipoleSystem, dt: float, steps: int, split: bool, start=None):
     """quatrot's DLM on the mapped rotors: space dipoles, space omegas,
-    potential energies and space torques per step (index 0 is t = 0)."""
+    potential energies, space torques and the raw output dict per step
+    (index 0 is t = 0). ``start`` = (orientations, omega_body) overrides the
+    mapping of the system's dipoles and omegas."""
     import quatrot
 
-    q0, wb0 = zip(*(quatrot_rotor(m, w) for m, w in zip(system.dipoles, system.omega)))
+    if start is None:
+        q0, wb0 = (np.array(x) for x in zip(*(quatrot_rotor(m, w) for m, w in zip(system.dipoles, system.omega))))
+    else:
+        q0, wb0 = start
     lengths = np.linalg.norm(system.dipoles, axis=1)
     dipoles_body = np.column_stack([np.zeros_like(lengths), np.zeros_like(lengths), lengths])
     out = quatrot.dlm_dipoles(
         np.ascontiguousarray(system.sites, dtype=float),
         dipoles_body,
         np.full(len(lengths), system.inertia),
-        np.array(q0),
-        np.array(wb0),
+        q0,
+        wb0,
         None if system.field is None else np.asarray(system.field, dtype=float),
         dt,
         steps,
         split,
     )
-    q = out["orientations"]
-    rot = _body_to_space(q)
+    rot = _body_to_space(out["orientations"])
     dipoles = np.einsum("snab,nb->sna", rot, dipoles_body)
     omega = np.einsum("snab,snb->sna", rot, out["omega_body"])
-    return dipoles, omega, out["potential"], out["torques_space"]
+    return dipoles, omega, out["potential"], out["torques_space"], out
 
 
 def _body_to_space(q: np.ndarray) -> np.ndarray:
@@ -161,9 +165,11 @@ def run(ctx: Context) -> list[Check]:
     for name, system in scenes.items():
         checks += _t0_checks(name, system, refs, have_quatrot)
         checks += _first_step_checks(name, system, refs, have_quatrot, ctx.quick)
-        checks += _run_checks(name, system, refs, have_quatrot, ctx.quick)
+        checks += _run_checks(name, system, refs, have_quatrot, ctx.quick, ctx.out_dir)
     checks += _free_sphere_checks(scenes["free rotor"], refs, have_quatrot)
+    checks += _reversibility_checks(scenes, refs, have_quatrot, ctx.quick)
     checks += _minus_z_checks(refs, have_quatrot)
+    checks.append(_mapping_check(scenes["dipole lattice"], refs))
     return checks
 
 
@@ -189,7 +195,7 @@ def _t0_checks(name, system, refs, have_quatrot) -> list[Check]:
         ),
     ]
     if have_quatrot:
-        _, _, v, torques = run_quatrot(system, 0.01, 0, split=False)
+        _, _, v, torques, _ = run_quatrot(system, 0.01, 0, split=False)
         out += [
             Check(
                 name=f"quatrot energy t=0, {name}",
@@ -222,9 +228,10 @@ def _first_step_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
         mu_ref, w_ref = ref.trajectory(system, np.append(times, dt))
         lmp_err.append(np.abs(lmp.dipoles[1] - mu_ref[1]).max() + np.abs(lmp.omega[1] - w_ref[1]).max())
         if have_quatrot:
-            mu_q, w_q, _, _ = run_quatrot(system, dt, 1, split=True)
+            mu_q, w_q, _, _, _ = run_quatrot(system, dt, 1, split=True)
             cross.append(np.abs(lmp.dipoles[1] - mu_q[1]).max() + np.abs(lmp.omega[1] - w_q[1]).max())
     order = _fitted_order(dts, lmp_err)
+    early = _first_steps_table(system, have_quatrot)
     out = [
         Check(
             name=f"lammps one-step error order, {name}",
@@ -244,13 +251,57 @@ def _first_step_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
                 tolerance=ORDER_TOL,
                 measured=abs(order - 3.0),
                 references=refs,
-                details=f"dt {dts}: LAMMPS - quatrot after one step {[f'{e:.3e}' for e in cross]}, fitted order {order:.3f}",
+                details=f"dt {dts}: LAMMPS - quatrot after one step {[f'{e:.3e}' for e in cross]}, fitted order {order:.3f}; {early}",
             )
         )
     return out
 
 
-def _run_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
+def _plot_errors(out_dir, name, dts, errors) -> list:
+    """Log-log global error against dt for each code (full mode only)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / f"lammps_dipoles_order_{name.replace(' ', '_')}.png"
+    fig, ax = plt.subplots(figsize=(5, 4))
+    for label, e in errors.items():
+        ax.loglog(dts, np.maximum(e, 1e-16), "o-", label=label)
+    ax.loglog(dts, errors["LAMMPS dlm"][-1] * (np.array(dts) / dts[-1]) ** 2, "k:", label="dt^2")
+    ax.set_xlabel("dt (LJ time)")
+    ax.set_ylabel("max error at t_end vs DOP853")
+    ax.set_title(name)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
+def _first_steps_table(system, have_quatrot, dt=0.01, steps=10) -> str:
+    """Deviations over the first steps at one dt: LAMMPS and quatrot (split
+    sweep) from DOP853 and from each other, after steps 1, 2, 5, 10."""
+    lmp = run_lammps(system, dt, steps)
+    mu_ref, w_ref = ref.trajectory(system, lmp.time)
+
+    def dev(mu_a, w_a, mu_b, w_b, k):
+        return np.abs(mu_a[k] - mu_b[k]).max() + np.abs(w_a[k] - w_b[k]).max()
+
+    rows = []
+    mu_q = w_q = None
+    if have_quatrot:
+        mu_q, w_q, _, _, _ = run_quatrot(system, dt, steps, split=True)
+    for k in (1, 2, 5, 10):
+        row = f"step {k}: LAMMPS-ref {dev(lmp.dipoles, lmp.omega, mu_ref, w_ref, k):.2e}"
+        if mu_q is not None:
+            row += f", quatrot-ref {dev(mu_q, w_q, mu_ref, w_ref, k):.2e}, LAMMPS-quatrot {dev(lmp.dipoles, lmp.omega, mu_q, w_q, k):.2e}"
+        rows.append(row)
+    return f"first steps at dt {dt}: " + "; ".join(rows)
+
+
+def _run_checks(name, system, refs, have_quatrot, quick, out_dir) -> list[Check]:
     """Global error at t_end against DOP853: both codes second order."""
     t_end = 1.0 if quick else 4.0
     dts = [0.02, 0.01] if quick else [0.04, 0.02, 0.01, 0.005]
@@ -267,12 +318,13 @@ def _run_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
             energy_rms[f"{label} dt={dt}"] = float(np.std(lmp.potential + lmp.kinetic))
         if have_quatrot:
             for label, split in [("quatrot dlm", False), ("quatrot dlm split", True)]:
-                mu_q, w_q, v, _ = run_quatrot(system, dt, steps, split=split)
+                mu_q, w_q, v, _, _ = run_quatrot(system, dt, steps, split=split)
                 errors[label].append(np.abs(mu_q[-1] - mu_ref[-1]).max() + np.abs(w_q[-1] - w_ref[-1]).max())
                 kinetic = 0.5 * system.inertia * np.sum(w_q**2, axis=(1, 2))
                 energy_rms[f"{label} dt={dt}"] = float(np.std(v + kinetic))
     summary = "; ".join(f"{k}: {[f'{e:.3e}' for e in v]} (order {_fitted_order(dts, v):.2f})" for k, v in errors.items())
     rms = "; ".join(f"{k} {v:.2e}" for k, v in energy_rms.items())
+    plots = [] if quick else _plot_errors(out_dir, name, dts, errors)
     out = []
     for label in [k for k in errors if k != "LAMMPS dipole"]:
         if name == "free rotor" and label == "quatrot dlm":
@@ -286,6 +338,7 @@ def _run_checks(name, system, refs, have_quatrot, quick) -> list[Check]:
                 measured=abs(order - 2.0),
                 references=refs,
                 details=f"dt {dts}; errors {summary}; total-energy rms {rms}",
+                plots=plots,
             )
         )
     return out
@@ -328,7 +381,7 @@ def _free_sphere_checks(system, refs, have_quatrot) -> list[Check]:
         ),
     ]
     if have_quatrot:
-        mu_q, w_q, _, _ = run_quatrot(system, dt, steps, split=False)
+        mu_q, w_q, _, _, _ = run_quatrot(system, dt, steps, split=False)
         out.append(
             Check(
                 name="quatrot dlm exact for a free sphere",
@@ -340,6 +393,99 @@ def _free_sphere_checks(system, refs, have_quatrot) -> list[Check]:
             )
         )
     return out
+
+
+def _reversal(forward, system: DipoleSystem, dt: float, steps: int) -> float:
+    """Largest deviation after `steps` forward, omegas reversed, `steps` back;
+    `forward(system, dt, steps)` returns final (dipoles, omegas)."""
+    mu, w = forward(system, dt, steps)
+    back = DipoleSystem(sites=system.sites, dipoles=mu, omega=-w, field=system.field)
+    mu_b, w_b = forward(back, dt, steps)
+    return float(max(np.abs(mu_b - system.dipoles).max(), np.abs(-w_b - system.omega).max()))
+
+
+def _lammps_final(system, dt, steps):
+    t = run_lammps(system, dt, steps)
+    return t.dipoles[-1], t.omega[-1]
+
+
+def _quatrot_reversal(system: DipoleSystem, dt: float, steps: int) -> float:
+    """The reversal test on quatrot's own state: the full orientation Q (not
+    re-mapped from the dipole) and the negated body omega."""
+    mu, w, _, _, out = run_quatrot(system, dt, steps, split=True)
+    start = (out["orientations"][-1], -out["omega_body"][-1])
+    mu_b, w_b, _, _, _ = run_quatrot(system, dt, steps, split=True, start=start)
+    return float(max(np.abs(mu_b[-1] - system.dipoles).max(), np.abs(-w_b[-1] - system.omega).max()))
+
+
+def _restated_final(consistent):
+    def final(system, dt, steps):
+        mu, w = system.dipoles[0].copy(), system.omega[0].copy()
+        for _ in range(steps):
+            mu, w = restated_free_step(mu, w, dt, consistent)
+        return mu[None, :], w[None, :]
+
+    return final
+
+
+def _reversibility_checks(scenes, refs, have_quatrot, quick) -> list[Check]:
+    """n steps, omegas reversed, n steps back. LAMMPS's DLM does not return:
+    it rebuilds the body frame from the dipole every step (a different
+    rotation about the dipole axis than the one the step ended with, and the
+    sweep depends on it), and rotates the body omega with the wrong sense.
+    The restatement separates the two on the free sphere."""
+    dt, steps = 0.01, 100 if quick else 200
+    lmp = {name: _reversal(_lammps_final, s, dt, steps) for name, s in scenes.items()}
+    free = scenes["free rotor"]
+    restated = _reversal(_restated_final(False), free, dt, steps)
+    consistent = _reversal(_restated_final(True), free, dt, steps)
+    details = (
+        f"dt {dt}, {steps}+{steps} steps; LAMMPS dlm reversal error "
+        + ", ".join(f"{k} {v:.3e}" for k, v in lmp.items())
+        + f"; free sphere restated {restated:.3e}, restated with consistent omega sense (frame still rebuilt) {consistent:.3e}"
+    )
+    out = [
+        Check(
+            name="restated lammps dlm reproduces lammps reversal error, free sphere",
+            proves="the reversal error of LAMMPS's DLM on a free sphere is that of its algorithm as restated (frame rebuilt from the dipole each step), not of round-off",
+            tolerance=1e-3,  # relative agreement of two O(1e-8) reversal errors
+            measured=abs(restated - lmp["free rotor"]) / lmp["free rotor"],
+            references=refs,
+            details=details,
+        )
+    ]
+    if have_quatrot:
+        rev = {name: _quatrot_reversal(s, dt, steps) for name, s in scenes.items()}
+        out.append(
+            Check(
+                name="quatrot dlm time reversible, all scenes",
+                proves="quatrot's DLM (body-axis sweep, frame carried by Q) returns to the start to round-off after a reversal, where LAMMPS's does not (details)",
+                tolerance=1e-11,  # round-off over a few hundred steps
+                measured=max(rev.values()),
+                references=refs,
+                details=details + "; quatrot " + ", ".join(f"{k} {v:.3e}" for k, v in rev.items()),
+            )
+        )
+    return out
+
+
+def _mapping_check(system, refs) -> Check:
+    """The quatrot orientation of a LAMMPS dipole is the frame LAMMPS's DLM
+    builds: A(Q) equals the restated space-to-body matrix, and R(Q) e_z is
+    the unit dipole."""
+    worst = 0.0
+    for mu in system.dipoles:
+        a = mu / np.linalg.norm(mu)
+        q, _ = quatrot_rotor(mu, np.zeros(3))
+        a_q = _body_to_space(q)
+        worst = max(worst, float(np.abs(a_q.T - _lammps_frame(a)).max()), float(np.abs(a_q[:, 2] - a).max()))
+    return Check(
+        name="lammps dipole to quatrot frame mapping",
+        proves="the mapped quatrot orientation is LAMMPS's DLM body frame (dipole along body z), so both codes start each comparison from the same rotor",
+        tolerance=ROUNDOFF,
+        measured=worst,
+        references=refs,
+    )
 
 
 def _minus_z_checks(refs, have_quatrot) -> list[Check]:
