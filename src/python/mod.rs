@@ -9,6 +9,7 @@ mod baselines;
 mod potential;
 mod dynamics;
 mod quaternion;
+mod run;
 
 /// The `quatrot` Python module.
 #[pymodule]
@@ -18,5 +19,6 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     potential::register(m)?;
     dynamics::register(m)?;
     quaternion::register(m)?;
+    run::register(m)?;
     Ok(())
 }
