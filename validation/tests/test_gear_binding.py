@@ -1,6 +1,8 @@
 """`quatrot.gear_corrections_table`: shapes and values are checked at the
 boundary with messages naming the argument."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -19,9 +21,11 @@ def arrays(n=1):
 @pytest.mark.parametrize(
     "change, message",
     [
-        (dict(orientations=np.zeros((1, 3))), "orientations: expected shape (1, 4)"),
-        (dict(inertia=np.ones((2, 3))), "inertia: expected shape (1, 3)"),
-        (dict(field=np.ones(2)), "field: expected shape (3,)"),
+        (dict(orientations=np.zeros((1, 3))), "orientations: expected shape (n, 4) or (4,), got (1, 3)"),
+        (dict(inertia=np.ones((2, 3))), "inertia: 2 items, but sites has 1"),
+        (dict(field=np.ones(2)), "field: expected shape (n, 3) or (3,), got (2,)"),
+        (dict(field=np.ones((1, 3))), "field: expected a single item"),
+        (dict(sites=np.zeros((1, 3), dtype=np.float32)), "sites: expected a numpy array of dtype float64"),
         (dict(cutoff=1.0), "box_lengths and cutoff"),
         (dict(dt=0.0), "dt: must be finite and > 0"),
         (dict(inertia=np.array([[1.0, 0.0, 1.0]])), "moments of inertia must all be > 0"),
@@ -29,7 +33,7 @@ def arrays(n=1):
 )
 def test_bad_input_is_a_value_error_naming_the_argument(change, message):
     args = arrays() | dict(dipoles=np.array([[0.0, 0.0, 1.0]]), field=np.array([0.0, 0.0, 1.0]))
-    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+    with pytest.raises((ValueError, TypeError), match=re.escape(message)):
         quatrot.gear_corrections_table(**(args | change))
 
 
