@@ -17,11 +17,10 @@
 //! space-fixed torque at `Q` (3, reused by the next step's first kick), plus
 //! the principal moments (3). One potential evaluation per step.
 
+use super::checkpoint::{read_kick_state, write_kick_state};
 use super::free_rotation::{free_flow, omega_from_momentum, SphericalTops};
-use super::support::{
-    check_length, evaluate_torques, quats_flat, read_quats, read_vectors, unit_orientation,
-    validate_setup, vectors_flat,
-};
+use super::setup::{validate_setup, Moments, ValidSetup};
+use super::torque::evaluate_torques;
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -79,9 +78,11 @@ impl Integrator for Dlm {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        self.inertia = validate_setup(inertia, initial, dt)?;
+        let ValidSetup { moments, initial } =
+            validate_setup(inertia, initial, dt, Moments::MayBeZero)?;
         self.dt = dt;
-        self.orientation = initial.iter().map(unit_orientation).collect();
+        self.inertia = moments;
+        self.orientation = initial.iter().map(|s| s.orientation).collect();
         self.momentum_body = initial
             .iter()
             .zip(&self.inertia)
@@ -118,17 +119,15 @@ impl Integrator for Dlm {
 
     /// Layout: all `Q` (4 each), then all `L_b` (3 each), then all torques (3 each).
     fn checkpoint(&self) -> Vec<f64> {
-        quats_flat(&self.orientation)
-            .chain(vectors_flat(&self.momentum_body))
-            .chain(vectors_flat(&self.torque_space))
-            .collect()
+        write_kick_state(&self.orientation, &self.momentum_body, &self.torque_space)
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        check_length(state, self.orientation.len(), 10)?;
-        let rest = read_quats(state, &mut self.orientation);
-        let rest = read_vectors(rest, &mut self.momentum_body);
-        read_vectors(rest, &mut self.torque_space);
-        Ok(())
+        read_kick_state(
+            state,
+            &mut self.orientation,
+            &mut self.momentum_body,
+            &mut self.torque_space,
+        )
     }
 }

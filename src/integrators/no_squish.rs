@@ -19,11 +19,10 @@
 //! only refines the free rotation (1 in LAMMPS `fix rigid/nve` and
 //! HOOMD-blue, 10 in DL_POLY).
 
+use super::checkpoint::{read_kick_state, write_kick_state};
 use super::free_rotation::{free_flow, omega_from_momentum, BodyMomentum, SphericalTops};
-use super::support::{
-    check_length, evaluate_torques, quats_flat, read_quats, read_vectors, unit_orientation,
-    validate_setup, vectors_flat,
-};
+use super::setup::{validate_setup, Moments, ValidSetup};
+use super::torque::evaluate_torques;
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -97,13 +96,15 @@ impl Integrator for NoSquish {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        self.inertia = validate_setup(inertia, initial, dt)?;
+        let ValidSetup { moments, initial } =
+            validate_setup(inertia, initial, dt, Moments::MayBeZero)?;
         self.dt = dt;
-        self.orientation = initial.iter().map(unit_orientation).collect();
+        self.inertia = moments;
+        self.orientation = initial.iter().map(|s| s.orientation).collect();
         self.momentum = self
             .orientation
             .iter()
-            .zip(initial)
+            .zip(&initial)
             .zip(&self.inertia)
             .map(|((q, s), i)| *q * Quat::pure(&s.omega_body.component_mul(i)) * 2.0)
             .collect();
@@ -144,17 +145,15 @@ impl Integrator for NoSquish {
 
     /// Layout: all `Q` (4 each), then all `P` (4 each), then all torques (3 each).
     fn checkpoint(&self) -> Vec<f64> {
-        quats_flat(&self.orientation)
-            .chain(quats_flat(&self.momentum))
-            .chain(vectors_flat(&self.torque_space))
-            .collect()
+        write_kick_state(&self.orientation, &self.momentum, &self.torque_space)
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        check_length(state, self.orientation.len(), 11)?;
-        let rest = read_quats(state, &mut self.orientation);
-        let rest = read_quats(rest, &mut self.momentum);
-        read_vectors(rest, &mut self.torque_space);
-        Ok(())
+        read_kick_state(
+            state,
+            &mut self.orientation,
+            &mut self.momentum,
+            &mut self.torque_space,
+        )
     }
 }

@@ -19,11 +19,10 @@
 //! the space-fixed torque at `Q` (3), plus the principal moments (3). One
 //! potential evaluation per step.
 
+use super::checkpoint::{read_kick_state, write_kick_state};
 use super::free_rotation::omega_from_momentum;
-use super::support::{
-    check_length, evaluate_torques, quats_flat, read_quats, read_vectors, unit_orientation,
-    validate_setup, vectors_flat,
-};
+use super::setup::{validate_setup, Moments, ValidSetup};
+use super::torque::evaluate_torques;
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -81,13 +80,15 @@ impl Integrator for Richardson {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        self.inertia = validate_setup(inertia, initial, dt)?;
+        let ValidSetup { moments, initial } =
+            validate_setup(inertia, initial, dt, Moments::MayBeZero)?;
         self.dt = dt;
-        self.orientation = initial.iter().map(unit_orientation).collect();
+        self.inertia = moments;
+        self.orientation = initial.iter().map(|s| s.orientation).collect();
         self.momentum_space = self
             .orientation
             .iter()
-            .zip(initial)
+            .zip(&initial)
             .zip(&self.inertia)
             .map(|((q, s), i)| q.body_to_space(&s.omega_body.component_mul(i)))
             .collect();
@@ -132,17 +133,15 @@ impl Integrator for Richardson {
 
     /// Layout: all `Q` (4 each), then all `L_s` (3 each), then all torques (3 each).
     fn checkpoint(&self) -> Vec<f64> {
-        quats_flat(&self.orientation)
-            .chain(vectors_flat(&self.momentum_space))
-            .chain(vectors_flat(&self.torque_space))
-            .collect()
+        write_kick_state(&self.orientation, &self.momentum_space, &self.torque_space)
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        check_length(state, self.orientation.len(), 10)?;
-        let rest = read_quats(state, &mut self.orientation);
-        let rest = read_vectors(rest, &mut self.momentum_space);
-        read_vectors(rest, &mut self.torque_space);
-        Ok(())
+        read_kick_state(
+            state,
+            &mut self.orientation,
+            &mut self.momentum_space,
+            &mut self.torque_space,
+        )
     }
 }

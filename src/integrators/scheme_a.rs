@@ -11,9 +11,11 @@
 //! construction (`Q'` comes from a pure `(0, w_b)`); the norm of `Q` drifts at
 //! the level of the truncation error unless renormalised.
 
-use super::gear::{checkpoint_data, Nordsieck, FIRST_ORDER_5};
-use super::rigid_body::{torque_body, General, PrincipalMoments, Spherical, TopKind};
-use super::startup::{initial_derivatives, prepare, Startup};
+use super::checkpoint::checkpoint_data;
+use super::gear::{Nordsieck, FIRST_ORDER_5};
+use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::startup::{start, GearStart, Startup};
+use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -76,8 +78,7 @@ impl GearA {
         self.q.predict();
         self.omega_body.predict();
         // (c): torque at the predicted Q.
-        self.torque_space.fill(Vector3::zeros());
-        potential.accumulate_torques(&self.q.r[0], &mut self.torque_space);
+        evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
         for i in 0..self.moments.len() {
             let q = self.q.r[0][i];
             // (d): correct w_b with Euler's equations at the predicted values.
@@ -115,25 +116,17 @@ impl Integrator for GearA {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        let prepared = prepare(inertia, initial, dt)?;
-        let start = if prepared.spherical {
-            initial_derivatives::<Spherical, P>
-        } else {
-            initial_derivatives::<General, P>
-        };
-        let derivatives = start(
-            self.options.startup,
-            &prepared.moments,
-            potential,
-            &prepared.initial,
-            dt,
-        );
+        let GearStart {
+            moments,
+            spherical,
+            derivatives,
+        } = start(self.options.startup, inertia, potential, initial, dt)?;
         self.dt = dt;
         self.q = derivatives.q.truncated();
         self.omega_body = derivatives.omega_body.truncated();
-        self.torque_space = vec![Vector3::zeros(); prepared.initial.len()];
-        self.moments = prepared.moments;
-        self.spherical = prepared.spherical;
+        self.torque_space = vec![Vector3::zeros(); derivatives.q.len()];
+        self.moments = moments;
+        self.spherical = spherical;
         Ok(())
     }
 

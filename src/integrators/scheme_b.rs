@@ -28,11 +28,10 @@
 //! step; neither time reversible nor symplectic; global error of order 5 in
 //! `h` with the velocity-dependent `c0 = 3/16` and a consistent start-up.
 
-use super::gear::{
-    checkpoint_data, second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT,
-};
+use super::checkpoint::checkpoint_data;
+use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
-use super::startup::{initial_derivatives, prepare, Startup};
+use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -221,31 +220,22 @@ impl Integrator for GearB {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        let prepared = prepare(inertia, initial, dt)?;
-        let start = if prepared.spherical {
-            initial_derivatives::<Spherical, P>
-        } else {
-            initial_derivatives::<General, P>
-        };
-        let derivatives = start(
-            self.options.startup,
-            &prepared.moments,
-            potential,
-            &prepared.initial,
-            dt,
-        );
-        let n = prepared.initial.len();
+        let GearStart {
+            moments,
+            spherical,
+            derivatives,
+        } = start(self.options.startup, inertia, potential, initial, dt)?;
         self.dt = dt;
         self.q = derivatives.q;
-        self.gradient = vec![Quat::ZERO; n];
+        self.gradient = vec![Quat::ZERO; self.q.len()];
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
         self.q_dot_force = self.q.r[0]
             .iter()
             .zip(&self.gradient)
             .map(|(q, g)| q.dot(&quaternion_force(q, g, self.options.project_torque)))
             .collect();
-        self.moments = prepared.moments;
-        self.spherical = prepared.spherical;
+        self.moments = moments;
+        self.spherical = spherical;
         Ok(())
     }
 
@@ -351,7 +341,7 @@ mod tests {
     /// moments, projected or not.
     #[test]
     fn general_right_hand_side_reduces_to_spherical() {
-        let m = PrincipalMoments::new(&Inertia::Principal(Vector3::repeat(1.7))).unwrap();
+        let m = PrincipalMoments::new(Vector3::repeat(1.7));
         let q = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
         let q_dot = q.q_dot_from_omega_body(&Vector3::new(0.7, -1.1, 0.9));
         let force = Quat::new(0.4, 1.2, -0.3, 0.8);
