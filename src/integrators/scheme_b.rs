@@ -23,10 +23,16 @@
 //! scaled derivatives read `sum_{j=0..k} r_j.r_{k-j} = 0`; each `r_k`,
 //! `k = 2..5`, is projected along `Q` to satisfy its constraint.
 //!
-//! Properties: 6 stored quaternions per rotor (`Q` and 5 scaled derivatives)
-//! plus `Q.N` of the last force evaluation (diagnostics only); one gradient evaluation per
-//! step; neither time reversible nor symplectic; global error of order 5 in
-//! `h` with the velocity-dependent `c0 = 3/16` and a consistent start-up.
+//! Properties: stores per rotor 6 quaternions (`Q` and 5 scaled derivatives)
+//! plus `Q.N` of the last force evaluation (diagnostics only), and the
+//! principal moments; one gradient evaluation per step; neither time
+//! reversible nor symplectic.
+//!
+//! Order: global error of order 5 in `h` with a consistent start-up, for
+//! either `c0` (the right-hand side depends on `Q'`; `3/20` reaches 6 only
+//! for position-only right-hand sides: the tests of `gear.rs`). The note's
+//! "5th order Gear algorithm for 2nd order differential equations" names the
+//! highest stored derivative, as for scheme A.
 
 use super::checkpoint::checkpoint_data;
 use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
@@ -183,11 +189,17 @@ impl GearB {
             // (c): correct.
             let delta = accel * (0.5 * h * h) - self.q.r[2][i];
             self.q.correct(i, &self.coefficients, delta);
-            if opts.renormalise || opts.project_velocity || opts.correct_higher_derivatives {
+        }
+        // The switched corrections, each rotor on its own, after the force
+        // loop (the same values as rotor by rotor inside it).
+        if opts.renormalise {
+            for q in &mut self.q.r[0] {
+                *q = *q * (1.0 / q.norm());
+            }
+        }
+        if opts.project_velocity || opts.correct_higher_derivatives {
+            for i in 0..self.q.len() {
                 let mut r = self.q.rotor(i);
-                if opts.renormalise {
-                    r[0] = r[0] * (1.0 / r[0].norm());
-                }
                 if opts.project_velocity {
                     enforce_norm_derivative(&mut r, 1);
                 }
