@@ -59,29 +59,8 @@ pub fn read_values<'a, T: Components>(data: &'a [f64], values: &mut [T]) -> &'a 
     rest
 }
 
-/// The baselines' checkpoint: all orientations `Q` (4 each), then all
-/// momenta (`P`, 4 each, or `L`, 3 each), then all space-fixed torques (3 each).
-pub fn write_kick_state<M: Components>(
-    orientation: &[Quat],
-    momentum: &[M],
-    torque_space: &[Vector3<f64>],
-) -> Vec<f64> {
-    let mut out = Vec::with_capacity(orientation.len() * (Quat::LEN + M::LEN + 3));
-    write_values(orientation, &mut out);
-    write_values(momentum, &mut out);
-    write_values(torque_space, &mut out);
-    out
-}
-
-/// Reads back [`write_kick_state`]'s output after checking that it holds
-/// exactly that many finite values.
-pub fn read_kick_state<M: Components>(
-    state: &[f64],
-    orientation: &mut [Quat],
-    momentum: &mut [M],
-    torque_space: &mut [Vector3<f64>],
-) -> Result<(), IntegratorError> {
-    let (rotors, per_rotor) = (orientation.len(), Quat::LEN + M::LEN + 3);
+/// Checks a baseline checkpoint: exactly `rotors * per_rotor` finite values.
+pub fn check_length(state: &[f64], rotors: usize, per_rotor: usize) -> Result<(), IntegratorError> {
     if state.len() != rotors * per_rotor || state.iter().any(|x| !x.is_finite()) {
         return Err(IntegratorError::BadCheckpoint(format!(
             "expected {} finite values ({rotors} rotors x {per_rotor}), got {}",
@@ -89,9 +68,6 @@ pub fn read_kick_state<M: Components>(
             state.len()
         )));
     }
-    let rest = read_values(state, orientation);
-    let rest = read_values(rest, momentum);
-    read_values(rest, torque_space);
     Ok(())
 }
 

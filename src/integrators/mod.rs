@@ -18,6 +18,7 @@ pub mod checkpoint;
 mod dlm;
 pub mod free_rotation;
 pub mod gear;
+mod kick;
 mod no_squish;
 mod richardson;
 pub mod rigid_body;

@@ -19,10 +19,8 @@
 //! the space-fixed torque at `Q` (3), plus the principal moments (3). One
 //! potential evaluation per step.
 
-use super::checkpoint::{read_kick_state, write_kick_state};
 use super::free_rotation::omega_from_momentum;
-use super::setup::{validate_setup, Moments, ValidSetup};
-use super::torque::evaluate_torques;
+use super::kick::KickState;
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -32,11 +30,7 @@ use nalgebra::Vector3;
 /// The Richardson integrator (scene name `richardson`).
 #[derive(Clone, Debug, Default)]
 pub struct Richardson {
-    dt: f64,
-    inertia: Vec<Vector3<f64>>,
-    orientation: Vec<Quat>,
-    momentum_space: Vec<Vector3<f64>>,
-    torque_space: Vec<Vector3<f64>>,
+    state: KickState<Vector3<f64>>,
 }
 
 /// `w_s = R(Q) I^-1 A(Q) L_s`.
@@ -58,14 +52,11 @@ impl Richardson {
     pub fn new() -> Self {
         Richardson::default()
     }
+}
 
-    /// Adds `dt/2` times the space torque to the space angular momenta.
-    fn half_kick(&mut self) {
-        let half = 0.5 * self.dt;
-        for (l, n) in self.momentum_space.iter_mut().zip(&self.torque_space) {
-            *l += n * half;
-        }
-    }
+/// Richardson's half kick: `L_s += half n_s`.
+fn kick(momentum_space: &mut Vector3<f64>, _q: &Quat, torque_space: &Vector3<f64>, half: f64) {
+    *momentum_space += torque_space * half;
 }
 
 impl Integrator for Richardson {
@@ -80,31 +71,21 @@ impl Integrator for Richardson {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        let ValidSetup { moments, initial } =
-            validate_setup(inertia, initial, dt, Moments::MayBeZero)?;
-        self.dt = dt;
-        self.inertia = moments;
-        self.orientation = initial.iter().map(|s| s.orientation).collect();
-        self.momentum_space = self
-            .orientation
-            .iter()
-            .zip(&initial)
-            .zip(&self.inertia)
-            .map(|((q, s), i)| q.body_to_space(&s.omega_body.component_mul(i)))
-            .collect();
-        self.torque_space = vec![Vector3::zeros(); initial.len()];
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
+        self.state = KickState::new(inertia, potential, initial, dt, |q, l_body| {
+            q.body_to_space(l_body)
+        })?;
         Ok(())
     }
 
     fn step<P: Potential>(&mut self, potential: &P) {
-        self.half_kick();
-        let (dt, half) = (self.dt, 0.5 * self.dt);
-        for ((q, l), i) in self
+        self.state.half_kick(kick);
+        let state = &mut self.state;
+        let (dt, half) = (state.dt, 0.5 * state.dt);
+        for ((q, l), i) in state
             .orientation
             .iter_mut()
-            .zip(&self.momentum_space)
-            .zip(&self.inertia)
+            .zip(&state.momentum)
+            .zip(&state.inertia)
         {
             let w = omega_space(q, l, i);
             let q_full = euler(q, &w, dt);
@@ -112,36 +93,25 @@ impl Integrator for Richardson {
             let q_two = euler(&q_half, &omega_space(&q_half, l, i), half);
             *q = (q_two * 2.0 - q_full).try_normalize().unwrap_or(q_two);
         }
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
-        self.half_kick();
+        self.state.evaluate_torques(potential);
+        self.state.half_kick(kick);
     }
 
     fn orientations(&self) -> &[Quat] {
-        &self.orientation
+        &self.state.orientation
     }
 
     fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        for (((w, l), q), i) in out
-            .iter_mut()
-            .zip(&self.momentum_space)
-            .zip(&self.orientation)
-            .zip(&self.inertia)
-        {
-            *w = omega_from_momentum(&q.space_to_body(l), i);
-        }
+        self.state
+            .omega_body(out, |l, q, i| omega_from_momentum(&q.space_to_body(l), i));
     }
 
-    /// Layout: all `Q` (4 each), then all `L_s` (3 each), then all torques (3 each).
+    /// Layout of [`KickState::checkpoint`]: `Q`, then `L_s`, then torques.
     fn checkpoint(&self) -> Vec<f64> {
-        write_kick_state(&self.orientation, &self.momentum_space, &self.torque_space)
+        self.state.checkpoint()
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        read_kick_state(
-            state,
-            &mut self.orientation,
-            &mut self.momentum_space,
-            &mut self.torque_space,
-        )
+        self.state.restore(state)
     }
 }
