@@ -7,7 +7,8 @@
 //!
 //! On a shared machine the criterion groups, measured one after the other,
 //! drift with the load; after them an interleaved comparison runs the four
-//! cases in turn `REPETITIONS` times and prints the best time of each and the
+//! cases in turn `REPETITIONS` times (`INTERLEAVED_STEPS` steps each) and
+//! prints the best time of each and the
 //! runner's overhead over the bare loop (best against best).
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
@@ -21,14 +22,16 @@ use std::time::Instant;
 
 /// Steps per measured iteration.
 const STEPS: u64 = 200;
-/// Rounds of the interleaved comparison.
-const REPETITIONS: usize = 15;
+/// Rounds of the interleaved comparison, and steps per round: many short
+/// rounds make the best time robust to load from other processes.
+const REPETITIONS: usize = 100;
+const INTERLEAVED_STEPS: u64 = 20;
 
-fn options(scene: &Scene) -> RunOptions {
+fn options(scene: &Scene, steps: u64) -> RunOptions {
     RunOptions {
         dt: scene.dt,
         start_step: 0,
-        end_step: STEPS,
+        end_step: steps,
         check_every: scene.record.check_every,
         energy_error_threshold: None,
         reference: None,
@@ -77,18 +80,19 @@ fn cases(integrator_name: &str) -> [(&'static str, Option<Series>); 3] {
     ]
 }
 
-/// `STEPS` bare steps.
-fn bare<I: Integrator, P: Potential>(mut integrator: I, potential: &P) {
-    for _ in 0..STEPS {
+/// `steps` bare steps.
+fn bare<I: Integrator, P: Potential>(mut integrator: I, potential: &P, steps: u64) {
+    for _ in 0..steps {
         integrator.step(potential);
     }
     black_box(integrator.orientations()[0]);
 }
 
-/// `STEPS` steps through the runner, recording `series` (CSV to `csv`).
+/// `steps` steps through the runner, recording `series` (CSV to `csv`).
 fn through_runner<I: Integrator, P: Potential>(
     mut integrator: I,
     potential: &P,
+    steps: u64,
     scene: &Scene,
     inertia: &[Inertia],
     series: Option<&Series>,
@@ -110,7 +114,7 @@ fn through_runner<I: Integrator, P: Potential>(
             inertia,
             &mut scheduled,
             None,
-            &options(scene),
+            &options(scene, steps),
         )
         .expect("runs"),
     );
@@ -134,7 +138,7 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
     group.bench_function("bare_loop", |b| {
         b.iter_batched(
             || integrator.clone(),
-            |i| bare(i, potential),
+            |i| bare(i, potential, STEPS),
             BatchSize::LargeInput,
         )
     });
@@ -142,7 +146,7 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
         group.bench_function(name, |b| {
             b.iter_batched(
                 || integrator.clone(),
-                |i| through_runner(i, potential, scene, &inertia, series.as_ref(), &csv),
+                |i| through_runner(i, potential, STEPS, scene, &inertia, series.as_ref(), &csv),
                 BatchSize::LargeInput,
             )
         });
@@ -166,17 +170,25 @@ fn interleaved<I: Integrator + Clone, P: Potential>(
     for _ in 0..REPETITIONS {
         let i = integrator.clone();
         let start = Instant::now();
-        bare(i, potential);
+        bare(i, potential, INTERLEAVED_STEPS);
         best[0] = best[0].min(start.elapsed().as_secs_f64());
         for (k, (_, series)) in cases.iter().enumerate() {
             let i = integrator.clone();
             let start = Instant::now();
-            through_runner(i, potential, scene, inertia, series.as_ref(), csv);
+            through_runner(
+                i,
+                potential,
+                INTERLEAVED_STEPS,
+                scene,
+                inertia,
+                series.as_ref(),
+                csv,
+            );
             best[k + 1] = best[k + 1].min(start.elapsed().as_secs_f64());
         }
     }
-    let per_step = |t: f64| t / STEPS as f64 * 1e6;
-    println!("{group_name} interleaved, best of {REPETITIONS} x {STEPS} steps:");
+    let per_step = |t: f64| t / INTERLEAVED_STEPS as f64 * 1e6;
+    println!("{group_name} interleaved, best of {REPETITIONS} x {INTERLEAVED_STEPS} steps:");
     println!("  bare_loop: {:.1} us/step", per_step(best[0]));
     for (k, (name, _)) in cases.iter().enumerate() {
         println!(

@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Vector3};
 /// The only scene format version this build reads.
 pub const SCENE_VERSION: i64 = 1;
 /// Largest number of rotors a scene may describe (memory guard).
-pub const MAX_ROTORS: usize = 10_000_000;
+pub const MAX_ROTORS: usize = 1_000_000;
 /// Default interval of the blow-up checks, in steps.
 pub const DEFAULT_CHECK_EVERY: u64 = 100;
 /// Default distance of the trajectory's body-axis markers from the centre.
@@ -132,9 +132,15 @@ fn quaternion(path: &str, q: &[f64; 4]) -> Result<Quat> {
     for (k, x) in q.iter().enumerate() {
         finite(&format!("{path}[{k}]"), *x)?;
     }
-    Quat(*q)
-        .try_normalize()
-        .ok_or_else(|| SceneError::field(path, "must be a non-zero quaternion, got [0, 0, 0, 0]"))
+    Quat(*q).try_normalize().ok_or_else(|| {
+        SceneError::field(
+            path,
+            format!(
+                "must be a non-zero quaternion with a finite norm, got [{}, {}, {}, {}]",
+                q[0], q[1], q[2], q[3]
+            ),
+        )
+    })
 }
 
 fn lattice_kind(kind: RawLatticeKind) -> LatticeKind {
