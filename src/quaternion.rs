@@ -7,7 +7,7 @@
 //! * **Product.** The Hamilton product
 //!   `P*Q = (p0 q0 - p.q, p0 q + q0 p + p x q)`.
 //!   The note's eq 2 prints `- p x q`; with that sign eqs 7, 9 and 10 contradict
-//!   each other (ERRATA.md, E-2).
+//!   each other (ERRATA.md, row eq 2).
 //! * **Orientation.** A unit quaternion `Q` is the orientation of a rotor. Its
 //!   matrix `A(Q)` of eq 7 maps **space-fixed to body-fixed** components,
 //!   `r_b = A r_s` (eq 6). Its transpose `R(Q) = A(Q)^T`
@@ -269,6 +269,17 @@ impl Quat {
             (Some(axis), angle) => axis.into_inner() * angle,
             (None, _) => Vector3::zeros(),
         }
+    }
+
+    /// The unit quaternion (`q0 >= 0`) of a body-to-space rotation matrix `R`,
+    /// or `None` unless `R` is a proper rotation to within `tolerance`
+    /// (largest entry of `|R^T R - I|` and `|det R - 1|`). For checked input,
+    /// e.g. from Python; trusted rotations convert with `From<Rotation3>`.
+    pub fn from_body_to_space_matrix(r: &Matrix3<f64>, tolerance: f64) -> Option<Quat> {
+        let orthogonality = (r.transpose() * r - Matrix3::identity()).amax();
+        let proper = (r.determinant() - 1.0).abs();
+        (r.iter().all(|x| x.is_finite()) && orthogonality <= tolerance && proper <= tolerance)
+            .then(|| Quat::from(Rotation3::from_matrix_unchecked(*r)))
     }
 
     /// The rotation angle between two unit orientations, in `[0, pi]`,

@@ -369,3 +369,25 @@ fn nalgebra_round_trips() {
         assert!(rotation_diff(&back, &q) < TIGHT);
     }
 }
+
+/// The checked matrix conversion accepts proper rotations (returning `q0 >= 0`)
+/// and rejects reflections, non-orthogonal and non-finite matrices.
+#[test]
+fn checked_matrix_conversion_rejects_non_rotations() {
+    let tolerance = 1e-9;
+    let mut r = rng(14);
+    for _ in 0..SAMPLES {
+        let q = random_unit_quat(&mut r);
+        let back = Quat::from_body_to_space_matrix(&q.body_to_space_matrix(), tolerance);
+        assert!(back.is_some_and(|b| b.scalar() >= 0.0 && rotation_diff(&b, &q) < TIGHT));
+    }
+    let reflection = -Matrix3::identity();
+    let sheared = Matrix3::new(1.0, 1e-6, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);
+    let nan = Matrix3::from_element(f64::NAN);
+    for bad in [reflection, sheared, nan, Matrix3::zeros()] {
+        assert!(
+            Quat::from_body_to_space_matrix(&bad, tolerance).is_none(),
+            "{bad}"
+        );
+    }
+}

@@ -55,3 +55,25 @@ def axis_angle_degrees(q) -> tuple[np.ndarray, float]:
     q = np.asarray(q, float)
     s = np.linalg.norm(q[1:])
     return q[1:] / s, np.degrees(2.0 * np.arctan2(s, q[0]))
+
+
+def same_rotation(a, b) -> float:
+    """Largest componentwise distance between quaternions ``a`` and ``b`` (..., 4),
+    blind to the sign (``Q`` and ``-Q`` are one rotation)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.minimum(np.abs(a - b).max(axis=-1), np.abs(a + b).max(axis=-1)).max())
+
+
+def scipy_q_dot(q, omega, frame: str, h: float = 1e-5) -> np.ndarray:
+    """``dQ/dt`` at ``t = 0`` by central differences of motion built by scipy alone:
+    ``R(t) = R(Q) Rot(w t)`` for ``frame='body'``, ``Rot(w t) R(Q)`` for ``'space'``,
+    with the sign of each ``Q(t)`` matched to ``q``."""
+    q = np.asarray(q, float)
+    start = scipy_rotation(q)
+
+    def at(t):
+        step = Rotation.from_rotvec(np.asarray(omega, float) * t)
+        quat = (start * step if frame == "body" else step * start).as_quat(scalar_first=True)
+        return quat * np.sign(np.sum(quat * q, axis=-1))[..., None]
+
+    return (at(h) - at(-h)) / (2 * h)

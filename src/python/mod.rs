@@ -4,8 +4,10 @@
 
 use pyo3::prelude::*;
 
+mod arrays;
 mod baselines;
 mod potential;
+mod quaternion;
 
 /// The `quatrot` Python module.
 #[pymodule]
@@ -13,5 +15,6 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     baselines::register(m)?;
     potential::register(m)?;
+    quaternion::register(m)?;
     Ok(())
 }
