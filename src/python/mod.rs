@@ -6,8 +6,10 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod baselines;
+mod dynamics;
 mod potential;
 mod quaternion;
+mod run;
 
 /// The `quatrot` Python module.
 #[pymodule]
@@ -15,6 +17,8 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     baselines::register(m)?;
     potential::register(m)?;
+    dynamics::register(m)?;
     quaternion::register(m)?;
+    run::register(m)?;
     Ok(())
 }
