@@ -6,6 +6,8 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod baselines;
+mod dynamics;
+mod potential;
 mod quaternion;
 mod run;
 
@@ -14,6 +16,8 @@ mod run;
 fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     baselines::register(m)?;
+    potential::register(m)?;
+    dynamics::register(m)?;
     quaternion::register(m)?;
     run::register(m)?;
     Ok(())

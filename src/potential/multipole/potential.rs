@@ -43,6 +43,29 @@ enum Carried {
 /// Units are reduced with `4 pi eps0 = 1`. Left out: charges, octupoles and
 /// higher, polarisation, Ewald sums (the periodic sum is truncated at the
 /// cutoff, without shift), damping at short range.
+///
+/// ```
+/// use nalgebra::Vector3;
+/// use quatrot::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
+/// use quatrot::rotor::{Inertia, Rotor};
+/// use quatrot::Quat;
+///
+/// // Two unit dipoles head to tail at distance 2: V = -2 / 2^3.
+/// let rotor = |z: f64| Rotor {
+///     site: Vector3::new(0.0, 0.0, z),
+///     inertia: Inertia::Spherical(1.0),
+///     dipole_body: Some(Vector3::z()),
+///     quadrupole_body: None,
+/// };
+/// let p = MultipolePotential::new(&[rotor(0.0), rotor(2.0)], Boundary::Open, ExternalFields::NONE)?;
+/// let q = [Quat::IDENTITY, -Quat::IDENTITY]; // -Q is the same orientation
+/// assert!((p.energy(&q) + 0.25).abs() < 1e-15);
+/// // Aligned dipoles feel no torque.
+/// let mut torques = [Vector3::zeros(); 2];
+/// p.accumulate_torques(&q, &mut torques);
+/// assert!(torques.iter().all(|t| t.norm() < 1e-15));
+/// # Ok::<(), quatrot::potential::PotentialError>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct MultipolePotential {
     carried: Carried,
@@ -118,9 +141,10 @@ impl MultipolePotential {
 
     /// One evaluation: returns the energy and, when asked, adds the eq 14
     /// gradient `dV/dq_k` and the space-frame torques into the given slices.
-    /// Results do not depend on the number of rayon threads for a given
-    /// block split; the pair loop is split into as many blocks as the current
-    /// rayon pool has threads and the blocks are summed in a fixed order.
+    /// The pair loop is split into as many blocks of rows as the current
+    /// rayon pool has threads, each with its own field buffer, and the blocks
+    /// are summed in block order: results are bitwise reproducible for a given
+    /// thread count (different counts differ by rounding only).
     ///
     /// # Panics
     /// If a slice length differs from the number of rotors (a programming
