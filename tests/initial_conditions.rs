@@ -54,7 +54,7 @@ fn random_states_are_uniform_and_maxwellian() {
     for k in 0..4 {
         let mean = states.iter().map(|s| s.orientation[k].powi(2)).sum::<f64>() / n;
         assert!(
-            (mean - 0.25).abs() < SIGMAS * (3.0 / 80.0 / n).sqrt(),
+            (mean - 0.25).abs() < SIGMAS * (1.0 / 16.0 / n).sqrt(),
             "q{k}: {mean}"
         );
     }
