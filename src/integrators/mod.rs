@@ -7,11 +7,12 @@
 //! the [`Potential`] so that the step is monomorphised.
 //!
 //! * Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
-//!   [`Richardson`], sharing the free-rotation flows of [`free_rotation`].
+//!   [`Richardson`], sharing their per-rotor state, kick and checkpoint
+//!   (`kick`) and the free-rotation flows of [`free_rotation`].
 //! * The note's Gear schemes: [`GearA`] (`scheme_a`) and [`GearB`]
 //!   (`scheme_b`), built on the Nordsieck machinery of [`gear`], the Euler
 //!   equations of [`rigid_body`] and the start-up of [`startup`].
-//! * Shared by all: [`setup`] (argument validation), `torque` (torques into
+//! * Shared pieces: [`setup`] (argument validation, all five), `torque` (torques into
 //!   a reused buffer, body-frame components) and [`checkpoint`] (flat layouts).
 
 pub mod checkpoint;

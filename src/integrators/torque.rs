@@ -1,5 +1,6 @@
 //! Torques on all rotors, evaluated into a buffer the integrator owns (sized
-//! once at setup), and their body-fixed components.
+//! once at setup), and their body-fixed components. (The baselines keep unit
+//! orientations and apply `A(Q)` of eq 7 directly in their kicks.)
 
 use crate::potential::Potential;
 use crate::quaternion::Quat;
