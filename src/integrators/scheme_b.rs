@@ -39,6 +39,7 @@ use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPEN
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
 use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
+use crate::observables;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
@@ -183,7 +184,7 @@ impl GearB {
         for i in 0..self.moments.len() {
             let q = self.q.r[0][i];
             let force = quaternion_force(&q, &self.gradient[i], opts.project_torque);
-            self.q_dot_force[i] = q.dot(&force);
+            self.q_dot_force[i] = observables::norm_force(&q, &force);
             let q_dot = self.q.r[1][i] * (1.0 / h);
             let accel = q_ddot::<K>(&self.moments[i], &q, &q_dot, &force);
             // (c): correct.

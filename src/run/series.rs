@@ -3,6 +3,7 @@
 
 use super::error::RunError;
 use super::observer::{Needs, Observer, Sample};
+use crate::observables;
 use crate::scene::{Quantity, Series};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -82,9 +83,15 @@ fn value(q: Quantity, sample: &Sample<'_>) -> f64 {
             let dof = 3.0 * sample.orientations.len() as f64;
             energy(|e| e.kinetic) * 2.0 / dof
         }
-        Quantity::NormError => max_abs(sample.orientations.iter().map(|q| q.norm() - 1.0)),
+        Quantity::NormError => max_abs(sample.orientations.iter().map(observables::norm_error)),
         Quantity::QDotQ => sample.q_dot.map_or(f64::NAN, |q_dot| {
-            max_abs(sample.orientations.iter().zip(q_dot).map(|(q, d)| q.dot(d)))
+            max_abs(
+                sample
+                    .orientations
+                    .iter()
+                    .zip(q_dot)
+                    .map(|(q, d)| observables::norm_velocity(q, d)),
+            )
         }),
         Quantity::QDotN => sample
             .q_dot_n
