@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod baselines;
+mod potential;
 mod quaternion;
 
 /// The `quatrot` Python module.
@@ -13,6 +14,7 @@ mod quaternion;
 fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     baselines::register(m)?;
+    potential::register(m)?;
     quaternion::register(m)?;
     Ok(())
 }
