@@ -8,6 +8,7 @@ mod arrays;
 mod baselines;
 mod potential;
 mod quaternion;
+mod run;
 
 /// The `quatrot` Python module.
 #[pymodule]
@@ -16,5 +17,6 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     baselines::register(m)?;
     potential::register(m)?;
     quaternion::register(m)?;
+    run::register(m)?;
     Ok(())
 }
