@@ -34,10 +34,14 @@ REFERENCE_TOLERANCE = 1e-10
 # Energy conservation on the note's dipole lattice at dt = 0.002 (its own
 # choice): the largest |E(t) - E(0)| over the run relative to the mean kinetic
 # energy. 1e-3 is the usual MD criterion (energy conserved to 0.1 % of the
-# kinetic energy); measured values are 1e-5 to 1e-4 (see the details).
+# kinetic energy); measured: ~1e-7 for the Gear schemes, ~3e-5 for the
+# second-order baselines (their bounded fluctuation), see the details.
 ENERGY_TOLERANCE = 1e-3
 T_END = 10.0
-STEPS = (200, 400, 800)  # dt = 0.05 .. 0.0125 over t = 10: errors 1e-4 .. 1e-10
+# Step counts over t = 10, chosen so every error is between ~1e-3 and ~1e-11
+# (asymptotic, above round-off). Scheme A reaches round-off on the spherical
+# top by dt = 0.025, hence the larger steps there.
+STEPS = {"spherical": (50, 100, 200), "symmetric": (200, 400, 800), "asymmetric": (200, 400, 800)}
 
 
 def _free_scenes() -> dict[str, dict]:
@@ -107,7 +111,6 @@ def _order_plot(table, out_dir):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    out_dir.mkdir(parents=True, exist_ok=True)
     fig, axes = plt.subplots(1, len(table), figsize=(4.2 * len(table), 4), sharey=True)
     for ax, (kind, rows) in zip(np.atleast_1d(axes), table.items()):
         for integrator, (dts, errors, order) in rows.items():
@@ -171,7 +174,7 @@ def free_top_checks(ctx: Context) -> tuple[list[Check], dict]:
         integrators = ("gear_a", "gear_b", "dlm") if ctx.quick else INTEGRATORS
         rows = {}
         for integrator in integrators:
-            steps = STEPS[1:] if ctx.quick else STEPS
+            steps = STEPS[kind][1:] if ctx.quick else STEPS[kind]
             errors = np.array([_final_error(scene, integrator, n, reference) for n in steps])
             dts = T_END / np.array(steps)
             exact = kind == "spherical" and integrator in ("no_squish", "dlm")
@@ -190,15 +193,22 @@ def free_top_checks(ctx: Context) -> tuple[list[Check], dict]:
                     )
                 )
                 continue
+            expected = EXPECTED_ORDER[integrator]
+            if kind == "spherical" and integrator == "gear_a":
+                # Zero torque makes the w_b corrector exact; the remaining linear
+                # equation Q' = 1/2 Q*(0, w_b) superconverges: assert a lower bound.
+                name, measured, how = f"free spherical top: gear_a order at least {expected:g}", max(0.0, expected - order), "max(0, expected - fitted)"
+            else:
+                name, measured, how = f"free {kind} top: {integrator} observed order (expected {expected:g})", abs(order - expected), "|fitted - expected|"
             checks.append(
                 Check(
-                    f"free {kind} top: {integrator} observed order (expected {EXPECTED_ORDER[integrator]:g})",
+                    name,
                     "The global error at fixed time falls as dt^p with the scheme's order p against an independent reference; "
                     "it does not bound the error at larger dt or longer times.",
                     ORDER_TOLERANCE,
-                    abs(order - EXPECTED_ORDER[integrator]),
+                    measured,
                     _versions(),
-                    f"Measured: |fitted order - expected|; fitted order {order:.3f}. {detail}.",
+                    f"Measured: {how} of the order; fitted order {order:.3f}. {detail}.",
                 )
             )
         table[kind] = rows
@@ -209,10 +219,11 @@ def energy_checks(ctx: Context):
     """Energy error along a run of each integrator on the dipole lattice."""
     if ctx.quick:
         base = variant("dipole_lattice_sc", cells=3, open_boundary=True, every=10, quantities=("kinetic_energy", "total_energy"))
-        steps, integrators, title = 500, ("gear_a", "gear_b"), "27-dipole open cluster, dt = 0.002"
+        steps, integrators, label = 500, ("gear_a", "gear_b", "dlm"), "27-dipole open cluster"
     else:
         base = variant("dipole_lattice_sc", every=10, quantities=("kinetic_energy", "total_energy"))
-        steps, integrators, title = 5000, INTEGRATORS, "1000-dipole periodic lattice (cutoff 3.1, T = 1), dt = 0.002"
+        steps, integrators, label = 5000, INTEGRATORS, "1000-dipole periodic lattice"
+    title = f"{label} (dipole_lattice_sc, dt = {base['run']['dt']:g})"
     base["record"].pop("trajectory")
     checks, series = [], {}
     for integrator in integrators:
@@ -226,7 +237,7 @@ def energy_checks(ctx: Context):
         slope = float(np.polyfit(t, rel, 1)[0])
         checks.append(
             Check(
-                f"energy conservation: {integrator}, {title.split(',')[0]}",
+                f"energy conservation: {integrator}, {label}",
                 "Total energy stays within 0.1 % of the mean kinetic energy over the run; the drift rate and fluctuation in the details "
                 "characterise the scheme but are not asserted.",
                 ENERGY_TOLERANCE,
@@ -244,6 +255,7 @@ def run(ctx: Context) -> list[Check]:
     energy, series, title = energy_checks(ctx)
     checks += energy
     if not ctx.quick:
+        ctx.out_dir.mkdir(parents=True, exist_ok=True)
         checks[-len(energy)].plots.append(_energy_plot(series, ctx.out_dir, title))
         order_plot = _order_plot(table, ctx.out_dir)
         for c in checks:
