@@ -114,7 +114,7 @@ def _order_plot(table, out_dir):
     fig, axes = plt.subplots(1, len(table), figsize=(4.2 * len(table), 4), sharey=True)
     for ax, (kind, rows) in zip(np.atleast_1d(axes), table.items()):
         for integrator, (dts, errors, order) in rows.items():
-            ax.loglog(dts, np.maximum(errors, 1e-16), "o-", label=f"{integrator} (order {order:.2f})")
+            ax.loglog(dts, np.maximum(errors, 1e-16), "o-", label=f"{integrator} ({'exact' if order == 0.0 else f'order {order:.2f}'})")
         ax.set_title(f"free {kind} top, error at t = {T_END:g}")
         ax.set_xlabel("dt")
         ax.grid(True, which="both", alpha=0.3)
@@ -174,6 +174,7 @@ def free_top_checks(ctx: Context) -> tuple[list[Check], dict]:
         integrators = ("gear_a", "gear_b", "dlm") if ctx.quick else INTEGRATORS
         rows = {}
         for integrator in integrators:
+            ctx.progress(f"free {kind} top: {integrator}, dt series")
             steps = STEPS[kind][1:] if ctx.quick else STEPS[kind]
             errors = np.array([_final_error(scene, integrator, n, reference) for n in steps])
             dts = T_END / np.array(steps)
@@ -227,6 +228,7 @@ def energy_checks(ctx: Context):
     base["record"].pop("trajectory")
     checks, series = [], {}
     for integrator in integrators:
+        ctx.progress(f"energy run: {integrator}, {steps} steps")
         scene = dict(base, integrator={"kind": integrator})
         result = scene_runs.run(scene, steps=steps)
         samples = result["series"]["samples"]

@@ -87,7 +87,7 @@ def _plot(drifts, out_dir):
     return path
 
 
-def run_scene(label, scene, steps, every):
+def run_scene(scene, steps):
     """Per scheme: worst relative potential error, worst kinetic errors, OpenMM-seen drift series."""
     results = {}
     omm = None
@@ -128,7 +128,8 @@ def run(ctx: Context) -> list[Check]:
     refs = {"openmm": versions()["openmm"], "quatrot": quatrot.__version__}
     checks, drifts = [], {}
     for label, (scene, steps, every) in _scenes(ctx.quick).items():
-        results = run_scene(label, scene, steps, every)
+        ctx.progress(f"{label}: schemes A and B, {steps} steps, OpenMM on every {every}th")
+        results = run_scene(scene, steps)
         drifts[label] = {}
         for scheme, r in results.items():
             where = f"{r['frames']} frames (every {every} of {steps} steps, dt = {scene['run']['dt']:g}) of {r['n']} rotors"

@@ -74,6 +74,7 @@ def run(ctx: Context) -> list[Check]:
     refs = {"ASE": ase.__version__, "quatrot": quatrot.__version__}
     checks, per_frame = [], {}
     for scheme in SCHEMES:
+        ctx.progress(f"{scheme}: {steps} steps, ASE on every {every}th frame")
         out = scene_runs.run(dict(scene, integrator={"kind": scheme}), steps=steps)
         sites, frames = out["sites"], out["trajectory"]
         frame_rotate, frame_euler = [], []
