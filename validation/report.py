@@ -77,7 +77,10 @@ def terminal_table(results) -> str:
     header = ("module", "checks", "failed", "seconds")
     widths = [max(len(r[k]) for r in rows + [header]) for k in range(len(header))]
     line = lambda r: "  ".join(v.ljust(w) for v, w in zip(r, widths))  # noqa: E731
-    lines = [line(header), line(tuple("-" * w for w in widths))] + [line(r) for r in rows]
+    total = ("total", str(sum(len(cs) for _, cs, _ in results)), str(sum(not c.passed for _, cs, _ in results for c in cs)), f"{sum(s for _, _, s in results):.1f}")
+    widths = [max(w, len(v)) for w, v in zip(widths, total)]
+    rule = line(tuple("-" * w for w in widths))
+    lines = [line(header), rule] + [line(r) for r in rows] + [rule, line(total)]
     failed = [(m, c) for m, cs, _ in results for c in cs if not c.passed]
     if failed:
         lines += ["", "FAILED:"] + [f"  {_module_name(m)}: {c.name}: measured {_fmt(c.measured)} > tolerance {_fmt(c.tolerance)}" for m, c in failed]
