@@ -58,7 +58,11 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
     if integrator.name() == "gear_b" {
         all.push(Quantity::QDotN);
     }
-    let energies = vec![Quantity::KineticEnergy, Quantity::PotentialEnergy, Quantity::TotalEnergy];
+    let energies = vec![
+        Quantity::KineticEnergy,
+        Quantity::PotentialEnergy,
+        Quantity::TotalEnergy,
+    ];
     let dir = tempfile::tempdir().expect("temp dir");
     let csv = dir.path().join("bench.csv");
     let mut group = c.benchmark_group(group_name);
@@ -96,8 +100,15 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
                             observer: o as &mut dyn Observer,
                         })
                         .collect();
-                    run(&mut i, potential, &inertia, &mut scheduled, None, &options(scene))
-                        .expect("runs")
+                    run(
+                        &mut i,
+                        potential,
+                        &inertia,
+                        &mut scheduled,
+                        None,
+                        &options(scene),
+                    )
+                    .expect("runs")
                 },
                 BatchSize::LargeInput,
             )
@@ -112,9 +123,15 @@ fn runner(c: &mut Criterion) {
         box_lengths: lattice.box_lengths.expect("periodic"),
         cutoff: 3.1,
     };
-    let potential =
-        MultipolePotential::new(&lattice.rotors, periodic, ExternalFields::NONE).expect("potential");
-    bench_system(c, "runner_dipole_lattice_gear_b", &lattice, GearB::default(), &potential);
+    let potential = MultipolePotential::new(&lattice.rotors, periodic, ExternalFields::NONE)
+        .expect("potential");
+    bench_system(
+        c,
+        "runner_dipole_lattice_gear_b",
+        &lattice,
+        GearB::default(),
+        &potential,
+    );
 
     let (mut raw, _) = load("multipole_tops_bcc", &Overrides::default()).expect("built-in");
     raw.interactions = None;

@@ -10,7 +10,10 @@ const EXIT_ERROR: i32 = 2;
 const EXIT_BLOW_UP: i32 = 3;
 
 fn quatrot(args: &[&str]) -> Output {
-    Command::new(BIN).args(args).output().expect("the binary runs")
+    Command::new(BIN)
+        .args(args)
+        .output()
+        .expect("the binary runs")
 }
 
 /// `quatrot scenes` prints one line per built-in, starting with its name.
@@ -19,7 +22,10 @@ fn scenes_lists_every_builtin_on_one_line() {
     let out = quatrot(&["scenes"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    let names: Vec<&str> = text.lines().filter_map(|l| l.split_whitespace().next()).collect();
+    let names: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
     let builtins: Vec<&str> = quatrot::scene::BUILTINS.iter().map(|b| b.name).collect();
     assert_eq!(names, builtins);
 }
@@ -39,7 +45,12 @@ fn check_rejects_every_bad_scene_without_panicking() {
         let out = quatrot(&["check", path.to_str().expect("utf-8")]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(EXIT_ERROR), "{}", path.display());
-        assert_eq!(stderr.trim_end(), format!("error: {expected}"), "{}", path.display());
+        assert_eq!(
+            stderr.trim_end(),
+            format!("error: {expected}"),
+            "{}",
+            path.display()
+        );
         assert!(!stderr.contains("panicked"));
     }
 }
@@ -57,16 +68,30 @@ fn run_writes_outputs_and_a_one_line_summary() {
         "--out",
         out_dir.to_str().expect("utf-8"),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(stdout.lines().count(), 1);
     assert!(stdout.starts_with("dipole_in_field: 20 steps of gear_b"));
     for file in ["energies.csv", "summary.json"] {
         assert!(out_dir.join(file).is_file(), "{file}");
     }
-    let out = quatrot(&["run", "dipole_in_field", "--dt", "-1", "--out", out_dir.to_str().expect("utf-8")]);
+    let out = quatrot(&[
+        "run",
+        "dipole_in_field",
+        "--dt",
+        "-1",
+        "--out",
+        out_dir.to_str().expect("utf-8"),
+    ]);
     assert_eq!(out.status.code(), Some(EXIT_ERROR));
-    assert_eq!(String::from_utf8_lossy(&out.stderr).trim_end(), "error: run.dt: must be > 0, got -1");
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr).trim_end(),
+        "error: run.dt: must be > 0, got -1"
+    );
     let out = quatrot(&["run", "no_such_scene"]);
     assert_eq!(out.status.code(), Some(EXIT_ERROR));
 }
@@ -76,8 +101,13 @@ fn run_writes_outputs_and_a_one_line_summary() {
 fn run_that_blows_up_exits_with_the_blow_up_code() {
     let dir = tempfile::tempdir().expect("dir");
     let scene = dir.path().join("unstable.toml");
-    let text = quatrot::scene::builtin("dipole_in_field").expect("built-in").toml;
-    let text = text.replace("[[record.series]]", "[record]\nenergy_error_threshold = 1e-3\ncheck_every = 1\n\n[[record.series]]");
+    let text = quatrot::scene::builtin("dipole_in_field")
+        .expect("built-in")
+        .toml;
+    let text = text.replace(
+        "[[record.series]]",
+        "[record]\nenergy_error_threshold = 1e-3\ncheck_every = 1\n\n[[record.series]]",
+    );
     std::fs::write(&scene, text).expect("written");
     let out = quatrot(&[
         "run",

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod baselines;
+mod dynamics;
 mod potential;
 mod quaternion;
 mod run;
@@ -16,6 +17,7 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     baselines::register(m)?;
     potential::register(m)?;
+    dynamics::register(m)?;
     quaternion::register(m)?;
     run::register(m)?;
     Ok(())

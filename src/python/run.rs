@@ -225,7 +225,7 @@ fn run<'py>(
         integrator,
     };
     let (raw, scene) = load_scene(scene, &overrides)?;
-    let definition = serde_json::to_value(&raw).unwrap_or_default();
+    let definition = raw.definition();
     let outputs = Outputs {
         dir: out_dir,
         keep: true,
