@@ -4,6 +4,11 @@
 //! every observable every step, energies every 100 steps, nothing recorded,
 //! and the bare `integrator.step(potential)` loop. Each iteration runs
 //! `STEPS` steps from the same set-up integrator (setup excluded).
+//!
+//! On a shared machine the criterion groups, measured one after the other,
+//! drift with the load; after them an interleaved comparison runs the four
+//! cases in turn `REPETITIONS` times and prints the best time of each and the
+//! runner's overhead over the bare loop (best against best).
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use quatrot::integrators::{Dlm, GearB, Integrator};
@@ -12,9 +17,12 @@ use quatrot::rotor::Inertia;
 use quatrot::run::{run, Observer, RunOptions, Scheduled, SeriesObserver};
 use quatrot::scene::{load, validate, Overrides, Quantity, Scene, Series};
 use std::hint::black_box;
+use std::time::Instant;
 
 /// Steps per measured iteration.
 const STEPS: u64 = 200;
+/// Rounds of the interleaved comparison.
+const REPETITIONS: usize = 15;
 
 fn options(scene: &Scene) -> RunOptions {
     RunOptions {
@@ -35,6 +43,79 @@ fn every_quantity(every: u64, quantities: Vec<Quantity>) -> Series {
     }
 }
 
+/// The observables of the "everything every step" case.
+fn all_quantities(integrator_name: &str) -> Vec<Quantity> {
+    let mut all = vec![
+        Quantity::KineticEnergy,
+        Quantity::PotentialEnergy,
+        Quantity::TotalEnergy,
+        Quantity::EnergyError,
+        Quantity::Temperature,
+        Quantity::NormError,
+        Quantity::QDotQ,
+    ];
+    if integrator_name == "gear_b" {
+        all.push(Quantity::QDotN);
+    }
+    all
+}
+
+/// The runner cases: a name and the series recorded (none for the first).
+fn cases(integrator_name: &str) -> [(&'static str, Option<Series>); 3] {
+    let energies = vec![
+        Quantity::KineticEnergy,
+        Quantity::PotentialEnergy,
+        Quantity::TotalEnergy,
+    ];
+    [
+        ("nothing_recorded", None),
+        ("energies_every_100", Some(every_quantity(100, energies))),
+        (
+            "everything_every_step",
+            Some(every_quantity(1, all_quantities(integrator_name))),
+        ),
+    ]
+}
+
+/// `STEPS` bare steps.
+fn bare<I: Integrator, P: Potential>(mut integrator: I, potential: &P) {
+    for _ in 0..STEPS {
+        integrator.step(potential);
+    }
+    black_box(integrator.orientations()[0]);
+}
+
+/// `STEPS` steps through the runner, recording `series` (CSV to `csv`).
+fn through_runner<I: Integrator, P: Potential>(
+    mut integrator: I,
+    potential: &P,
+    scene: &Scene,
+    inertia: &[Inertia],
+    series: Option<&Series>,
+    csv: &std::path::Path,
+) {
+    let mut observer = series.map(|s| SeriesObserver::new(s, Some(csv), false).expect("csv"));
+    let mut scheduled: Vec<Scheduled<'_>> = observer
+        .iter_mut()
+        .zip(series)
+        .map(|(o, s)| Scheduled {
+            every: s.every,
+            observer: o as &mut dyn Observer,
+        })
+        .collect();
+    black_box(
+        run(
+            &mut integrator,
+            potential,
+            inertia,
+            &mut scheduled,
+            None,
+            &options(scene),
+        )
+        .expect("runs"),
+    );
+}
+
 fn bench_system<I: Integrator + Clone, P: Potential>(
     c: &mut Criterion,
     group_name: &str,
@@ -46,23 +127,6 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
     integrator
         .setup(&inertia, potential, &scene.initial, scene.dt)
         .expect("setup");
-    let mut all: Vec<Quantity> = vec![
-        Quantity::KineticEnergy,
-        Quantity::PotentialEnergy,
-        Quantity::TotalEnergy,
-        Quantity::EnergyError,
-        Quantity::Temperature,
-        Quantity::NormError,
-        Quantity::QDotQ,
-    ];
-    if integrator.name() == "gear_b" {
-        all.push(Quantity::QDotN);
-    }
-    let energies = vec![
-        Quantity::KineticEnergy,
-        Quantity::PotentialEnergy,
-        Quantity::TotalEnergy,
-    ];
     let dir = tempfile::tempdir().expect("temp dir");
     let csv = dir.path().join("bench.csv");
     let mut group = c.benchmark_group(group_name);
@@ -70,51 +134,57 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
     group.bench_function("bare_loop", |b| {
         b.iter_batched(
             || integrator.clone(),
-            |mut i| {
-                for _ in 0..STEPS {
-                    i.step(potential);
-                }
-                black_box(i.orientations()[0])
-            },
+            |i| bare(i, potential),
             BatchSize::LargeInput,
         )
     });
-    let cases: [(&str, Option<Series>); 3] = [
-        ("nothing_recorded", None),
-        ("energies_every_100", Some(every_quantity(100, energies))),
-        ("everything_every_step", Some(every_quantity(1, all))),
-    ];
-    for (name, series) in cases {
+    for (name, series) in cases(integrator.name()) {
         group.bench_function(name, |b| {
             b.iter_batched(
                 || integrator.clone(),
-                |mut i| {
-                    let mut observer = series
-                        .as_ref()
-                        .map(|s| SeriesObserver::new(s, Some(&csv), false).expect("csv"));
-                    let mut scheduled: Vec<Scheduled<'_>> = observer
-                        .iter_mut()
-                        .zip(&series)
-                        .map(|(o, s)| Scheduled {
-                            every: s.every,
-                            observer: o as &mut dyn Observer,
-                        })
-                        .collect();
-                    run(
-                        &mut i,
-                        potential,
-                        &inertia,
-                        &mut scheduled,
-                        None,
-                        &options(scene),
-                    )
-                    .expect("runs")
-                },
+                |i| through_runner(i, potential, scene, &inertia, series.as_ref(), &csv),
                 BatchSize::LargeInput,
             )
         });
     }
     group.finish();
+    interleaved(group_name, scene, &integrator, potential, &inertia, &csv);
+}
+
+/// Runs the bare loop and the three runner cases in turn and prints the best
+/// time per step of each and the overhead over the bare loop.
+fn interleaved<I: Integrator + Clone, P: Potential>(
+    group_name: &str,
+    scene: &Scene,
+    integrator: &I,
+    potential: &P,
+    inertia: &[Inertia],
+    csv: &std::path::Path,
+) {
+    let cases = cases(integrator.name());
+    let mut best = [f64::INFINITY; 4];
+    for _ in 0..REPETITIONS {
+        let i = integrator.clone();
+        let start = Instant::now();
+        bare(i, potential);
+        best[0] = best[0].min(start.elapsed().as_secs_f64());
+        for (k, (_, series)) in cases.iter().enumerate() {
+            let i = integrator.clone();
+            let start = Instant::now();
+            through_runner(i, potential, scene, inertia, series.as_ref(), csv);
+            best[k + 1] = best[k + 1].min(start.elapsed().as_secs_f64());
+        }
+    }
+    let per_step = |t: f64| t / STEPS as f64 * 1e6;
+    println!("{group_name} interleaved, best of {REPETITIONS} x {STEPS} steps:");
+    println!("  bare_loop: {:.1} us/step", per_step(best[0]));
+    for (k, (name, _)) in cases.iter().enumerate() {
+        println!(
+            "  {name}: {:.1} us/step, {:+.1} % over the bare loop",
+            per_step(best[k + 1]),
+            100.0 * (best[k + 1] / best[0] - 1.0)
+        );
+    }
 }
 
 fn runner(c: &mut Criterion) {

@@ -96,6 +96,30 @@ fn run_writes_outputs_and_a_one_line_summary() {
     assert_eq!(out.status.code(), Some(EXIT_ERROR));
 }
 
+/// Every built-in scene runs from the command line.
+#[test]
+fn every_builtin_runs_from_the_command_line() {
+    let dir = tempfile::tempdir().expect("dir");
+    for b in quatrot::scene::BUILTINS {
+        let out_dir = dir.path().join(b.name);
+        let out = quatrot(&[
+            "run",
+            b.name,
+            "--steps",
+            "3",
+            "--out",
+            out_dir.to_str().expect("utf-8"),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            b.name,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(out_dir.join("summary.json").is_file(), "{}", b.name);
+    }
+}
+
 /// A run that blows up exits with its own code and says where.
 #[test]
 fn run_that_blows_up_exits_with_the_blow_up_code() {
