@@ -31,8 +31,8 @@ EXACT_TOLERANCE = 1e-12
 # The closed forms and DOP853 (rtol 1e-12, atol 1e-14) agree to ~1e-11
 # over t = 10: the reference error is below every measured error used in a fit.
 REFERENCE_TOLERANCE = 1e-10
-# Energy conservation on the dipole lattice and the multipolar tops at the scenes' dt = 0.002 (the note's
-# choice): the largest |E(t) - E(0)| over the run relative to the mean kinetic
+# Energy conservation on the dipole lattice and the multipolar tops at the
+# scenes' own dt = 0.002: the largest |E(t) - E(0)| over the run relative to the mean kinetic
 # energy. 1e-3 is the usual MD criterion (energy conserved to 0.1 % of the
 # kinetic energy); measured: ~1e-7 for the Gear schemes, ~3e-5 for the
 # second-order baselines (their bounded fluctuation), see the details.
