@@ -28,7 +28,7 @@ ORDER_TOLERANCE = 0.3  # the issue's bound; three step sizes, not exactly asympt
 # A free spherical top is integrated exactly by the baselines' exact free
 # flow: only round-off accumulated over ~1000 steps of unit-scale numbers.
 EXACT_TOLERANCE = 1e-12
-# The closed forms and DOP853 (rtol 1e-12, atol 1e-14) agree to ~1e-11
+# The closed forms and DOP853 (rtol 1e-12, atol 1e-14) agree to ~1e-12
 # over t = 10: the reference error is below every measured error used in a fit.
 REFERENCE_TOLERANCE = 1e-10
 # Energy conservation on the dipole lattice and the multipolar tops at the
