@@ -7,31 +7,36 @@
 //!
 //! On a shared machine the criterion groups, measured one after the other,
 //! drift with the load; after them an interleaved comparison runs the four
-//! cases in turn `REPETITIONS` times and prints the best time of each and the
+//! cases in turn `REPETITIONS` times (`INTERLEAVED_STEPS` steps each) and
+//! prints the best time of each and the
 //! runner's overhead over the bare loop (best against best).
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use quatrot::integrators::{Dlm, GearB, Integrator};
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
-use quatrot::run::{run, Observer, RunOptions, Scheduled, SeriesObserver};
+use quatrot::run::{run, EnergyReference, Observer, RunOptions, Scheduled, SeriesObserver};
 use quatrot::scene::{load, validate, Overrides, Quantity, Scene, Series};
 use std::hint::black_box;
 use std::time::Instant;
 
 /// Steps per measured iteration.
 const STEPS: u64 = 200;
-/// Rounds of the interleaved comparison.
-const REPETITIONS: usize = 15;
+/// Rounds of the interleaved comparison, and steps per round: many short
+/// rounds make the best time robust to load from other processes.
+const REPETITIONS: usize = 100;
+const INTERLEAVED_STEPS: u64 = 20;
 
-fn options(scene: &Scene) -> RunOptions {
+/// Options for steps `start..end`; with a `reference` given, the runner
+/// evaluates no energy at the start for the energy error.
+fn options(scene: &Scene, start: u64, end: u64, reference: Option<EnergyReference>) -> RunOptions {
     RunOptions {
         dt: scene.dt,
-        start_step: 0,
-        end_step: STEPS,
+        start_step: start,
+        end_step: end,
         check_every: scene.record.check_every,
         energy_error_threshold: None,
-        reference: None,
+        reference,
     }
 }
 
@@ -60,46 +65,55 @@ fn all_quantities(integrator_name: &str) -> Vec<Quantity> {
     all
 }
 
-/// The runner cases: a name and the series recorded (none for the first).
-fn cases(integrator_name: &str) -> [(&'static str, Option<Series>); 3] {
+/// The runner cases: a name and the series recorded (none for the first);
+/// energies are recorded every `energies_every` steps.
+fn cases(integrator_name: &str, energies_every: u64) -> [(String, Option<Series>); 3] {
     let energies = vec![
         Quantity::KineticEnergy,
         Quantity::PotentialEnergy,
         Quantity::TotalEnergy,
     ];
     [
-        ("nothing_recorded", None),
-        ("energies_every_100", Some(every_quantity(100, energies))),
+        ("nothing_recorded".to_string(), None),
         (
-            "everything_every_step",
+            format!("energies_every_{energies_every}"),
+            Some(every_quantity(energies_every, energies)),
+        ),
+        (
+            "everything_every_step".to_string(),
             Some(every_quantity(1, all_quantities(integrator_name))),
         ),
     ]
 }
 
-/// `STEPS` bare steps.
-fn bare<I: Integrator, P: Potential>(mut integrator: I, potential: &P) {
-    for _ in 0..STEPS {
+/// `steps` bare steps.
+fn bare<I: Integrator, P: Potential>(mut integrator: I, potential: &P, steps: u64) {
+    for _ in 0..steps {
         integrator.step(potential);
     }
     black_box(integrator.orientations()[0]);
 }
 
-/// `STEPS` steps through the runner, recording `series` (CSV to `csv`).
+/// The observer of `series`, writing CSV to `csv` (created outside the
+/// timed region: opening a file is a per-run cost, not a per-step one).
+fn observer(series: Option<&Series>, csv: &std::path::Path) -> Option<SeriesObserver> {
+    series.map(|s| SeriesObserver::new(s, Some(csv), false).expect("csv"))
+}
+
+/// The runner from `options.start_step` to `options.end_step`, feeding
+/// `observer` every `every` steps.
 fn through_runner<I: Integrator, P: Potential>(
     mut integrator: I,
+    mut observer: Option<SeriesObserver>,
+    every: u64,
     potential: &P,
-    scene: &Scene,
+    options: &RunOptions,
     inertia: &[Inertia],
-    series: Option<&Series>,
-    csv: &std::path::Path,
 ) {
-    let mut observer = series.map(|s| SeriesObserver::new(s, Some(csv), false).expect("csv"));
     let mut scheduled: Vec<Scheduled<'_>> = observer
         .iter_mut()
-        .zip(series)
-        .map(|(o, s)| Scheduled {
-            every: s.every,
+        .map(|o| Scheduled {
+            every,
             observer: o as &mut dyn Observer,
         })
         .collect();
@@ -110,7 +124,7 @@ fn through_runner<I: Integrator, P: Potential>(
             inertia,
             &mut scheduled,
             None,
-            &options(scene),
+            options,
         )
         .expect("runs"),
     );
@@ -134,15 +148,19 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
     group.bench_function("bare_loop", |b| {
         b.iter_batched(
             || integrator.clone(),
-            |i| bare(i, potential),
+            |i| bare(i, potential, STEPS),
             BatchSize::LargeInput,
         )
     });
-    for (name, series) in cases(integrator.name()) {
+    for (name, series) in cases(integrator.name(), 100) {
         group.bench_function(name, |b| {
+            let every = series.as_ref().map_or(1, |s| s.every);
             b.iter_batched(
-                || integrator.clone(),
-                |i| through_runner(i, potential, scene, &inertia, series.as_ref(), &csv),
+                || (integrator.clone(), observer(series.as_ref(), &csv)),
+                |(i, o)| {
+                    let opts = options(scene, 0, STEPS, None);
+                    through_runner(i, o, every, potential, &opts, &inertia)
+                },
                 BatchSize::LargeInput,
             )
         });
@@ -161,22 +179,29 @@ fn interleaved<I: Integrator + Clone, P: Potential>(
     inertia: &[Inertia],
     csv: &std::path::Path,
 ) {
-    let cases = cases(integrator.name());
+    // Rounds run steps 1..=INTERLEAVED_STEPS with the energy reference given,
+    // so "energies every INTERLEAVED_STEPS" evaluates the energy exactly once
+    // per round, as a long run would.
+    let cases = cases(integrator.name(), INTERLEAVED_STEPS);
+    let reference = Some(EnergyReference::initial(1.0, 1.0));
+    let opts = options(scene, 1, 1 + INTERLEAVED_STEPS, reference);
     let mut best = [f64::INFINITY; 4];
     for _ in 0..REPETITIONS {
         let i = integrator.clone();
         let start = Instant::now();
-        bare(i, potential);
+        bare(i, potential, INTERLEAVED_STEPS);
         best[0] = best[0].min(start.elapsed().as_secs_f64());
         for (k, (_, series)) in cases.iter().enumerate() {
             let i = integrator.clone();
+            let every = series.as_ref().map_or(1, |s| s.every);
+            let o = observer(series.as_ref(), csv);
             let start = Instant::now();
-            through_runner(i, potential, scene, inertia, series.as_ref(), csv);
+            through_runner(i, o, every, potential, &opts, inertia);
             best[k + 1] = best[k + 1].min(start.elapsed().as_secs_f64());
         }
     }
-    let per_step = |t: f64| t / STEPS as f64 * 1e6;
-    println!("{group_name} interleaved, best of {REPETITIONS} x {STEPS} steps:");
+    let per_step = |t: f64| t / INTERLEAVED_STEPS as f64 * 1e6;
+    println!("{group_name} interleaved, best of {REPETITIONS} x {INTERLEAVED_STEPS} steps:");
     println!("  bare_loop: {:.1} us/step", per_step(best[0]));
     for (k, (name, _)) in cases.iter().enumerate() {
         println!(
