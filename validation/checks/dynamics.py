@@ -138,7 +138,7 @@ def _energy_plot(series, out_dir):
     integrators = list(series[titles[0]])
     fig, axes = plt.subplots(len(integrators), len(titles), figsize=(5.5 * len(titles), 1.8 * len(integrators) + 0.8), sharex="col", squeeze=False)
     for col, title in enumerate(titles):
-        axes[0, col].set_title(f"(E(t) - E(0)) / <K>: {title}", fontsize=9)
+        axes[0, col].set_title(f"(E(t) - E(0)) / <K>\n{title}", fontsize=9)
         axes[-1, col].set_xlabel("time")
         for row, integrator in enumerate(integrators):
             t, rel = series[title][integrator]
