@@ -1,6 +1,7 @@
 """`python -m validation.report --out results [--quick]`: run every check module
-(``validation.checks.modules()``), print a summary table, write
-``<out>/report.md`` with its plots, and exit non-zero if any check fails.
+(``validation.checks.modules()``), print a short summary on the terminal,
+write ``<out>/report.md`` with its plots (and ``report.html``, the same page
+self-contained), and exit non-zero if any check fails.
 
 Generic: a new module in ``validation/checks/`` with ``run(ctx) -> list[Check]``
 appears in the report without touching this file. Its docstring's first
@@ -18,6 +19,7 @@ from pathlib import Path
 
 from validation.checks import modules
 from validation.checks.base import Check, Context
+from validation.report_html import to_html
 
 
 def _module_name(module) -> str:
@@ -70,11 +72,31 @@ def _versions(check: Check) -> str:
 
 
 def terminal_table(results) -> str:
-    rows = [(_module_name(m), c.name, _fmt(c.tolerance), _fmt(c.measured), _status(c)) for m, checks, _ in results for c in checks]
-    header = ("module", "check", "tolerance", "measured", "result")
+    """Per module: checks, failures, time; then every failed check with its numbers."""
+    rows = [(_module_name(m), str(len(cs)), str(sum(not c.passed for c in cs)), f"{seconds:.1f}") for m, cs, seconds in results]
+    header = ("module", "checks", "failed", "seconds")
     widths = [max(len(r[k]) for r in rows + [header]) for k in range(len(header))]
     line = lambda r: "  ".join(v.ljust(w) for v, w in zip(r, widths))  # noqa: E731
-    return "\n".join([line(header), line(tuple("-" * w for w in widths))] + [line(r) for r in rows])
+    total = ("total", str(sum(len(cs) for _, cs, _ in results)), str(sum(not c.passed for _, cs, _ in results for c in cs)), f"{sum(s for _, _, s in results):.1f}")
+    widths = [max(w, len(v)) for w, v in zip(widths, total)]
+    rule = line(tuple("-" * w for w in widths))
+    lines = [line(header), rule] + [line(r) for r in rows] + [rule, line(total)]
+    failed = [(m, c) for m, cs, _ in results for c in cs if not c.passed]
+    if failed:
+        lines += ["", "FAILED:"] + [f"  {_module_name(m)}: {c.name}: measured {_fmt(c.measured)} > tolerance {_fmt(c.tolerance)}" for m, c in failed]
+    return "\n".join(lines)
+
+
+def _all_versions(checks) -> str:
+    seen = {}
+    for c in checks:
+        seen.update(c.references)
+    return ", ".join(f"{code} {version}" for code, version in sorted(seen.items(), key=lambda kv: kv[0].lower()))
+
+
+def _paragraphs(doc: str) -> str:
+    """A module docstring as Markdown paragraphs (hard line breaks joined)."""
+    return "\n\n".join(" ".join(p.split()).replace("``", "`") for p in doc.strip().split("\n\n"))
 
 
 def _cell(text: str) -> str:
@@ -93,9 +115,14 @@ def markdown(results, out: Path, quick: bool) -> str:
         f"{len(checks)} checks in {len(results)} module{'s' if len(results) != 1 else ''}: **{verdict}**"
         f"{' (quick subset)' if quick else ''}. quatrot {quatrot.__version__}, Python {platform.python_version()}, {platform.platform()}.",
         "",
-        "Each row compares quatrot with an independent code (or with an identity of the note) on the quantity named; "
-        "*measured* is the largest error found, and the check passes when it does not exceed the *tolerance*. "
-        "What each check proves, and what it does not, is stated in its section below.",
+        "How to read the table: each row is one check of quatrot (the code under test) against the independent code(s) in the "
+        "last column, with their versions, or against an identity or exact solution of the note. *measured* is the check's error: "
+        "the largest disagreement over every sample, frame and rotor it covers (relative or absolute as its section says; for "
+        "an observed order, the distance of the fitted order from the expected one; for energy conservation, max |E(t) - E(0)| "
+        "over the mean kinetic energy). The row PASSes when *measured* <= *tolerance*; each tolerance is a named constant in the "
+        "check's module with its reason. The module link leads to what the checks prove and what they do not.",
+        "",
+        f"Codes compared: {_all_versions(checks)}.",
         "",
         "| module | check | tolerance | measured | result | compared with (versions) |",
         "|---|---|---|---|---|---|",
@@ -106,7 +133,7 @@ def markdown(results, out: Path, quick: bool) -> str:
             lines.append(f"| [{anchor}](#{anchor}) | {_cell(c.name)} | {_fmt(c.tolerance)} | {_fmt(c.measured)} | {_status(c)} | {_cell(_versions(c))} |")
     for module, cs, seconds in results:
         name = _module_name(module)
-        intro = (module.__doc__ or "").strip().split("\n\n")[0]
+        intro = _paragraphs(module.__doc__ or "")
         lines += ["", f'<a id="{name}"></a>', f"## {name}", "", intro, "", f"{len(cs)} checks, {seconds:.1f} s.", ""]
         for c in cs:
             lines += [f"### {_status(c)}: {c.name}", "", f"*Proves:* {c.proves}", ""]
@@ -129,12 +156,15 @@ def main(argv=None) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     results = run_all(args.out, args.quick)
     report = args.out / "report.md"
-    report.write_text(markdown(results, args.out, args.quick))
+    text = markdown(results, args.out, args.quick)
+    report.write_text(text)
+    page = args.out / "report.html"
+    page.write_text(to_html(text, args.out, "quatrot validation report"))
     print()
     print(terminal_table(results))
     failed = sum(not c.passed for _, cs, _ in results for c in cs)
     total = sum(len(cs) for _, cs, _ in results)
-    print(f"\n{total - failed}/{total} checks pass; report: {report}")
+    print(f"\n{total - failed}/{total} checks pass; report: {report} (and {page.name}, self-contained)")
     return 1 if failed or not results else 0
 
 

@@ -16,6 +16,11 @@ class Context:
     quick: bool = False
     seed: int = 20261121
 
+    def progress(self, message: str) -> None:
+        """One indented line on the terminal for a long step (silent in quick mode)."""
+        if not self.quick:
+            print(f"      {message}", flush=True)
+
 
 @dataclass
 class Check:
