@@ -9,13 +9,19 @@
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
 //! * [`observables`]: energies, norm errors and angular velocities of a state.
+//! * [`scene`]: scene files (TOML), parsed and validated into typed objects.
+//! * [`run`]: the runner, its observers and output files.
+//! * [`cli`]: the `quatrot` command line.
 
+pub mod cli;
 pub mod integrators;
 pub mod lattice;
 pub mod observables;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;
+pub mod run;
+pub mod scene;
 
 #[cfg(feature = "python")]
 mod python;

@@ -1,12 +1,5 @@
-//! The `quatrot` command-line interface.
-
-use clap::Parser;
-
-/// Rotational dynamics of rigid rotors in quaternion form.
-#[derive(Parser, Debug)]
-#[command(name = "quatrot", version, about)]
-struct Cli {}
+//! The `quatrot` command-line interface (see [`quatrot::cli`]).
 
 fn main() {
-    let _cli = Cli::parse();
+    std::process::exit(quatrot::cli::main());
 }

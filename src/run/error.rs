@@ -1,0 +1,33 @@
+//! The one error type of the run layer.
+
+use crate::integrators::IntegratorError;
+use crate::scene::SceneError;
+
+/// Why a run could not start, continue or write its outputs. A blow-up is
+/// not an error: it is a [`super::Stop`] of a run whose outputs are valid.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Integrator(#[from] IntegratorError),
+    /// The potential could not be built from the scene.
+    #[error("potential: {0}")]
+    Potential(String),
+    /// Writing or reading an output file failed.
+    #[error("{path}: {message}")]
+    Io { path: String, message: String },
+    /// A checkpoint does not belong to this scene.
+    #[error("checkpoint {path}: {message}")]
+    Checkpoint { path: String, message: String },
+}
+
+impl RunError {
+    /// An I/O error on `path`.
+    pub fn io(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
+        RunError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        }
+    }
+}

@@ -1,0 +1,136 @@
+//! The JSON summary of a run: the scene, the seed, the versions, the time
+//! taken, the final energies and the drift.
+
+use super::observer::Energies;
+use super::runner::{EnergyReference, RunReport, Stop};
+use crate::scene::{Scene, SCENE_VERSION};
+use serde::Serialize;
+
+/// Versions of what produced the outputs.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Versions {
+    pub quatrot: &'static str,
+    pub scene_format: i64,
+}
+
+/// Energies at the last step they were computed.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct FinalEnergies {
+    pub step: u64,
+    pub kinetic: f64,
+    pub potential: f64,
+    pub total: f64,
+    pub error: f64,
+}
+
+/// Energy drift over the run.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Drift {
+    /// Least-squares slope of the total energy against time, divided by the
+    /// mean kinetic energy over the samples (or by the reference scale when
+    /// that vanishes): relative drift per unit time.
+    pub relative_per_time: f64,
+    /// `(E_last - E_0) / scale`.
+    pub final_error: f64,
+    /// Number of samples in the fit.
+    pub samples: usize,
+}
+
+/// The summary written to `summary.json` and returned to Python.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Summary {
+    pub scene: String,
+    pub description: String,
+    /// The scene as run (after command-line overrides), as JSON.
+    pub definition: serde_json::Value,
+    pub seed: Option<u64>,
+    pub versions: Versions,
+    pub integrator: String,
+    pub rotors: usize,
+    pub dt: f64,
+    pub start_step: u64,
+    pub last_step: u64,
+    /// "completed" or "blew_up".
+    pub status: &'static str,
+    /// The blow-up message (step and rotor), if any.
+    pub message: Option<String>,
+    pub wall_seconds: f64,
+    pub initial_energy: Option<EnergyReference>,
+    pub final_energies: Option<FinalEnergies>,
+    pub drift: Option<Drift>,
+}
+
+/// Least-squares slope of `y` against `x`.
+fn slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let mean_y = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = points.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
+    sxy / sxx
+}
+
+fn drift(report: &RunReport) -> Option<Drift> {
+    let reference = report.reference?;
+    let history = &report.energy_history;
+    let (_, last) = report.last_energies?;
+    if history.len() < 2 {
+        return None;
+    }
+    let points: Vec<(f64, f64)> = history.iter().map(|h| (h[0], h[2])).collect();
+    let mean_kinetic = history.iter().map(|h| h[1]).sum::<f64>() / history.len() as f64;
+    let scale = if mean_kinetic > 0.0 {
+        mean_kinetic
+    } else {
+        reference.scale
+    };
+    Some(Drift {
+        relative_per_time: slope(&points) / scale,
+        final_error: last.error,
+        samples: history.len(),
+    })
+}
+
+impl Summary {
+    /// The summary of `report` for `scene` (whose raw form is `definition`).
+    pub fn new(
+        scene: &Scene,
+        definition: serde_json::Value,
+        report: &RunReport,
+        start_step: u64,
+    ) -> Self {
+        let final_energies = report
+            .last_energies
+            .map(|(step, e): (u64, Energies)| FinalEnergies {
+                step,
+                kinetic: e.kinetic,
+                potential: e.potential,
+                total: e.total,
+                error: e.error,
+            });
+        Summary {
+            scene: scene.name.clone(),
+            description: scene.description.clone(),
+            definition,
+            seed: scene.seed,
+            versions: Versions {
+                quatrot: env!("CARGO_PKG_VERSION"),
+                scene_format: SCENE_VERSION,
+            },
+            integrator: scene.integrator.name().to_string(),
+            rotors: scene.rotors.len(),
+            dt: scene.dt,
+            start_step,
+            last_step: report.last_step,
+            status: match report.stop {
+                Stop::Completed => "completed",
+                Stop::BlewUp { .. } => "blew_up",
+            },
+            message: report.stop.message(),
+            wall_seconds: report.wall_seconds,
+            initial_energy: report.reference,
+            final_energies,
+            drift: drift(report),
+        }
+    }
+}

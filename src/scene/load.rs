@@ -1,0 +1,82 @@
+//! Finding a scene by built-in name or path, and applying command-line
+//! overrides before validation (so their errors name the scene field).
+
+use super::builtin::builtin;
+use super::error::SceneError;
+use super::model::Scene;
+use super::parse::{parse_json, parse_toml};
+use super::raw::{RawIntegrator, RawScene};
+use super::tagged::join_path;
+use super::validate::validate;
+
+/// Values given on the command line (or as Python keywords) that replace the scene's.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overrides {
+    /// Replaces `run.dt`.
+    pub dt: Option<f64>,
+    /// Replaces `run.steps` (and drops `run.time`).
+    pub steps: Option<i64>,
+    /// Replaces `[integrator]` by this integrator with its default options.
+    pub integrator: Option<String>,
+}
+
+impl Overrides {
+    /// Applies the overrides to a raw scene.
+    pub fn apply(&self, raw: &mut RawScene) -> Result<(), SceneError> {
+        if let Some(dt) = self.dt {
+            raw.run.dt = dt;
+        }
+        if let Some(steps) = self.steps {
+            raw.run.steps = Some(steps);
+            raw.run.time = None;
+        }
+        if let Some(name) = &self.integrator {
+            let value = serde_json::json!({ "kind": name });
+            raw.integrator = serde_json::from_value::<RawIntegrator>(value).map_err(|e| {
+                let (path, message) = join_path("integrator", &e.to_string());
+                SceneError::field(path, message)
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// Reads the raw scene called `name_or_path`: a path (anything ending in
+/// `.toml` or containing a path separator) is read from disk, otherwise a
+/// built-in of that name is used, and failing that a file of that name.
+pub fn load_raw(name_or_path: &str) -> Result<RawScene, SceneError> {
+    let looks_like_path = name_or_path.ends_with(".toml") || name_or_path.contains(['/', '\\']);
+    if !looks_like_path {
+        if let Some(b) = builtin(name_or_path) {
+            return parse_toml(b.toml);
+        }
+    }
+    let path = std::path::Path::new(name_or_path);
+    if !path.is_file() {
+        return Err(SceneError::NotFound(name_or_path.to_string()));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        path: name_or_path.to_string(),
+        message: e.to_string(),
+    })?;
+    parse_toml(&text)
+}
+
+/// Loads, overrides and validates a scene by built-in name or path.
+pub fn load(name_or_path: &str, overrides: &Overrides) -> Result<(RawScene, Scene), SceneError> {
+    let mut raw = load_raw(name_or_path)?;
+    overrides.apply(&mut raw)?;
+    let scene = validate(&raw)?;
+    Ok((raw, scene))
+}
+
+/// Validates a scene given as a JSON value (a Python dict), with overrides.
+pub fn load_json(
+    value: serde_json::Value,
+    overrides: &Overrides,
+) -> Result<(RawScene, Scene), SceneError> {
+    let mut raw = parse_json(value)?;
+    overrides.apply(&mut raw)?;
+    let scene = validate(&raw)?;
+    Ok((raw, scene))
+}

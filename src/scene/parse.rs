@@ -1,0 +1,60 @@
+//! From text (TOML) or a JSON value (the Python dict) to a [`RawScene`],
+//! with errors naming the field path.
+
+use super::error::SceneError;
+use super::raw::RawScene;
+use super::tagged::join_path;
+use serde::de::DeserializeOwned;
+use std::fmt::Display;
+
+/// Deserialises `T` from `deserializer`, turning the error into a field error
+/// at the path where it occurred (`(top level)` for the root).
+fn with_path<'de, T, D>(deserializer: D) -> Result<T, SceneError>
+where
+    T: DeserializeOwned,
+    D: serde::Deserializer<'de>,
+    D::Error: Display,
+{
+    serde_path_to_error::deserialize(deserializer).map_err(|e| {
+        let outer = e.path().to_string();
+        let outer = if outer == "." { "" } else { outer.as_str() };
+        let message = e.inner().to_string();
+        // toml appends "\nin `path`"; the path is reported in front instead.
+        let message = message.lines().next().unwrap_or_default();
+        let (path, message) = join_path(outer, message);
+        let path = if path.is_empty() {
+            "(top level)".to_string()
+        } else {
+            path
+        };
+        SceneError::field(path, message)
+    })
+}
+
+/// Line and column (1-based) of a byte offset in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+/// Parses a scene written in TOML.
+pub fn parse_toml(text: &str) -> Result<RawScene, SceneError> {
+    let table: toml::Table = toml::from_str(text).map_err(|e| {
+        let message = e.message().trim().to_string();
+        match e.span() {
+            Some(span) => {
+                let (line, column) = line_column(text, span.start);
+                SceneError::Syntax(format!("line {line}, column {column}: {message}"))
+            }
+            None => SceneError::Syntax(message),
+        }
+    })?;
+    with_path(toml::Value::Table(table))
+}
+
+/// Parses a scene given as a JSON value (the form a Python dict arrives in).
+pub fn parse_json(value: serde_json::Value) -> Result<RawScene, SceneError> {
+    with_path(value)
+}
