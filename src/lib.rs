@@ -8,12 +8,14 @@
 //! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
+//! * [`experiments`]: the note's experiment on the corrections of scheme B.
 //! * [`observables`]: energies, norm errors and angular velocities of a state.
 //! * [`scene`]: scene files (TOML), parsed and validated into typed objects.
 //! * [`run`]: the runner, its observers and output files.
 //! * [`cli`]: the `quatrot` command line.
 
 pub mod cli;
+pub mod experiments;
 pub mod integrators;
 pub mod lattice;
 pub mod observables;

@@ -69,3 +69,39 @@ pub fn norm_velocity(q: &Quat, q_dot: &Quat) -> f64 {
 pub fn norm_force(q: &Quat, force: &Quat) -> f64 {
     q.dot(force)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The angular velocities are exact for a non-unit `Q` (scaling `Q` and
+    /// `Q'` together leaves them unchanged), and body and space forms are
+    /// related by the rotation of `Q` (eq 6).
+    #[test]
+    fn angular_velocities_are_scale_invariant_and_related_by_the_rotation() {
+        let q = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
+        let w_b = Vector3::new(0.7, -1.1, 0.9);
+        let q_dot = q.q_dot_from_omega_body(&w_b);
+        assert!((omega_body(&(q * 1.3), &(q_dot * 1.3)) - w_b).norm() < 1e-15);
+        assert!((omega_space(&q, &q_dot) - q.body_to_space(&w_b)).norm() < 1e-15);
+        assert!(norm_velocity(&q, &q_dot).abs() < 1e-16);
+        assert!((norm_error(&(q * 1.5)) - 0.5).abs() < 1e-15);
+    }
+
+    /// `1/2 w.Iw` for a general top, and the total adds the potential.
+    #[test]
+    fn kinetic_and_total_energy() {
+        let inertia = [
+            Inertia::Principal(Vector3::new(1.0, 2.0, 3.0)),
+            Inertia::Spherical(2.0),
+        ];
+        let w = [Vector3::new(1.0, 1.0, 1.0), Vector3::new(0.0, 0.0, 1.0)];
+        assert_eq!(total_kinetic_energy(&inertia, &w), 3.0 + 1.0);
+        let q = [Quat::IDENTITY; 2];
+        assert_eq!(total_energy(&crate::potential::Free, &inertia, &q, &w), 4.0);
+        assert_eq!(
+            norm_force(&Quat::IDENTITY, &Quat::new(2.0, 1.0, 0.0, 0.0)),
+            2.0
+        );
+    }
+}

@@ -126,7 +126,7 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
         Ok(loaded) => loaded,
         Err(e) => return fail(&e),
     };
-    let definition = serde_json::to_value(&raw).unwrap_or_default();
+    let definition = raw.definition();
     let dir = out.unwrap_or_else(|| PathBuf::from("quatrot_out").join(&scene.name));
     let outputs = Outputs {
         dir: Some(dir.clone()),

@@ -188,6 +188,54 @@ mod tests {
         assert_eq!(n.rotor(0), scaled(3.0));
     }
 
+    /// Global error at t = 5 of the 6-value second-order method on
+    /// `y'' = a y' + b y` (`y = Re exp(z t)`, `z^2 = a z + b`), from exact
+    /// scaled derivatives, with `n` steps.
+    fn linear_error(a: f64, b: f64, c0: f64, n: usize) -> f64 {
+        let z = nalgebra::Complex::new(0.5 * a, 0.0)
+            + (nalgebra::Complex::new(0.25 * a * a + b, 0.0)).sqrt();
+        let (t_end, h) = (5.0, 5.0 / n as f64);
+        let coefficients = second_order_6(c0);
+        let mut y = Nordsieck::<Vector3<f64>, 6>::zeros(1);
+        let mut factor = 1.0;
+        for k in 0..6 {
+            y.r[k][0] = Vector3::repeat(z.powi(k as i32).re * factor);
+            factor *= h / (k + 1) as f64;
+        }
+        for _ in 0..n {
+            y.predict();
+            let f = y.r[1][0] * (a / h) + y.r[0][0] * b;
+            let delta = f * (0.5 * h * h) - y.r[2][0];
+            y.correct(0, &coefficients, delta);
+        }
+        (y.r[0][0].x - (z * t_end).exp().re).abs()
+    }
+
+    /// With a velocity-dependent right-hand side (as eq 12) both `c0` give
+    /// global order 5, so `c0` does not set the order of scheme B; with a
+    /// position-only one, `3/20` reaches order 6 (steps h = 0.025, 0.0125).
+    #[test]
+    fn second_order_table_is_fifth_order_with_velocity_dependence_for_both_c0() {
+        let order = |a: f64, c0: f64| {
+            let (e1, e2) = (
+                linear_error(a, -1.0, c0, 200),
+                linear_error(a, -1.0, c0, 400),
+            );
+            (e1 / e2).log2()
+        };
+        for (a, c0, expected) in [
+            (0.0, C0_POSITION_ONLY, 6.0),
+            (-0.5, C0_POSITION_ONLY, 5.0),
+            (-0.5, C0_VELOCITY_DEPENDENT, 5.0),
+        ] {
+            let p = order(a, c0);
+            assert!(
+                (p - expected).abs() < 0.3,
+                "a = {a}, c0 = {c0}: order {p:.2}"
+            );
+        }
+    }
+
     /// The flat round trip is exact.
     #[test]
     fn flat_round_trip() {

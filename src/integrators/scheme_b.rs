@@ -15,7 +15,8 @@
 //! the torque projection, and otherwise divided by the mean moment `I0`.
 //!
 //! The corrections of the note, each a switch of [`GearBOptions`]:
-//! torque projection `N <- N - (Q.N) Q/|Q|^2` (eq 15b), velocity projection
+//! torque projection `N <- N - (Q.N) Q/|Q|^2` (eq 15b; identical to setting
+//! `n0 = 0` in the body frame, since `Q~*Q` is a scalar), velocity projection
 //! `Q' <- Q' - (Q.Q') Q/|Q|^2` (eq 15a), renormalisation `Q <- Q/|Q|`, and the
 //! answer to the note's open question: the higher derivatives obey the
 //! derivatives of `|Q|^2 = const`, `sum_j C(k,j) Q^(j).Q^(k-j) = 0`, which in
@@ -23,7 +24,7 @@
 //! `k = 2..5`, is projected along `Q` to satisfy its constraint.
 //!
 //! Properties: 6 stored quaternions per rotor (`Q` and 5 scaled derivatives)
-//! plus the last force `N` (diagnostics only); one gradient evaluation per
+//! plus `Q.N` of the last force evaluation (diagnostics only); one gradient evaluation per
 //! step; neither time reversible nor symplectic; global error of order 5 in
 //! `h` with the velocity-dependent `c0 = 3/16` and a consistent start-up.
 
@@ -100,8 +101,9 @@ pub struct GearB {
     moments: Vec<PrincipalMoments>,
     spherical: bool,
     q: Nordsieck<Quat, 6>,
-    /// The quaternion force `N` of the last step (after the projection, if on).
-    force: Vec<Quat>,
+    /// `Q.N` of the last force evaluation, at the (predicted) `Q` where the
+    /// force `N` was evaluated, after the projection if on (eq 15b).
+    q_dot_force: Vec<f64>,
     gradient: Vec<Quat>,
 }
 
@@ -154,7 +156,7 @@ impl GearB {
             moments: Vec::new(),
             spherical: true,
             q: Nordsieck::zeros(0),
-            force: Vec::new(),
+            q_dot_force: Vec::new(),
             gradient: Vec::new(),
         }
     }
@@ -176,7 +178,7 @@ impl GearB {
         for i in 0..self.moments.len() {
             let q = self.q.r[0][i];
             let force = quaternion_force(&q, &self.gradient[i], opts.project_torque);
-            self.force[i] = force;
+            self.q_dot_force[i] = q.dot(&force);
             let q_dot = self.q.r[1][i] * (1.0 / h);
             let accel = q_ddot::<K>(&self.moments[i], &q, &q_dot, &force);
             // (c): correct.
@@ -237,10 +239,10 @@ impl Integrator for GearB {
         self.q = derivatives.q;
         self.gradient = vec![Quat::ZERO; n];
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
-        self.force = self.q.r[0]
+        self.q_dot_force = self.q.r[0]
             .iter()
             .zip(&self.gradient)
-            .map(|(q, g)| quaternion_force(q, g, self.options.project_torque))
+            .map(|(q, g)| q.dot(&quaternion_force(q, g, self.options.project_torque)))
             .collect();
         self.moments = prepared.moments;
         self.spherical = prepared.spherical;
@@ -273,26 +275,88 @@ impl Integrator for GearB {
     }
 
     fn q_dot_n(&self, out: &mut [f64]) -> bool {
-        for ((x, q), n) in out.iter_mut().zip(&self.q.r[0]).zip(&self.force) {
-            *x = q.dot(n);
-        }
+        out.copy_from_slice(&self.q_dot_force);
         true
     }
 
     fn checkpoint(&self) -> Vec<f64> {
         let mut out = vec![self.dt];
         self.q.write_flat(&mut out);
-        out.extend(self.force.iter().flat_map(|n| n.0));
+        out.extend_from_slice(&self.q_dot_force);
         out
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        let len = self.q.flat_len() + 4 * self.force.len();
+        let len = self.q.flat_len() + self.q_dot_force.len();
         let data = checkpoint_data(state, self.dt, len)?;
         let rest = self.q.read_flat(data);
-        for (n, c) in self.force.iter_mut().zip(rest.chunks_exact(4)) {
-            n.0.copy_from_slice(c);
-        }
+        self.q_dot_force.copy_from_slice(rest);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `sum_{j=0..k} r_j.r_{k-j}` for `k = 0..5`.
+    fn constraint_residuals(r: &[Quat; 6]) -> [f64; 6] {
+        std::array::from_fn(|k| (0..=k).map(|j| r[j].dot(&r[k - j])).sum())
+    }
+
+    /// The exact scaled derivatives of a free spherical top,
+    /// `Q^(k) = Q0*(W/2)^k` with `W = (0, w_b)`: unit norm at all times.
+    fn exact_free_spherical(h: f64) -> [Quat; 6] {
+        let q0 = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
+        let half_w = Quat::pure(&Vector3::new(0.7, -1.1, 0.9)) * (0.5 * h);
+        let mut r = [q0; 6];
+        for k in 1..6 {
+            r[k] = r[k - 1] * half_w * (1.0 / k as f64);
+        }
+        r
+    }
+
+    /// The higher-derivative correction leaves an exact unit-norm Nordsieck
+    /// vector unchanged, and makes a perturbed one satisfy every constraint.
+    #[test]
+    fn norm_derivative_constraints_are_enforced_and_exact_vectors_kept() {
+        let exact = exact_free_spherical(0.1);
+        let residuals = constraint_residuals(&exact);
+        assert!(
+            residuals[1..].iter().all(|x| x.abs() < 1e-15),
+            "{residuals:?}"
+        );
+        let mut r = exact;
+        for k in 1..6 {
+            enforce_norm_derivative(&mut r, k);
+        }
+        for (a, b) in r.iter().zip(&exact) {
+            assert!((*a - *b).norm() < 1e-16);
+        }
+        let mut perturbed = exact;
+        for (k, x) in perturbed.iter_mut().enumerate().skip(1) {
+            *x += Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
+        }
+        for k in 1..6 {
+            enforce_norm_derivative(&mut perturbed, k);
+        }
+        let residuals = constraint_residuals(&perturbed);
+        assert!(
+            residuals[1..].iter().all(|x| x.abs() < 1e-15),
+            "{residuals:?}"
+        );
+    }
+
+    /// The general-top right-hand side reduces to the spherical one for equal
+    /// moments, projected or not.
+    #[test]
+    fn general_right_hand_side_reduces_to_spherical() {
+        let m = PrincipalMoments::new(&Inertia::Principal(Vector3::repeat(1.7))).unwrap();
+        let q = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
+        let q_dot = q.q_dot_from_omega_body(&Vector3::new(0.7, -1.1, 0.9));
+        let force = Quat::new(0.4, 1.2, -0.3, 0.8);
+        let d =
+            q_ddot::<General>(&m, &q, &q_dot, &force) - q_ddot::<Spherical>(&m, &q, &q_dot, &force);
+        assert!(d.norm() < 1e-15, "{d:?}");
     }
 }

@@ -15,6 +15,7 @@
 
 use super::gear::{GearValue, Nordsieck};
 use super::rigid_body::{principal_moments, torque_body, PrincipalMoments, TopKind};
+use super::support::{unit_orientation, validate_setup};
 use super::{IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -238,57 +239,86 @@ pub struct Prepared {
     pub initial: Vec<RotorState>,
 }
 
-/// Checks `dt`, the lengths, the moments and the initial states, and
-/// normalises the initial orientations.
+/// Checks the setup arguments (the baselines' shared `validate_setup`, plus
+/// moments > 0, which the Gear schemes divide by) and normalises the initial
+/// orientations.
 pub fn prepare(
     inertia: &[Inertia],
     initial: &[RotorState],
     dt: f64,
 ) -> Result<Prepared, IntegratorError> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(IntegratorError::BadTimeStep(dt));
-    }
-    if inertia.len() != initial.len() {
-        return Err(IntegratorError::Unsupported {
-            rotor: inertia.len().min(initial.len()),
-            reason: format!(
-                "{} inertias for {} initial states",
-                inertia.len(),
-                initial.len()
-            ),
-        });
-    }
+    validate_setup(inertia, initial, dt)?;
     let (moments, spherical) =
         principal_moments(inertia).map_err(|rotor| IntegratorError::Unsupported {
             rotor,
             reason: format!(
-                "moments of inertia must be finite and > 0, got {:?}",
+                "moments of inertia must all be > 0 for the Gear schemes, got {:?}",
                 inertia[rotor].principal().as_slice()
             ),
         })?;
     let initial = initial
         .iter()
-        .enumerate()
-        .map(|(rotor, s)| {
-            let orientation = s.orientation.try_normalize();
-            match orientation {
-                Some(orientation) if s.omega_body.iter().all(|w| w.is_finite()) => Ok(RotorState {
-                    orientation,
-                    omega_body: s.omega_body,
-                }),
-                _ => Err(IntegratorError::Unsupported {
-                    rotor,
-                    reason: format!(
-                        "initial state must be finite with a non-zero orientation, got {:?}",
-                        s
-                    ),
-                }),
-            }
+        .map(|s| RotorState {
+            orientation: unit_orientation(s),
+            omega_body: s.omega_body,
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect();
     Ok(Prepared {
         moments,
         spherical,
         initial,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrators::rigid_body::{General, Spherical};
+    use crate::potential::Free;
+
+    /// Agreement of the fitted scaled derivatives with the exact ones: RK4
+    /// error `~ (h/32)^4 |w|^5 4h` plus rounding amplified by the fit (~1e3 eps).
+    const FIT_TOLERANCE: f64 = 1e-12;
+
+    /// For a free spherical top, `Q^(k) = Q0*(W/2)^k` and `w_b` is constant:
+    /// the consistent start-up recovers these up to the fifth derivative, and
+    /// the zero start-up keeps only the orders given by the equations.
+    #[test]
+    fn consistent_startup_recovers_exact_free_spherical_derivatives() {
+        let q0 = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
+        let w = Vector3::new(0.7, -1.1, 0.9);
+        let h = 0.05;
+        let initial = [RotorState {
+            orientation: q0,
+            omega_body: w,
+        }];
+        let moments = [PrincipalMoments::new(&Inertia::Spherical(1.3)).unwrap()];
+        let half_w = Quat::pure(&w) * (0.5 * h);
+        let mut exact = [q0; 6];
+        for k in 1..6 {
+            exact[k] = exact[k - 1] * half_w * (1.0 / k as f64);
+        }
+        let consistent =
+            initial_derivatives::<Spherical, _>(Startup::Consistent, &moments, &Free, &initial, h);
+        let general =
+            initial_derivatives::<General, _>(Startup::Consistent, &moments, &Free, &initial, h);
+        for d in [&consistent, &general] {
+            for (k, e) in exact.iter().enumerate() {
+                assert!((d.q.r[k][0] - *e).norm() < FIT_TOLERANCE, "Q order {k}");
+            }
+            assert_eq!(d.omega_body.r[0][0], w);
+            for k in 1..6 {
+                assert!(d.omega_body.r[k][0].norm() < FIT_TOLERANCE, "w order {k}");
+            }
+        }
+        let zeros =
+            initial_derivatives::<Spherical, _>(Startup::Zeros, &moments, &Free, &initial, h);
+        for (k, e) in exact.iter().enumerate() {
+            let expected = if k <= 2 { *e } else { Quat::ZERO };
+            assert!(
+                (zeros.q.r[k][0] - expected).norm() < 1e-15,
+                "zeros, Q order {k}"
+            );
+        }
+    }
 }

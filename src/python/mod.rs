@@ -6,13 +6,19 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod baselines;
+mod potential;
+mod dynamics;
 mod quaternion;
+mod run;
 
 /// The `quatrot` Python module.
 #[pymodule]
 fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     baselines::register(m)?;
+    potential::register(m)?;
+    dynamics::register(m)?;
     quaternion::register(m)?;
+    run::register(m)?;
     Ok(())
 }

@@ -4,7 +4,7 @@
 use super::builtin::builtin;
 use super::error::SceneError;
 use super::model::Scene;
-use super::parse::{parse_json, parse_toml};
+use super::parse::{parse_table, parse_toml};
 use super::raw::{RawIntegrator, RawScene};
 use super::tagged::join_path;
 use super::validate::validate;
@@ -70,12 +70,20 @@ pub fn load(name_or_path: &str, overrides: &Overrides) -> Result<(RawScene, Scen
     Ok((raw, scene))
 }
 
-/// Validates a scene given as a JSON value (a Python dict), with overrides.
-pub fn load_json(
-    value: serde_json::Value,
+/// Validates a scene given as an in-memory table (a Python dict), with overrides.
+pub fn load_table(
+    table: toml::Table,
     overrides: &Overrides,
 ) -> Result<(RawScene, Scene), SceneError> {
-    let mut raw = parse_json(value)?;
+    let mut raw = parse_table(table)?;
+    overrides.apply(&mut raw)?;
+    let scene = validate(&raw)?;
+    Ok((raw, scene))
+}
+
+/// Validates a scene given as TOML text, with overrides.
+pub fn load_text(text: &str, overrides: &Overrides) -> Result<(RawScene, Scene), SceneError> {
+    let mut raw = parse_toml(text)?;
     overrides.apply(&mut raw)?;
     let scene = validate(&raw)?;
     Ok((raw, scene))

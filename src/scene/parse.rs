@@ -1,4 +1,4 @@
-//! From text (TOML) or a JSON value (the Python dict) to a [`RawScene`],
+//! From text (TOML) or an in-memory table (a Python dict) to a [`RawScene`],
 //! with errors naming the field path.
 
 use super::error::SceneError;
@@ -54,7 +54,8 @@ pub fn parse_toml(text: &str) -> Result<RawScene, SceneError> {
     with_path(toml::Value::Table(table))
 }
 
-/// Parses a scene given as a JSON value (the form a Python dict arrives in).
-pub fn parse_json(value: serde_json::Value) -> Result<RawScene, SceneError> {
-    with_path(value)
+/// Parses a scene given as a TOML table built in memory (the form a Python
+/// dict is converted to).
+pub fn parse_table(table: toml::Table) -> Result<RawScene, SceneError> {
+    with_path(toml::Value::Table(table))
 }

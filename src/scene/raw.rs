@@ -24,6 +24,25 @@ pub struct RawScene {
     pub record: Option<RawRecord>,
 }
 
+impl RawScene {
+    /// The scene as JSON without the keys left out (for run summaries).
+    pub fn definition(&self) -> serde_json::Value {
+        fn strip_nulls(value: &mut serde_json::Value) {
+            match value {
+                serde_json::Value::Object(map) => {
+                    map.retain(|_, v| !v.is_null());
+                    map.values_mut().for_each(strip_nulls);
+                }
+                serde_json::Value::Array(items) => items.iter_mut().for_each(strip_nulls),
+                _ => {}
+            }
+        }
+        let mut value = serde_json::to_value(self).unwrap_or_default();
+        strip_nulls(&mut value);
+        value
+    }
+}
+
 /// Principal moments: one number (a spherical top) or `[I1, I2, I3]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RawInertia {

@@ -8,6 +8,7 @@ use quatrot::potential::Potential;
 use quatrot::rotor::Inertia;
 use quatrot::Quat;
 
+pub mod cluster;
 pub mod fixtures;
 
 /// Sets up `integrator` and runs it for `steps` steps of `dt`, calling

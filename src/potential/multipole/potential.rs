@@ -118,9 +118,10 @@ impl MultipolePotential {
 
     /// One evaluation: returns the energy and, when asked, adds the eq 14
     /// gradient `dV/dq_k` and the space-frame torques into the given slices.
-    /// Results do not depend on the number of rayon threads for a given
-    /// block split; the pair loop is split into as many blocks as the current
-    /// rayon pool has threads and the blocks are summed in a fixed order.
+    /// The pair loop is split into as many blocks of rows as the current
+    /// rayon pool has threads, each with its own field buffer, and the blocks
+    /// are summed in block order: results are bitwise reproducible for a given
+    /// thread count (different counts differ by rounding only).
     ///
     /// # Panics
     /// If a slice length differs from the number of rotors (a programming

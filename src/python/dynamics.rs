@@ -1,0 +1,171 @@
+//! `quatrot.gear_corrections_table`: the note's experiment
+//! ([`crate::experiments::gear_corrections`]) on pinned multipolar rotors
+//! given as numpy arrays. Converts and checks the arrays, then delegates.
+
+use super::arrays::{common_len, Items};
+use crate::experiments::gear_corrections::{correction_table, Settings, System};
+use crate::integrators::RotorState;
+use crate::potential::{Boundary, ExternalFields, MultipolePotential};
+use crate::rotor::{Inertia, Rotor};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// An optional argument that must be a single item of shape `item`.
+fn single<'py>(
+    obj: Option<&Bound<'py, PyAny>>,
+    name: &'static str,
+    item: &[usize],
+) -> PyResult<Option<Items<'py>>> {
+    let Some(obj) = obj else { return Ok(None) };
+    let items = Items::new(obj, name, item)?;
+    if !common_len(&[&items])?.1 {
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected a single item of shape {item:?}"
+        )));
+    }
+    Ok(Some(items))
+}
+
+/// The note's experiment: scheme A against scheme B with each correction.
+///
+/// Arrays (float64, `n` rotors; an item without the leading `n` applies to
+/// every rotor): `sites (n, 3)`, `inertia (n, 3)` principal moments (all
+/// equal: spherical top), `orientations (n, 4)` scalar first, `omega_body
+/// (n, 3)`, optional `dipoles (n, 3)` and `quadrupoles (n, 3, 3)` (body frame,
+/// Buckingham), optional uniform `field (3,)`, optional periodic box
+/// `box_lengths (3,)` with `cutoff`. Returns one dict per configuration with
+/// keys `label, drift, fluctuation, global_error, order, largest_stable_dt,
+/// max_q_dot_q_dot, max_q_dot_force` (see the Rust docs for their meaning).
+#[pyfunction]
+#[pyo3(signature = (
+    sites, inertia, orientations, omega_body, *, dipoles=None, quadrupoles=None, field=None,
+    box_lengths=None, cutoff=None, dt=0.02, t_energy=100.0, t_error=5.0, t_stability=20.0,
+    sample_every=1
+))]
+#[allow(clippy::too_many_arguments)]
+fn gear_corrections_table<'py>(
+    py: Python<'py>,
+    sites: &Bound<'py, PyAny>,
+    inertia: &Bound<'py, PyAny>,
+    orientations: &Bound<'py, PyAny>,
+    omega_body: &Bound<'py, PyAny>,
+    dipoles: Option<&Bound<'py, PyAny>>,
+    quadrupoles: Option<&Bound<'py, PyAny>>,
+    field: Option<&Bound<'py, PyAny>>,
+    box_lengths: Option<&Bound<'py, PyAny>>,
+    cutoff: Option<f64>,
+    dt: f64,
+    t_energy: f64,
+    t_error: f64,
+    t_stability: f64,
+    sample_every: usize,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let sites = Items::new(sites, "sites", &[3])?;
+    let moments = Items::new(inertia, "inertia", &[3])?;
+    let q = Items::new(orientations, "orientations", &[4])?;
+    let w = Items::new(omega_body, "omega_body", &[3])?;
+    let dipoles = dipoles
+        .map(|d| Items::new(d, "dipoles", &[3]))
+        .transpose()?;
+    let quadrupoles = quadrupoles
+        .map(|t| Items::new(t, "quadrupoles", &[3, 3]))
+        .transpose()?;
+    let mut batch = vec![&sites, &moments, &q, &w];
+    batch.extend(dipoles.iter().chain(quadrupoles.iter()));
+    let (n, _) = common_len(&batch)?;
+    let field = single(field, "field", &[3])?.map(|f| f.vector(0));
+    let boundary = match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
+        (Some(b), Some(cutoff)) => Boundary::Periodic {
+            box_lengths: b.vector(0),
+            cutoff,
+        },
+        (None, None) => Boundary::Open,
+        _ => {
+            return Err(PyValueError::new_err(
+                "box_lengths and cutoff: give both or neither",
+            ))
+        }
+    };
+    let rotors: Vec<Rotor> = (0..n)
+        .map(|i| {
+            let m = moments.vector(i);
+            Rotor {
+                site: sites.vector(i),
+                inertia: if m.x == m.y && m.y == m.z {
+                    Inertia::Spherical(m.x)
+                } else {
+                    Inertia::Principal(m)
+                },
+                dipole_body: dipoles.as_ref().map(|d| d.vector(i)),
+                quadrupole_body: quadrupoles.as_ref().map(|t| t.matrix(i)),
+            }
+        })
+        .collect();
+    let initial: Vec<RotorState> = (0..n)
+        .map(|i| RotorState {
+            orientation: q.quat(i),
+            omega_body: w.vector(i),
+        })
+        .collect();
+    let external = ExternalFields {
+        field,
+        field_gradient: None,
+    };
+    let potential = MultipolePotential::new(&rotors, boundary, external)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    for (name, value) in [
+        ("dt", dt),
+        ("t_energy", t_energy),
+        ("t_error", t_error),
+        ("t_stability", t_stability),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "{name}: must be finite and > 0, got {value}"
+            )));
+        }
+    }
+    if sample_every == 0 {
+        return Err(PyValueError::new_err("sample_every: must be >= 1, got 0"));
+    }
+    // Validate the rotors and states once, so the experiment itself cannot fail.
+    let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
+    crate::integrators::startup::prepare(&inertia, &initial, dt)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let settings = Settings {
+        dt,
+        t_energy,
+        t_error,
+        t_stability,
+        sample_every,
+    };
+    let table = py.detach(|| {
+        let system = System {
+            potential: &potential,
+            inertia: &inertia,
+            initial: &initial,
+        };
+        correction_table(&system, &settings)
+    });
+    table
+        .into_iter()
+        .map(|row| {
+            let d = PyDict::new(py);
+            d.set_item("label", row.label)?;
+            d.set_item("drift", row.drift)?;
+            d.set_item("fluctuation", row.fluctuation)?;
+            d.set_item("global_error", row.global_error)?;
+            d.set_item("order", row.order)?;
+            d.set_item("largest_stable_dt", row.largest_stable_dt)?;
+            d.set_item("max_q_dot_q_dot", row.max_q_dot_q_dot)?;
+            d.set_item("max_q_dot_force", row.max_q_dot_force)?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// Adds this submodule's functions to the `quatrot` module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(gear_corrections_table, m)?)
+}

@@ -1,0 +1,262 @@
+//! Schemes A and B on interacting rotors (a pinned 2 x 2 x 2 lattice of
+//! dipoles and quadrupoles, `MultipolePotential`), long-run energy conservation, the norm
+//! diagnostics of eqs 15a and 15b, restarts and bad input.
+
+mod gear_common;
+
+use gear_common::cluster::cube;
+use gear_common::fixtures::{reference, Reference};
+use gear_common::*;
+use nalgebra::Vector3;
+use quatrot::integrators::{GearA, GearB, GearBOptions, Integrator, IntegratorError, RotorState};
+use quatrot::observables::{total_energy, total_kinetic_energy};
+use quatrot::potential::Potential;
+use quatrot::rotor::Inertia;
+use quatrot::Quat;
+
+/// Expected global order of both schemes (see `gear_references.rs`).
+const GEAR_ORDER: f64 = 5.0;
+/// Allowed distance of a fitted order from the expected one (the 0.3).
+const ORDER_TOLERANCE: f64 = 0.3;
+
+/// The final orientations of the cluster after t = 5 with `steps` steps.
+fn cluster_final<I: Integrator>(mut integrator: I, mixed: bool, steps: usize) -> Vec<Quat> {
+    let (cluster, inertia, initial) = cube(mixed);
+    final_orientations(&mut integrator, &inertia, &cluster, &initial, 5.0, steps)
+}
+
+/// On the interacting cluster (mixed spherical and asymmetric tops) both
+/// schemes converge at order 5 to a common limit: the reference is scheme A
+/// with 16 times smaller steps than the smallest step of the fit (its error
+/// is then ~16^5 ~ 1e6 times smaller), so B's agreement with it is a
+/// cross-check between the two formulations.
+#[test]
+fn cluster_both_schemes_converge_at_order_five_to_a_common_limit() {
+    let steps = [100, 200, 400];
+    let reference = cluster_final(GearA::default(), true, 16 * 400);
+    let dts: Vec<f64> = steps.iter().map(|&s| 5.0 / s as f64).collect();
+    let errors_a: Vec<f64> = steps
+        .iter()
+        .map(|&s| max_angle(&cluster_final(GearA::default(), true, s), &reference))
+        .collect();
+    let errors_b: Vec<f64> = steps
+        .iter()
+        .map(|&s| max_angle(&cluster_final(GearB::default(), true, s), &reference))
+        .collect();
+    for (what, errors) in [("A", &errors_a), ("B", &errors_b)] {
+        let order = fitted_order(&dts, errors);
+        assert!(
+            (order - GEAR_ORDER).abs() < ORDER_TOLERANCE,
+            "{what}: order {order:.2} ({errors:?})"
+        );
+    }
+}
+
+/// Energy error relative to the mean kinetic energy: (largest |E(t) - E(0)|,
+/// mean kinetic energy) over `t_end` with steps of `dt`.
+fn energy_error<I: Integrator, P: Potential>(
+    mut integrator: I,
+    inertia: &[Inertia],
+    potential: &P,
+    initial: &[RotorState],
+    dt: f64,
+    t_end: f64,
+) -> f64 {
+    let steps = (t_end / dt).round() as usize;
+    let mut omega = vec![Vector3::zeros(); initial.len()];
+    let (mut e0, mut worst, mut kinetic) = (0.0, 0.0_f64, 0.0);
+    run(
+        &mut integrator,
+        inertia,
+        potential,
+        initial,
+        dt,
+        steps,
+        |s, i| {
+            i.omega_body(&mut omega);
+            let e = total_energy(potential, inertia, i.orientations(), &omega);
+            kinetic += total_kinetic_energy(inertia, &omega);
+            if s == 0 {
+                e0 = e;
+            }
+            worst = worst.max((e - e0).abs());
+        },
+    );
+    worst / (kinetic / (steps + 1) as f64)
+}
+
+/// Long run (t = 1000, 40 000 steps) of a dipole in a field, spherical and
+/// asymmetric: neither Gear scheme is symplectic, so the energy drifts
+/// secularly, at a rate set by the local error `O(h^6)` per step, i.e.
+/// `O(h^5)` per unit time. Asserted: (1) the relative energy error at
+/// `dt = 0.025` is below the a-priori level `(|w|max dt)^5 |w|max t` with
+/// `|w|max = 2` (`6e-4`; measured ~2e-5 for A and ~3e-5 for B); (2) halving
+/// `dt` divides it by `2^5` within the order tolerance.
+#[test]
+fn long_run_energy_drift_is_small_and_fifth_order() {
+    const T_END: f64 = 1000.0;
+    const OMEGA_MAX: f64 = 2.0;
+    let dts = [0.05, 0.025];
+    let bound = (OMEGA_MAX * dts[1]).powi(5) * OMEGA_MAX * T_END;
+    for name in ["dipole_spherical", "dipole_asymmetric"] {
+        let r: Reference = reference("dipole_field.json", name);
+        let field = r.field.expect("a field case");
+        let errors = |scheme: &str| -> Vec<f64> {
+            dts.iter()
+                .map(|&dt| match scheme {
+                    "A" => energy_error(
+                        GearA::default(),
+                        &[r.inertia],
+                        &field,
+                        &[r.initial],
+                        dt,
+                        T_END,
+                    ),
+                    _ => energy_error(
+                        GearB::default(),
+                        &[r.inertia],
+                        &field,
+                        &[r.initial],
+                        dt,
+                        T_END,
+                    ),
+                })
+                .collect()
+        };
+        for scheme in ["A", "B"] {
+            let e = errors(scheme);
+            let order = fitted_order(&dts, &e);
+            assert!(
+                e[1] < bound,
+                "{name} {scheme}: energy error {:.2e} > {bound:.2e}",
+                e[1]
+            );
+            assert!(
+                (order - GEAR_ORDER).abs() < ORDER_TOLERANCE,
+                "{name} {scheme}: drift order {order:.2}"
+            );
+        }
+    }
+}
+
+/// Largest |Q.Q'| and |Q.N| (eqs 15a, 15b) over a cluster run of scheme B.
+fn norm_diagnostics(options: GearBOptions) -> (f64, f64) {
+    let (cluster, inertia, initial) = cube(false);
+    let mut q_dot = vec![Quat::ZERO; initial.len()];
+    let mut q_n = vec![0.0; initial.len()];
+    let (mut worst_qq, mut worst_qn) = (0.0_f64, 0.0_f64);
+    run(
+        &mut GearB::new(options),
+        &inertia,
+        &cluster,
+        &initial,
+        0.02,
+        500,
+        |_, i| {
+            i.q_dot(&mut q_dot);
+            assert!(i.q_dot_n(&mut q_n));
+            for ((q, qd), qn) in i.orientations().iter().zip(&q_dot).zip(&q_n) {
+                worst_qq = worst_qq.max(q.dot(qd).abs());
+                worst_qn = worst_qn.max(qn.abs());
+            }
+        },
+    );
+    (worst_qq, worst_qn)
+}
+
+/// Rounding level of the projected quantities (|Q| ~ 1, |Q'| and |N| ~ 1).
+const PROJECTED: f64 = 1e-13;
+
+/// With the note's projections on, `Q.Q'` and `Q.N` stay at the rounding
+/// level; without them, `Q.N` is the large norm component of the unprojected
+/// eq 14 gradient (`Q.dV/dQ = 2V` for dipoles) and `Q.Q'` grows.
+#[test]
+fn projections_keep_eq15_zeroth_components_at_rounding_level() {
+    let (qq, qn) = norm_diagnostics(GearBOptions::default());
+    assert!(
+        qq < PROJECTED && qn < PROJECTED,
+        "projected: Q.Q' {qq:.2e}, Q.N {qn:.2e}"
+    );
+    let (qq, qn) = norm_diagnostics(GearBOptions {
+        project_torque: false,
+        project_velocity: false,
+        ..Default::default()
+    });
+    assert!(
+        qq > 1e3 * PROJECTED && qn > 1e-2,
+        "unprojected: Q.Q' {qq:.2e}, Q.N {qn:.2e}"
+    );
+}
+
+/// A checkpoint taken mid-run and restored into a freshly set-up integrator
+/// reproduces the continuation bit for bit; a mismatched one is refused.
+#[test]
+fn checkpoint_restore_is_bit_exact() {
+    fn check<I: Integrator>(make: impl Fn() -> I) {
+        let (cluster, inertia, initial) = cube(true);
+        let mut first = make();
+        first
+            .setup(&inertia, &cluster, &initial, 0.03)
+            .expect("valid");
+        for _ in 0..37 {
+            first.step(&cluster);
+        }
+        let saved = first.checkpoint();
+        for _ in 0..25 {
+            first.step(&cluster);
+        }
+        let mut second = make();
+        second
+            .setup(&inertia, &cluster, &initial, 0.03)
+            .expect("valid");
+        second.restore(&saved).expect("matching checkpoint");
+        for _ in 0..25 {
+            second.step(&cluster);
+        }
+        assert_eq!(first.orientations(), second.orientations());
+        assert_eq!(first.checkpoint(), second.checkpoint());
+        assert!(matches!(
+            second.restore(&saved[1..]),
+            Err(IntegratorError::BadCheckpoint(_))
+        ));
+        let mut other_dt = make();
+        other_dt
+            .setup(&inertia, &cluster, &initial, 0.01)
+            .expect("valid");
+        assert!(matches!(
+            other_dt.restore(&saved),
+            Err(IntegratorError::BadCheckpoint(_))
+        ));
+    }
+    check(GearA::default);
+    check(GearB::default);
+}
+
+/// Bad setups are errors naming the problem, never panics.
+#[test]
+fn bad_setup_is_an_error() {
+    fn check<I: Integrator>(mut integrator: I) {
+        let (cluster, mut inertia, mut initial) = cube(false);
+        assert_eq!(
+            integrator.setup(&inertia, &cluster, &initial, 0.0),
+            Err(IntegratorError::BadTimeStep(0.0))
+        );
+        assert!(matches!(
+            integrator.setup(&inertia[..3], &cluster, &initial, 0.01),
+            Err(IntegratorError::Unsupported { rotor: 3, .. })
+        ));
+        inertia[2] = Inertia::Principal(Vector3::new(1.0, 0.0, 2.0));
+        assert!(matches!(
+            integrator.setup(&inertia, &cluster, &initial, 0.01),
+            Err(IntegratorError::Unsupported { rotor: 2, .. })
+        ));
+        inertia[2] = Inertia::Spherical(1.0);
+        initial[5].orientation = Quat::ZERO;
+        assert!(matches!(
+            integrator.setup(&inertia, &cluster, &initial, 0.01),
+            Err(IntegratorError::Unsupported { rotor: 5, .. })
+        ));
+    }
+    check(GearA::default());
+    check(GearB::default());
+}

@@ -1,0 +1,152 @@
+"""`quatrot.run` accepts a dict, TOML text, a path or a built-in name, gives
+the same results for the same scene in every form, and raises exceptions
+that name the field."""
+
+import threading
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+import quatrot
+
+SCENE_TOML = """
+version = 1
+name = "two_tops"
+
+[rotors]
+kind = "sites"
+sites = [{ position = [0.0, 0.0, 0.0] }, { position = [1.2, 0.0, 0.0] }]
+default = { inertia = [0.1, 0.2, 0.3], dipole = [0.0, 0.0, 1.0] }
+
+[interactions]
+boundary = { kind = "open" }
+
+[initial]
+kind = "random"
+seed = 5
+temperature = 1.0
+
+[integrator]
+kind = "gear_b"
+
+[run]
+dt = 0.001
+steps = 40
+
+[[record.series]]
+name = "energies"
+every = 5
+quantities = ["kinetic_energy", "potential_energy", "total_energy", "energy_error", "q_dot_n"]
+"""
+
+
+def test_dict_toml_and_path_give_identical_runs(tmp_path: Path):
+    path = tmp_path / "two_tops.toml"
+    path.write_text(SCENE_TOML)
+    runs = [
+        quatrot.run(SCENE_TOML),
+        quatrot.run(tomllib.loads(SCENE_TOML)),
+        quatrot.run(path),
+        quatrot.run(str(path)),
+    ]
+    first = runs[0]["series"]["energies"]
+    assert list(first) == ["step", "time", "kinetic_energy", "potential_energy", "total_energy", "energy_error", "q_dot_n"]
+    np.testing.assert_array_equal(first["step"], np.arange(0, 41, 5))
+    for other in runs[1:]:
+        for column, values in first.items():
+            np.testing.assert_array_equal(other["series"]["energies"][column], values)
+    assert runs[0]["summary"]["seed"] == 5
+    assert runs[0]["summary"]["status"] == "completed"
+
+
+def test_numpy_values_in_a_dict_are_accepted():
+    scene = tomllib.loads(SCENE_TOML)
+    scene["rotors"]["default"]["inertia"] = np.array([0.1, 0.2, 0.3])
+    scene["run"]["steps"] = np.int64(40)
+    a = quatrot.run(scene)["series"]["energies"]["total_energy"]
+    b = quatrot.run(SCENE_TOML)["series"]["energies"]["total_energy"]
+    np.testing.assert_array_equal(a, b)
+
+
+def test_overrides_replace_the_scene_values():
+    r = quatrot.run("dipole_in_field", steps=10, dt=0.002, integrator="dlm")
+    assert r["summary"]["last_step"] == 10
+    assert r["summary"]["dt"] == 0.002
+    assert r["summary"]["integrator"] == "dlm"
+
+
+def test_every_builtin_runs_from_python():
+    for name in quatrot.builtin_scenes():
+        r = quatrot.run(name, steps=3)
+        assert r["summary"]["status"] == "completed", name
+        assert r["summary"]["last_step"] == 3, name
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda s: s["run"].update(dt=0.0), "run.dt: must be > 0, got 0"),
+        (lambda s: s["rotors"]["default"].update(inertia=[0.1, -1.0, 0.3]), "rotors.default.inertia[1]: must be > 0, got -1"),
+        (lambda s: s["integrator"].update(kind="leapfrog"), "integrator.kind: unknown variant `leapfrog`"),
+        (lambda s: s["initial"].update(seed=None), "initial.seed: None is not allowed (leave the key out)"),
+        (lambda s: s.update(colour="red"), "colour: unknown field `colour`"),
+        (lambda s: s["rotors"].update(sites=[]), "rotors.sites: must list at least one site (empty system)"),
+    ],
+)
+def test_dict_errors_name_the_field(change, message):
+    scene = tomllib.loads(SCENE_TOML)
+    change(scene)
+    with pytest.raises(quatrot.SceneError) as info:
+        quatrot.run(scene)
+    assert str(info.value).startswith(message)
+    assert isinstance(info.value, ValueError)
+
+
+def test_text_and_name_errors():
+    with pytest.raises(quatrot.SceneError, match=r"^run\.dt: must be finite, got inf$"):
+        quatrot.run(SCENE_TOML.replace("dt = 0.001", "dt = inf"))
+    with pytest.raises(quatrot.SceneError, match=r"^syntax: line \d+, column \d+"):
+        quatrot.run(SCENE_TOML.replace("steps = 40", "steps = = 40"))
+    with pytest.raises(quatrot.SceneError, match="no built-in scene or file named `no_such_scene`"):
+        quatrot.run("no_such_scene")
+    with pytest.raises(quatrot.SceneError, match=r"^run\.steps: must be >= 1, got 0$"):
+        quatrot.run(SCENE_TOML, steps=0)
+    # The scene records Q.N, which only scheme B stores.
+    with pytest.raises(quatrot.SceneError, match=r"^record\.series\[0\]\.quantities\[4\]: q_dot_n needs"):
+        quatrot.run(SCENE_TOML, integrator="dlm")
+
+
+def test_blow_up_raises_with_the_partial_result():
+    scene = tomllib.loads(quatrot.builtin_scenes()["dipole_in_field"])
+    scene["record"] = {
+        "energy_error_threshold": 1e-3,
+        "check_every": 1,
+        "series": [{"every": 1, "quantities": ["energy_error"]}],
+    }
+    with pytest.raises(quatrot.BlowUpError, match=r"^blew up at step (\d+), rotor 0: energy error") as info:
+        quatrot.run(scene, dt=0.2, integrator="gear_a")
+    errors = info.value.result["series"]["observables"]["energy_error"]
+    # Every recorded error but the last is within the threshold; the last is above it.
+    assert np.all(np.abs(errors[:-1]) <= 1e-3) and abs(errors[-1]) > 1e-3
+    assert info.value.result["summary"]["status"] == "blew_up"
+
+
+def test_the_gil_is_released_during_a_run():
+    """Another Python thread keeps running while `run` works."""
+    ticks = []
+    done = threading.Event()
+
+    def work():
+        quatrot.run("dipole_lattice_sc", steps=200)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    while not done.is_set():
+        ticks.append(1)
+        time.sleep(0.001)
+    worker.join()
+    # With the GIL held for the whole run this loop could not tick in between.
+    assert len(ticks) > 10
