@@ -46,7 +46,13 @@ fn outcome(stop: &Stop) -> Option<String> {
 pub fn timed(scene: &Scene, repeats: usize) -> Result<Vec<f64>, Box<dyn Error + Send + Sync>> {
     (0..repeats)
         .map(|_| {
-            let result = execute(scene, serde_json::Value::Null, &Outputs::default(), None, None)?;
+            let result = execute(
+                scene,
+                serde_json::Value::Null,
+                &Outputs::default(),
+                None,
+                None,
+            )?;
             Ok(result.summary.wall_seconds)
         })
         .collect()
@@ -127,13 +133,17 @@ fn summarise(result: &RunResult, steps: u64, torque_evaluations: u64) -> Observe
     let times: Vec<f64> = rows.iter().map(|r| r[1]).collect();
     let errors: Vec<f64> = rows.iter().map(|r| r[2]).collect();
     let norm_error_max = rows.iter().map(|r| r[3].abs()).fold(0.0, f64::max);
-    let energy_error_max = errors.iter().map(|e| e.abs()).fold(0.0, |a: f64, e| {
-        if e.is_nan() {
-            f64::NAN
-        } else {
-            a.max(e)
-        }
-    });
+    let energy_error_max =
+        errors.iter().map(|e| e.abs()).fold(
+            0.0,
+            |a: f64, e| {
+                if e.is_nan() {
+                    f64::NAN
+                } else {
+                    a.max(e)
+                }
+            },
+        );
     let final_orientations = result
         .trajectory
         .as_ref()

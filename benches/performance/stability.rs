@@ -100,7 +100,9 @@ fn largest_stable(scene: &Scene, case: &Case) -> Res<Value> {
                 Some(w) => (hi, why) = (mid, w),
             }
         }
-        return Ok(json!({"largest_stable_dt": lo, "capped": false, "first_unstable_dt": hi, "failure": why}));
+        return Ok(
+            json!({"largest_stable_dt": lo, "capped": false, "first_unstable_dt": hi, "failure": why}),
+        );
     }
     Ok(json!({
         "largest_stable_dt": stable,
@@ -136,7 +138,11 @@ pub fn run(effort: Effort) -> Res<Value> {
 pub fn long_runs(effort: Effort) -> Res<Value> {
     let runs: [(&str, u64, u64); 2] = [
         ("free_asymmetric_top", effort.pick(1_000_000, 2_000), 1000),
-        ("dipole_lattice_sc", effort.pick(LATTICE_LONG_STEPS, 20), 100),
+        (
+            "dipole_lattice_sc",
+            effort.pick(LATTICE_LONG_STEPS, 20),
+            100,
+        ),
     ];
     pool(1)?.install(|| {
         let mut out = Vec::new();

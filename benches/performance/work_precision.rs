@@ -84,7 +84,13 @@ struct Run {
     observed: Observed,
 }
 
-fn run_one(scene: &Scene, scheme: &Scheme, dt: f64, time: f64, repeats: usize) -> Result<Run, Box<dyn Error + Send + Sync>> {
+fn run_one(
+    scene: &Scene,
+    scheme: &Scheme,
+    dt: f64,
+    time: f64,
+    repeats: usize,
+) -> Result<Run, Box<dyn Error + Send + Sync>> {
     let mut s = with_step(scene, dt, time);
     s.integrator = scheme.choice;
     let observed = observed(&s, SAMPLES, None)?;
@@ -125,7 +131,9 @@ fn system(scene: &Scene) -> Value {
 
 fn study(s: &Study) -> Result<Value, Box<dyn Error + Send + Sync>> {
     let (_, scene) = load(s.scene, &Overrides::default())?;
-    let dts: Vec<f64> = (0..s.dt_count).map(|k| s.dt_max / 2f64.powi(k as i32)).collect();
+    let dts: Vec<f64> = (0..s.dt_count)
+        .map(|k| s.dt_max / 2f64.powi(k as i32))
+        .collect();
     let mut runs = Vec::new();
     for scheme in all() {
         for &dt in &dts {

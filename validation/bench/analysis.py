@@ -40,12 +40,12 @@ def add_errors(study: dict) -> dict:
     if not is_lattice(study):
         ref = single_reference(study["system"], study["time"])
         for r in study["runs"]:
-            r["error"] = rotation_angle(np.array(r["final_orientations"]), ref) if r["final_orientations"] else math.nan
+            r["error"] = math.nan if r["failure"] or not r["final_orientations"] else rotation_angle(np.array(r["final_orientations"], dtype=float), ref)
         return {"kind": "scipy DOP853, rtol 1e-12", "self_error": None}
     refs = sorted(study["references"], key=lambda r: r["dt"])
     finest = body_z_in_space(np.array(refs[0]["final_orientations"]))
     for r in study["runs"]:
-        r["error"] = axis_angle(body_z_in_space(np.array(r["final_orientations"])), finest) if r["final_orientations"] else math.nan
+        r["error"] = math.nan if r["failure"] or not r["final_orientations"] else axis_angle(body_z_in_space(np.array(r["final_orientations"], dtype=float)), finest)
     self_error = axis_angle(body_z_in_space(np.array(refs[1]["final_orientations"])), finest) if len(refs) > 1 else None
     return {
         "kind": f"{study['reference_scheme']} at dt = {refs[0]['dt']:g}",
@@ -126,7 +126,7 @@ def stress_errors(stress: list[dict]) -> None:
         if r["case"] not in cache:
             system = {"inertia": r["inertia"], "dipole_body": r["dipole_body"], "field": r["field"]}
             cache[r["case"]] = single_reference(system, r["time"], r["orientation"], r["omega_body"])
-        r["error"] = rotation_angle(np.array(r["final_orientations"]), cache[r["case"]]) if r["final_orientations"] else math.nan
+        r["error"] = math.nan if r["failure"] or not r["final_orientations"] else rotation_angle(np.array(r["final_orientations"], dtype=float), cache[r["case"]])
 
 
 def scaling_fit(scaling: list[dict]) -> dict:

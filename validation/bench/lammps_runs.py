@@ -39,11 +39,10 @@ def runs(study: dict, reference_axes: np.ndarray, cutoff: float) -> tuple[list[d
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     system = lattice_system(study["system"], cutoff)
     n = len(system.sites)
-    dts = sorted({r["dt"] for r in study["runs"]}, reverse=True)
+    steps_of = {r["dt"]: r["steps"] for r in study["runs"]}
     out = []
     for update in UPDATES:
-        for dt in dts:
-            steps = int(round(study["time"] / dt))
+        for dt, steps in sorted(steps_of.items(), reverse=True):
             traj = run_lammps(system, dt, steps, update)
             energy = traj.potential + traj.kinetic
             error = (energy - energy[0]) / traj.kinetic[0]
