@@ -49,17 +49,17 @@ fn studies(effort: Effort) -> Vec<Study> {
             scene: "dipole_lattice_sc",
             time: effort.pick(0.4, 0.004),
             dt_max: 0.016,
-            dt_count: effort.pick(6, 2),
+            dt_count: effort.pick(5, 2),
             repeats: effort.pick(3, 1),
-            reference_dts: effort.pick(&[1e-4, 5e-5][..], &[1e-3][..]),
+            reference_dts: effort.pick(&[2e-4, 1e-4][..], &[1e-3][..]),
         },
         Study {
             scene: "quadrupole_lattice_fcc",
             time: effort.pick(0.4, 0.004),
             dt_max: 0.016,
-            dt_count: effort.pick(6, 2),
+            dt_count: effort.pick(5, 2),
             repeats: effort.pick(3, 1),
-            reference_dts: effort.pick(&[1e-4, 5e-5][..], &[1e-3][..]),
+            reference_dts: effort.pick(&[2e-4, 1e-4][..], &[1e-3][..]),
         },
     ]
 }
