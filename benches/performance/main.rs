@@ -1,6 +1,6 @@
 //! The Rust half of `make bench` (`cargo bench --bench performance`): every
 //! heavy loop, through the same scene -> dispatch -> runner path a user's
-//! `quatrot run` takes, written as one JSON file that
+//! `quatrot run` takes, written as JSON files (one per section) that
 //! `python -m validation.bench` turns into references (scipy, LAMMPS),
 //! errors, plots and tables.
 //!

@@ -17,8 +17,11 @@ type Res<T> = Result<T, Box<dyn Error + Send + Sync>>;
 const STABLE_ENERGY_ERROR: f64 = 0.1;
 /// Bisection steps in log dt after the doubling (2^(1/32): about 2 %).
 const BISECTIONS: usize = 5;
-/// Doublings or halvings before giving up.
+/// Doublings before giving up.
 const MAX_DOUBLINGS: usize = 14;
+/// Halvings before reporting "unstable at every step tried" (each halving
+/// doubles the cost of a run).
+const MAX_HALVINGS: usize = 5;
 /// The fixed time spans at least this many steps: larger steps are not tried
 /// (a scheme stable there is reported as stable up to `time / MIN_STEPS`).
 const MIN_STEPS: f64 = 20.0;
@@ -74,6 +77,7 @@ fn largest_stable(scene: &Scene, case: &Case) -> Res<Value> {
     let mut unstable: Option<(f64, String)> = None;
     let cap = case.time / MIN_STEPS;
     let mut dt = case.dt_start.min(cap);
+    let mut halvings = 0;
     for _ in 0..MAX_DOUBLINGS {
         match attempt(scene, case, dt)? {
             None => {
@@ -85,9 +89,10 @@ fn largest_stable(scene: &Scene, case: &Case) -> Res<Value> {
             }
             Some(why) => {
                 unstable = Some((dt, why));
-                if stable.is_some() {
+                if stable.is_some() || halvings == MAX_HALVINGS {
                     break;
                 }
+                halvings += 1;
                 dt /= 2.0;
             }
         }
