@@ -24,7 +24,7 @@ const MAX_DOUBLINGS: usize = 14;
 const MAX_HALVINGS: usize = 5;
 /// The fixed time spans at least this many steps: larger steps are not tried
 /// (a scheme stable there is reported as stable up to `time / MIN_STEPS`).
-const MIN_STEPS: f64 = 20.0;
+const MIN_STEPS: f64 = 10.0;
 
 struct Case {
     scene: &'static str,
@@ -51,13 +51,13 @@ fn cases(effort: Effort) -> Vec<Case> {
         },
         Case {
             scene: "dipole_lattice_sc",
-            time: effort.pick(0.5, 0.02),
+            time: effort.pick(2.0, 0.02),
             dt_start: 0.004,
             check_every: 2,
         },
         Case {
             scene: "quadrupole_lattice_fcc",
-            time: effort.pick(0.5, 0.02),
+            time: effort.pick(2.0, 0.02),
             dt_start: 0.004,
             check_every: 2,
         },

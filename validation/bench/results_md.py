@@ -66,6 +66,28 @@ def _throughput(results) -> list[str]:
     return lines
 
 
+def _side_by_side(results) -> list[str]:
+    sbs = results["lammps"].get("side_by_side") or {}
+    rates = sbs.get("rotor_steps_per_second", {})
+    dlm = rates.get("LAMMPS dipole/dlm")
+    if not rates:
+        return []
+    lines = [
+        "",
+        f"Side by side, in alternation ({len(next(iter(sbs['seconds'].values())))} rounds, medians): {sbs['steps']} steps of the "
+        f"{sbs['rotors']}-rotor lattice at dt = {sbs['dt']:g}, one thread each; quatrot through its CLI on the built-in scene "
+        "with the recording removed (`RAYON_NUM_THREADS=1`), LAMMPS through its Python module (`OMP_NUM_THREADS=1`, one `run`).",
+        "",
+        "| run | rotor-steps / s / thread | ratio to LAMMPS dipole/dlm | target (>= 10) |",
+        "|---|---|---|---|",
+    ]
+    for k, v in rates.items():
+        ratio = v / dlm if dlm else None
+        verdict = "" if k.startswith("LAMMPS") or ratio is None else ("met" if ratio >= 10 else f"missed by {10 / ratio:.2g}x")
+        lines.append(f"| {k} | {_g(v)} | {_g(ratio)} | {verdict} |")
+    return lines
+
+
 def _targets(study) -> list[str]:
     lattice = study["scene"] == "dipole_lattice_sc"
     head = "| target error | fastest quatrot run |"
@@ -201,7 +223,9 @@ def section(results: dict) -> str:
     ]
     if results["quick"]:
         lines += ["", "**Quick mode (pipeline test): the numbers below are not measurements.**"]
-    lines += ["", "### Throughput on the 1000-rotor dipole lattice (1 thread)", ""] + _throughput(results)
+    lines += ["", "### Throughput on the 1000-rotor dipole lattice (1 thread)", ""]
+    lines += ["From the work-precision runs (longest run per scheme; LAMMPS timed in the same `make bench`, a few minutes later):", ""]
+    lines += _throughput(results) + _side_by_side(results)
     lines += ["", "![work-precision](work_precision.png)", "", "![error vs dt](error_vs_dt.png)"]
     for s in studies:
         ref = s["reference"]
@@ -223,8 +247,8 @@ def section(results: dict) -> str:
         "### Largest stable time step",
         "",
         "Stable: |E - E0| < 0.1 KE0 (|E0| for the dipole starting at rest) at every check over the fixed time "
-        "(single rotors: t = 20 and 10, checked every step; lattices: t = 0.5, every 2 steps); found by doubling then "
-        "5 bisections in log dt (about 2 %); steps above time/20 are not tried.",
+        "(single rotors: t = 20 and 10, checked every step; lattices: t = 2, every 2 steps); found by doubling then "
+        "5 bisections in log dt (about 2 %); steps above time/10 are not tried.",
         "",
     ]
     lines += _stability(results["stability"]) + ["", "![stability](stability.png)"]
