@@ -112,6 +112,9 @@ def _summary(results: dict) -> str:
             + ", ".join(f"{k} {v:.3g}" for k, v in lam.items() if v)
             + "."
         )
+        sbs = (results["lammps"].get("side_by_side") or {}).get("rotor_steps_per_second", {})
+        if sbs:
+            lines.append("Side by side (CLI vs LAMMPS, alternating): " + ", ".join(f"{k} {v:.3g}" for k, v in sbs.items()) + " rotor-steps/s.")
         for row in lattice["targets"]:
             q = row["quatrot"]
             lines.append(f"- target {row['target']:g}: " + (f"{q['scheme']} dt {q['dt']:g}, {q['wall'] * 1e3:.3g} ms" if q else "not reached") + f"; ratio LAMMPS dlm / quatrot: {row.get('ratio_vs_dlm')}")
