@@ -4,26 +4,39 @@
 //! every observable every step, energies every 100 steps, nothing recorded,
 //! and the bare `integrator.step(potential)` loop. Each iteration runs
 //! `STEPS` steps from the same set-up integrator (setup excluded).
+//!
+//! On a shared machine the criterion groups, measured one after the other,
+//! drift with the load; after them an interleaved comparison runs the four
+//! cases in turn `REPETITIONS` times (`INTERLEAVED_STEPS` steps each) and
+//! prints the best time of each and the
+//! runner's overhead over the bare loop (best against best).
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use quatrot::integrators::{Dlm, GearB, Integrator};
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
-use quatrot::run::{run, Observer, RunOptions, Scheduled, SeriesObserver};
+use quatrot::run::{run, EnergyReference, Observer, RunOptions, Scheduled, SeriesObserver};
 use quatrot::scene::{load, validate, Overrides, Quantity, Scene, Series};
 use std::hint::black_box;
+use std::time::Instant;
 
 /// Steps per measured iteration.
 const STEPS: u64 = 200;
+/// Rounds of the interleaved comparison, and steps per round: many short
+/// rounds make the best time robust to load from other processes.
+const REPETITIONS: usize = 100;
+const INTERLEAVED_STEPS: u64 = 20;
 
-fn options(scene: &Scene) -> RunOptions {
+/// Options for steps `start..end`; with a `reference` given, the runner
+/// evaluates no energy at the start for the energy error.
+fn options(scene: &Scene, start: u64, end: u64, reference: Option<EnergyReference>) -> RunOptions {
     RunOptions {
         dt: scene.dt,
-        start_step: 0,
-        end_step: STEPS,
+        start_step: start,
+        end_step: end,
         check_every: scene.record.check_every,
         energy_error_threshold: None,
-        reference: None,
+        reference,
     }
 }
 
@@ -33,6 +46,88 @@ fn every_quantity(every: u64, quantities: Vec<Quantity>) -> Series {
         every,
         quantities,
     }
+}
+
+/// The observables of the "everything every step" case.
+fn all_quantities(integrator_name: &str) -> Vec<Quantity> {
+    let mut all = vec![
+        Quantity::KineticEnergy,
+        Quantity::PotentialEnergy,
+        Quantity::TotalEnergy,
+        Quantity::EnergyError,
+        Quantity::Temperature,
+        Quantity::NormError,
+        Quantity::QDotQ,
+    ];
+    if integrator_name == "gear_b" {
+        all.push(Quantity::QDotN);
+    }
+    all
+}
+
+/// The runner cases: a name and the series recorded (none for the first);
+/// energies are recorded every `energies_every` steps.
+fn cases(integrator_name: &str, energies_every: u64) -> [(String, Option<Series>); 3] {
+    let energies = vec![
+        Quantity::KineticEnergy,
+        Quantity::PotentialEnergy,
+        Quantity::TotalEnergy,
+    ];
+    [
+        ("nothing_recorded".to_string(), None),
+        (
+            format!("energies_every_{energies_every}"),
+            Some(every_quantity(energies_every, energies)),
+        ),
+        (
+            "everything_every_step".to_string(),
+            Some(every_quantity(1, all_quantities(integrator_name))),
+        ),
+    ]
+}
+
+/// `steps` bare steps.
+fn bare<I: Integrator, P: Potential>(mut integrator: I, potential: &P, steps: u64) {
+    for _ in 0..steps {
+        integrator.step(potential);
+    }
+    black_box(integrator.orientations()[0]);
+}
+
+/// The observer of `series`, writing CSV to `csv` (created outside the
+/// timed region: opening a file is a per-run cost, not a per-step one).
+fn observer(series: Option<&Series>, csv: &std::path::Path) -> Option<SeriesObserver> {
+    series.map(|s| SeriesObserver::new(s, Some(csv), false).expect("csv"))
+}
+
+/// The runner from `options.start_step` to `options.end_step`, feeding
+/// `observer` every `every` steps.
+fn through_runner<I: Integrator, P: Potential>(
+    mut integrator: I,
+    mut observer: Option<SeriesObserver>,
+    every: u64,
+    potential: &P,
+    options: &RunOptions,
+    inertia: &[Inertia],
+) {
+    let mut scheduled: Vec<Scheduled<'_>> = observer
+        .iter_mut()
+        .map(|o| Scheduled {
+            every,
+            observer: o as &mut dyn Observer,
+        })
+        .collect();
+    black_box(
+        run(
+            &mut integrator,
+            potential,
+            inertia,
+            &mut scheduled,
+            None,
+            options,
+        )
+        .expect("runs"),
+    );
 }
 
 fn bench_system<I: Integrator + Clone, P: Potential>(
@@ -46,23 +141,6 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
     integrator
         .setup(&inertia, potential, &scene.initial, scene.dt)
         .expect("setup");
-    let mut all: Vec<Quantity> = vec![
-        Quantity::KineticEnergy,
-        Quantity::PotentialEnergy,
-        Quantity::TotalEnergy,
-        Quantity::EnergyError,
-        Quantity::Temperature,
-        Quantity::NormError,
-        Quantity::QDotQ,
-    ];
-    if integrator.name() == "gear_b" {
-        all.push(Quantity::QDotN);
-    }
-    let energies = vec![
-        Quantity::KineticEnergy,
-        Quantity::PotentialEnergy,
-        Quantity::TotalEnergy,
-    ];
     let dir = tempfile::tempdir().expect("temp dir");
     let csv = dir.path().join("bench.csv");
     let mut group = c.benchmark_group(group_name);
@@ -70,51 +148,68 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
     group.bench_function("bare_loop", |b| {
         b.iter_batched(
             || integrator.clone(),
-            |mut i| {
-                for _ in 0..STEPS {
-                    i.step(potential);
-                }
-                black_box(i.orientations()[0])
-            },
+            |i| bare(i, potential, STEPS),
             BatchSize::LargeInput,
         )
     });
-    let cases: [(&str, Option<Series>); 3] = [
-        ("nothing_recorded", None),
-        ("energies_every_100", Some(every_quantity(100, energies))),
-        ("everything_every_step", Some(every_quantity(1, all))),
-    ];
-    for (name, series) in cases {
+    for (name, series) in cases(integrator.name(), 100) {
         group.bench_function(name, |b| {
+            let every = series.as_ref().map_or(1, |s| s.every);
             b.iter_batched(
-                || integrator.clone(),
-                |mut i| {
-                    let mut observer = series
-                        .as_ref()
-                        .map(|s| SeriesObserver::new(s, Some(&csv), false).expect("csv"));
-                    let mut scheduled: Vec<Scheduled<'_>> = observer
-                        .iter_mut()
-                        .zip(&series)
-                        .map(|(o, s)| Scheduled {
-                            every: s.every,
-                            observer: o as &mut dyn Observer,
-                        })
-                        .collect();
-                    run(
-                        &mut i,
-                        potential,
-                        &inertia,
-                        &mut scheduled,
-                        None,
-                        &options(scene),
-                    )
-                    .expect("runs")
+                || (integrator.clone(), observer(series.as_ref(), &csv)),
+                |(i, o)| {
+                    let opts = options(scene, 0, STEPS, None);
+                    through_runner(i, o, every, potential, &opts, &inertia)
                 },
                 BatchSize::LargeInput,
             )
         });
     }
     group.finish();
+    interleaved(group_name, scene, &integrator, potential, &inertia, &csv);
+}
+
+/// Runs the bare loop and the three runner cases in turn and prints the best
+/// time per step of each and the overhead over the bare loop.
+fn interleaved<I: Integrator + Clone, P: Potential>(
+    group_name: &str,
+    scene: &Scene,
+    integrator: &I,
+    potential: &P,
+    inertia: &[Inertia],
+    csv: &std::path::Path,
+) {
+    // Rounds run steps 1..=INTERLEAVED_STEPS with the energy reference given,
+    // so "energies every INTERLEAVED_STEPS" evaluates the energy exactly once
+    // per round, as a long run would.
+    let cases = cases(integrator.name(), INTERLEAVED_STEPS);
+    let reference = Some(EnergyReference::initial(1.0, 1.0));
+    let opts = options(scene, 1, 1 + INTERLEAVED_STEPS, reference);
+    let mut best = [f64::INFINITY; 4];
+    for _ in 0..REPETITIONS {
+        let i = integrator.clone();
+        let start = Instant::now();
+        bare(i, potential, INTERLEAVED_STEPS);
+        best[0] = best[0].min(start.elapsed().as_secs_f64());
+        for (k, (_, series)) in cases.iter().enumerate() {
+            let i = integrator.clone();
+            let every = series.as_ref().map_or(1, |s| s.every);
+            let o = observer(series.as_ref(), csv);
+            let start = Instant::now();
+            through_runner(i, o, every, potential, &opts, inertia);
+            best[k + 1] = best[k + 1].min(start.elapsed().as_secs_f64());
+        }
+    }
+    let per_step = |t: f64| t / INTERLEAVED_STEPS as f64 * 1e6;
+    println!("{group_name} interleaved, best of {REPETITIONS} x {INTERLEAVED_STEPS} steps:");
+    println!("  bare_loop: {:.1} us/step", per_step(best[0]));
+    for (k, (name, _)) in cases.iter().enumerate() {
+        println!(
+            "  {name}: {:.1} us/step, {:+.1} % over the bare loop",
+            per_step(best[k + 1]),
+            100.0 * (best[k + 1] / best[0] - 1.0)
+        );
+    }
 }
 
 fn runner(c: &mut Criterion) {

@@ -40,6 +40,6 @@ pub struct Rotor {
     /// Point dipole in body-fixed components, if any.
     pub dipole_body: Option<Vector3<f64>>,
     /// Traceless symmetric point quadrupole in body-fixed components, if any
-    /// (convention: see the `potential` module).
+    /// (Buckingham convention: see `potential::multipole::convention`).
     pub quadrupole_body: Option<Matrix3<f64>>,
 }

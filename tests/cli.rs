@@ -55,6 +55,38 @@ fn check_rejects_every_bad_scene_without_panicking() {
     }
 }
 
+/// `check` also builds the potential, so coincident sites are caught.
+#[test]
+fn check_catches_coincident_sites() {
+    let dir = tempfile::tempdir().expect("dir");
+    let scene = dir.path().join("coincident.toml");
+    let text = r#"
+version = 1
+[rotors]
+kind = "sites"
+default = { inertia = 1.0, dipole = [0.0, 0.0, 1.0] }
+sites = [{ position = [0.0, 0.0, 0.0] }, { position = [0.0, 0.0, 0.0] }]
+[interactions]
+boundary = { kind = "open" }
+[initial]
+kind = "random"
+temperature = 1.0
+[integrator]
+kind = "dlm"
+[run]
+dt = 0.01
+steps = 1
+"#;
+    std::fs::write(&scene, text).expect("written");
+    let out = quatrot(&["check", scene.to_str().expect("utf-8")]);
+    assert_eq!(out.status.code(), Some(EXIT_ERROR));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.starts_with("error: potential: rotors[0].site and rotors[1].site: coincide"),
+        "{stderr}"
+    );
+}
+
 /// A run writes its outputs and a one-line summary; a bad override names the field.
 #[test]
 fn run_writes_outputs_and_a_one_line_summary() {
@@ -94,6 +126,30 @@ fn run_writes_outputs_and_a_one_line_summary() {
     );
     let out = quatrot(&["run", "no_such_scene"]);
     assert_eq!(out.status.code(), Some(EXIT_ERROR));
+}
+
+/// Every built-in scene runs from the command line.
+#[test]
+fn every_builtin_runs_from_the_command_line() {
+    let dir = tempfile::tempdir().expect("dir");
+    for b in quatrot::scene::BUILTINS {
+        let out_dir = dir.path().join(b.name);
+        let out = quatrot(&[
+            "run",
+            b.name,
+            "--steps",
+            "3",
+            "--out",
+            out_dir.to_str().expect("utf-8"),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            b.name,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(out_dir.join("summary.json").is_file(), "{}", b.name);
+    }
 }
 
 /// A run that blows up exits with its own code and says where.

@@ -3,28 +3,11 @@
 //! final orientations and the number of torque evaluations).
 
 use crate::counting::Counting;
-use quatrot::potential::{Boundary, ExternalFields, MultipolePotential};
-use quatrot::run::{execute, with_integrator, Outputs, RunResult, Stop};
-use quatrot::scene::{BoundaryChoice, Quantity, Record, Scene, Series, TrajectorySpec};
+use quatrot::potential::{Free, Potential};
+use quatrot::run::{execute, potential, with_integrator, Outputs, RunResult, Stop};
+use quatrot::scene::{Quantity, Record, Scene, Series, TrajectorySpec};
 use serde::Serialize;
 use std::error::Error;
-
-/// The potential `quatrot::run::execute` builds for `scene` (a rotor without
-/// multipoles costs nothing in it).
-pub fn potential(scene: &Scene) -> Result<MultipolePotential, Box<dyn Error + Send + Sync>> {
-    let boundary = match (scene.interactions.map(|i| i.boundary), scene.box_lengths) {
-        (Some(BoundaryChoice::Periodic { cutoff }), Some(box_lengths)) => Boundary::Periodic {
-            box_lengths,
-            cutoff,
-        },
-        _ => Boundary::Open,
-    };
-    let fields = ExternalFields {
-        field: scene.fields.uniform,
-        field_gradient: scene.fields.gradient,
-    };
-    Ok(MultipolePotential::new(&scene.rotors, boundary, fields)?)
-}
 
 /// `scene` with `dt`, a run time rounded to whole steps, and nothing recorded.
 pub fn with_step(scene: &Scene, dt: f64, time: f64) -> Scene {
@@ -117,14 +100,33 @@ pub fn observed(
         energy_error_threshold: threshold,
         check_every: every,
     };
-    let potential = potential(&s)?;
-    let counting = Counting::new(&potential);
+    let (result, evaluations) = match potential(&s)? {
+        Some(p) => counted(&s, &p)?,
+        None => counted(&s, &Free)?,
+    };
+    Ok(summarise(&result, s.steps, evaluations))
+}
+
+/// Runs `scene` with `potential` (the one `execute` would build) wrapped in
+/// a counter: the result and the number of torque evaluations.
+fn counted<P: Potential>(
+    scene: &Scene,
+    potential: &P,
+) -> Result<(RunResult, u64), Box<dyn Error + Send + Sync>> {
+    let counting = Counting::new(potential);
     let outputs = Outputs {
         dir: None,
         keep: true,
     };
-    let result = with_integrator(&s, serde_json::Value::Null, &counting, &outputs, None, None)?;
-    Ok(summarise(&result, s.steps, counting.count()))
+    let result = with_integrator(
+        scene,
+        serde_json::Value::Null,
+        &counting,
+        &outputs,
+        None,
+        None,
+    )?;
+    Ok((result, counting.count()))
 }
 
 fn summarise(result: &RunResult, steps: u64, torque_evaluations: u64) -> Observed {

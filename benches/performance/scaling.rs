@@ -32,7 +32,8 @@ pub fn run(effort: Effort) -> Res<Value> {
         }
         let scene = validate(&raw)?;
         let built = Instant::now();
-        let potential = crate::measure::potential(&scene)?;
+        let potential =
+            quatrot::run::potential(&scene)?.ok_or("the lattice scene has interactions")?;
         let pair_list_seconds = built.elapsed().as_secs_f64();
         let inertia: Vec<Inertia> = scene.rotors.iter().map(|r| r.inertia).collect();
         let rotors = inertia.len();

@@ -4,7 +4,7 @@
 
 mod progress;
 
-use crate::run::{execute, Outputs, Progress, RunResult, Stop};
+use crate::run::{execute, potential, Outputs, Progress, RunResult, Stop};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use clap::{Parser, Subcommand};
 use progress::ProgressBarObserver;
@@ -53,7 +53,7 @@ enum Command {
     },
     /// List the built-in scenes, one per line.
     Scenes,
-    /// Validate a scene without running it.
+    /// Validate a scene (and build its potential) without running it.
     Check {
         /// Built-in scene name or path to a .toml file.
         scene: String,
@@ -69,10 +69,13 @@ pub fn main() -> i32 {
             0
         }
         Command::Check { scene } => match load(&scene, &Overrides::default()) {
-            Ok((_, scene)) => {
-                println!("ok: {}", describe(&scene));
-                0
-            }
+            Ok((_, scene)) => match potential(&scene) {
+                Ok(_) => {
+                    println!("ok: {}", describe(&scene));
+                    0
+                }
+                Err(e) => fail(&e),
+            },
             Err(e) => fail(&e),
         },
         Command::Run {

@@ -6,8 +6,8 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod baselines;
-mod potential;
 mod dynamics;
+mod potential;
 mod quaternion;
 mod run;
 

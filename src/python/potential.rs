@@ -1,10 +1,11 @@
 //! `quatrot.multipole_evaluate`: the point-multipole potential from numpy arrays.
 
+use super::arrays::{collect, common_len, Items};
 use crate::potential::{Boundary, ExternalFields, MultipolePotential, PotentialError};
 use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
-use nalgebra::{Matrix3, Vector3};
-use numpy::{IntoPyArray, PyArray2, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use nalgebra::Vector3;
+use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -14,24 +15,24 @@ impl From<PotentialError> for PyErr {
     }
 }
 
-/// Checks `shape` against `expected` (`None` = any length), naming the argument.
-fn check_shape(name: &str, shape: &[usize], expected: &[Option<usize>]) -> PyResult<()> {
-    let fits = shape.len() == expected.len()
-        && shape
-            .iter()
-            .zip(expected)
-            .all(|(s, e)| e.is_none_or(|e| e == *s));
-    if fits {
-        return Ok(());
+/// An optional argument that must be a single item of shape `item`.
+fn single<'py>(
+    obj: Option<&Bound<'py, PyAny>>,
+    name: &'static str,
+    item: &[usize],
+) -> PyResult<Option<Items<'py>>> {
+    let Some(obj) = obj else { return Ok(None) };
+    let items = Items::new(obj, name, item)?;
+    if !common_len(&[&items])?.1 {
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected one item of shape ({}), not a batch",
+            item.iter()
+                .map(|d| d.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
     }
-    let want: Vec<String> = expected
-        .iter()
-        .map(|e| e.map_or("n".to_string(), |e| e.to_string()))
-        .collect();
-    Err(PyValueError::new_err(format!(
-        "{name}: expected shape ({}), got {shape:?}",
-        want.join(", ")
-    )))
+    Ok(Some(items))
 }
 
 /// Energy, eq 14 gradient `dV/dq` (n, 4) and space-frame torques (n, 3) of
@@ -47,88 +48,57 @@ fn check_shape(name: &str, shape: &[usize], expected: &[Option<usize>]) -> PyRes
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn multipole_evaluate<'py>(
     py: Python<'py>,
-    sites: PyReadonlyArrayDyn<'py, f64>,
-    orientations: PyReadonlyArrayDyn<'py, f64>,
-    dipoles_body: Option<PyReadonlyArrayDyn<'py, f64>>,
-    quadrupoles_body: Option<PyReadonlyArrayDyn<'py, f64>>,
-    field: Option<PyReadonlyArrayDyn<'py, f64>>,
-    field_gradient: Option<PyReadonlyArrayDyn<'py, f64>>,
-    box_lengths: Option<PyReadonlyArrayDyn<'py, f64>>,
+    sites: &Bound<'py, PyAny>,
+    orientations: &Bound<'py, PyAny>,
+    dipoles_body: Option<&Bound<'py, PyAny>>,
+    quadrupoles_body: Option<&Bound<'py, PyAny>>,
+    field: Option<&Bound<'py, PyAny>>,
+    field_gradient: Option<&Bound<'py, PyAny>>,
+    box_lengths: Option<&Bound<'py, PyAny>>,
     cutoff: Option<f64>,
-) -> PyResult<(f64, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
-    check_shape("sites", sites.shape(), &[None, Some(3)])?;
-    let n = sites.shape()[0];
-    check_shape("orientations", orientations.shape(), &[Some(n), Some(4)])?;
-    let sites = sites.as_array();
-    let orientations = orientations.as_array();
-    let mut rotors: Vec<Rotor> = (0..n)
+) -> PyResult<(
+    f64,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+)> {
+    let sites = Items::new(sites, "sites", &[3])?;
+    let orientations = Items::new(orientations, "orientations", &[4])?;
+    let dipoles = dipoles_body
+        .map(|d| Items::new(d, "dipoles_body", &[3]))
+        .transpose()?;
+    let quadrupoles = quadrupoles_body
+        .map(|t| Items::new(t, "quadrupoles_body", &[3, 3]))
+        .transpose()?;
+    let mut per_rotor = vec![&sites, &orientations];
+    per_rotor.extend(dipoles.iter());
+    per_rotor.extend(quadrupoles.iter());
+    let batch = common_len(&per_rotor)?;
+    let n = batch.0;
+    let rotors: Vec<Rotor> = (0..n)
         .map(|i| Rotor {
-            site: Vector3::from_fn(|a, _| sites[[i, a]]),
+            site: sites.vector(i),
             inertia: Inertia::Spherical(1.0),
-            dipole_body: None,
-            quadrupole_body: None,
+            dipole_body: dipoles.as_ref().map(|d| d.vector(i)),
+            quadrupole_body: quadrupoles.as_ref().map(|t| t.matrix(i)),
         })
         .collect();
-    if let Some(d) = dipoles_body {
-        check_shape("dipoles_body", d.shape(), &[Some(n), Some(3)])?;
-        let d = d.as_array();
-        for (i, r) in rotors.iter_mut().enumerate() {
-            r.dipole_body = Some(Vector3::from_fn(|a, _| d[[i, a]]));
-        }
-    }
-    if let Some(t) = quadrupoles_body {
-        check_shape("quadrupoles_body", t.shape(), &[Some(n), Some(3), Some(3)])?;
-        let t = t.as_array();
-        for (i, r) in rotors.iter_mut().enumerate() {
-            r.quadrupole_body = Some(Matrix3::from_fn(|a, b| t[[i, a, b]]));
-        }
-    }
-    let field = match field {
-        Some(e) => {
-            check_shape("field", e.shape(), &[Some(3)])?;
-            let e = e.as_array();
-            Some(Vector3::from_fn(|a, _| e[a]))
-        }
-        None => None,
+    let external = ExternalFields {
+        field: single(field, "field", &[3])?.map(|e| e.vector(0)),
+        field_gradient: single(field_gradient, "field_gradient", &[3, 3])?.map(|g| g.matrix(0)),
     };
-    let field_gradient = match field_gradient {
-        Some(g) => {
-            check_shape("field_gradient", g.shape(), &[Some(3), Some(3)])?;
-            let g = g.as_array();
-            Some(Matrix3::from_fn(|a, b| g[[a, b]]))
-        }
-        None => None,
-    };
-    let boundary = match (box_lengths, cutoff) {
+    let boundary = match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
         (None, None) => Boundary::Open,
-        (Some(l), Some(cutoff)) => {
-            check_shape("box_lengths", l.shape(), &[Some(3)])?;
-            let l = l.as_array();
-            Boundary::Periodic {
-                box_lengths: Vector3::from_fn(|a, _| l[a]),
-                cutoff,
-            }
-        }
+        (Some(l), Some(cutoff)) => Boundary::Periodic {
+            box_lengths: l.vector(0),
+            cutoff,
+        },
         _ => {
             return Err(PyValueError::new_err(
                 "box_lengths, cutoff: give both for periodic boundaries, or neither for open",
             ))
         }
     };
-    let q: Vec<Quat> = (0..n)
-        .map(|i| {
-            Quat::new(
-                orientations[[i, 0]],
-                orientations[[i, 1]],
-                orientations[[i, 2]],
-                orientations[[i, 3]],
-            )
-        })
-        .collect();
-    let external = ExternalFields {
-        field,
-        field_gradient,
-    };
+    let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
     let (energy, gradient, torques) = py.detach(|| -> Result<_, PotentialError> {
         let potential = MultipolePotential::new(&rotors, boundary, external)?;
         let mut gradient = vec![Quat::ZERO; n];
@@ -136,12 +106,10 @@ fn multipole_evaluate<'py>(
         let energy = potential.evaluate(&q, Some(&mut gradient), Some(&mut torques));
         Ok((energy, gradient, torques))
     })?;
-    let gradient: Vec<f64> = gradient.iter().flat_map(|g| g.0).collect();
-    let torques: Vec<f64> = torques.iter().flat_map(|t| [t.x, t.y, t.z]).collect();
     Ok((
         energy,
-        gradient.into_pyarray(py).reshape([n, 4])?,
-        torques.into_pyarray(py).reshape([n, 3])?,
+        collect(py, batch, &[4], |i| Ok(gradient[i].0))?,
+        collect(py, batch, &[3], |i| Ok(torques[i].into()))?,
     ))
 }
 

@@ -14,22 +14,16 @@ use crate::scene::{
 use std::num::NonZeroUsize;
 use std::path::Path;
 
-/// Runs a validated scene (`definition` is its raw form, for the summary):
-/// rotors without interactions or fields run with [`Free`], all others with
-/// [`MultipolePotential`].
-pub fn execute(
-    scene: &Scene,
-    definition: serde_json::Value,
-    outputs: &Outputs,
-    restart: Option<&Path>,
-    progress: Option<Progress<'_>>,
-) -> Result<RunResult, RunError> {
+/// The potential of a scene: `None` for rotors without interactions or
+/// fields (they run with [`Free`]), otherwise the [`MultipolePotential`]
+/// (which checks what scene validation cannot cheaply, such as coincident sites).
+pub fn potential(scene: &Scene) -> Result<Option<MultipolePotential>, RunError> {
     let fields = ExternalFields {
         field: scene.fields.uniform,
         field_gradient: scene.fields.gradient,
     };
     if scene.interactions.is_none() && fields == ExternalFields::NONE {
-        return with_integrator(scene, definition, &Free, outputs, restart, progress);
+        return Ok(None);
     }
     let boundary = match (scene.interactions.map(|i| i.boundary), scene.box_lengths) {
         (Some(BoundaryChoice::Periodic { cutoff }), Some(box_lengths)) => Boundary::Periodic {
@@ -38,9 +32,23 @@ pub fn execute(
         },
         _ => Boundary::Open,
     };
-    let potential = MultipolePotential::new(&scene.rotors, boundary, fields)
-        .map_err(|e| RunError::Potential(e.to_string()))?;
-    with_integrator(scene, definition, &potential, outputs, restart, progress)
+    MultipolePotential::new(&scene.rotors, boundary, fields)
+        .map(Some)
+        .map_err(|e| RunError::Potential(e.to_string()))
+}
+
+/// Runs a validated scene (`definition` is its raw form, for the summary).
+pub fn execute(
+    scene: &Scene,
+    definition: serde_json::Value,
+    outputs: &Outputs,
+    restart: Option<&Path>,
+    progress: Option<Progress<'_>>,
+) -> Result<RunResult, RunError> {
+    match potential(scene)? {
+        None => with_integrator(scene, definition, &Free, outputs, restart, progress),
+        Some(p) => with_integrator(scene, definition, &p, outputs, restart, progress),
+    }
 }
 
 fn startup(s: GearStartup) -> Startup {

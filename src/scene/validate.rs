@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Vector3};
 /// The only scene format version this build reads.
 pub const SCENE_VERSION: i64 = 1;
 /// Largest number of rotors a scene may describe (memory guard).
-pub const MAX_ROTORS: usize = 10_000_000;
+pub const MAX_ROTORS: usize = 1_000_000;
 /// Default interval of the blow-up checks, in steps.
 pub const DEFAULT_CHECK_EVERY: u64 = 100;
 /// Default distance of the trajectory's body-axis markers from the centre.
@@ -72,11 +72,25 @@ pub fn validate(raw: &RawScene) -> Result<Scene> {
     })
 }
 
+/// A number as a message shows it: plain in the usual range, in exponent
+/// form when very large or very small (Rust's `{}` would print 300 digits).
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 fn finite(path: &str, v: f64) -> Result<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(SceneError::field(path, format!("must be finite, got {v}")))
+        Err(SceneError::field(
+            path,
+            format!("must be finite, got {}", num(v)),
+        ))
     }
 }
 
@@ -85,7 +99,10 @@ fn positive(path: &str, v: f64) -> Result<f64> {
     if v > 0.0 {
         Ok(v)
     } else {
-        Err(SceneError::field(path, format!("must be > 0, got {v}")))
+        Err(SceneError::field(
+            path,
+            format!("must be > 0, got {}", num(v)),
+        ))
     }
 }
 
@@ -132,9 +149,18 @@ fn quaternion(path: &str, q: &[f64; 4]) -> Result<Quat> {
     for (k, x) in q.iter().enumerate() {
         finite(&format!("{path}[{k}]"), *x)?;
     }
-    Quat(*q)
-        .try_normalize()
-        .ok_or_else(|| SceneError::field(path, "must be a non-zero quaternion, got [0, 0, 0, 0]"))
+    Quat(*q).try_normalize().ok_or_else(|| {
+        SceneError::field(
+            path,
+            format!(
+                "must be a non-zero quaternion with a finite norm, got [{}, {}, {}, {}]",
+                num(q[0]),
+                num(q[1]),
+                num(q[2]),
+                num(q[3])
+            ),
+        )
+    })
 }
 
 fn lattice_kind(kind: RawLatticeKind) -> LatticeKind {
@@ -394,7 +420,11 @@ fn interactions(
             if cutoff > half {
                 return Err(SceneError::field(
                     "interactions.boundary.cutoff",
-                    format!("must be <= half the smallest box length ({half}), got {cutoff}"),
+                    format!(
+                        "must be <= half the smallest box length ({}), got {}",
+                        num(half),
+                        num(cutoff)
+                    ),
                 ));
             }
             if matches!(raw_rotors, RawRotors::Sites(_)) {
@@ -478,7 +508,8 @@ fn check_inside_box(rotors: &[Rotor], box_lengths: &Vector3<f64>) -> Result<()> 
                     format!("rotors.sites[{i}].position[{k}]"),
                     format!(
                         "must be in [0, {}) (inside the periodic box), got {}",
-                        box_lengths[k], r.site[k]
+                        num(box_lengths[k]),
+                        num(r.site[k])
                     ),
                 ));
             }
@@ -575,7 +606,7 @@ fn initial(raw: &RawInitial, rotors: &[Rotor]) -> Result<(Vec<RotorState>, Optio
             if temperature < 0.0 {
                 return Err(SceneError::field(
                     "initial.temperature",
-                    format!("must be >= 0, got {temperature}"),
+                    format!("must be >= 0, got {}", num(temperature)),
                 ));
             }
             let seed = seed.unwrap_or_else(rand::random);
@@ -671,13 +702,21 @@ fn run(raw: &RawRun) -> Result<(f64, u64)> {
             if steps < 1.0 {
                 return Err(SceneError::field(
                     "run.time",
-                    format!("must be at least one step (dt = {dt}), got {time}"),
+                    format!(
+                        "must be at least one step (dt = {}), got {}",
+                        num(dt),
+                        num(time)
+                    ),
                 ));
             }
             if steps > u64::MAX as f64 {
                 return Err(SceneError::field(
                     "run.time",
-                    format!("gives too many steps of dt = {dt}, got {time}"),
+                    format!(
+                        "gives too many steps of dt = {}, got {}",
+                        num(dt),
+                        num(time)
+                    ),
                 ));
             }
             steps as u64

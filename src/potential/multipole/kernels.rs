@@ -273,15 +273,37 @@ fn vec3(v: &[f64; 4]) -> Vector3<f64> {
     Vector3::new(v[0], v[1], v[2])
 }
 
-/// `a b^T + b a^T`.
-fn sym2(a: &Vector3<f64>, b: &Vector3<f64>) -> Matrix3<f64> {
-    a * b.transpose() + b * a.transpose()
+/// `alpha n n^T + beta (n v^T + v n^T) + gamma m` for symmetric `m`,
+/// computed on the six independent entries.
+#[inline(always)]
+fn symmetric_combination(
+    n: &Vector3<f64>,
+    v: &Vector3<f64>,
+    (alpha, beta, gamma): (f64, f64, f64),
+    m: &Matrix3<f64>,
+) -> Matrix3<f64> {
+    let entry = |a: usize, b: usize| {
+        n[a] * (alpha * n[b] + beta * v[b]) + beta * v[a] * n[b] + gamma * m[(a, b)]
+    };
+    let (xy, xz, yz) = (entry(0, 1), entry(0, 2), entry(1, 2));
+    Matrix3::new(
+        entry(0, 0),
+        xy,
+        xz,
+        xy,
+        entry(1, 1),
+        yz,
+        xz,
+        yz,
+        entry(2, 2),
+    )
 }
 
 /// Dipole `mu` and quadrupole `theta`, `n` the unit vector from the quadrupole
 /// to the dipole, `inv_r4 = 1/r^4`: returns (field at the dipole,
 /// `dV/dTheta` at the quadrupole) of
 /// `V = [2 mu.Theta n - 5 (n.Theta n)(mu.n)] / r^4`.
+#[inline(always)]
 fn dipole_quadrupole(
     mu: &Vector3<f64>,
     theta: &Matrix3<f64>,
@@ -291,13 +313,15 @@ fn dipole_quadrupole(
     let theta_n = theta * n;
     let n_theta_n = n.dot(&theta_n);
     let field = (n * (5.0 * n_theta_n) - theta_n * 2.0) * inv_r4;
-    let conjugate = (sym2(mu, n) - n * n.transpose() * (5.0 * mu.dot(n))) * inv_r4;
+    let weights = (-5.0 * mu.dot(n) * inv_r4, inv_r4, 0.0);
+    let conjugate = symmetric_combination(n, mu, weights, &Matrix3::zeros());
     (field, conjugate)
 }
 
 /// Quadrupoles `theta_i`, `theta_j` along unit vector `n`, `inv_r5 = 1/r^5`:
 /// returns `dV/dTheta_i`, `dV/dTheta_j` of
 /// `V = [105 (n.Ti n)(n.Tj n) - 60 (Ti n).(Tj n) + 6 Ti:Tj] / (9 r^5)`.
+#[inline(always)]
 fn quadrupole_quadrupole(
     theta_i: &Matrix3<f64>,
     theta_j: &Matrix3<f64>,
@@ -305,10 +329,10 @@ fn quadrupole_quadrupole(
     inv_r5: f64,
 ) -> (Matrix3<f64>, Matrix3<f64>) {
     let scale = inv_r5 / 9.0;
-    let nn = n * n.transpose();
     let (a, b) = (theta_i * n, theta_j * n);
     let conjugate = |other_n: &Vector3<f64>, other: &Matrix3<f64>| {
-        (nn * (105.0 * n.dot(other_n)) - sym2(n, other_n) * 30.0 + other * 6.0) * scale
+        let weights = (105.0 * n.dot(other_n) * scale, -30.0 * scale, 6.0 * scale);
+        symmetric_combination(n, other_n, weights, other)
     };
     (conjugate(&b, theta_j), conjugate(&a, theta_i))
 }

@@ -43,6 +43,29 @@ enum Carried {
 /// Units are reduced with `4 pi eps0 = 1`. Left out: charges, octupoles and
 /// higher, polarisation, Ewald sums (the periodic sum is truncated at the
 /// cutoff, without shift), damping at short range.
+///
+/// ```
+/// use nalgebra::Vector3;
+/// use quatrot::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
+/// use quatrot::rotor::{Inertia, Rotor};
+/// use quatrot::Quat;
+///
+/// // Two unit dipoles head to tail at distance 2: V = -2 / 2^3.
+/// let rotor = |z: f64| Rotor {
+///     site: Vector3::new(0.0, 0.0, z),
+///     inertia: Inertia::Spherical(1.0),
+///     dipole_body: Some(Vector3::z()),
+///     quadrupole_body: None,
+/// };
+/// let p = MultipolePotential::new(&[rotor(0.0), rotor(2.0)], Boundary::Open, ExternalFields::NONE)?;
+/// let q = [Quat::IDENTITY, -Quat::IDENTITY]; // -Q is the same orientation
+/// assert!((p.energy(&q) + 0.25).abs() < 1e-15);
+/// // Aligned dipoles feel no torque.
+/// let mut torques = [Vector3::zeros(); 2];
+/// p.accumulate_torques(&q, &mut torques);
+/// assert!(torques.iter().all(|t| t.norm() < 1e-15));
+/// # Ok::<(), quatrot::potential::PotentialError>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct MultipolePotential {
     carried: Carried,
