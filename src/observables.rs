@@ -29,11 +29,6 @@ pub fn omega_space(q: &Quat, q_dot: &Quat) -> Vector3<f64> {
     (*q_dot * q.conjugate()).vector() * (2.0 / q.norm_squared())
 }
 
-/// Kinetic energy from `Q` and `Q'`: `1/2 w_b . I w_b` with `w_b` of eq 10.
-pub fn kinetic_energy_from_q_dot(inertia: &Inertia, q: &Quat, q_dot: &Quat) -> f64 {
-    kinetic_energy(inertia, &omega_body(q, q_dot))
-}
-
 /// Total kinetic energy of all rotors.
 pub fn total_kinetic_energy(inertia: &[Inertia], omega_body: &[Vector3<f64>]) -> f64 {
     inertia

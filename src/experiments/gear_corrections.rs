@@ -4,7 +4,7 @@
 //! the largest stable time step, and the size of the eq 15 zeroth components.
 
 use crate::integrators::{FirstCorrector, GearA, GearB, GearBOptions, Integrator, RotorState};
-use crate::observables::{total_energy, total_kinetic_energy};
+use crate::observables::{norm_velocity, total_energy, total_kinetic_energy};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
@@ -195,7 +195,7 @@ fn trace<I: Integrator, P: Potential>(
         t.energies.push(energy);
         t.kinetic.push(total_kinetic_energy(system.inertia, &omega));
         for (qi, qd) in q.iter().zip(&q_dot) {
-            t.max_q_dot_q_dot = t.max_q_dot_q_dot.max(qi.dot(qd).abs());
+            t.max_q_dot_q_dot = t.max_q_dot_q_dot.max(norm_velocity(qi, qd).abs());
         }
         if integrator.q_dot_n(&mut q_n) {
             let worst = q_n.iter().fold(0.0_f64, |m, x| m.max(x.abs()));

@@ -18,10 +18,7 @@
 //! the principal moments (3). One potential evaluation per step.
 
 use super::free_rotation::{free_flow, omega_from_momentum, SphericalTops};
-use super::support::{
-    check_length, evaluate_torques, quats_flat, read_quats, read_vectors, unit_orientation,
-    validate_setup, vectors_flat,
-};
+use super::kick::KickState;
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -35,11 +32,7 @@ const SWEEP_AXES: [usize; 3] = [0, 1, 2];
 #[derive(Clone, Debug, Default)]
 pub struct Dlm {
     spherical: SphericalTops,
-    dt: f64,
-    inertia: Vec<Vector3<f64>>,
-    orientation: Vec<Quat>,
-    momentum_body: Vec<Vector3<f64>>,
-    torque_space: Vec<Vector3<f64>>,
+    state: KickState<Vector3<f64>>,
 }
 
 impl Dlm {
@@ -52,19 +45,11 @@ impl Dlm {
             ..Dlm::default()
         }
     }
+}
 
-    /// Adds `dt/2` times the body torque to the body angular momenta.
-    fn half_kick(&mut self) {
-        let half = 0.5 * self.dt;
-        for ((l, q), n) in self
-            .momentum_body
-            .iter_mut()
-            .zip(&self.orientation)
-            .zip(&self.torque_space)
-        {
-            *l += q.space_to_body(n) * half;
-        }
-    }
+/// DLM's half kick: `L_b += half A(Q) n_s` (body torque, eq 6).
+fn kick(momentum_body: &mut Vector3<f64>, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
+    *momentum_body += q.space_to_body(torque_space) * half;
 }
 
 impl Integrator for Dlm {
@@ -79,56 +64,40 @@ impl Integrator for Dlm {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        self.inertia = validate_setup(inertia, initial, dt)?;
-        self.dt = dt;
-        self.orientation = initial.iter().map(unit_orientation).collect();
-        self.momentum_body = initial
-            .iter()
-            .zip(&self.inertia)
-            .map(|(s, i)| s.omega_body.component_mul(i))
-            .collect();
-        self.torque_space = vec![Vector3::zeros(); initial.len()];
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
+        self.state = KickState::new(inertia, potential, initial, dt, |_, l_body| *l_body)?;
         Ok(())
     }
 
     fn step<P: Potential>(&mut self, potential: &P) {
-        self.half_kick();
-        for ((q, l), i) in self
+        self.state.half_kick(kick);
+        let state = &mut self.state;
+        for ((q, l), i) in state
             .orientation
             .iter_mut()
-            .zip(&mut self.momentum_body)
-            .zip(&self.inertia)
+            .zip(&mut state.momentum)
+            .zip(&state.inertia)
         {
-            free_flow(q, l, i, self.spherical, SWEEP_AXES, 1, self.dt);
+            free_flow(q, l, i, self.spherical, SWEEP_AXES, 1, state.dt);
         }
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
-        self.half_kick();
+        self.state.evaluate_torques(potential);
+        self.state.half_kick(kick);
     }
 
     fn orientations(&self) -> &[Quat] {
-        &self.orientation
+        &self.state.orientation
     }
 
     fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        for ((w, l), i) in out.iter_mut().zip(&self.momentum_body).zip(&self.inertia) {
-            *w = omega_from_momentum(l, i);
-        }
+        self.state
+            .omega_body(out, |l, _, i| omega_from_momentum(l, i));
     }
 
-    /// Layout: all `Q` (4 each), then all `L_b` (3 each), then all torques (3 each).
+    /// Layout of [`KickState::checkpoint`]: `Q`, then `L_b`, then torques.
     fn checkpoint(&self) -> Vec<f64> {
-        quats_flat(&self.orientation)
-            .chain(vectors_flat(&self.momentum_body))
-            .chain(vectors_flat(&self.torque_space))
-            .collect()
+        self.state.checkpoint()
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        check_length(state, self.orientation.len(), 10)?;
-        let rest = read_quats(state, &mut self.orientation);
-        let rest = read_vectors(rest, &mut self.momentum_body);
-        read_vectors(rest, &mut self.torque_space);
-        Ok(())
+        self.state.restore(state)
     }
 }

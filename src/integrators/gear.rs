@@ -8,7 +8,7 @@
 //!   evaluated at the predicted values: `delta = h^m/m! f - r_m`, then
 //!   `r_k <- r_k + c_k delta` with the coefficient tables below.
 
-use super::IntegratorError;
+use super::checkpoint::{read_values, write_values, Components};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 use std::ops::{Add, Mul};
@@ -32,35 +32,18 @@ pub fn second_order_6(c0: f64) -> [f64; 6] {
     [c0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0]
 }
 
-/// A value a Gear recursion acts on (a quaternion or a 3-vector), with flat
-/// access to its components for checkpoints.
-pub trait GearValue: Copy + Add<Output = Self> + Mul<f64, Output = Self> {
+/// A value a Gear recursion acts on (a quaternion or a 3-vector).
+pub trait GearValue: Components + Copy + Add<Output = Self> + Mul<f64, Output = Self> {
     /// The zero value.
     const ZERO: Self;
-    /// The components, in storage order.
-    fn components(&self) -> &[f64];
-    /// The components, mutable.
-    fn components_mut(&mut self) -> &mut [f64];
 }
 
 impl GearValue for Quat {
     const ZERO: Self = Quat::ZERO;
-    fn components(&self) -> &[f64] {
-        &self.0
-    }
-    fn components_mut(&mut self) -> &mut [f64] {
-        &mut self.0
-    }
 }
 
 impl GearValue for Vector3<f64> {
     const ZERO: Self = Vector3::new(0.0, 0.0, 0.0);
-    fn components(&self) -> &[f64] {
-        self.as_slice()
-    }
-    fn components_mut(&mut self) -> &mut [f64] {
-        self.as_mut_slice()
-    }
 }
 
 /// The scaled derivatives `r_0..r_{N-1}` of one quantity for every rotor,
@@ -130,43 +113,22 @@ impl<T: GearValue, const N: usize> Nordsieck<T, N> {
 
     /// The length of [`Nordsieck::write_flat`]'s output.
     pub fn flat_len(&self) -> usize {
-        let dim = T::ZERO.components().len();
-        N * self.len() * dim
+        N * self.len() * T::LEN
     }
 
     /// Appends every component, derivative-major.
     pub fn write_flat(&self, out: &mut Vec<f64>) {
-        for v in self.r.iter().flatten() {
-            out.extend_from_slice(v.components());
+        for r_k in &self.r {
+            write_values(r_k, out);
         }
     }
 
     /// Reads back [`Nordsieck::write_flat`]'s output; `data` must hold at
     /// least [`Nordsieck::flat_len`] values. Returns the rest.
     pub fn read_flat<'a>(&mut self, data: &'a [f64]) -> &'a [f64] {
-        let mut rest = data;
-        for v in self.r.iter_mut().flatten() {
-            let c = v.components_mut();
-            let (head, tail) = rest.split_at(c.len());
-            c.copy_from_slice(head);
-            rest = tail;
-        }
-        rest
-    }
-}
-
-/// Checks a checkpoint laid out as `[dt, data...]` against the scheme's `dt`
-/// and data length, and returns the data.
-pub fn checkpoint_data(state: &[f64], dt: f64, data_len: usize) -> Result<&[f64], IntegratorError> {
-    match state.split_first() {
-        Some((saved_dt, data)) if data.len() == data_len && saved_dt.to_bits() == dt.to_bits() => {
-            Ok(data)
-        }
-        Some((saved_dt, data)) => Err(IntegratorError::BadCheckpoint(format!(
-            "expected dt = {dt} and {data_len} values, got dt = {saved_dt} and {} values",
-            data.len()
-        ))),
-        None => Err(IntegratorError::BadCheckpoint("empty".into())),
+        self.r
+            .iter_mut()
+            .fold(data, |rest, r_k| read_values(rest, r_k))
     }
 }
 

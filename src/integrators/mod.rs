@@ -1,30 +1,38 @@
 //! Integrators of the rotational equations of motion.
 //!
 //! Every integrator implements [`Integrator`]: it is set up once from the
-//! initial orientations and body angular velocities (allocating all its
-//! scratch buffers then), and then advanced one step at a time. It is generic
-//! over the [`Potential`] so that the step is monomorphised.
+//! initial orientations and body angular velocities (validated by
+//! [`setup::validate_setup`], allocating all its scratch buffers then), and
+//! then advanced one step at a time without allocating. It is generic over
+//! the [`Potential`] so that the step is monomorphised.
 //!
-//! Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
-//! [`Richardson`], sharing the free-rotation flows of [`free_rotation`].
+//! * Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
+//!   [`Richardson`], sharing their per-rotor state, kick and checkpoint
+//!   (`kick`) and the free-rotation flows of [`free_rotation`].
+//! * The note's Gear schemes: [`GearA`] (`scheme_a`) and [`GearB`]
+//!   (`scheme_b`), built on the Nordsieck machinery of [`gear`], the Euler
+//!   equations of [`rigid_body`] and the start-up of [`startup`].
+//! * Shared pieces: [`setup`] (argument validation, all five), `torque` (torques into
+//!   a reused buffer, body-frame components) and [`checkpoint`] (flat layouts).
 
+pub mod checkpoint;
 mod dlm;
 pub mod free_rotation;
+pub mod gear;
+mod kick;
 mod no_squish;
 mod richardson;
-mod support;
+pub mod rigid_body;
+pub mod scheme_a;
+pub mod scheme_b;
+pub mod setup;
+pub mod startup;
+mod torque;
 
 pub use dlm::Dlm;
 pub use free_rotation::SphericalTops;
 pub use no_squish::NoSquish;
 pub use richardson::Richardson;
-
-pub mod gear;
-pub mod rigid_body;
-pub mod scheme_a;
-pub mod scheme_b;
-pub mod startup;
-
 pub use scheme_a::{GearA, GearAOptions};
 pub use scheme_b::{FirstCorrector, GearB, GearBOptions};
 pub use startup::Startup;

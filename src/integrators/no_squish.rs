@@ -20,10 +20,7 @@
 //! HOOMD-blue, 10 in DL_POLY).
 
 use super::free_rotation::{free_flow, omega_from_momentum, BodyMomentum, SphericalTops};
-use super::support::{
-    check_length, evaluate_torques, quats_flat, read_quats, read_vectors, unit_orientation,
-    validate_setup, vectors_flat,
-};
+use super::kick::KickState;
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -39,11 +36,7 @@ const SWEEP_AXES: [usize; 3] = [2, 1, 0];
 pub struct NoSquish {
     substeps: NonZeroUsize,
     spherical: SphericalTops,
-    dt: f64,
-    inertia: Vec<Vector3<f64>>,
-    orientation: Vec<Quat>,
-    momentum: Vec<Quat>,
-    torque_space: Vec<Vector3<f64>>,
+    state: KickState<Quat>,
 }
 
 impl NoSquish {
@@ -63,26 +56,14 @@ impl NoSquish {
         NoSquish {
             substeps,
             spherical,
-            dt: 0.0,
-            inertia: Vec::new(),
-            orientation: Vec::new(),
-            momentum: Vec::new(),
-            torque_space: Vec::new(),
+            state: KickState::default(),
         }
     }
+}
 
-    /// Adds `dt/2 * 2 Q*(0, n_b)` to each conjugate momentum.
-    fn half_kick(&mut self) {
-        let half = 0.5 * self.dt;
-        for ((p, q), n) in self
-            .momentum
-            .iter_mut()
-            .zip(&self.orientation)
-            .zip(&self.torque_space)
-        {
-            *p += *q * Quat::pure(&q.space_to_body(n)) * (2.0 * half);
-        }
-    }
+/// NO_SQUISH's half kick: `P += half * 2 Q*(0, A(Q) n_s)` (body torque, eq 6).
+fn kick(momentum: &mut Quat, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
+    *momentum += *q * Quat::pure(&q.space_to_body(torque_space)) * (2.0 * half);
 }
 
 impl Integrator for NoSquish {
@@ -97,64 +78,44 @@ impl Integrator for NoSquish {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        self.inertia = validate_setup(inertia, initial, dt)?;
-        self.dt = dt;
-        self.orientation = initial.iter().map(unit_orientation).collect();
-        self.momentum = self
-            .orientation
-            .iter()
-            .zip(initial)
-            .zip(&self.inertia)
-            .map(|((q, s), i)| *q * Quat::pure(&s.omega_body.component_mul(i)) * 2.0)
-            .collect();
-        self.torque_space = vec![Vector3::zeros(); initial.len()];
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
+        self.state = KickState::new(inertia, potential, initial, dt, |q, l_body| {
+            *q * Quat::pure(l_body) * 2.0
+        })?;
         Ok(())
     }
 
     fn step<P: Potential>(&mut self, potential: &P) {
-        self.half_kick();
+        self.state.half_kick(kick);
         let substeps = self.substeps.get();
-        for ((q, p), i) in self
+        let state = &mut self.state;
+        for ((q, p), i) in state
             .orientation
             .iter_mut()
-            .zip(&mut self.momentum)
-            .zip(&self.inertia)
+            .zip(&mut state.momentum)
+            .zip(&state.inertia)
         {
-            free_flow(q, p, i, self.spherical, SWEEP_AXES, substeps, self.dt);
+            free_flow(q, p, i, self.spherical, SWEEP_AXES, substeps, state.dt);
         }
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
-        self.half_kick();
+        self.state.evaluate_torques(potential);
+        self.state.half_kick(kick);
     }
 
     fn orientations(&self) -> &[Quat] {
-        &self.orientation
+        &self.state.orientation
     }
 
     fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        for (((w, p), q), i) in out
-            .iter_mut()
-            .zip(&self.momentum)
-            .zip(&self.orientation)
-            .zip(&self.inertia)
-        {
-            *w = omega_from_momentum(&p.angular_momentum_body(q), i);
-        }
+        self.state.omega_body(out, |p, q, i| {
+            omega_from_momentum(&p.angular_momentum_body(q), i)
+        });
     }
 
-    /// Layout: all `Q` (4 each), then all `P` (4 each), then all torques (3 each).
+    /// Layout of [`KickState::checkpoint`]: `Q`, then `P`, then torques.
     fn checkpoint(&self) -> Vec<f64> {
-        quats_flat(&self.orientation)
-            .chain(quats_flat(&self.momentum))
-            .chain(vectors_flat(&self.torque_space))
-            .collect()
+        self.state.checkpoint()
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        check_length(state, self.orientation.len(), 11)?;
-        let rest = read_quats(state, &mut self.orientation);
-        let rest = read_quats(rest, &mut self.momentum);
-        read_vectors(rest, &mut self.torque_space);
-        Ok(())
+        self.state.restore(state)
     }
 }

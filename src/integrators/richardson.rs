@@ -20,10 +20,7 @@
 //! potential evaluation per step.
 
 use super::free_rotation::omega_from_momentum;
-use super::support::{
-    check_length, evaluate_torques, quats_flat, read_quats, read_vectors, unit_orientation,
-    validate_setup, vectors_flat,
-};
+use super::kick::KickState;
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -33,11 +30,7 @@ use nalgebra::Vector3;
 /// The Richardson integrator (scene name `richardson`).
 #[derive(Clone, Debug, Default)]
 pub struct Richardson {
-    dt: f64,
-    inertia: Vec<Vector3<f64>>,
-    orientation: Vec<Quat>,
-    momentum_space: Vec<Vector3<f64>>,
-    torque_space: Vec<Vector3<f64>>,
+    state: KickState<Vector3<f64>>,
 }
 
 /// `w_s = R(Q) I^-1 A(Q) L_s`.
@@ -59,14 +52,11 @@ impl Richardson {
     pub fn new() -> Self {
         Richardson::default()
     }
+}
 
-    /// Adds `dt/2` times the space torque to the space angular momenta.
-    fn half_kick(&mut self) {
-        let half = 0.5 * self.dt;
-        for (l, n) in self.momentum_space.iter_mut().zip(&self.torque_space) {
-            *l += n * half;
-        }
-    }
+/// Richardson's half kick: `L_s += half n_s`.
+fn kick(momentum_space: &mut Vector3<f64>, _q: &Quat, torque_space: &Vector3<f64>, half: f64) {
+    *momentum_space += torque_space * half;
 }
 
 impl Integrator for Richardson {
@@ -81,29 +71,21 @@ impl Integrator for Richardson {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        self.inertia = validate_setup(inertia, initial, dt)?;
-        self.dt = dt;
-        self.orientation = initial.iter().map(unit_orientation).collect();
-        self.momentum_space = self
-            .orientation
-            .iter()
-            .zip(initial)
-            .zip(&self.inertia)
-            .map(|((q, s), i)| q.body_to_space(&s.omega_body.component_mul(i)))
-            .collect();
-        self.torque_space = vec![Vector3::zeros(); initial.len()];
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
+        self.state = KickState::new(inertia, potential, initial, dt, |q, l_body| {
+            q.body_to_space(l_body)
+        })?;
         Ok(())
     }
 
     fn step<P: Potential>(&mut self, potential: &P) {
-        self.half_kick();
-        let (dt, half) = (self.dt, 0.5 * self.dt);
-        for ((q, l), i) in self
+        self.state.half_kick(kick);
+        let state = &mut self.state;
+        let (dt, half) = (state.dt, 0.5 * state.dt);
+        for ((q, l), i) in state
             .orientation
             .iter_mut()
-            .zip(&self.momentum_space)
-            .zip(&self.inertia)
+            .zip(&state.momentum)
+            .zip(&state.inertia)
         {
             let w = omega_space(q, l, i);
             let q_full = euler(q, &w, dt);
@@ -111,38 +93,25 @@ impl Integrator for Richardson {
             let q_two = euler(&q_half, &omega_space(&q_half, l, i), half);
             *q = (q_two * 2.0 - q_full).try_normalize().unwrap_or(q_two);
         }
-        evaluate_torques(potential, &self.orientation, &mut self.torque_space);
-        self.half_kick();
+        self.state.evaluate_torques(potential);
+        self.state.half_kick(kick);
     }
 
     fn orientations(&self) -> &[Quat] {
-        &self.orientation
+        &self.state.orientation
     }
 
     fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        for (((w, l), q), i) in out
-            .iter_mut()
-            .zip(&self.momentum_space)
-            .zip(&self.orientation)
-            .zip(&self.inertia)
-        {
-            *w = omega_from_momentum(&q.space_to_body(l), i);
-        }
+        self.state
+            .omega_body(out, |l, q, i| omega_from_momentum(&q.space_to_body(l), i));
     }
 
-    /// Layout: all `Q` (4 each), then all `L_s` (3 each), then all torques (3 each).
+    /// Layout of [`KickState::checkpoint`]: `Q`, then `L_s`, then torques.
     fn checkpoint(&self) -> Vec<f64> {
-        quats_flat(&self.orientation)
-            .chain(vectors_flat(&self.momentum_space))
-            .chain(vectors_flat(&self.torque_space))
-            .collect()
+        self.state.checkpoint()
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        check_length(state, self.orientation.len(), 10)?;
-        let rest = read_quats(state, &mut self.orientation);
-        let rest = read_vectors(rest, &mut self.momentum_space);
-        read_vectors(rest, &mut self.torque_space);
-        Ok(())
+        self.state.restore(state)
     }
 }

@@ -2,8 +2,6 @@
 //! principal body frame, and the choice (once per system, at compile time in
 //! the step) between the spherical-top shortcut and the general top.
 
-use crate::quaternion::Quat;
-use crate::rotor::Inertia;
 use nalgebra::Vector3;
 
 /// Principal moments of one rotor and their inverses, precomputed at setup.
@@ -20,17 +18,14 @@ pub struct PrincipalMoments {
 }
 
 impl PrincipalMoments {
-    /// From the rotor's inertia, or `None` unless every moment is finite and > 0.
-    pub fn new(inertia: &Inertia) -> Option<Self> {
-        let moments = inertia.principal();
-        moments
-            .iter()
-            .all(|m| m.is_finite() && *m > 0.0)
-            .then(|| PrincipalMoments {
-                moments,
-                inverse: moments.map(|m| 1.0 / m),
-                inverse_mean: 3.0 / moments.sum(),
-            })
+    /// From the principal moments `(I1, I2, I3)`, all finite and > 0 (as
+    /// [`super::setup::validate_setup`] checks with [`super::setup::Moments::Positive`]).
+    pub fn new(moments: Vector3<f64>) -> Self {
+        PrincipalMoments {
+            moments,
+            inverse: moments.map(|m| 1.0 / m),
+            inverse_mean: 3.0 / moments.sum(),
+        }
     }
 }
 
@@ -77,23 +72,6 @@ impl TopKind for General {
     }
 }
 
-/// Body-fixed components of a space-fixed torque with the rotation of `Q`,
-/// `A(Q/|Q|) n_s` (eq 6), exact for a slightly non-unit predicted `Q`.
-pub fn torque_body(q: &Quat, torque_space: &Vector3<f64>) -> Vector3<f64> {
-    q.space_to_body(torque_space) / q.norm_squared()
-}
-
-/// The principal moments of every rotor, and whether all are spherical tops.
-/// Errors name the first rotor with a moment that is not finite and > 0.
-pub fn principal_moments(inertia: &[Inertia]) -> Result<(Vec<PrincipalMoments>, bool), usize> {
-    let moments = inertia
-        .iter()
-        .enumerate()
-        .map(|(i, inertia)| PrincipalMoments::new(inertia).ok_or(i))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((moments, inertia.iter().all(Inertia::is_spherical)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -101,20 +79,10 @@ mod tests {
     /// For equal moments the general form reduces to the spherical one.
     #[test]
     fn general_reduces_to_spherical_for_equal_moments() {
-        let m = PrincipalMoments::new(&Inertia::Principal(Vector3::repeat(2.0))).unwrap();
+        let m = PrincipalMoments::new(Vector3::repeat(2.0));
         let w = Vector3::new(0.3, -1.1, 0.7);
         let n = Vector3::new(-0.2, 0.5, 0.9);
         let d = General::omega_dot_body(&m, &w, &n) - Spherical::omega_dot_body(&m, &w, &n);
         assert!(d.norm() < 1e-15);
-    }
-
-    /// Non-positive moments are rejected with the rotor index.
-    #[test]
-    fn rejects_non_positive_moments() {
-        let inertia = [
-            Inertia::Spherical(1.0),
-            Inertia::Principal(Vector3::new(1.0, 0.0, 1.0)),
-        ];
-        assert_eq!(principal_moments(&inertia).unwrap_err(), 1);
     }
 }

@@ -3,17 +3,25 @@
 //! equations `I w_b' = n_b - w_b x (I w_b)`, which reduce to eq 11 for a
 //! spherical top).
 //!
-//! Properties: 5 stored values (`Q` and 4 scaled derivatives, `w_b` likewise)
-//! per rotor, corrector `251/720, 1, 11/12, 1/3, 1/24`; one torque evaluation
-//! per step; global error of order 5 in `h` with a consistent start-up (the
-//! corrector is the 4-step Adams-Moulton formula, applied once to an order-4
-//! Taylor prediction); neither time reversible nor symplectic. Eq 15a holds by
-//! construction (`Q'` comes from a pure `(0, w_b)`); the norm of `Q` drifts at
-//! the level of the truncation error unless renormalised.
+//! Properties: stores per rotor 5 values of `Q` (`Q` and 4 scaled
+//! derivatives) and 5 of `w_b`, plus the principal moments; corrector
+//! `251/720, 1, 11/12, 1/3, 1/24` for both; one torque evaluation per step;
+//! neither time reversible nor symplectic. Eq 15a holds by construction (`Q'`
+//! comes from a pure `(0, w_b)`); the norm of `Q` drifts at the level of the
+//! truncation error unless renormalised.
+//!
+//! Order: global error of order 5 in `h` with a consistent start-up. The note
+//! calls the pair "4th order" after the highest stored derivative (Gear's
+//! naming: 5 values, derivatives up to the 4th); the 5-value first-order
+//! corrector is the 4-step Adams-Moulton formula (order 5) in Nordsieck form,
+//! applied once to the order-4 Taylor prediction, which one correction raises
+//! to order 5 (measured in `tests/gear_references.rs`).
 
-use super::gear::{checkpoint_data, Nordsieck, FIRST_ORDER_5};
-use super::rigid_body::{torque_body, General, PrincipalMoments, Spherical, TopKind};
-use super::startup::{initial_derivatives, prepare, Startup};
+use super::checkpoint::checkpoint_data;
+use super::gear::{Nordsieck, FIRST_ORDER_5};
+use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::startup::{start, GearStart, Startup};
+use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -76,8 +84,7 @@ impl GearA {
         self.q.predict();
         self.omega_body.predict();
         // (c): torque at the predicted Q.
-        self.torque_space.fill(Vector3::zeros());
-        potential.accumulate_torques(&self.q.r[0], &mut self.torque_space);
+        evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
         for i in 0..self.moments.len() {
             let q = self.q.r[0][i];
             // (d): correct w_b with Euler's equations at the predicted values.
@@ -89,8 +96,9 @@ impl GearA {
             let q_dot = q.q_dot_from_omega_body(&self.omega_body.r[0][i]);
             let delta_q = q_dot * h - self.q.r[1][i];
             self.q.correct(i, &FIRST_ORDER_5, delta_q);
-            if self.options.renormalise {
-                let q = &mut self.q.r[0][i];
+        }
+        if self.options.renormalise {
+            for q in &mut self.q.r[0] {
                 *q = *q * (1.0 / q.norm());
             }
         }
@@ -115,25 +123,17 @@ impl Integrator for GearA {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        let prepared = prepare(inertia, initial, dt)?;
-        let start = if prepared.spherical {
-            initial_derivatives::<Spherical, P>
-        } else {
-            initial_derivatives::<General, P>
-        };
-        let derivatives = start(
-            self.options.startup,
-            &prepared.moments,
-            potential,
-            &prepared.initial,
-            dt,
-        );
+        let GearStart {
+            moments,
+            spherical,
+            derivatives,
+        } = start(self.options.startup, inertia, potential, initial, dt)?;
         self.dt = dt;
         self.q = derivatives.q.truncated();
         self.omega_body = derivatives.omega_body.truncated();
-        self.torque_space = vec![Vector3::zeros(); prepared.initial.len()];
-        self.moments = prepared.moments;
-        self.spherical = prepared.spherical;
+        self.torque_space = vec![Vector3::zeros(); derivatives.q.len()];
+        self.moments = moments;
+        self.spherical = spherical;
         Ok(())
     }
 

@@ -23,16 +23,21 @@
 //! scaled derivatives read `sum_{j=0..k} r_j.r_{k-j} = 0`; each `r_k`,
 //! `k = 2..5`, is projected along `Q` to satisfy its constraint.
 //!
-//! Properties: 6 stored quaternions per rotor (`Q` and 5 scaled derivatives)
-//! plus `Q.N` of the last force evaluation (diagnostics only); one gradient evaluation per
-//! step; neither time reversible nor symplectic; global error of order 5 in
-//! `h` with the velocity-dependent `c0 = 3/16` and a consistent start-up.
+//! Properties: stores per rotor 6 quaternions (`Q` and 5 scaled derivatives)
+//! plus `Q.N` of the last force evaluation (diagnostics only), and the
+//! principal moments; one gradient evaluation per step; neither time
+//! reversible nor symplectic.
+//!
+//! Order: global error of order 5 in `h` with a consistent start-up, for
+//! either `c0` (the right-hand side depends on `Q'`; `3/20` reaches 6 only
+//! for position-only right-hand sides: the tests of `gear.rs`). The note's
+//! "5th order Gear algorithm for 2nd order differential equations" names the
+//! highest stored derivative, as for scheme A.
 
-use super::gear::{
-    checkpoint_data, second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT,
-};
+use super::checkpoint::checkpoint_data;
+use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
-use super::startup::{initial_derivatives, prepare, Startup};
+use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -184,11 +189,17 @@ impl GearB {
             // (c): correct.
             let delta = accel * (0.5 * h * h) - self.q.r[2][i];
             self.q.correct(i, &self.coefficients, delta);
-            if opts.renormalise || opts.project_velocity || opts.correct_higher_derivatives {
+        }
+        // The switched corrections, each rotor on its own, after the force
+        // loop (the same values as rotor by rotor inside it).
+        if opts.renormalise {
+            for q in &mut self.q.r[0] {
+                *q = *q * (1.0 / q.norm());
+            }
+        }
+        if opts.project_velocity || opts.correct_higher_derivatives {
+            for i in 0..self.q.len() {
                 let mut r = self.q.rotor(i);
-                if opts.renormalise {
-                    r[0] = r[0] * (1.0 / r[0].norm());
-                }
                 if opts.project_velocity {
                     enforce_norm_derivative(&mut r, 1);
                 }
@@ -221,31 +232,22 @@ impl Integrator for GearB {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        let prepared = prepare(inertia, initial, dt)?;
-        let start = if prepared.spherical {
-            initial_derivatives::<Spherical, P>
-        } else {
-            initial_derivatives::<General, P>
-        };
-        let derivatives = start(
-            self.options.startup,
-            &prepared.moments,
-            potential,
-            &prepared.initial,
-            dt,
-        );
-        let n = prepared.initial.len();
+        let GearStart {
+            moments,
+            spherical,
+            derivatives,
+        } = start(self.options.startup, inertia, potential, initial, dt)?;
         self.dt = dt;
         self.q = derivatives.q;
-        self.gradient = vec![Quat::ZERO; n];
+        self.gradient = vec![Quat::ZERO; self.q.len()];
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
         self.q_dot_force = self.q.r[0]
             .iter()
             .zip(&self.gradient)
             .map(|(q, g)| q.dot(&quaternion_force(q, g, self.options.project_torque)))
             .collect();
-        self.moments = prepared.moments;
-        self.spherical = prepared.spherical;
+        self.moments = moments;
+        self.spherical = spherical;
         Ok(())
     }
 
@@ -351,7 +353,7 @@ mod tests {
     /// moments, projected or not.
     #[test]
     fn general_right_hand_side_reduces_to_spherical() {
-        let m = PrincipalMoments::new(&Inertia::Principal(Vector3::repeat(1.7))).unwrap();
+        let m = PrincipalMoments::new(Vector3::repeat(1.7));
         let q = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
         let q_dot = q.q_dot_from_omega_body(&Vector3::new(0.7, -1.1, 0.9));
         let force = Quat::new(0.4, 1.2, -0.3, 0.8);

@@ -14,8 +14,9 @@
 //! negligible for `|w| h < 1`) and the RK4 error (`O((h/32)^4)` per unit time).
 
 use super::gear::{GearValue, Nordsieck};
-use super::rigid_body::{principal_moments, torque_body, PrincipalMoments, TopKind};
-use super::support::{unit_orientation, validate_setup};
+use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::setup::{validate_setup, Moments};
+use super::torque::{evaluate_torques, torque_body};
 use super::{IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -63,8 +64,7 @@ fn rates<K: TopKind, P: Potential>(
     q_dot: &mut [Quat],
     omega_dot_body: &mut [Vector3<f64>],
 ) {
-    torque_space.fill(Vector3::zeros());
-    potential.accumulate_torques(q, torque_space);
+    evaluate_torques(potential, q, torque_space);
     for i in 0..q.len() {
         q_dot[i] = q[i].q_dot_from_omega_body(&omega_body[i]);
         let n_b = torque_body(&q[i], &torque_space[i]);
@@ -229,51 +229,49 @@ pub fn initial_derivatives<K: TopKind, P: Potential>(
     out
 }
 
-/// The validated inputs of a Gear scheme's setup.
-pub struct Prepared {
+/// What a Gear scheme's setup computes from its arguments.
+pub struct GearStart {
     /// The principal moments of every rotor.
     pub moments: Vec<PrincipalMoments>,
-    /// True when every rotor is a spherical top.
+    /// True when every rotor is a spherical top (the step is then
+    /// monomorphised on [`Spherical`], otherwise on [`General`]).
     pub spherical: bool,
-    /// The initial states with unit orientations.
-    pub initial: Vec<RotorState>,
+    /// The scaled derivatives at t = 0, from the normalised initial states.
+    pub derivatives: InitialDerivatives,
 }
 
-/// Checks the setup arguments (the baselines' shared `validate_setup`, plus
-/// moments > 0, which the Gear schemes divide by) and normalises the initial
-/// orientations.
-pub fn prepare(
+/// The shared setup of the Gear schemes: validates the arguments (every moment
+/// must be > 0, since the schemes divide by each) and computes the scaled
+/// derivatives at t = 0 for steps of `dt`.
+pub fn start<P: Potential>(
+    startup: Startup,
     inertia: &[Inertia],
+    potential: &P,
     initial: &[RotorState],
     dt: f64,
-) -> Result<Prepared, IntegratorError> {
-    validate_setup(inertia, initial, dt)?;
-    let (moments, spherical) =
-        principal_moments(inertia).map_err(|rotor| IntegratorError::Unsupported {
-            rotor,
-            reason: format!(
-                "moments of inertia must all be > 0 for the Gear schemes, got {:?}",
-                inertia[rotor].principal().as_slice()
-            ),
-        })?;
-    let initial = initial
-        .iter()
-        .map(|s| RotorState {
-            orientation: unit_orientation(s),
-            omega_body: s.omega_body,
-        })
+) -> Result<GearStart, IntegratorError> {
+    let valid = validate_setup(inertia, initial, dt, Moments::Positive)?;
+    let moments: Vec<PrincipalMoments> = valid
+        .moments
+        .into_iter()
+        .map(PrincipalMoments::new)
         .collect();
-    Ok(Prepared {
+    let spherical = inertia.iter().all(Inertia::is_spherical);
+    let derivatives = if spherical {
+        initial_derivatives::<Spherical, P>(startup, &moments, potential, &valid.initial, dt)
+    } else {
+        initial_derivatives::<General, P>(startup, &moments, potential, &valid.initial, dt)
+    };
+    Ok(GearStart {
         moments,
         spherical,
-        initial,
+        derivatives,
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrators::rigid_body::{General, Spherical};
     use crate::potential::Free;
 
     /// Agreement of the fitted scaled derivatives with the exact ones: RK4
@@ -292,7 +290,7 @@ mod tests {
             orientation: q0,
             omega_body: w,
         }];
-        let moments = [PrincipalMoments::new(&Inertia::Spherical(1.3)).unwrap()];
+        let moments = [PrincipalMoments::new(Vector3::repeat(1.3))];
         let half_w = Quat::pure(&w) * (0.5 * h);
         let mut exact = [q0; 6];
         for k in 1..6 {

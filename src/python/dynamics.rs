@@ -4,6 +4,7 @@
 
 use super::arrays::{common_len, Items};
 use crate::experiments::gear_corrections::{correction_table, Settings, System};
+use crate::integrators::setup::{validate_setup, Moments};
 use crate::integrators::RotorState;
 use crate::potential::{Boundary, ExternalFields, MultipolePotential};
 use crate::rotor::{Inertia, Rotor};
@@ -131,7 +132,7 @@ fn gear_corrections_table<'py>(
     }
     // Validate the rotors and states once, so the experiment itself cannot fail.
     let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
-    crate::integrators::startup::prepare(&inertia, &initial, dt)
+    validate_setup(&inertia, &initial, dt, Moments::Positive)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let settings = Settings {
         dt,
