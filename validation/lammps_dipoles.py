@@ -61,6 +61,7 @@ class DipoleSystem:
     diameter: float = 1.0
     field: tuple[float, float, float] | None = None  # uniform E, fix efield
     cutoff: float = 50.0  # larger than every site distance: an open cluster
+    box: float | None = None  # periodic cube [0, box)^3 when given (else open)
 
     @property
     def inertia(self) -> float:
@@ -90,16 +91,38 @@ def run_lammps(system: DipoleSystem, dt: float, steps: int, update: str = "dipol
         lmp.close()
 
 
-def _run(lmp, system: DipoleSystem, dt: float, steps: int, update: str) -> LammpsTrajectory:
+def time_lammps(system: DipoleSystem, dt: float, steps: int, update: str = "dipole/dlm") -> tuple[float, np.ndarray]:
+    """Wall seconds of one ``run steps`` (set-up excluded: a ``run 0`` before
+    builds the neighbour list) and the final space-frame dipoles."""
+    import time
+
+    lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+    try:
+        _setup(lmp, system, dt, update)
+        start = time.perf_counter()
+        lmp.command(f"run {steps} pre no post no")
+        seconds = time.perf_counter() - start
+        n = len(system.sites)
+        order = np.argsort(lmp.numpy.extract_atom("id")[:n])
+        return seconds, np.array(lmp.numpy.extract_atom("mu")[:n, :3][order])
+    finally:
+        lmp.close()
+
+
+def _setup(lmp, system: DipoleSystem, dt: float, update: str) -> None:
     n = len(system.sites)
-    half = float(np.abs(system.sites).max()) + system.cutoff
+    if system.box is None:
+        half = float(np.abs(system.sites).max()) + system.cutoff
+        lo, hi, boundary = -half, half, "f f f"
+    else:
+        lo, hi, boundary = 0.0, system.box, "p p p"
     cmds = [
         "units lj",
         "dimension 3",
-        "boundary f f f",
+        f"boundary {boundary}",
         "atom_style hybrid sphere dipole",
         "atom_modify map array sort 0 0",
-        f"region box block {-half} {half} {-half} {half} {-half} {half}",
+        f"region box block {lo} {hi} {lo} {hi} {lo} {hi}",
         "create_box 1 box",
     ]
     for s in system.sites:
@@ -135,6 +158,10 @@ def _run(lmp, system: DipoleSystem, dt: float, steps: int, update: str) -> Lammp
     omega[:n] = system.omega
     lmp.command("run 0 post no")
 
+
+def _run(lmp, system: DipoleSystem, dt: float, steps: int, update: str) -> LammpsTrajectory:
+    n = len(system.sites)
+    _setup(lmp, system, dt, update)
     time = np.zeros(steps + 1)
     potential = np.zeros(steps + 1)
     kinetic = np.zeros(steps + 1)

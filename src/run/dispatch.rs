@@ -65,7 +65,10 @@ fn spherical(s: SphericalTopRotation) -> SphericalTops {
     }
 }
 
-fn with_integrator<P: Potential>(
+/// Runs a validated scene with the given potential (built by the caller from
+/// the scene, possibly wrapped, e.g. to count evaluations in the benchmarks)
+/// and the integrator the scene chooses.
+pub fn with_integrator<P: Potential>(
     scene: &Scene,
     definition: serde_json::Value,
     potential: &P,

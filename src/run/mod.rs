@@ -17,7 +17,7 @@ mod trajectory;
 
 pub use checkpoint::{Checkpoint, CheckpointWriter};
 pub use dcd::DcdWriter;
-pub use dispatch::{execute, potential};
+pub use dispatch::{execute, potential, with_integrator};
 pub use error::RunError;
 pub use observer::{Energies, Needs, Observer, Sample, Scheduled};
 pub use pdb::ROTOR_ATOMS;

@@ -1,0 +1,280 @@
+"""This benchmark's section of `benchmarks/RESULTS.md` (other sections, owned
+by other benchmarks, are kept as they are)."""
+
+from __future__ import annotations
+
+import datetime
+import os
+import platform
+import subprocess
+from pathlib import Path
+
+BEGIN = "<!-- make bench: performance section begin -->"
+END = "<!-- make bench: performance section end -->"
+
+
+def machine() -> dict:
+    model = "unknown"
+    try:
+        for line in subprocess.run(["lscpu"], capture_output=True, text=True).stdout.splitlines():
+            if line.startswith("Model name:"):
+                model = line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return {
+        "cpu": model,
+        "cpus": os.cpu_count(),
+        "load_average": os.getloadavg()[0],
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "platform": platform.platform(),
+    }
+
+
+def toolchain() -> dict:
+    import numpy
+    import scipy
+
+    try:
+        rustc = subprocess.run(["rustc", "--version"], capture_output=True, text=True).stdout.strip()
+    except OSError:
+        rustc = "unknown"
+    return {"rustc": rustc, "python": platform.python_version(), "numpy": numpy.__version__, "scipy": scipy.__version__}
+
+
+def _g(x, digits=3) -> str:
+    return "n/a" if x is None else f"{x:.{digits}g}"
+
+
+def _run_cell(b) -> str:
+    if not b:
+        return "not reached"
+    return f"{b['scheme']}, dt {b['dt']:g}: {_g(b['wall'] * 1e3)} ms ({b['torque_evaluations']} torque evals, err {_g(b['error'], 2)})"
+
+
+def _throughput(results) -> list[str]:
+    lattice = next(s for s in results["studies"] if s["scene"] == "dipole_lattice_sc")
+    lammps = results["lammps"]["throughput"]
+    dlm = lammps.get("LAMMPS dipole/dlm")
+    lines = [
+        "| code, scheme | rotor-steps / s / thread | ratio to LAMMPS dipole/dlm |",
+        "|---|---|---|",
+    ]
+    for scheme, rate in sorted(lattice["throughput"].items(), key=lambda kv: -(kv[1] or 0)):
+        lines.append(f"| quatrot {scheme} | {_g(rate)} | {_g(rate / dlm if dlm and rate else None)} |")
+    for scheme, rate in lammps.items():
+        lines.append(f"| {scheme} | {_g(rate)} | {_g(rate / dlm if dlm else None)} |")
+    return lines
+
+
+def _side_by_side(results) -> list[str]:
+    sbs = results["lammps"].get("side_by_side") or {}
+    rates = sbs.get("rotor_steps_per_second", {})
+    dlm = rates.get("LAMMPS dipole/dlm")
+    if not rates:
+        return []
+    lines = [
+        "",
+        f"Side by side, in alternation ({len(next(iter(sbs['seconds'].values())))} rounds, medians): {sbs['steps']} steps of the "
+        f"{sbs['rotors']}-rotor lattice at dt = {sbs['dt']:g}, one thread each; quatrot through its CLI on the built-in scene "
+        "with the recording removed (`RAYON_NUM_THREADS=1`), LAMMPS through its Python module (`OMP_NUM_THREADS=1`, one `run`).",
+        "",
+        "| run | rotor-steps / s / thread | ratio to LAMMPS dipole/dlm | target (>= 10) |",
+        "|---|---|---|---|",
+    ]
+    for k, v in rates.items():
+        ratio = v / dlm if dlm else None
+        verdict = "" if k.startswith("LAMMPS") or ratio is None else ("met" if ratio >= 10 else f"missed by {10 / ratio:.2g}x")
+        lines.append(f"| {k} | {_g(v)} | {_g(ratio)} | {verdict} |")
+    return lines
+
+
+def _targets(study) -> list[str]:
+    lattice = study["scene"] == "dipole_lattice_sc"
+    head = "| target error | fastest quatrot run |"
+    rule = "|---|---|"
+    if lattice:
+        head += " LAMMPS dipole/dlm | LAMMPS dipole | LAMMPS dlm time / quatrot time | quatrot < 1/10 of LAMMPS dlm? |"
+        rule += "---|---|---|---|"
+    lines = [head, rule]
+    for row in study["targets"]:
+        line = f"| {row['target']:g} | {_run_cell(row['quatrot'])} |"
+        if lattice:
+            verdict = row.get("meets_10x")
+            verdict = "yes" if verdict is True else "no" if verdict is False else (verdict or "n/a")
+            dlm = _run_cell(row.get("LAMMPS dipole/dlm"))
+            if row.get("dlm_extrapolated") and row.get("dlm_wall") is not None:
+                dlm += f"; extrapolated {_g(row['dlm_wall'] * 1e3)} ms"
+            ratio = _g(row.get("ratio_vs_dlm")) + (" (extrapolated)" if row.get("dlm_extrapolated") and row.get("ratio_vs_dlm") else "")
+            line += f" {dlm} | {_run_cell(row.get('LAMMPS dipole'))} | {ratio} | {verdict} |"
+        lines.append(line)
+    return lines
+
+
+def _orders_energy(study) -> list[str]:
+    lines = [
+        "| scheme | observed order | max \\|dE\\|/KE0 (largest dt -> smallest) | drift per unit time at the smallest dt | torque evals per step |",
+        "|---|---|---|---|---|",
+    ]
+    schemes = list(dict.fromkeys(r["scheme"] for r in study["runs"]))
+    for s in schemes:
+        runs = sorted((r for r in study["runs"] if r["scheme"] == s), key=lambda r: -r["dt"])
+        big, small = runs[0], runs[-1]
+        per_step = (small["torque_evaluations"] - big["torque_evaluations"]) / max(1, small["steps"] - big["steps"])
+        lines.append(
+            f"| {s} | {_g(study['orders'].get(s), 2)} | {_g(big['energy_error_max'], 2)} -> {_g(small['energy_error_max'], 2)} | "
+            f"{_g(small['energy_drift_per_time'], 2)} | {_g(per_step, 3)} |"
+        )
+    return lines
+
+
+def _stability(rows) -> list[str]:
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    schemes = list(dict.fromkeys(r["scheme"] for r in rows))
+    lines = ["| scheme | " + " | ".join(scenes) + " |", "|---|" + "---|" * len(scenes)]
+    for s in schemes:
+        cells = []
+        for scene in scenes:
+            r = next(x for x in rows if x["scene"] == scene and x["scheme"] == s)
+            cap = " (cap: stable at every step tried)" if r.get("capped") else ""
+            cells.append(f"{_g(r['largest_stable_dt'])}{cap}")
+        lines.append(f"| {s} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _long_runs(rows) -> list[str]:
+    lines = [
+        "| scene | scheme | steps x dt | final dE/KE0 | max \\|dE\\|/KE0 | drift per unit time | max \\| \\|Q\\|-1 \\| | loop s | failure |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['scene']} | {r['scheme']} | {r['steps']} x {r['dt']:g} | {_g(r['energy_error_final'], 2)} | {_g(r['energy_error_max'], 2)} | "
+            f"{_g(r['energy_drift_per_time'], 2)} | {_g(r['norm_error_max'], 2)} | {_g(r['wall_seconds'])} | {r['failure'] or ''} |"
+        )
+    return lines
+
+
+def _stress(rows) -> list[str]:
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    schemes = list(dict.fromkeys(r["scheme"] for r in rows))
+    lines = [
+        "Orientation error at the final time against scipy DOP853 (rad) / max |dE|/E-scale; FAIL names the failure.",
+        "",
+        "| case (dt, time) | " + " | ".join(schemes) + " |",
+        "|---|" + "---|" * len(schemes),
+    ]
+    failures = []
+    for c in cases:
+        cells = []
+        first = next(r for r in rows if r["case"] == c)
+        for s in schemes:
+            r = next(x for x in rows if x["case"] == c and x["scheme"] == s)
+            if r["failure"]:
+                cells.append("FAIL")
+                failures.append(f"- {c}, {s}: {r['failure']}")
+            else:
+                cells.append(f"{_g(r['error'], 2)} / {_g(r['energy_error_max'], 2)}")
+        lines.append(f"| {c} ({first['dt']:g}, {first['time']:g}) | " + " | ".join(cells) + " |")
+    return lines + ([""] + failures if failures else [])
+
+
+def _scaling(scaling) -> list[str]:
+    lines = ["| N | pairs | threads | steps | s per step | ns per rotor-step | pair-list build s |", "|---|---|---|---|---|---|---|"]
+    for r in scaling["rows"]:
+        lines.append(
+            f"| {r['rotors']} | {r['pairs']} | {r['threads']} | {r['steps']} | {_g(r['seconds_per_step'])} | "
+            f"{_g(r['seconds_per_step'] / r['rotors'] * 1e9)} | {_g(r['pair_list_seconds'])} |"
+        )
+    fit = scaling["fit"]
+    lines += [
+        "",
+        "Fitted exponent of time per step against N (1 = linear): "
+        + ", ".join(f"{t} thread(s): {_g(e)}" for t, e in fit["exponent"].items())
+        + ". Parallel efficiency on 2 threads, t1 / (2 t2): "
+        + ", ".join(f"N = {n}: {_g(e, 2)}" for n, e in fit["efficiency"].items())
+        + ".",
+    ]
+    return lines
+
+
+def section(results: dict) -> str:
+    m, v = results["machine"], results["versions"]
+    studies = results["studies"]
+    lines = [
+        BEGIN,
+        "## Work-precision, stability, scaling, and LAMMPS side by side (`make bench`)",
+        "",
+        f"- Machine: {m['cpu']}, {m['cpus']} CPUs; load average {m['load_average']:.1f} when the analysis started "
+        "(the machine is shared: timings are medians of repeats, and ratios are measured side by side in one run).",
+        f"- Date: {m['date']}. quatrot {v['quatrot']}, {v['rustc']}, LAMMPS {v['lammps']}, Python {v['python']}, numpy {v['numpy']}, scipy {v['scipy']}.",
+        "- Command: `make bench` (`cargo bench`, whose `performance` target is `benches/performance/`, then "
+        "`python -m validation.bench --out benchmarks`, which writes `benchmarks/results.json`, the PNGs and this section). "
+        f"The Rust driver took {results['rust_seconds']:.0f} s ("
+        + ", ".join(f"{k} {v:.0f} s" for k, v in results.get("rust_section_seconds", {}).items())
+        + ").",
+        "- Path measured: work-precision, stability, long and stress runs go through the user's path (validated scene -> "
+        "`run::execute` -> the runner, nothing recorded for the timed repeats; a second, recording run of the same scene gives the "
+        "energies, norms, final orientations and torque-evaluation count). Scaling is a kernel measurement (bare library API). "
+        "Times are loop times on 1 thread; the Gear schemes' consistent start-up (about 1025 torque evaluations, once per run) "
+        "is excluded from them and included in the torque-evaluation counts.",
+        "- Error measures: single rotors, the angle of the rotation between the final orientation and scipy DOP853 (rtol 1e-12) "
+        "of the same equations; lattices, the largest angle between a rotor's body-z axis (its dipole or quadrupole axis: the "
+        "only orientation LAMMPS has) and the reference's. Energy error: (E - E0) / KE0 (|E0| for the dipole starting at rest).",
+    ]
+    if results["quick"]:
+        lines += ["", "**Quick mode (pipeline test): the numbers below are not measurements.**"]
+    lines += ["", "### Throughput on the 1000-rotor dipole lattice (1 thread)", ""]
+    lines += ["From the work-precision runs (longest run per scheme; LAMMPS timed in the same `make bench`, a few minutes later):", ""]
+    lines += _throughput(results) + _side_by_side(results)
+    lines += ["", "![work-precision](work_precision.png)", "", "![error vs dt](error_vs_dt.png)"]
+    for s in studies:
+        ref = s["reference"]
+        conv = (
+            f" Its own convergence: the run at dt = {ref['self_error_dt']:g} differs from it by {_g(ref['self_error'], 2)} rad."
+            if ref.get("self_error") is not None
+            else ""
+        )
+        lines += [
+            "",
+            f"### {s['scene']} ({s['rotors']} rotor{'s' if s['rotors'] > 1 else ''}, error at t = {s['time']:g})",
+            "",
+            f"Reference: {ref['kind']}.{conv}",
+            "",
+        ]
+        lines += _targets(s) + [""] + _orders_energy(s)
+    lines += [
+        "",
+        "### Largest stable time step",
+        "",
+        "Stable: |E - E0| < 0.1 KE0 (|E0| for the dipole starting at rest) at every check over the fixed time "
+        "(single rotors: t = 20 and 10, checked every step; lattices: t = 2, every 2 steps); found by doubling then "
+        "5 bisections in log dt (about 2 %); steps above time/10 are not tried.",
+        "",
+    ]
+    lines += _stability(results["stability"]) + ["", "![stability](stability.png)"]
+    failures = [r for r in results["stability"] if r.get("failure")]
+    if failures:
+        lines += ["", "How each scheme fails just above its largest stable step:", ""]
+        lines += [f"- {r['scene']}, {r['scheme']} at dt {_g(r['first_unstable_dt'])}: {r['failure']}" for r in failures]
+    lines += ["", "### Long runs (scene time steps)", ""] + _long_runs(results["long_runs"])
+    lines += ["", "### Stress cases (single rotors)", ""] + _stress(results["stress"])
+    lines += ["", "### Scaling (periodic sc dipole lattice, cutoff 3.1, NO_SQUISH)", "", "![scaling](scaling.png)", ""] + _scaling(results["scaling"])
+    prof = results.get("profile")
+    if prof:
+        lines += ["", "### Profile of a lattice step (1 thread)", "", f"`{prof['command']}`", "", "| share of samples | function |", "|---|---|"]
+        lines += [f"| {p:.1f} % | `{f[:110]}` |" for p, f in prof["functions"]]
+    lines.append(END)
+    return "\n".join(lines) + "\n"
+
+
+def write_section(path: Path, results: dict) -> None:
+    """Replaces this benchmark's section (between its markers) or appends it."""
+    text = path.read_text() if path.exists() else "# Benchmark results\n"
+    new = section(results)
+    if BEGIN in text and END in text:
+        head, rest = text.split(BEGIN, 1)
+        tail = rest.split(END, 1)[1].lstrip("\n")
+        text = head + new + ("\n" + tail if tail else "")
+    else:
+        text = text.rstrip("\n") + "\n\n" + new
+    path.write_text(text)
