@@ -1,5 +1,6 @@
 """The trajectory files (DCD + PDB) load in mdtraj, and the orientations
-recovered from the marker sites by superposition (Kabsch) are the
+recovered from the marker sites by superposition (Kabsch, the check
+module's `superpose`) are the
 quaternions the run returned: the centre sits on the site and the markers
 along the body axes, `r = site + L R(Q) e_a` with `R(Q)` body to space."""
 
@@ -9,6 +10,8 @@ import mdtraj as md
 import numpy as np
 import quatrot
 from scipy.spatial.transform import Rotation
+
+from validation.checks.trajectory_mdtraj import rotation_angle, superpose
 
 # DCD stores float32 coordinates: absolute error ~ 6e-8 x 4.5 (box) ~ 3e-7,
 # i.e. ~1e-6 rad on a marker 0.3 from the centre; allow a factor 10.
@@ -39,20 +42,6 @@ SCENE = {
 }
 
 
-def kabsch(body: np.ndarray, space: np.ndarray) -> np.ndarray:
-    """The rotation R minimising sum |R b_i - s_i|^2 over centred point sets."""
-    b = body - body.mean(axis=0)
-    s = space - space.mean(axis=0)
-    u, _, vt = np.linalg.svd(b.T @ s)
-    d = np.sign(np.linalg.det(vt.T @ u.T))
-    return vt.T @ np.diag([1.0, 1.0, d]) @ u.T
-
-
-def rotation_angle(q: np.ndarray, p: np.ndarray) -> float:
-    """Angle between two unit quaternions' rotations (double cover aware)."""
-    return 2.0 * np.arccos(min(1.0, abs(float(np.dot(q, p)))))
-
-
 def test_dcd_and_pdb_load_and_give_back_the_orientations(tmp_path: Path):
     result = quatrot.run(SCENE, out_dir=tmp_path)
     frames = result["trajectory"]
@@ -70,11 +59,10 @@ def test_dcd_and_pdb_load_and_give_back_the_orientations(tmp_path: Path):
         for i in range(n):
             atoms = xyz[4 * i : 4 * i + 4]
             np.testing.assert_allclose(atoms[0], result["sites"][i], atol=POSITION_TOLERANCE)
-            r = kabsch(body, atoms)
-            x, y, z, w = Rotation.from_matrix(r).as_quat()
-            recovered = np.array([w, x, y, z])
+            r = superpose(body, atoms)
+            recovered = Rotation.from_matrix(r).as_quat(scalar_first=True)
             q = frames["orientations"][f, i]
-            worst_angle = max(worst_angle, rotation_angle(recovered, q / np.linalg.norm(q)))
+            worst_angle = max(worst_angle, float(rotation_angle(recovered, q / np.linalg.norm(q))))
     assert worst_angle < ANGLE_TOLERANCE, worst_angle
 
 
@@ -87,3 +75,29 @@ def test_first_frame_is_the_initial_state(tmp_path: Path):
     first = md.load_dcd(str(tmp_path / "trajectory.dcd"), top=top).xyz[0]
     # The PDB has three decimals (Angstrom); the DCD frame 0 is the same geometry.
     np.testing.assert_allclose(top.xyz[0] * ANGSTROM_PER_NM, first * ANGSTROM_PER_NM, atol=PDB_PRECISION)
+
+
+def test_mdtraj_superpose_fails_on_small_marker_sets():
+    """Trap (ERRATA.md): mdtraj 1.11's `Trajectory.superpose` (float32 QCP)
+    prints "UNCONVERGED ROTATION MATRIX" and returns the identity for point
+    sets spanning about 0.1 nm or less, such as quatrot's markers (0.3 reduced
+    units are written as 0.3 Angstrom, which mdtraj reads as 0.03 nm); the same
+    sets scaled to 1 nm superpose fine. The SVD fit of quatrot's checks
+    recovers the rotations at any scale. If the first assertion starts
+    failing, mdtraj has been fixed and the trap row can go."""
+    rotations = Rotation.random(20, random_state=2)
+    top = md.Topology()
+    residue = top.add_residue("ROT", top.add_chain())
+    for name in "CONS":
+        top.add_atom(name, md.element.carbon, residue)
+
+    def misfit(length_nm: float) -> float:
+        body = np.vstack([np.zeros(3), length_nm * np.eye(3)])
+        xyz = np.stack([r.apply(body) for r in rotations]).astype(np.float32)
+        fitted = md.Trajectory(xyz, top).superpose(md.Trajectory(body[None].astype(np.float32), top))
+        recovered = superpose(body, xyz.astype(np.float64))
+        assert np.abs(recovered - rotations.as_matrix()).max() < 1e-5  # float32 input
+        return float(np.abs(fitted.xyz - body[None]).max()) / length_nm
+
+    assert misfit(MARKER_LENGTH / ANGSTROM_PER_NM) > 0.5  # identity returned: off by a marker length
+    assert misfit(1.0) < 1e-4  # float32 rounding
