@@ -145,16 +145,53 @@ def checks_for(system: str, rows: list[dict], dt: float) -> list[Check]:
     ]
 
 
+def plot(tables: list[tuple[str, list[dict]]], out_dir) -> "Path":
+    """Per system, one bar per configuration: |energy drift| / <K> per unit
+    time, global error and max |Q.Q'|; unstable configurations are marked."""
+    import matplotlib
+    import matplotlib.ticker
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    columns = [("drift", "|energy drift| / <K> per unit time"), ("global_error", "global error (rad)"), ("max_q_dot_q_dot", "max |Q.Q'|")]
+    fig, axes = plt.subplots(len(tables), len(columns), figsize=(14, 3.6 * len(tables)), squeeze=False)
+    for row_axes, (system, rows) in zip(axes, tables):
+        labels = [r["label"] for r in rows]
+        for ax, (key, title) in zip(row_axes, columns):
+            values = [abs(r[key]) if r[key] is not None and np.isfinite(r[key]) else np.nan for r in rows]
+            finite = [v for v in values if np.isfinite(v) and v > 0]
+            floor = min(finite) / 10 if finite else 1e-16
+            bars = [v if np.isfinite(v) and v > 0 else floor for v in values]
+            colors = ["tab:red" if not np.isfinite(v) else ("tab:blue" if r["label"] == LABEL_A else "tab:green") for v, r in zip(values, rows)]
+            ax.barh(range(len(rows)), bars, color=colors)
+            ax.set_xscale("log")
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            ax.set_yticks(range(len(rows)))
+            ax.set_yticklabels(labels if ax is row_axes[0] else [], fontsize=7)
+            ax.invert_yaxis()
+            ax.set_title(f"{system}: {title}", fontsize=8)
+    fig.text(0.01, 0.005, "red: not finite (unstable); blue: scheme A; green: scheme B variants", fontsize=7)
+    fig.tight_layout(rect=(0, 0.02, 1, 1))
+    path = out_dir / "gear_corrections.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def run(ctx: Context) -> list[Check]:
     systems = [("rotor in field", *rotor_in_field(ctx.quick))]
     if not ctx.quick:
         systems.append(("4x4x4 multipole lattice", *lattice(ctx.seed)))
-    checks = []
+    checks, tables = [], []
     report = ["# Scheme A against scheme B and its corrections\n"]
     for name, arrays, options in systems:
         rows = quatrot.gear_corrections_table(**arrays, **options)
         report.append(markdown(name, rows))
         checks += checks_for(name, rows, options["dt"])
+        tables.append((name, rows))
     ctx.out_dir.mkdir(parents=True, exist_ok=True)
     (ctx.out_dir / "gear_corrections.md").write_text("\n".join(report))
+    if not ctx.quick:
+        checks[0].plots.append(plot(tables, ctx.out_dir))
     return checks
