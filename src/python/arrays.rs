@@ -170,3 +170,20 @@ pub(crate) fn row_major(m: &Matrix3<f64>) -> [f64; 9] {
     out.copy_from_slice(t.as_slice());
     out
 }
+
+/// An optional argument that must be a single item of shape `item` (not a batch).
+pub(crate) fn single<'py>(
+    obj: Option<&Bound<'py, PyAny>>,
+    name: &'static str,
+    item: &[usize],
+) -> PyResult<Option<Items<'py>>> {
+    let Some(obj) = obj else { return Ok(None) };
+    let items = Items::new(obj, name, item)?;
+    if !common_len(&[&items])?.1 {
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected a single item of shape {}, not a batch",
+            shape_str(item)
+        )));
+    }
+    Ok(Some(items))
+}

@@ -2,31 +2,15 @@
 //! ([`crate::experiments::gear_corrections`]) on pinned multipolar rotors
 //! given as numpy arrays. Converts and checks the arrays, then delegates.
 
-use super::arrays::{common_len, Items};
+use super::arrays::{common_len, single, Items};
 use crate::experiments::gear_corrections::{correction_table, Settings, System};
 use crate::integrators::setup::{validate_setup, Moments};
 use crate::integrators::RotorState;
-use crate::potential::{Boundary, ExternalFields, MultipolePotential};
+use crate::potential::{ExternalFields, MultipolePotential};
 use crate::rotor::{Inertia, Rotor};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// An optional argument that must be a single item of shape `item`.
-fn single<'py>(
-    obj: Option<&Bound<'py, PyAny>>,
-    name: &'static str,
-    item: &[usize],
-) -> PyResult<Option<Items<'py>>> {
-    let Some(obj) = obj else { return Ok(None) };
-    let items = Items::new(obj, name, item)?;
-    if !common_len(&[&items])?.1 {
-        return Err(PyValueError::new_err(format!(
-            "{name}: expected a single item of shape {item:?}"
-        )));
-    }
-    Ok(Some(items))
-}
 
 /// The note's experiment: scheme A against scheme B with each correction.
 ///
@@ -76,18 +60,7 @@ fn gear_corrections_table<'py>(
     batch.extend(dipoles.iter().chain(quadrupoles.iter()));
     let (n, _) = common_len(&batch)?;
     let field = single(field, "field", &[3])?.map(|f| f.vector(0));
-    let boundary = match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
-        (Some(b), Some(cutoff)) => Boundary::Periodic {
-            box_lengths: b.vector(0),
-            cutoff,
-        },
-        (None, None) => Boundary::Open,
-        _ => {
-            return Err(PyValueError::new_err(
-                "box_lengths and cutoff: give both or neither",
-            ))
-        }
-    };
+    let boundary = super::potential::boundary(box_lengths, cutoff)?;
     let rotors: Vec<Rotor> = (0..n)
         .map(|i| {
             let m = moments.vector(i);

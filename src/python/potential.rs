@@ -1,6 +1,6 @@
 //! `quatrot.multipole_evaluate`: the point-multipole potential from numpy arrays.
 
-use super::arrays::{collect, common_len, Items};
+use super::arrays::{collect, common_len, single, Items};
 use crate::potential::{Boundary, ExternalFields, MultipolePotential, PotentialError};
 use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
@@ -15,24 +15,22 @@ impl From<PotentialError> for PyErr {
     }
 }
 
-/// An optional argument that must be a single item of shape `item`.
-fn single<'py>(
-    obj: Option<&Bound<'py, PyAny>>,
-    name: &'static str,
-    item: &[usize],
-) -> PyResult<Option<Items<'py>>> {
-    let Some(obj) = obj else { return Ok(None) };
-    let items = Items::new(obj, name, item)?;
-    if !common_len(&[&items])?.1 {
-        return Err(PyValueError::new_err(format!(
-            "{name}: expected one item of shape ({}), not a batch",
-            item.iter()
-                .map(|d| d.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
+/// Periodic boundaries when both `box_lengths` (a single 3-vector) and
+/// `cutoff` are given, open when neither is.
+pub(crate) fn boundary(
+    box_lengths: Option<&Bound<'_, PyAny>>,
+    cutoff: Option<f64>,
+) -> PyResult<Boundary> {
+    match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
+        (None, None) => Ok(Boundary::Open),
+        (Some(l), Some(cutoff)) => Ok(Boundary::Periodic {
+            box_lengths: l.vector(0),
+            cutoff,
+        }),
+        _ => Err(PyValueError::new_err(
+            "box_lengths, cutoff: give both for periodic boundaries, or neither for open",
+        )),
     }
-    Ok(Some(items))
 }
 
 /// Energy, eq 14 gradient `dV/dq` (n, 4) and space-frame torques (n, 3) of
@@ -86,18 +84,7 @@ fn multipole_evaluate<'py>(
         field: single(field, "field", &[3])?.map(|e| e.vector(0)),
         field_gradient: single(field_gradient, "field_gradient", &[3, 3])?.map(|g| g.matrix(0)),
     };
-    let boundary = match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
-        (None, None) => Boundary::Open,
-        (Some(l), Some(cutoff)) => Boundary::Periodic {
-            box_lengths: l.vector(0),
-            cutoff,
-        },
-        _ => {
-            return Err(PyValueError::new_err(
-                "box_lengths, cutoff: give both for periodic boundaries, or neither for open",
-            ))
-        }
-    };
+    let boundary = boundary(box_lengths, cutoff)?;
     let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
     let (energy, gradient, torques) = py.detach(|| -> Result<_, PotentialError> {
         let potential = MultipolePotential::new(&rotors, boundary, external)?;

@@ -26,7 +26,7 @@ def arrays(n=1):
         (dict(field=np.ones(2)), "field: expected shape (n, 3) or (3,), got (2,)"),
         (dict(field=np.ones((1, 3))), "field: expected a single item"),
         (dict(sites=np.zeros((1, 3), dtype=np.float32)), "sites: expected a numpy array of dtype float64"),
-        (dict(cutoff=1.0), "box_lengths and cutoff"),
+        (dict(cutoff=1.0), "box_lengths, cutoff: give both"),
         (dict(dt=0.0), "dt: must be finite and > 0"),
         (dict(inertia=np.array([[1.0, 0.0, 1.0]])), "moments of inertia must all be > 0"),
     ],

@@ -28,7 +28,7 @@ def test_head_to_tail_dipoles_closed_form():
         ({"dipoles_body": np.zeros((2, 4))}, ValueError, "dipoles_body: expected shape (n, 3) or (3,), got (2, 4)"),
         ({"quadrupoles_body": np.zeros((2, 3))}, ValueError, "quadrupoles_body: expected shape (n, 3, 3) or (3, 3), got (2, 3)"),
         ({"dipoles_body": np.zeros((2, 3), dtype=np.float32)}, TypeError, "dipoles_body: expected a numpy array of dtype float64"),
-        ({"field": np.zeros((2, 3))}, ValueError, "field: expected one item of shape (3), not a batch"),
+        ({"field": np.zeros((2, 3))}, ValueError, "field: expected a single item of shape (3,), not a batch"),
         ({"cutoff": 1.0}, ValueError, "box_lengths, cutoff: give both"),
         ({"box_lengths": np.array([4.0, 4, 4]), "cutoff": 3.0}, ValueError, "cutoff: must be <= half the smallest box length L/2 = 2, got 3"),
     ],
