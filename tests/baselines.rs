@@ -269,6 +269,32 @@ fn body_axis_sweep_is_not_exact_for_a_free_spherical_top() {
     assert!(angle > MIN_ERROR);
 }
 
+/// Reverses the angular velocities of `forward`'s final states, runs a fresh
+/// `name` integrator `steps` steps from there, and reverses them again: a
+/// time-reversible scheme returns to the states `forward` started from.
+fn run_back<P: Potential>(
+    name: &str,
+    forward: &AnyIntegrator,
+    inertia: &[Inertia],
+    p: &P,
+    dt: f64,
+    steps: usize,
+) -> Vec<RotorState> {
+    let reverse = |states: Vec<RotorState>| -> Vec<RotorState> {
+        states
+            .into_iter()
+            .map(|s| RotorState {
+                omega_body: -s.omega_body,
+                ..s
+            })
+            .collect()
+    };
+    let mut back = make(name);
+    back.setup(inertia, p, &reverse(forward.states()), dt);
+    back.run(p, steps);
+    reverse(back.states())
+}
+
 /// n steps forward, angular momenta reversed, n steps back: NO_SQUISH and DLM
 /// recover the start to round-off; Richardson (one-sided explicit update) does not.
 #[test]
@@ -283,25 +309,7 @@ fn time_reversibility() {
         let mut integ = make(name);
         integ.setup(&inertia, &p, &initial, dt);
         integ.run(&p, steps);
-        let reversed: Vec<RotorState> = integ
-            .states()
-            .into_iter()
-            .map(|s| RotorState {
-                omega_body: -s.omega_body,
-                ..s
-            })
-            .collect();
-        let mut back = make(name);
-        back.setup(&inertia, &p, &reversed, dt);
-        back.run(&p, steps);
-        let end: Vec<RotorState> = back
-            .states()
-            .into_iter()
-            .map(|s| RotorState {
-                omega_body: -s.omega_body,
-                ..s
-            })
-            .collect();
+        let end = run_back(name, &integ, &inertia, &p, dt, steps);
         let (dq, dw) = distance(&end, &initial);
         eprintln!("{name}: reversibility error: angle {dq:.3e} rad, omega {dw:.3e}");
         if name == "richardson" {
@@ -587,25 +595,7 @@ fn multipole_cluster_reversible_and_conserving() {
             integ.run(&p, 1);
             max_de = max_de.max((total_energy(&inertia, &p, &integ.states()) - e0).abs());
         }
-        let reversed: Vec<RotorState> = integ
-            .states()
-            .into_iter()
-            .map(|s| RotorState {
-                omega_body: -s.omega_body,
-                ..s
-            })
-            .collect();
-        let mut back = make(name);
-        back.setup(&inertia, &p, &reversed, dt);
-        back.run(&p, steps);
-        let end: Vec<RotorState> = back
-            .states()
-            .into_iter()
-            .map(|s| RotorState {
-                omega_body: -s.omega_body,
-                ..s
-            })
-            .collect();
+        let end = run_back(name, &integ, &inertia, &p, dt, steps);
         let (dq, dw) = distance(&end, &initial);
         let scale = kinetic_energy(&inertia, &initial).max(1.0);
         eprintln!(
