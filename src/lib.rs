@@ -19,6 +19,7 @@ pub mod experiments;
 pub mod integrators;
 pub mod lattice;
 pub mod observables;
+pub mod parallel;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;

@@ -3,6 +3,7 @@
 //! step, for the LAMMPS comparison (`validation/checks/lammps_dipoles.py`).
 
 use crate::integrators::{Dlm, Integrator, IntegratorError, RotorState, SphericalTops};
+use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
 use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
@@ -108,7 +109,7 @@ fn dlm_dipoles<'py>(
         SphericalTops::Exact
     };
     let samples = py
-        .detach(|| run(&moments, &potential, &initial, dt, steps, spherical))
+        .detach(|| on_worker(|| run(&moments, &potential, &initial, dt, steps, spherical)))
         .map_err(integrator_error)?;
     let out = PyDict::new(py);
     out.set_item("orientations", samples.orientations.into_pyarray(py))?;

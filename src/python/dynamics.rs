@@ -6,6 +6,7 @@ use super::arrays::{common_len, single, Items};
 use crate::experiments::gear_corrections::{correction_table, Settings, System};
 use crate::integrators::setup::{validate_setup, Moments};
 use crate::integrators::RotorState;
+use crate::parallel::on_worker;
 use crate::potential::{ExternalFields, MultipolePotential};
 use crate::rotor::{Inertia, Rotor};
 use pyo3::exceptions::PyValueError;
@@ -115,12 +116,14 @@ fn gear_corrections_table<'py>(
         sample_every,
     };
     let table = py.detach(|| {
-        let system = System {
-            potential: &potential,
-            inertia: &inertia,
-            initial: &initial,
-        };
-        correction_table(&system, &settings)
+        on_worker(|| {
+            let system = System {
+                potential: &potential,
+                inertia: &inertia,
+                initial: &initial,
+            };
+            correction_table(&system, &settings)
+        })
     });
     table
         .into_iter()

@@ -7,6 +7,7 @@ use crate::integrators::free_rotation::SphericalTops;
 use crate::integrators::{
     Dlm, FirstCorrector, GearA, GearAOptions, GearB, GearBOptions, NoSquish, Richardson, Startup,
 };
+use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use crate::scene::{
     BoundaryChoice, GearBC0, GearStartup, IntegratorChoice, Scene, SphericalTopRotation,
@@ -45,12 +46,7 @@ pub fn execute(
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
-    // The whole run executes on a worker of rayon's pool, so that each
-    // evaluation's parallel loops start from inside the pool. Started from an
-    // outside thread, every loop is handed over to the pool and waited for
-    // (two context switches each): a quarter of the time of a 1000-rotor
-    // lattice step on one thread.
-    rayon::scope(|_| match potential(scene)? {
+    on_worker(|| match potential(scene)? {
         None => with_integrator(scene, definition, &Free, outputs, restart, progress),
         Some(p) => with_integrator(scene, definition, &p, outputs, restart, progress),
     })
