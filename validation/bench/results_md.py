@@ -198,10 +198,11 @@ def _scaling(scaling) -> list[str]:
     def exponents(key: str) -> str:
         return ", ".join(f"{t} thread(s) {_g(e)}" for t, e in fit[key].items())
 
+    per_rotor = ", ".join(sorted({_g(r["pairs"] / r["rotors"], 3) for r in rows}))
     lines += [
         "",
-        "Every size has the full cutoff sphere (61 pairs per rotor): below 7^3 rotors the cutoff exceeds half the box, "
-        "and the lattice sum runs over several images of a pair and over each rotor's own images. "
+        f"Pairs per rotor: {per_rotor} (the whole cutoff sphere at every size: below 7^3 rotors the cutoff exceeds half the box, "
+        "and the lattice sum runs over several images of a pair and over each rotor's own images). "
         "Fitted exponent of time per step against N (1 = linear): all sizes, "
         + exponents("exponent")
         + f"; N >= {fit.get('large_n', 1000)}, "
