@@ -125,7 +125,8 @@ impl ImageGrid {
     }
 
     /// The images `(j, n)` with `j > i`, or `j == i` and `n` lexicographically
-    /// positive, within the cutoff of site `i`, sorted by `(j, n)`.
+    /// positive, within the cutoff of site `i`, by ascending `j` (the images
+    /// of one partner in scan order).
     fn row(&self, i: usize, out: &mut Vec<Image>) {
         out.clear();
         let [kx, ky, kz] = self.reach;
@@ -144,8 +145,10 @@ impl ImageGrid {
                     let positive_shift = n > [0; 3];
                     let members = &self.members
                         [(cell[0] * self.cells[1] + cell[1]) * self.cells[2] + cell[2]];
-                    for &j in members {
-                        if (j as usize) < i || (j as usize == i && !positive_shift) {
+                    // Members ascend: skip those before `i` at once.
+                    let after = members.partition_point(|&j| (j as usize) < i);
+                    for &j in &members[after..] {
+                        if j as usize == i && !positive_shift {
                             continue;
                         }
                         let offset = self.wrapped[j as usize] - from;
@@ -156,7 +159,7 @@ impl ImageGrid {
                 }
             }
         }
-        out.sort_unstable_by_key(|&(j, n, _)| (j, n));
+        out.sort_by_key(|&(j, _, _)| j);
     }
 }
 
