@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 /// The most interacting pairs (periodic images included) a pair list may
 /// hold: about 0.8 GB of pair indices, and it bounds the build time. The
 /// largest lattice a scene allows (1e6 sites) with cutoff 3.1 at unit
-/// density has about 6.2e7.
+/// density has about 6.1e7.
 pub const MAX_PAIRS: usize = 100_000_000;
 
 /// How site pairs are enumerated.
@@ -17,9 +17,10 @@ pub enum Boundary {
     Open,
     /// An orthorhombic periodic box of edges `box_lengths` (> 0, length unit
     /// of the scene, along x, y, z) and a spherical `cutoff` (> 0, any size):
-    /// the lattice sum `V = sum_{i<j} sum_n v(r_j - r_i + n L)
-    /// + 1/2 sum_i sum_{n != 0} v(n L)`, truncated at `|r| <= cutoff`, over
-    /// every image `n L` (`n` integer, `L` the box) inside the cutoff, so a
+    /// the lattice sum
+    /// `V = sum_{i<j} sum_n v(r_j - r_i + n L) + 1/2 sum_i sum_{n != 0} v(n L)`,
+    /// truncated at `|r| <= cutoff`, over every image `n L` (`n` integer,
+    /// `L` the box) inside the cutoff, so a
     /// pair may interact through several images and a rotor with its own
     /// images (a plain spherical cutoff: no Ewald sum, no shift, no tail
     /// correction). The cutoff is limited only by the size of the sum: about
