@@ -695,13 +695,23 @@ fn bad_inputs_name_the_problem() {
         box_lengths: Vector3::new(10.0, 8.0, 12.0),
         cutoff,
     };
-    assert_eq!(
-        err(
-            &[ok.clone(), far.clone()],
-            periodic(5.0),
-            ExternalFields::NONE
-        ),
-        "cutoff: must be <= half the smallest box length L/2 = 4, got 5"
+    // A cutoff beyond half the box is a lattice sum over images; one far
+    // beyond it would hold too many pairs.
+    assert!(MultipolePotential::new(
+        &[ok.clone(), far.clone()],
+        periodic(5.0),
+        ExternalFields::NONE
+    )
+    .is_ok());
+    let huge = err(
+        &[ok.clone(), far.clone()],
+        periodic(1e4),
+        ExternalFields::NONE,
+    );
+    assert!(
+        huge.starts_with("cutoff: 10000 gives about ")
+            && huge.ends_with(" interacting pairs (periodic images included) for 2 rotors, more than the limit 100000000"),
+        "{huge}"
     );
     assert_eq!(
         err(

@@ -16,7 +16,9 @@ impl From<PotentialError> for PyErr {
 }
 
 /// Periodic boundaries when both `box_lengths` (a single 3-vector) and
-/// `cutoff` are given, open when neither is.
+/// `cutoff` are given (the lattice sum over every image inside the cutoff,
+/// which may exceed half the box: see [`Boundary::Periodic`]), open when
+/// neither is.
 pub(crate) fn boundary(
     box_lengths: Option<&Bound<'_, PyAny>>,
     cutoff: Option<f64>,
@@ -39,7 +41,8 @@ pub(crate) fn boundary(
 /// `quadrupoles_body` (n, 3, 3, symmetric traceless), each optional (zero
 /// rows mean no multipole); optional uniform `field` (3,) and
 /// `field_gradient` (3, 3) with `[a, b] = dE_b/dr_a`; open boundaries, or
-/// periodic when `box_lengths` (3,) and `cutoff` are given. Reduced units,
+/// periodic when `box_lengths` (3,) and `cutoff` are given (every image
+/// within the cutoff, a rotor's own images included). Reduced units,
 /// 4 pi eps0 = 1.
 #[pyfunction]
 #[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None))]

@@ -49,11 +49,13 @@ pub struct Interactions {
     pub boundary: BoundaryChoice,
 }
 
-/// Open boundaries (all pairs) or periodic ones (minimum image, cutoff).
+/// Open boundaries (all pairs) or periodic ones (every image inside a
+/// spherical cutoff: see [`crate::potential::Boundary::Periodic`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum BoundaryChoice {
     Open,
-    /// The box is [`Scene::box_lengths`]; `cutoff` is at most half its smallest side.
+    /// The box is [`Scene::box_lengths`]; `cutoff` (> 0) may exceed half the
+    /// box (several images of a pair, and a rotor's own images, interact).
     Periodic {
         cutoff: f64,
     },

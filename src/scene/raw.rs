@@ -164,7 +164,7 @@ pub struct RawInteractions {
     pub boundary: RawBoundary,
 }
 
-/// Open (all pairs) or periodic (minimum image, spherical cutoff).
+/// Open (all pairs) or periodic (every image inside a spherical cutoff).
 #[derive(Debug, Clone, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum RawBoundary {

@@ -7,6 +7,7 @@ use super::model::*;
 use super::raw::*;
 use crate::integrators::RotorState;
 use crate::lattice::{Lattice, LatticeKind};
+use crate::potential::Boundary;
 use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
 use nalgebra::{Matrix3, Vector3};
@@ -416,17 +417,16 @@ fn interactions(
                 }
             };
             let cutoff = positive("interactions.boundary.cutoff", *cutoff)?;
-            let half = 0.5 * box_lengths.min();
-            if cutoff > half {
-                return Err(SceneError::field(
-                    "interactions.boundary.cutoff",
-                    format!(
-                        "must be <= half the smallest box length ({}), got {}",
-                        num(half),
-                        num(cutoff)
-                    ),
-                ));
+            // Any cutoff is a lattice sum over the images inside it; only its
+            // size is limited.
+            Boundary::Periodic {
+                box_lengths,
+                cutoff,
             }
+            .validate(rotors.len())
+            .map_err(|e| {
+                SceneError::field(format!("interactions.boundary.{}", e.what), e.problem)
+            })?;
             if matches!(raw_rotors, RawRotors::Sites(_)) {
                 check_inside_box(rotors, &box_lengths)?;
             }

@@ -16,6 +16,9 @@ TARGETS = (1e-4, 1e-6, 1e-8)
 ORDER_FLOOR = 1e-11
 # quatrot is asked to beat LAMMPS dipole/dlm's time by this factor at each target.
 LAMMPS_FACTOR = 10.0
+# Scaling exponents are also fitted from this many rotors on, where a step's
+# fixed cost (thread wake-up, loop set-up; a few microseconds) is small.
+SCALING_LARGE_N = 1000
 
 
 def single_reference(system: dict, time: float, orientation=None, omega_body=None) -> np.ndarray:
@@ -149,16 +152,28 @@ def stress_errors(stress: list[dict]) -> None:
         r["error"] = math.nan if r["failure"] or not r["final_orientations"] else rotation_angle(np.array(r["final_orientations"], dtype=float), cache[r["case"]])
 
 
+def _exponent(rows: list[dict], key: str) -> float | None:
+    """Least-squares slope of log(key) against log(N), or None below two sizes."""
+    if len(rows) < 2:
+        return None
+    n = np.log([r["rotors"] for r in rows])
+    return float(np.polyfit(n, np.log([r[key] for r in rows]), 1)[0])
+
+
 def scaling_fit(scaling: list[dict]) -> dict:
     """Per thread count, the exponent of time per step against N (1 =
-    linear), and the parallel efficiency t1 / (2 t2) per N."""
-    out = {"exponent": {}, "efficiency": {}}
+    linear), over all sizes and over N >= SCALING_LARGE_N (where the fixed
+    cost of a step no longer counts); the exponent of the pair-list build
+    time over N >= SCALING_LARGE_N; the parallel efficiency t1 / (2 t2) per N."""
+    out = {"exponent": {}, "exponent_large": {}, "large_n": SCALING_LARGE_N, "efficiency": {}}
     for threads in (1, 2):
         rows = [r for r in scaling if r["threads"] == threads]
-        if len(rows) > 1:
-            n = np.log([r["rotors"] for r in rows])
-            t = np.log([r["seconds_per_step"] for r in rows])
-            out["exponent"][threads] = float(np.polyfit(n, t, 1)[0])
+        for key, chosen in (("exponent", rows), ("exponent_large", [r for r in rows if r["rotors"] >= SCALING_LARGE_N])):
+            e = _exponent(chosen, "seconds_per_step")
+            if e is not None:
+                out[key][threads] = e
+    builds = [r for r in scaling if r["threads"] == 1 and r["rotors"] >= SCALING_LARGE_N and r["pair_list_seconds"] > 0]
+    out["build_exponent"] = _exponent(builds, "pair_list_seconds")
     t1 = {r["rotors"]: r["seconds_per_step"] for r in scaling if r["threads"] == 1}
     for r in scaling:
         if r["threads"] == 2 and r["rotors"] in t1:

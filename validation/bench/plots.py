@@ -65,19 +65,29 @@ def error_vs_dt(studies: list[dict], out: Path) -> Path:
 
 
 def scaling(rows: list[dict], out: Path) -> Path:
-    """Time per step against N, 1 and 2 threads, with the linear reference."""
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    """Time per step against N, 1 and 2 threads, with the linear reference;
+    and the pair-list build time against N."""
+    fig, (ax, build) = plt.subplots(1, 2, figsize=(11, 4.5))
     for threads, marker in ((1, "o"), (2, "s")):
         pts = sorted((r["rotors"], r["seconds_per_step"]) for r in rows if r["threads"] == threads)
         if pts:
             n, t = map(np.array, zip(*pts))
             ax.loglog(n, t, marker=marker, label=f"{threads} thread{'s' if threads > 1 else ''}")
             if threads == 1:
-                ax.loglog(n, t[0] * n / n[0], "k:", lw=0.8, label="linear in N")
+                ax.loglog(n, t[-1] * n / n[-1], "k:", lw=0.8, label="linear in N")
     ax.set_xlabel("rotors N (sc lattice, cutoff 3.1)")
     ax.set_ylabel("seconds per step (NO_SQUISH)")
     ax.grid(True, alpha=0.3)
     ax.legend()
+    pts = sorted((r["rotors"], r["pair_list_seconds"]) for r in rows if r["threads"] == 1 and r["pair_list_seconds"] > 0)
+    if pts:
+        n, t = map(np.array, zip(*pts))
+        build.loglog(n, t, marker="o", label="pair-list build")
+        build.loglog(n, t[-1] * n / n[-1], "k:", lw=0.8, label="linear in N")
+    build.set_xlabel("rotors N")
+    build.set_ylabel("seconds (once per potential)")
+    build.grid(True, alpha=0.3)
+    build.legend()
     fig.tight_layout()
     path = out / "scaling.png"
     fig.savefig(path, dpi=110)

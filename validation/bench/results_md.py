@@ -181,20 +181,36 @@ def _stress(rows) -> list[str]:
 
 
 def _scaling(scaling) -> list[str]:
-    lines = ["| N | pairs | threads | steps | s per step | ns per rotor-step | pair-list build s |", "|---|---|---|---|---|---|---|"]
-    for r in scaling["rows"]:
-        lines.append(
-            f"| {r['rotors']} | {r['pairs']} | {r['threads']} | {r['steps']} | {_g(r['seconds_per_step'])} | "
-            f"{_g(r['seconds_per_step'] / r['rotors'] * 1e9)} | {_g(r['pair_list_seconds'])} |"
-        )
+    rows = scaling["rows"]
     fit = scaling["fit"]
+    per_step = {(r["rotors"], r["threads"]): r["seconds_per_step"] for r in rows}
+    lines = [
+        "| cells | N | pairs per rotor | pair-list build s | steps | s per step, 1 thread | ns per rotor-step, 1 thread | s per step, 2 threads | 2-thread efficiency |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in (r for r in rows if r["threads"] == 1):
+        n = r["rotors"]
+        t2 = per_step.get((n, 2))
+        eff = fit["efficiency"].get(n)
+        lines.append(
+            f"| {r['cells']} | {n} | {_g(r['pairs'] / n, 3)} | {_g(r['pair_list_seconds'])} | {r['steps']} | {_g(r['seconds_per_step'])} | "
+            f"{_g(r['seconds_per_step'] / n * 1e9)} | {_g(t2) if t2 else '-'} | {_g(eff, 2) if eff else '-'} |"
+        )
+
+    def exponents(key: str) -> str:
+        return ", ".join(f"{t} thread(s) {_g(e)}" for t, e in fit[key].items())
+
+    per_rotor = ", ".join(sorted({_g(r["pairs"] / r["rotors"], 3) for r in rows}))
     lines += [
         "",
-        "Fitted exponent of time per step against N (1 = linear): "
-        + ", ".join(f"{t} thread(s): {_g(e)}" for t, e in fit["exponent"].items())
-        + ". Parallel efficiency on 2 threads, t1 / (2 t2): "
-        + ", ".join(f"N = {n}: {_g(e, 2)}" for n, e in fit["efficiency"].items())
-        + ".",
+        f"Pairs per rotor: {per_rotor} (the whole cutoff sphere at every size: below 7^3 rotors the cutoff exceeds half the box, "
+        "and the lattice sum runs over several images of a pair and over each rotor's own images). "
+        "Fitted exponent of time per step against N (1 = linear): all sizes, "
+        + exponents("exponent")
+        + f"; N >= {fit.get('large_n', 1000)}, "
+        + exponents("exponent_large")
+        + f". Pair-list build time against N (N >= {fit.get('large_n', 1000)}): exponent {_g(fit.get('build_exponent'))}. "
+        "2-thread efficiency is t1 / (2 t2) at the same N.",
     ]
     return lines
 

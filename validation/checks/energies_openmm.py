@@ -2,8 +2,8 @@
 
 The lattices are run as open-boundary clusters (all pairs on both sides):
 AmoebaMultipoleForce's only periodic method is PME, an Ewald sum, while
-quatrot's periodic boundary is a minimum-image sum truncated at a spherical
-cutoff; those are different Hamiltonians, so a periodic comparison would test
+quatrot's periodic boundary is a lattice sum truncated at a spherical
+cutoff (every image inside it, no Ewald sum); those are different Hamiltonians, so a periodic comparison would test
 the difference between them, not quatrot. Passing proves the energy the
 integrators conserve is the physical multipole energy at the configurations
 they visit (tensors, the quadrupole factor, body-to-space mapping of the

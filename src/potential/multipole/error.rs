@@ -3,7 +3,7 @@
 use thiserror::Error;
 
 /// An invalid potential definition. The message names the offending input and
-/// its value, e.g. `cutoff: must be <= half the smallest box length L/2 = 5, got 6`.
+/// its value, e.g. `cutoff: must be finite and > 0, got -1`.
 #[derive(Debug, Error, Clone, PartialEq)]
 #[error("{what}: {problem}")]
 pub struct PotentialError {

@@ -104,9 +104,11 @@ impl SiteFields {
 }
 
 /// Accumulates into `out` the fields of all pairs `(i, j)` with `i` in `rows`
-/// (both the field at `i` and at `j`). Dispatches once to a build of the loop
-/// for AVX and FMA when the CPU has them (four-lane dipole tensors then take
-/// one instruction per lane group); the results differ only by rounding.
+/// (both the field at `i` and at `j`; a periodic self pair `j == i` adds both
+/// ends to rotor `i`, as the derivative of the self term requires).
+/// Dispatches once to a build of the loop for AVX and FMA when the CPU has
+/// them (four-lane dipole tensors then take one instruction per lane group);
+/// the results differ only by rounding.
 pub(crate) fn accumulate_pair_fields<K: MultipoleKind>(
     pairs: &PairTable,
     rows: Range<usize>,

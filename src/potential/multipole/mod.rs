@@ -11,7 +11,7 @@ mod kernels;
 mod pairs;
 mod potential;
 
-pub use boundary::Boundary;
+pub use boundary::{Boundary, MAX_PAIRS};
 pub use error::PotentialError;
 pub use external::ExternalFields;
 pub use potential::MultipolePotential;

@@ -1,11 +1,20 @@
 //! The pair list and the pair geometry, computed once: sites never move.
 //!
-//! Pairs are stored once (`i < j`), grouped by `i` (CSR). Their geometry is
-//! kept in a table indexed by the distinct offsets `r_j - r_i`: on a periodic
-//! lattice all pairs with the same offset share one entry (122 entries serve
-//! the 61,000 pairs of the 10^3 simple-cubic lattice with cutoff 3.1), so the
-//! tables stay in the L1 cache.
+//! Each interacting pair is stored once, grouped by its first rotor `i` (CSR),
+//! with one entry per image inside the cutoff (periodic boxes: see
+//! [`Boundary::Periodic`] for the sum): `(i, j)` with `i < j` for every image
+//! `r_j - r_i + n L` within the cutoff, and `(i, i)` for every pair of
+//! opposite self images `±n L` (`n != 0`), once, which is the self term
+//! `1/2 sum_{n != 0} v(n L)` since `n` and `-n` give equal terms. The kernels
+//! add both ends of a pair to the rotors' fields, so a self pair adds both
+//! ends to rotor `i`, as the derivative of `v(n L)` in rotor `i` requires.
+//!
+//! The geometry is kept in a table indexed by the distinct offsets: on a
+//! periodic lattice all pairs with the same offset share one entry (122
+//! entries serve the 61,000 pairs of the 10^3 simple-cubic lattice with
+//! cutoff 3.1), so the tables stay in the L1 cache.
 
+use super::boundary::{too_many_pairs, MAX_PAIRS};
 use super::{Boundary, PotentialError};
 use nalgebra::Vector3;
 use std::collections::HashMap;
@@ -46,82 +55,119 @@ impl PairGeometry {
     }
 }
 
-/// Interacting pairs `i < j` in CSR form, with shared geometry.
+/// Interacting pairs `i <= j` (one entry per image) in CSR form, with shared geometry.
 #[derive(Clone, Debug)]
 pub(crate) struct PairTable {
     /// Pairs of rotor `i` are `start[i]..start[i + 1]`.
     pub start: Vec<usize>,
-    /// The partner `j > i` of each pair.
+    /// The partner `j >= i` of each pair (`j == i`: a self image, periodic only).
     pub partner: Vec<u32>,
     /// Index into `geometry` of each pair.
     pub geometry_index: Vec<u32>,
-    /// One entry per distinct offset.
+    /// One entry per distinct offset `r_j - r_i (+ n L)`.
     pub geometry: Vec<PairGeometry>,
 }
 
-/// Sites binned into cells at least `cutoff` wide (periodic boxes only), so
-/// that every partner within the cutoff lies in the 27 cells around a site's
-/// own: building the pair list costs O(n) instead of O(n^2).
-struct CellGrid {
+/// One interacting image found for a row: partner, image shift `n`, offset.
+type Image = (u32, [i64; 3], Vector3<f64>);
+
+/// Sites wrapped into a periodic box and binned into cells at least `cutoff`
+/// wide (one cell along an axis shorter than the cutoff). The cells within
+/// `reach` of a site's own, unwrapped across the box faces (cell index `u`
+/// is cell `u mod cells` shifted by `floor(u / cells)` boxes), hold each
+/// image of each site at most once and every image inside the cutoff, so one
+/// scan serves large boxes (27 cells, O(N)) and small ones (an image loop).
+struct ImageGrid {
     cells: [usize; 3],
+    reach: [i64; 3],
     box_lengths: Vector3<f64>,
+    cutoff: f64,
+    /// Sites wrapped into `[0, L)`.
+    wrapped: Vec<Vector3<f64>>,
+    /// Cell of each site.
+    home: Vec<[usize; 3]>,
     /// Site indices of each cell, ascending.
     members: Vec<Vec<u32>>,
 }
 
-impl CellGrid {
-    /// `None` when an axis has fewer than 3 cells (the 27 neighbours would
-    /// repeat): all pairs are then examined.
-    fn new(sites: &[Vector3<f64>], box_lengths: &Vector3<f64>, cutoff: f64) -> Option<Self> {
-        let cells = [0, 1, 2].map(|a| (box_lengths[a] / cutoff).floor() as usize);
-        if cells.iter().any(|&c| c < 3) {
-            return None;
+impl ImageGrid {
+    fn new(sites: &[Vector3<f64>], box_lengths: &Vector3<f64>, cutoff: f64) -> Self {
+        // At most N^(1/3) + 1 cells per axis: a tiny cutoff in a large box
+        // must not allocate many more cells than there are sites.
+        let most = (sites.len() as f64).cbrt().ceil() as usize + 1;
+        let cells = [0, 1, 2].map(|a| ((box_lengths[a] / cutoff).floor() as usize).clamp(1, most));
+        let reach = [0, 1, 2].map(|a| (cutoff * cells[a] as f64 / box_lengths[a]).ceil() as i64);
+        let wrapped: Vec<_> = sites
+            .iter()
+            .map(|s| s.zip_map(box_lengths, |x, l| x - l * (x / l).floor()))
+            .collect();
+        let home: Vec<_> = wrapped
+            .iter()
+            .map(|w| {
+                [0, 1, 2]
+                    .map(|a| ((w[a] / box_lengths[a] * cells[a] as f64) as usize).min(cells[a] - 1))
+            })
+            .collect();
+        let flat = |[x, y, z]: [usize; 3]| (x * cells[1] + y) * cells[2] + z;
+        let mut members = vec![Vec::new(); cells.iter().product()];
+        for (i, h) in home.iter().enumerate() {
+            members[flat(*h)].push(i as u32);
         }
-        let mut grid = CellGrid {
+        ImageGrid {
             cells,
+            reach,
             box_lengths: *box_lengths,
-            members: vec![Vec::new(); cells.iter().product()],
-        };
-        for (i, site) in sites.iter().enumerate() {
-            let cell = grid.flat(grid.cell_of(site));
-            grid.members[cell].push(i as u32);
+            cutoff,
+            wrapped,
+            home,
+            members,
         }
-        Some(grid)
     }
 
-    fn cell_of(&self, site: &Vector3<f64>) -> [usize; 3] {
-        [0, 1, 2].map(|a| {
-            let l = self.box_lengths[a];
-            let wrapped = site[a] - l * (site[a] / l).floor();
-            ((wrapped / l * self.cells[a] as f64) as usize).min(self.cells[a] - 1)
-        })
-    }
-
-    fn flat(&self, [x, y, z]: [usize; 3]) -> usize {
-        (x * self.cells[1] + y) * self.cells[2] + z
-    }
-
-    /// The sites `j > i` in the 27 cells around site `i`, ascending.
-    fn partners_after(&self, i: usize, site: &Vector3<f64>, out: &mut Vec<u32>) {
+    /// The images `(j, n)` with `j > i`, or `j == i` and `n` lexicographically
+    /// positive, within the cutoff of site `i`, by ascending `j` (the images
+    /// of one partner in scan order).
+    fn row(&self, i: usize, out: &mut Vec<Image>) {
         out.clear();
-        let home = self.cell_of(site);
-        for dx in 0..3 {
-            for dy in 0..3 {
-                for dz in 0..3 {
-                    let cell = [(dx, 0), (dy, 1), (dz, 2)]
-                        .map(|(d, a)| (home[a] + self.cells[a] + d - 1) % self.cells[a]);
-                    let members = &self.members[self.flat(cell)];
-                    out.extend(members.iter().filter(|&&j| j as usize > i));
+        let [kx, ky, kz] = self.reach;
+        let cut2 = self.cutoff * self.cutoff;
+        for dx in -kx..=kx {
+            for dy in -ky..=ky {
+                for dz in -kz..=kz {
+                    let unwrapped = [(dx, 0), (dy, 1), (dz, 2)].map(|(d, a)| {
+                        let (u, c) = (self.home[i][a] as i64 + d, self.cells[a] as i64);
+                        (u.rem_euclid(c) as usize, u.div_euclid(c))
+                    });
+                    let cell = unwrapped.map(|(c, _)| c);
+                    let n = unwrapped.map(|(_, n)| n);
+                    let shift = Vector3::from_fn(|a, _| n[a] as f64 * self.box_lengths[a]);
+                    let from = self.wrapped[i] - shift;
+                    let positive_shift = n > [0; 3];
+                    let members = &self.members
+                        [(cell[0] * self.cells[1] + cell[1]) * self.cells[2] + cell[2]];
+                    // Members ascend: skip those before `i` at once.
+                    let after = members.partition_point(|&j| (j as usize) < i);
+                    for &j in &members[after..] {
+                        if j as usize == i && !positive_shift {
+                            continue;
+                        }
+                        let offset = self.wrapped[j as usize] - from;
+                        if offset.norm_squared() <= cut2 {
+                            out.push((j, n, offset));
+                        }
+                    }
                 }
             }
         }
-        out.sort_unstable();
+        out.sort_by_key(|&(j, _, _)| j);
     }
 }
 
 impl PairTable {
-    /// Enumerates the interacting pairs (all of them when open; minimum image
-    /// within the cutoff when periodic). Coincident sites are an error.
+    /// Enumerates the interacting pairs: all pairs `i < j` when open; every
+    /// image within the cutoff when periodic (see the module doc). Coincident
+    /// sites (images included) and more than [`MAX_PAIRS`] periodic pairs are
+    /// errors.
     pub fn build(sites: &[Vector3<f64>], boundary: &Boundary) -> Result<Self, PotentialError> {
         let n = sites.len();
         if u32::try_from(n).is_err() {
@@ -141,23 +187,26 @@ impl PairTable {
             Boundary::Periodic {
                 box_lengths,
                 cutoff,
-            } => CellGrid::new(sites, &box_lengths, cutoff),
+            } => Some(ImageGrid::new(sites, &box_lengths, cutoff)),
             Boundary::Open => None,
         };
-        let mut candidates = Vec::new();
+        let mut row = Vec::new();
         for i in 0..n {
             table.start.push(table.partner.len());
             match &grid {
-                Some(grid) => grid.partners_after(i, &sites[i], &mut candidates),
+                Some(grid) => {
+                    grid.row(i, &mut row);
+                    if table.len() + row.len() > MAX_PAIRS {
+                        let count = format!("more than {}", table.len() + row.len());
+                        return Err(too_many_pairs(grid.cutoff, n, &count));
+                    }
+                }
                 None => {
-                    candidates.clear();
-                    candidates.extend(i as u32 + 1..n as u32);
+                    row.clear();
+                    row.extend((i + 1..n).map(|j| (j as u32, [0; 3], sites[j] - sites[i])));
                 }
             }
-            for j in candidates.iter().map(|&j| j as usize) {
-                let Some(offset) = boundary.interacting_offset(&sites[i], &sites[j]) else {
-                    continue;
-                };
+            for &(j, _, offset) in &row {
                 if offset.norm() <= OFFSET_RESOLUTION {
                     return Err(PotentialError::new(
                         format!("rotors[{i}].site and rotors[{j}].site"),
@@ -175,14 +224,13 @@ impl PairTable {
                 if index == next {
                     table.geometry.push(PairGeometry::new(&offset));
                 }
-                table.partner.push(j as u32);
+                table.partner.push(j);
                 table.geometry_index.push(index);
             }
         }
         table.start.push(table.partner.len());
         Ok(table)
     }
-
     /// Number of interacting pairs.
     pub fn len(&self) -> usize {
         self.partner.len()
@@ -216,45 +264,111 @@ impl PairTable {
 mod tests {
     use super::*;
 
-    /// The cell grid finds exactly the pairs of the all-pairs minimum-image
-    /// search, in the same order, for sites scattered inside and outside an
-    /// orthorhombic box.
-    #[test]
-    fn cell_grid_matches_all_pairs() {
-        let box_lengths = Vector3::new(7.0, 8.5, 9.3);
-        let boundary = Boundary::Periodic {
-            box_lengths,
-            cutoff: 2.3,
-        };
-        // A deterministic scatter, some sites one box length outside.
-        let sites: Vec<Vector3<f64>> = (0..300)
-            .map(|k| {
-                let t = k as f64;
-                let inside = Vector3::new(
-                    (t * 0.6180339887).fract() * 7.0,
-                    (t * 0.4142135623).fract() * 8.5,
-                    (t * 0.7320508075).fract() * 9.3,
-                );
-                inside + Vector3::new(7.0 * ((k % 3) as f64 - 1.0), 0.0, -9.3 * ((k % 2) as f64))
+    /// Offsets are compared on this grid (length unit): far finer than the
+    /// distinct offsets of the scatters below, far coarser than the round-off
+    /// of `unit / inv_r` (~1e-15).
+    const KEY_RESOLUTION: f64 = 1e-6;
+
+    type Found = Vec<(usize, usize, [i64; 3])>;
+
+    fn key(offset: &Vector3<f64>) -> [i64; 3] {
+        offset.map(|x| (x / KEY_RESOLUTION).round() as i64).into()
+    }
+
+    /// Every `(i, j, offset)` of the table, in table order.
+    fn table_entries(table: &PairTable) -> Found {
+        (0..table.start.len() - 1)
+            .flat_map(|i| {
+                (table.start[i]..table.start[i + 1]).map(move |p| {
+                    let g = &table.geometry[table.geometry_index[p] as usize];
+                    (i, table.partner[p] as usize, key(&(g.unit / g.inv_r)))
+                })
             })
-            .collect();
-        assert!(CellGrid::new(&sites, &box_lengths, 2.3).is_some());
-        let table = PairTable::build(&sites, &boundary).unwrap();
-        let mut expected = Vec::new();
+            .collect()
+    }
+
+    /// The direct image loop over the unwrapped sites: `i < j` with every
+    /// shift, `i == j` with one of each `±n`, shifts up to `m` boxes.
+    fn image_loop(sites: &[Vector3<f64>], box_lengths: &Vector3<f64>, cutoff: f64) -> Found {
+        // Sites lie up to one box outside `[0, L)`: two more boxes of shifts.
+        let m = [0, 1, 2].map(|a| (cutoff / box_lengths[a]).ceil() as i64 + 2);
+        let mut out = Vec::new();
         for i in 0..sites.len() {
-            for j in i + 1..sites.len() {
-                if boundary.interacting_offset(&sites[i], &sites[j]).is_some() {
-                    expected.push((i, j));
+            for j in i..sites.len() {
+                for nx in -m[0]..=m[0] {
+                    for ny in -m[1]..=m[1] {
+                        for nz in -m[2]..=m[2] {
+                            let shift = [nx, ny, nz];
+                            let n = Vector3::new(nx as f64, ny as f64, nz as f64);
+                            let offset = sites[j] - sites[i] + n.component_mul(box_lengths);
+                            let counted = i < j || (shift > [0; 3]);
+                            if counted && offset.norm() <= cutoff {
+                                out.push((i, j, key(&offset)));
+                            }
+                        }
+                    }
                 }
             }
         }
-        let found: Vec<(usize, usize)> = (0..sites.len())
-            .flat_map(|i| {
-                let row = table.start[i]..table.start[i + 1];
-                table.partner[row].iter().map(move |&j| (i, j as usize))
+        out
+    }
+
+    /// A deterministic scatter in the box, some sites one box length outside.
+    fn scatter(count: usize, l: &Vector3<f64>) -> Vec<Vector3<f64>> {
+        (0..count)
+            .map(|k| {
+                let t = k as f64;
+                let inside = Vector3::new(
+                    (t * 0.6180339887).fract() * l.x,
+                    (t * 0.4142135623).fract() * l.y,
+                    (t * 0.7320508075).fract() * l.z,
+                );
+                inside + Vector3::new(l.x * ((k % 3) as f64 - 1.0), 0.0, -l.z * ((k % 2) as f64))
             })
-            .collect();
-        assert!(expected.len() > 1000);
-        assert_eq!(found, expected);
+            .collect()
+    }
+
+    /// The cell scan finds exactly the images of the direct image loop, rows
+    /// ascending in `j`, for a large box (27 cells, one image per pair), a
+    /// sparse box (cells capped, wider than the cutoff), a box smaller than
+    /// the cutoff (many images, self images) and a slab (one thin axis).
+    #[test]
+    fn image_grid_matches_the_direct_image_loop() {
+        for (box_lengths, cutoff, count, least_pairs) in [
+            (Vector3::new(7.0, 8.5, 9.3), 2.3, 300, 1000),
+            (Vector3::new(20.0, 21.0, 19.0), 2.0, 300, 100),
+            (Vector3::new(1.3, 1.7, 1.1), 2.9, 6, 500),
+            (Vector3::new(9.0, 8.0, 0.7), 1.9, 120, 1000),
+        ] {
+            let sites = scatter(count, &box_lengths);
+            let boundary = Boundary::Periodic {
+                box_lengths,
+                cutoff,
+            };
+            let table = PairTable::build(&sites, &boundary).unwrap();
+            let found = table_entries(&table);
+            assert!(found
+                .windows(2)
+                .all(|w| (w[0].0, w[0].1) <= (w[1].0, w[1].1)));
+            let mut found_sorted = found.clone();
+            found_sorted.sort_unstable();
+            let mut expected = image_loop(&sites, &box_lengths, cutoff);
+            expected.sort_unstable();
+            assert!(expected.len() > least_pairs, "{}", expected.len());
+            assert_eq!(found_sorted, expected, "box {box_lengths:?}");
+        }
+    }
+
+    /// A cutoff far beyond the box is refused by the estimated size of the
+    /// sum, before any pair is built (not by running out of memory).
+    #[test]
+    fn huge_cutoffs_are_refused_before_building() {
+        let boundary = Boundary::Periodic {
+            box_lengths: Vector3::repeat(1.0),
+            cutoff: 1e4,
+        };
+        let e = boundary.validate(1).unwrap_err();
+        assert_eq!(e.what, "cutoff");
+        assert!(e.problem.contains("more than the limit"), "{e}");
     }
 }

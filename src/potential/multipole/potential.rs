@@ -85,7 +85,7 @@ impl MultipolePotential {
         boundary: Boundary,
         external: ExternalFields,
     ) -> Result<MultipolePotential, PotentialError> {
-        boundary.validate()?;
+        boundary.validate(rotors.len())?;
         external.validate()?;
         for (i, rotor) in rotors.iter().enumerate() {
             validate_rotor(i, rotor)?;
