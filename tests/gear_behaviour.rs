@@ -8,11 +8,14 @@ use gear_common::cluster::cube;
 use gear_common::fixtures::{reference, Reference};
 use gear_common::*;
 use nalgebra::Vector3;
-use quatrot::integrators::{GearA, GearB, GearBOptions, Integrator, IntegratorError, RotorState};
+use quatrot::integrators::{
+    GearA, GearAOptions, GearB, GearBOptions, Integrator, IntegratorError, RotorState, Startup,
+};
 use quatrot::observables::{total_energy, total_kinetic_energy};
 use quatrot::potential::Potential;
 use quatrot::rotor::Inertia;
 use quatrot::Quat;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Expected global order of both schemes (see `gear_references.rs`).
 const GEAR_ORDER: f64 = 5.0;
@@ -259,4 +262,76 @@ fn bad_setup_is_an_error() {
     }
     check(GearA::default());
     check(GearB::default());
+}
+
+/// Torque evaluations of a consistent start-up, as documented in
+/// `src/integrators/startup.rs` (and quoted in RESULTS.md's text): two
+/// directions of 4 steps, 2 RK4 substeps of 4 stages each, plus the rates
+/// at t = 0.
+const CONSISTENT_STARTUP_EVALUATIONS: usize = 2 * 4 * 2 * 4 + 1;
+
+/// Counts the calls of the wrapped potential that compute forces.
+struct CountingForces<'a, P> {
+    inner: &'a P,
+    calls: AtomicUsize,
+}
+
+impl<P: Potential> Potential for CountingForces<'_, P> {
+    fn energy(&self, q: &[Quat]) -> f64 {
+        self.inner.energy(q)
+    }
+    fn accumulate_gradient(&self, q: &[Quat], g: &mut [Quat]) {
+        self.calls.fetch_add(1, Ordering::Relaxed);
+        self.inner.accumulate_gradient(q, g)
+    }
+    fn accumulate_torques(&self, q: &[Quat], t: &mut [Vector3<f64>]) {
+        self.calls.fetch_add(1, Ordering::Relaxed);
+        self.inner.accumulate_torques(q, t)
+    }
+    fn energy_and_gradient(&self, q: &[Quat], g: &mut [Quat]) -> f64 {
+        self.calls.fetch_add(1, Ordering::Relaxed);
+        self.inner.energy_and_gradient(q, g)
+    }
+}
+
+/// The consistent start-up of both schemes costs the documented number of
+/// force evaluations, the zero start-up one (the rates at t = 0), and each
+/// step one more; scheme B's setup adds one gradient for its `Q.N`
+/// diagnostic at t = 0.
+#[test]
+fn startup_costs_the_documented_force_evaluations() {
+    fn count<I: Integrator>(mut integrator: I, steps: usize) -> usize {
+        let (cluster, inertia, initial) = cube(true);
+        let counting = CountingForces {
+            inner: &cluster,
+            calls: AtomicUsize::new(0),
+        };
+        run(
+            &mut integrator,
+            &inertia,
+            &counting,
+            &initial,
+            0.05,
+            steps,
+            |_, _| {},
+        );
+        counting.calls.load(Ordering::Relaxed)
+    }
+    let steps = 3;
+    for startup in [Startup::Consistent, Startup::Zeros] {
+        let expected = match startup {
+            Startup::Consistent => CONSISTENT_STARTUP_EVALUATIONS,
+            Startup::Zeros => 1,
+        };
+        let a = GearA::new(GearAOptions {
+            startup,
+            ..Default::default()
+        });
+        let b = GearB::new(GearBOptions {
+            startup,
+            ..Default::default()
+        });
+        assert_eq!(count(a, steps), expected + steps, "A {startup:?}");
+        assert_eq!(count(b, steps), expected + 1 + steps, "B {startup:?}");
+    }
 }

@@ -233,7 +233,7 @@ def section(results: dict) -> str:
         "- Path measured: work-precision, stability, long and stress runs go through the user's path (validated scene -> "
         "`run::execute` -> the runner, nothing recorded for the timed repeats; a second, recording run of the same scene gives the "
         "energies, norms, final orientations and torque-evaluation count). Scaling is a kernel measurement (bare library API). "
-        "Times are loop times on 1 thread; the Gear schemes' consistent start-up (about 1025 torque evaluations, once per run) "
+        "Times are loop times on 1 thread; the Gear schemes' consistent start-up (65 torque evaluations once per run, plus one gradient in scheme B's setup) "
         "is excluded from them and included in the torque-evaluation counts.",
         "- Error measures: single rotors, the angle of the rotation between the final orientation and scipy DOP853 (rtol 1e-12) "
         "of the same equations; lattices, the largest angle between a rotor's body-z axis (its dipole or quadrupole axis: the "
