@@ -61,9 +61,12 @@ impl NoSquish {
     }
 }
 
-/// NO_SQUISH's half kick: `P += half * 2 Q*(0, A(Q) n_s)` (body torque, eq 6).
+/// NO_SQUISH's half kick: `P += half * 2 Q*(0, A(Q) n_s)` (body torque, eq 6),
+/// computed as `half * 2 |Q|^2 (0, n_s)*Q`: the same quaternion, since
+/// `(0, A(Q) n_s) = Q~*(0, n_s)*Q` (eq 9) and `Q*Q~ = |Q|^2` (eq 4), for one
+/// product instead of building `A(Q)`.
 fn kick(momentum: &mut Quat, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
-    *momentum += *q * Quat::pure(&q.space_to_body(torque_space)) * (2.0 * half);
+    *momentum += Quat::pure(torque_space) * *q * (2.0 * half * q.norm_squared());
 }
 
 impl Integrator for NoSquish {

@@ -50,12 +50,32 @@ impl MultipoleKind for DipolesAndQuadrupoles {
     const QUADRUPOLES: bool = true;
 }
 
+/// Four `f64` lanes (a 3-vector padded with a zero) aligned to 32 bytes, so
+/// that a four-lane load or store never straddles two cache lines (the pair
+/// loop ran about 10 % slower on unaligned field buffers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub(crate) struct Lanes(pub [f64; 4]);
+
+impl std::ops::Deref for Lanes {
+    type Target = [f64; 4];
+    fn deref(&self) -> &[f64; 4] {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for Lanes {
+    fn deref_mut(&mut self) -> &mut [f64; 4] {
+        &mut self.0
+    }
+}
+
 /// Space-frame multipoles of every rotor in one configuration; a vector is
 /// empty when the system has no multipole of that kind. Dipoles are padded
 /// to four lanes.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SpaceMultipoles {
-    pub dipoles: Vec<[f64; 4]>,
+    pub dipoles: Vec<Lanes>,
     pub quadrupoles: Vec<Matrix3<f64>>,
 }
 
@@ -63,7 +83,7 @@ pub(crate) struct SpaceMultipoles {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SiteFields {
     /// `E_i = -dV/dmu_i`.
-    pub field: Vec<[f64; 4]>,
+    pub field: Vec<Lanes>,
     /// `W_i = dV/dTheta_i` (symmetric).
     pub quadrupole_conjugate: Vec<Matrix3<f64>>,
 }
@@ -73,7 +93,7 @@ impl SiteFields {
     pub fn zeros<K: MultipoleKind>(n: usize) -> Self {
         SiteFields {
             field: if K::DIPOLES {
-                vec![[0.0; 4]; n]
+                vec![Lanes::default(); n]
             } else {
                 Vec::new()
             },
@@ -244,8 +264,8 @@ fn dipole_row<M: MulAdd>(
     partners: &[u32],
     geometry_index: &[u32],
     geometry: &[PairGeometry],
-    dipoles: &[[f64; 4]],
-    field: &mut [[f64; 4]],
+    dipoles: &[Lanes],
+    field: &mut [Lanes],
 ) {
     let mu_i = *mu_i;
     let (mut even, mut odd) = ([0.0; 4], [0.0; 4]);
@@ -358,7 +378,7 @@ mod tests {
         let pairs = PairTable::build(&sites, &Boundary::Open).unwrap();
         let multipoles = SpaceMultipoles {
             dipoles: (0..12)
-                .map(|k| [(k as f64).sin(), (k as f64).cos(), 0.3, 0.0])
+                .map(|k| Lanes([(k as f64).sin(), (k as f64).cos(), 0.3, 0.0]))
                 .collect(),
             quadrupoles: (0..12)
                 .map(|k| {
