@@ -88,17 +88,11 @@ impl Integrator for NoSquish {
     }
 
     fn step<P: Potential>(&mut self, potential: &P) {
+        let (substeps, spherical, dt) = (self.substeps.get(), self.spherical, self.state.dt);
         self.state.half_kick(kick);
-        let substeps = self.substeps.get();
-        let state = &mut self.state;
-        for ((q, p), i) in state
-            .orientation
-            .iter_mut()
-            .zip(&mut state.momentum)
-            .zip(&state.inertia)
-        {
-            free_flow(q, p, i, self.spherical, SWEEP_AXES, substeps, state.dt);
-        }
+        self.state.update(|q, p, i| {
+            free_flow(q, p, i, spherical, SWEEP_AXES, substeps, dt);
+        });
         self.state.evaluate_torques(potential);
         self.state.half_kick(kick);
     }
