@@ -425,4 +425,62 @@ mod tests {
         check(both::<Quadrupoles>(&pairs, &multipoles));
         check(both::<DipolesAndQuadrupoles>(&pairs, &multipoles));
     }
+
+    /// A self-image pair `(i, i)` with offset `n` (a rotor and its own
+    /// periodic image) gives rotor `i` the fields of both images, at `+n` and
+    /// at `-n`: the same as two ghost rotors carrying its multipoles there.
+    #[test]
+    fn self_image_pair_counts_both_images() {
+        // The two sums differ only in the order of additions.
+        const ROUNDING: f64 = 1e-14;
+        let n = Vector3::new(0.6, -1.1, 0.8);
+        let ghosts = PairTable::build(&[Vector3::zeros(), n, -n], &Boundary::Open).unwrap();
+        // Row 0 of the ghost table: partner 1 at +n (geometry 0), partner 2 at -n.
+        assert_eq!(ghosts.partner[..2], [1, 2]);
+        let self_pair = PairTable {
+            start: vec![0, 1],
+            partner: vec![0],
+            geometry_index: vec![ghosts.geometry_index[0]],
+            geometry: ghosts.geometry.clone(),
+        };
+        let theta = Matrix3::new(0.3, 0.2, -0.1, 0.2, -0.7, 0.4, -0.1, 0.4, 0.4);
+        let mu = Lanes([0.2, -0.5, 0.9, 0.0]);
+        let one = SpaceMultipoles {
+            dipoles: vec![mu],
+            quadrupoles: vec![theta],
+        };
+        let three = SpaceMultipoles {
+            dipoles: vec![mu; 3],
+            quadrupoles: vec![theta; 3],
+        };
+        fn check<K: MultipoleKind>(
+            self_pair: (&PairTable, &SpaceMultipoles),
+            ghosts: (&PairTable, &SpaceMultipoles),
+        ) {
+            let mut own = SiteFields::zeros::<K>(1);
+            pair_fields::<K, Separate>(self_pair.0, 0..1, self_pair.1, &mut own);
+            let mut reference = SiteFields::zeros::<K>(3);
+            pair_fields::<K, Separate>(ghosts.0, 0..3, ghosts.1, &mut reference);
+            if K::DIPOLES {
+                let (a, b) = (own.field[0], reference.field[0]);
+                let scale = b.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                assert!(scale > 0.1);
+                for k in 0..4 {
+                    assert!((a[k] - b[k]).abs() <= ROUNDING * scale, "{a:?} {b:?}");
+                }
+            }
+            if K::QUADRUPOLES {
+                let (a, b) = (
+                    own.quadrupole_conjugate[0],
+                    reference.quadrupole_conjugate[0],
+                );
+                assert!(b.amax() > 0.1);
+                assert!((a - b).amax() <= ROUNDING * b.amax(), "{a} {b}");
+            }
+        }
+        let args = ((&self_pair, &one), (&ghosts, &three));
+        check::<Dipoles>(args.0, args.1);
+        check::<Quadrupoles>(args.0, args.1);
+        check::<DipolesAndQuadrupoles>(args.0, args.1);
+    }
 }
