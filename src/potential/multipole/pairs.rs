@@ -15,7 +15,8 @@ const OFFSET_RESOLUTION: f64 = 1e-9;
 
 /// Geometry of one offset `r = r_j - r_i`. Laid out with the tensor first and
 /// aligned to 32 bytes, so that no four-lane column straddles two cache lines
-/// (unaligned columns made the dipole pair loop about 15 % slower).
+/// (unaligned columns made the dipole pair loop 5 to 15 % slower, depending
+/// on where the allocator placed the table).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 pub(crate) struct PairGeometry {
