@@ -70,15 +70,9 @@ impl Integrator for Dlm {
 
     fn step<P: Potential>(&mut self, potential: &P) {
         self.state.half_kick(kick);
-        let state = &mut self.state;
-        for ((q, l), i) in state
-            .orientation
-            .iter_mut()
-            .zip(&mut state.momentum)
-            .zip(&state.inertia)
-        {
-            free_flow(q, l, i, self.spherical, SWEEP_AXES, 1, state.dt);
-        }
+        let (spherical, dt) = (self.spherical, self.state.dt);
+        self.state
+            .update(|q, l, i| free_flow(q, l, i, spherical, SWEEP_AXES, 1, dt));
         self.state.evaluate_torques(potential);
         self.state.half_kick(kick);
     }

@@ -61,9 +61,12 @@ impl NoSquish {
     }
 }
 
-/// NO_SQUISH's half kick: `P += half * 2 Q*(0, A(Q) n_s)` (body torque, eq 6).
+/// NO_SQUISH's half kick: `P += half * 2 Q*(0, A(Q) n_s)` (body torque, eq 6),
+/// computed as `half * 2 |Q|^2 (0, n_s)*Q`: the same quaternion, since
+/// `(0, A(Q) n_s) = Q~*(0, n_s)*Q` (eq 9) and `Q*Q~ = |Q|^2` (eq 4), for one
+/// product instead of building `A(Q)`.
 fn kick(momentum: &mut Quat, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
-    *momentum += *q * Quat::pure(&q.space_to_body(torque_space)) * (2.0 * half);
+    *momentum += Quat::pure(torque_space) * *q * (2.0 * half * q.norm_squared());
 }
 
 impl Integrator for NoSquish {
@@ -85,17 +88,11 @@ impl Integrator for NoSquish {
     }
 
     fn step<P: Potential>(&mut self, potential: &P) {
+        let (substeps, spherical, dt) = (self.substeps.get(), self.spherical, self.state.dt);
         self.state.half_kick(kick);
-        let substeps = self.substeps.get();
-        let state = &mut self.state;
-        for ((q, p), i) in state
-            .orientation
-            .iter_mut()
-            .zip(&mut state.momentum)
-            .zip(&state.inertia)
-        {
-            free_flow(q, p, i, self.spherical, SWEEP_AXES, substeps, state.dt);
-        }
+        self.state.update(|q, p, i| {
+            free_flow(q, p, i, spherical, SWEEP_AXES, substeps, dt);
+        });
         self.state.evaluate_torques(potential);
         self.state.half_kick(kick);
     }

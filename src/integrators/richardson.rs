@@ -79,20 +79,14 @@ impl Integrator for Richardson {
 
     fn step<P: Potential>(&mut self, potential: &P) {
         self.state.half_kick(kick);
-        let state = &mut self.state;
-        let (dt, half) = (state.dt, 0.5 * state.dt);
-        for ((q, l), i) in state
-            .orientation
-            .iter_mut()
-            .zip(&state.momentum)
-            .zip(&state.inertia)
-        {
+        let (dt, half) = (self.state.dt, 0.5 * self.state.dt);
+        self.state.update(|q, l, i| {
             let w = omega_space(q, l, i);
             let q_full = euler(q, &w, dt);
             let q_half = euler(q, &w, half);
             let q_two = euler(&q_half, &omega_space(&q_half, l, i), half);
             *q = (q_two * 2.0 - q_full).try_normalize().unwrap_or(q_two);
-        }
+        });
         self.state.evaluate_torques(potential);
         self.state.half_kick(kick);
     }

@@ -50,12 +50,32 @@ impl MultipoleKind for DipolesAndQuadrupoles {
     const QUADRUPOLES: bool = true;
 }
 
+/// Four `f64` lanes (a 3-vector padded with a zero) aligned to 32 bytes, so
+/// that a four-lane load or store never straddles two cache lines (the pair
+/// loop ran about 10 % slower on unaligned field buffers).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub(crate) struct Lanes(pub [f64; 4]);
+
+impl std::ops::Deref for Lanes {
+    type Target = [f64; 4];
+    fn deref(&self) -> &[f64; 4] {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for Lanes {
+    fn deref_mut(&mut self) -> &mut [f64; 4] {
+        &mut self.0
+    }
+}
+
 /// Space-frame multipoles of every rotor in one configuration; a vector is
 /// empty when the system has no multipole of that kind. Dipoles are padded
 /// to four lanes.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SpaceMultipoles {
-    pub dipoles: Vec<[f64; 4]>,
+    pub dipoles: Vec<Lanes>,
     pub quadrupoles: Vec<Matrix3<f64>>,
 }
 
@@ -63,7 +83,7 @@ pub(crate) struct SpaceMultipoles {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SiteFields {
     /// `E_i = -dV/dmu_i`.
-    pub field: Vec<[f64; 4]>,
+    pub field: Vec<Lanes>,
     /// `W_i = dV/dTheta_i` (symmetric).
     pub quadrupole_conjugate: Vec<Matrix3<f64>>,
 }
@@ -73,7 +93,7 @@ impl SiteFields {
     pub fn zeros<K: MultipoleKind>(n: usize) -> Self {
         SiteFields {
             field: if K::DIPOLES {
-                vec![[0.0; 4]; n]
+                vec![Lanes::default(); n]
             } else {
                 Vec::new()
             },
@@ -246,8 +266,8 @@ fn dipole_row<M: MulAdd>(
     partners: &[u32],
     geometry_index: &[u32],
     geometry: &[PairGeometry],
-    dipoles: &[[f64; 4]],
-    field: &mut [[f64; 4]],
+    dipoles: &[Lanes],
+    field: &mut [Lanes],
 ) {
     let mu_i = *mu_i;
     let (mut even, mut odd) = ([0.0; 4], [0.0; 4]);
@@ -360,7 +380,7 @@ mod tests {
         let pairs = PairTable::build(&sites, &Boundary::Open).unwrap();
         let multipoles = SpaceMultipoles {
             dipoles: (0..12)
-                .map(|k| [(k as f64).sin(), (k as f64).cos(), 0.3, 0.0])
+                .map(|k| Lanes([(k as f64).sin(), (k as f64).cos(), 0.3, 0.0]))
                 .collect(),
             quadrupoles: (0..12)
                 .map(|k| {
@@ -406,5 +426,63 @@ mod tests {
         check(both::<Dipoles>(&pairs, &multipoles));
         check(both::<Quadrupoles>(&pairs, &multipoles));
         check(both::<DipolesAndQuadrupoles>(&pairs, &multipoles));
+    }
+
+    /// A self-image pair `(i, i)` with offset `n` (a rotor and its own
+    /// periodic image) gives rotor `i` the fields of both images, at `+n` and
+    /// at `-n`: the same as two ghost rotors carrying its multipoles there.
+    #[test]
+    fn self_image_pair_counts_both_images() {
+        // The two sums differ only in the order of additions.
+        const ROUNDING: f64 = 1e-14;
+        let n = Vector3::new(0.6, -1.1, 0.8);
+        let ghosts = PairTable::build(&[Vector3::zeros(), n, -n], &Boundary::Open).unwrap();
+        // Row 0 of the ghost table: partner 1 at +n (geometry 0), partner 2 at -n.
+        assert_eq!(ghosts.partner[..2], [1, 2]);
+        let self_pair = PairTable {
+            start: vec![0, 1],
+            partner: vec![0],
+            geometry_index: vec![ghosts.geometry_index[0]],
+            geometry: ghosts.geometry.clone(),
+        };
+        let theta = Matrix3::new(0.3, 0.2, -0.1, 0.2, -0.7, 0.4, -0.1, 0.4, 0.4);
+        let mu = Lanes([0.2, -0.5, 0.9, 0.0]);
+        let one = SpaceMultipoles {
+            dipoles: vec![mu],
+            quadrupoles: vec![theta],
+        };
+        let three = SpaceMultipoles {
+            dipoles: vec![mu; 3],
+            quadrupoles: vec![theta; 3],
+        };
+        fn check<K: MultipoleKind>(
+            self_pair: (&PairTable, &SpaceMultipoles),
+            ghosts: (&PairTable, &SpaceMultipoles),
+        ) {
+            let mut own = SiteFields::zeros::<K>(1);
+            pair_fields::<K, Separate>(self_pair.0, 0..1, self_pair.1, &mut own);
+            let mut reference = SiteFields::zeros::<K>(3);
+            pair_fields::<K, Separate>(ghosts.0, 0..3, ghosts.1, &mut reference);
+            if K::DIPOLES {
+                let (a, b) = (own.field[0], reference.field[0]);
+                let scale = b.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+                assert!(scale > 0.1);
+                for k in 0..4 {
+                    assert!((a[k] - b[k]).abs() <= ROUNDING * scale, "{a:?} {b:?}");
+                }
+            }
+            if K::QUADRUPOLES {
+                let (a, b) = (
+                    own.quadrupole_conjugate[0],
+                    reference.quadrupole_conjugate[0],
+                );
+                assert!(b.amax() > 0.1);
+                assert!((a - b).amax() <= ROUNDING * b.amax(), "{a} {b}");
+            }
+        }
+        let args = ((&self_pair, &one), (&ghosts, &three));
+        check::<Dipoles>(args.0, args.1);
+        check::<Quadrupoles>(args.0, args.1);
+        check::<DipolesAndQuadrupoles>(args.0, args.1);
     }
 }

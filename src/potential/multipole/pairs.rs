@@ -22,8 +22,12 @@ use std::collections::HashMap;
 /// Offsets closer than this (length unit) share one geometry entry.
 const OFFSET_RESOLUTION: f64 = 1e-9;
 
-/// Geometry of one offset `r = r_j - r_i`.
+/// Geometry of one offset `r = r_j - r_i`. Laid out with the tensor first and
+/// aligned to 32 bytes, so that no four-lane column straddles two cache lines
+/// (unaligned columns made the dipole pair loop 5 to 15 % slower, depending
+/// on where the allocator placed the table).
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
 pub(crate) struct PairGeometry {
     /// Columns of the dipole-dipole tensor `T = (3 n n^T - I) / r^3`, padded to
     /// four lanes: the field at `i` of a dipole `mu` at `j` is `T mu`.

@@ -2,8 +2,8 @@
 //! the quaternions.
 
 use super::kernels::{
-    accumulate_pair_fields, Dipoles, DipolesAndQuadrupoles, MultipoleKind, Quadrupoles, SiteFields,
-    SpaceMultipoles,
+    accumulate_pair_fields, Dipoles, DipolesAndQuadrupoles, Lanes, MultipoleKind, Quadrupoles,
+    SiteFields, SpaceMultipoles,
 };
 use super::pairs::PairTable;
 use super::{Boundary, ExternalFields, PotentialError};
@@ -205,7 +205,7 @@ impl MultipolePotential {
                 .zip(&self.dipoles_body)
                 .map(|(q, mu_b)| {
                     let mu_s = q.space_to_body_matrix().tr_mul(mu_b);
-                    [mu_s.x, mu_s.y, mu_s.z, 0.0]
+                    Lanes([mu_s.x, mu_s.y, mu_s.z, 0.0])
                 })
                 .collect();
         }
