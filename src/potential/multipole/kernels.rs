@@ -156,14 +156,14 @@ fn pair_fields_avx_fma<K: MultipoleKind>(
 }
 
 /// `a * b + c`, fused into one rounding or not.
-trait MulAdd {
+pub(crate) trait MulAdd {
     fn mul_add(a: f64, b: f64, c: f64) -> f64;
 }
 /// Separate multiply and add (no FMA instruction available).
-struct Separate;
+pub(crate) struct Separate;
 /// One fused multiply-add (only where the FMA instruction is enabled).
 #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
-struct Fused;
+pub(crate) struct Fused;
 impl MulAdd for Separate {
     #[inline(always)]
     fn mul_add(a: f64, b: f64, c: f64) -> f64 {
@@ -188,7 +188,7 @@ fn add_tensor_times<M: MulAdd>(acc: &mut [f64; 4], t: &[[f64; 4]; 3], mu: &[f64;
 }
 
 #[inline(always)]
-fn pair_fields<K: MultipoleKind, M: MulAdd>(
+pub(crate) fn pair_fields<K: MultipoleKind, M: MulAdd>(
     pairs: &PairTable,
     rows: Range<usize>,
     multipoles: &SpaceMultipoles,

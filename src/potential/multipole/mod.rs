@@ -10,6 +10,7 @@ mod external;
 mod kernels;
 mod pairs;
 mod potential;
+mod row_quads;
 
 pub use boundary::{Boundary, MAX_PAIRS};
 pub use error::PotentialError;
