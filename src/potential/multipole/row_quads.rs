@@ -42,8 +42,10 @@ const NO_ROTOR: u32 = u32::MAX;
 /// the speed depends on it, not the result).
 const OFFSET_KEY_RESOLUTION: f64 = 1e-6;
 
-/// The six entries of a symmetric dipole tensor.
+/// The six entries of a symmetric dipole tensor (aligned so that none
+/// straddles two cache lines).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(64))]
 struct SymmetricTensor {
     xx: f64,
     yy: f64,
