@@ -220,19 +220,18 @@ impl RowQuads {
 
     /// The dipoles in component arrays, with the ghost copies.
     pub fn extend(&self, dipoles: &[Lanes]) -> ExtendedDipoles {
-        let sources = (0..self.rotors as u32).chain(self.ghosts.iter().copied());
-        let component = |c: usize| -> Vec<f64> {
-            sources
-                .clone()
-                .map(|j| dipoles.get(j as usize).map_or(0.0, |mu| mu[c]))
-                .chain([0.0; 3])
-                .collect()
-        };
-        ExtendedDipoles {
-            x: component(0),
-            y: component(1),
-            z: component(2),
+        let len = self.rotors + self.ghosts.len() + 3;
+        let (mut x, mut y, mut z) = (vec![0.0; len], vec![0.0; len], vec![0.0; len]);
+        let zero = Lanes::default();
+        let ghosts = self
+            .ghosts
+            .iter()
+            .map(|&j| dipoles.get(j as usize).unwrap_or(&zero));
+        let entries = x.iter_mut().zip(&mut y).zip(&mut z);
+        for (((x, y), z), mu) in entries.zip(dipoles.iter().chain(ghosts)) {
+            (*x, *y, *z) = (mu[0], mu[1], mu[2]);
         }
+        ExtendedDipoles { x, y, z }
     }
 
     /// Writes the pair field of the rows of quads `first_quad ..` into
