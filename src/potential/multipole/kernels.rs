@@ -18,7 +18,8 @@
 //! `1/2 sum_i (-mu_i.E_i + Theta_i:W_i)` and needs no work per pair.
 //!
 //! The kernels are generic over the multipole kinds present, so a dipole-only
-//! system never runs quadrupole code.
+//! system never runs quadrupole code. Dipole-only lattices use the kernel of
+//! [`super::row_quads`] instead, when it pays (decided at construction).
 
 use super::pairs::{PairGeometry, PairTable};
 use nalgebra::{Matrix3, Vector3};
