@@ -142,15 +142,17 @@ pub struct NordsieckChunk<'a, T, const N: usize> {
 }
 
 impl<T: GearValue, const N: usize> NordsieckChunk<'_, T, N> {
-    /// The Taylor predictor, in place, by the Pascal triangle.
+    /// The Taylor predictor, in place, by the Pascal triangle, one rotor at
+    /// a time (its `N` values stay in registers: one pass over memory).
     pub fn predict(&mut self) {
-        for j in 0..N - 1 {
-            for k in (j..N - 1).rev() {
-                let (lower, upper) = self.r.split_at_mut(k + 1);
-                for (a, b) in lower[k].iter_mut().zip(upper[0].iter()) {
-                    *a = *a + *b;
+        for i in 0..self.r[0].len() {
+            let mut r = self.rotor(i);
+            for j in 0..N - 1 {
+                for k in (j..N - 1).rev() {
+                    r[k] = r[k] + r[k + 1];
                 }
             }
+            self.set_rotor(i, &r);
         }
     }
 
