@@ -97,16 +97,16 @@ impl GearA {
             &self.torque_space[..],
             &self.moments[..],
         );
-        for_each_rotor_chunk(rotors, |(mut q, mut w, torque_space, moments)| {
+        for_each_rotor_chunk(rotors, |(mut q, mut omega_body, torque_space, moments)| {
             for i in 0..moments.len() {
                 let q_i = q.r[0][i];
                 // (d): correct w_b with Euler's equations at the predicted values.
                 let n_b = torque_body(&q_i, &torque_space[i]);
-                let w_dot = K::omega_dot_body(&moments[i], &w.r[0][i], &n_b);
-                let delta_w = w_dot * h - w.r[1][i];
-                w.correct(i, &FIRST_ORDER_5, delta_w);
+                let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
+                let delta_w = w_dot * h - omega_body.r[1][i];
+                omega_body.correct(i, &FIRST_ORDER_5, delta_w);
                 // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
-                let q_dot = q_i.q_dot_from_omega_body(&w.r[0][i]);
+                let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
                 let delta_q = q_dot * h - q.r[1][i];
                 q.correct(i, &FIRST_ORDER_5, delta_q);
             }
