@@ -133,7 +133,7 @@ impl<T: GearValue, const N: usize> Nordsieck<T, N> {
 }
 
 /// The scaled derivatives of a run of consecutive rotors, borrowed from a
-/// [`Nordsieck`] (rotor `i` here is rotor `start + i` there): the Gear
+/// [`Nordsieck`] (index `i` here is the run's `i`-th rotor): the Gear
 /// recursions on one task's share of the rotors.
 #[derive(Debug)]
 pub struct NordsieckChunk<'a, T, const N: usize> {
