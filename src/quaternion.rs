@@ -69,37 +69,44 @@ impl Quat {
     }
 
     /// The pure quaternion `(0, v)`, as `Omega = (0, w)` and `R = (0, r)` of the note.
+    #[inline]
     pub fn pure(v: &Vector3<f64>) -> Self {
         Quat([0.0, v.x, v.y, v.z])
     }
 
     /// The scalar part `q0`.
+    #[inline]
     pub fn scalar(&self) -> f64 {
         self.0[0]
     }
 
     /// The vector part `(q1, q2, q3)`.
+    #[inline]
     pub fn vector(&self) -> Vector3<f64> {
         Vector3::new(self.0[1], self.0[2], self.0[3])
     }
 
     /// The conjugate `(q0, -q)` (eq 3).
+    #[inline]
     pub fn conjugate(&self) -> Self {
         let [a, b, c, d] = self.0;
         Quat([a, -b, -c, -d])
     }
 
     /// The four-dimensional dot product `p0 q0 + p.q`.
+    #[inline]
     pub fn dot(&self, other: &Quat) -> f64 {
         self.0.iter().zip(other.0.iter()).map(|(a, b)| a * b).sum()
     }
 
     /// `|Q|^2 = q0^2 + q1^2 + q2^2 + q3^2` (eq 5).
+    #[inline]
     pub fn norm_squared(&self) -> f64 {
         self.dot(self)
     }
 
     /// `|Q|`.
+    #[inline]
     pub fn norm(&self) -> f64 {
         self.norm_squared().sqrt()
     }
@@ -175,21 +182,25 @@ impl Quat {
     }
 
     /// `Q' = 1/2 Q*(0, w_b)` (eq 10, body form).
+    #[inline]
     pub fn q_dot_from_omega_body(&self, omega_body: &Vector3<f64>) -> Quat {
         (*self * Quat::pure(omega_body)) * 0.5
     }
 
     /// `Q' = 1/2 (0, w_s)*Q` (eq 10, space form).
+    #[inline]
     pub fn q_dot_from_omega_space(&self, omega_space: &Vector3<f64>) -> Quat {
         (Quat::pure(omega_space) * *self) * 0.5
     }
 
     /// `w_b = 2 vec(Q~*Q')`, the inverse of eq 10 (body form) for unit `Q`.
+    #[inline]
     pub fn omega_body_from_q_dot(&self, q_dot: &Quat) -> Vector3<f64> {
         (self.conjugate() * *q_dot).vector() * 2.0
     }
 
     /// `w_s = 2 vec(Q'*Q~)`, the inverse of eq 10 (space form) for unit `Q`.
+    #[inline]
     pub fn omega_space_from_q_dot(&self, q_dot: &Quat) -> Vector3<f64> {
         (*q_dot * self.conjugate()).vector() * 2.0
     }
@@ -326,9 +337,14 @@ fn wrap_angle(a: f64) -> f64 {
     }
 }
 
+// The arithmetic below and the small methods above are `#[inline]`: called
+// from generic integrator code compiled in other codegen units, they were
+// otherwise not inlined (a call per quaternion addition in the predictor).
+
 /// The Hamilton product (corrected eq 2).
 impl Mul for Quat {
     type Output = Quat;
+    #[inline]
     fn mul(self, q: Quat) -> Quat {
         let [p0, p1, p2, p3] = self.0;
         let [q0, q1, q2, q3] = q.0;
@@ -343,6 +359,7 @@ impl Mul for Quat {
 
 impl Mul<f64> for Quat {
     type Output = Quat;
+    #[inline]
     fn mul(self, s: f64) -> Quat {
         Quat(self.0.map(|x| x * s))
     }
@@ -350,12 +367,14 @@ impl Mul<f64> for Quat {
 
 impl Add for Quat {
     type Output = Quat;
+    #[inline]
     fn add(self, o: Quat) -> Quat {
         Quat(std::array::from_fn(|i| self.0[i] + o.0[i]))
     }
 }
 
 impl AddAssign for Quat {
+    #[inline]
     fn add_assign(&mut self, o: Quat) {
         for (a, b) in self.0.iter_mut().zip(o.0) {
             *a += b;
@@ -365,6 +384,7 @@ impl AddAssign for Quat {
 
 impl Sub for Quat {
     type Output = Quat;
+    #[inline]
     fn sub(self, o: Quat) -> Quat {
         Quat(std::array::from_fn(|i| self.0[i] - o.0[i]))
     }
@@ -372,6 +392,7 @@ impl Sub for Quat {
 
 impl Neg for Quat {
     type Output = Quat;
+    #[inline]
     fn neg(self) -> Quat {
         Quat(self.0.map(|x| -x))
     }

@@ -7,8 +7,12 @@
 //! * **Correct** an equation of order `m` (1 or 2) with right-hand side `f`
 //!   evaluated at the predicted values: `delta = h^m/m! f - r_m`, then
 //!   `r_k <- r_k + c_k delta` with the coefficient tables below.
+//!
+//! Both act on each rotor on its own, so the schemes run them per chunk of
+//! rotors ([`NordsieckChunk`]) across the rayon pool.
 
 use super::checkpoint::{read_values, write_values, Components};
+use super::rotor_chunks::RotorChunk;
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 use std::ops::{Add, Mul};
@@ -73,23 +77,21 @@ impl<T: GearValue, const N: usize> Nordsieck<T, N> {
         self.r[0].is_empty()
     }
 
-    /// The Taylor predictor, in place, by the Pascal triangle.
-    pub fn predict(&mut self) {
-        for j in 0..N - 1 {
-            for k in (j..N - 1).rev() {
-                let (lower, upper) = self.r.split_at_mut(k + 1);
-                for (a, b) in lower[k].iter_mut().zip(&upper[0]) {
-                    *a = *a + *b;
-                }
-            }
+    /// All rotors as one chunk, for the per-rotor passes.
+    pub fn as_chunk(&mut self) -> NordsieckChunk<'_, T, N> {
+        NordsieckChunk {
+            r: self.r.each_mut().map(|r_k| r_k.as_mut_slice()),
         }
     }
 
-    /// The corrector for rotor `i`: `r_k <- r_k + c_k delta`.
+    /// The Taylor predictor for every rotor ([`NordsieckChunk::predict`]).
+    pub fn predict(&mut self) {
+        self.as_chunk().predict();
+    }
+
+    /// The corrector for rotor `i` ([`NordsieckChunk::correct`]).
     pub fn correct(&mut self, i: usize, coefficients: &[f64; N], delta: T) {
-        for (r_k, c_k) in self.r.iter_mut().zip(coefficients) {
-            r_k[i] = r_k[i] + delta * *c_k;
-        }
+        self.as_chunk().correct(i, coefficients, delta);
     }
 
     /// The `N` scaled derivatives of rotor `i`.
@@ -99,9 +101,7 @@ impl<T: GearValue, const N: usize> Nordsieck<T, N> {
 
     /// Overwrites the `N` scaled derivatives of rotor `i`.
     pub fn set_rotor(&mut self, i: usize, values: &[T; N]) {
-        for (r_k, v) in self.r.iter_mut().zip(values) {
-            r_k[i] = *v;
-        }
+        self.as_chunk().set_rotor(i, values);
     }
 
     /// The first `M <= N` scaled derivatives (a lower-order copy).
@@ -129,6 +129,67 @@ impl<T: GearValue, const N: usize> Nordsieck<T, N> {
         self.r
             .iter_mut()
             .fold(data, |rest, r_k| read_values(rest, r_k))
+    }
+}
+
+/// The scaled derivatives of a run of consecutive rotors, borrowed from a
+/// [`Nordsieck`] (index `i` here is the run's `i`-th rotor): the Gear
+/// recursions on one task's share of the rotors.
+#[derive(Debug)]
+pub struct NordsieckChunk<'a, T, const N: usize> {
+    /// `r[k][i] = h^k/k! x_i^(k)` for the rotors of the chunk.
+    pub r: [&'a mut [T]; N],
+}
+
+impl<T: GearValue, const N: usize> NordsieckChunk<'_, T, N> {
+    /// The Taylor predictor, in place, by the Pascal triangle, one rotor at
+    /// a time (its `N` values stay in registers: one pass over memory).
+    pub fn predict(&mut self) {
+        for i in 0..self.r[0].len() {
+            let mut r = self.rotor(i);
+            for j in 0..N - 1 {
+                for k in (j..N - 1).rev() {
+                    r[k] = r[k] + r[k + 1];
+                }
+            }
+            self.set_rotor(i, &r);
+        }
+    }
+
+    /// The corrector for rotor `i`: `r_k <- r_k + c_k delta`.
+    pub fn correct(&mut self, i: usize, coefficients: &[f64; N], delta: T) {
+        for (r_k, c_k) in self.r.iter_mut().zip(coefficients) {
+            r_k[i] = r_k[i] + delta * *c_k;
+        }
+    }
+
+    /// The `N` scaled derivatives of rotor `i`.
+    pub fn rotor(&self, i: usize) -> [T; N] {
+        std::array::from_fn(|k| self.r[k][i])
+    }
+
+    /// Overwrites the `N` scaled derivatives of rotor `i`.
+    pub fn set_rotor(&mut self, i: usize, values: &[T; N]) {
+        for (r_k, v) in self.r.iter_mut().zip(values) {
+            r_k[i] = *v;
+        }
+    }
+}
+
+impl<T: Send, const N: usize> RotorChunk for NordsieckChunk<'_, T, N> {
+    fn rotors(&self) -> usize {
+        self.r[0].len()
+    }
+
+    /// Every `r_k` cut at `mid`.
+    fn split_at_rotor(self, mid: usize) -> (Self, Self) {
+        let mut left = self.r;
+        let right = std::array::from_fn(|k| {
+            let (head, tail) = std::mem::take(&mut left[k]).split_at_mut(mid);
+            left[k] = head;
+            tail
+        });
+        (NordsieckChunk { r: left }, NordsieckChunk { r: right })
     }
 }
 

@@ -5,10 +5,11 @@
 //! variable, its kick and its orientation update.
 //!
 //! The per-rotor passes run over chunks of rotors split across the rayon
-//! pool; each rotor's update reads only its own state, so results do not
-//! depend on the number of threads.
+//! pool (`rotor_chunks`); each rotor's update reads only its own state, so
+//! results do not depend on the number of threads.
 
 use super::checkpoint::{check_length, read_values, write_values, Components};
+use super::rotor_chunks::for_each_rotor_chunk;
 use super::setup::{validate_setup, Moments, ValidSetup};
 use super::torque::evaluate_torques;
 use super::{IntegratorError, RotorState};
@@ -16,11 +17,6 @@ use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
-use rayon::prelude::*;
-
-/// Rotors per rayon task in the per-rotor passes (fewer cost more in
-/// scheduling than a second thread saves).
-const ROTORS_PER_TASK: usize = 256;
 
 /// The per-rotor arrays of a kick-based baseline, sized once at setup.
 #[derive(Clone, Debug)]
@@ -84,30 +80,32 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
     /// Half kick: `kick(momentum, Q, n_s, dt/2)` for every rotor.
     pub fn half_kick(&mut self, kick: impl Fn(&mut M, &Quat, &Vector3<f64>, f64) + Sync) {
         let half = 0.5 * self.dt;
-        self.momentum
-            .par_chunks_mut(ROTORS_PER_TASK)
-            .zip(self.orientation.par_chunks(ROTORS_PER_TASK))
-            .zip(self.torque_space.par_chunks(ROTORS_PER_TASK))
-            .for_each(|((ps, qs), ns)| {
-                for ((p, q), n) in ps.iter_mut().zip(qs).zip(ns) {
-                    kick(p, q, n, half);
-                }
-            });
+        let rotors = (
+            &mut self.momentum[..],
+            &self.orientation[..],
+            &self.torque_space[..],
+        );
+        for_each_rotor_chunk(rotors, |(ps, qs, ns)| {
+            for ((p, q), n) in ps.iter_mut().zip(qs).zip(ns) {
+                kick(p, q, n, half);
+            }
+        });
     }
 
     /// `update(Q, momentum, moments)` for every rotor (the orientation
     /// update). A pass of its own: fused into the kick's pass, each rotor's
     /// chain of dependent operations grew and a NO_SQUISH step took 10 % longer.
     pub fn update(&mut self, update: impl Fn(&mut Quat, &mut M, &Vector3<f64>) + Sync) {
-        self.orientation
-            .par_chunks_mut(ROTORS_PER_TASK)
-            .zip(self.momentum.par_chunks_mut(ROTORS_PER_TASK))
-            .zip(self.inertia.par_chunks(ROTORS_PER_TASK))
-            .for_each(|((qs, ps), is)| {
-                for ((q, p), i) in qs.iter_mut().zip(ps).zip(is) {
-                    update(q, p, i);
-                }
-            });
+        let rotors = (
+            &mut self.orientation[..],
+            &mut self.momentum[..],
+            &self.inertia[..],
+        );
+        for_each_rotor_chunk(rotors, |(qs, ps, is)| {
+            for ((q, p), i) in qs.iter_mut().zip(ps).zip(is) {
+                update(q, p, i);
+            }
+        });
     }
 
     /// The torques at the current orientations.

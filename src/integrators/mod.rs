@@ -13,7 +13,9 @@
 //!   (`scheme_b`), built on the Nordsieck machinery of [`gear`], the Euler
 //!   equations of [`rigid_body`] and the start-up of [`startup`].
 //! * Shared pieces: [`setup`] (argument validation, all five), `torque` (torques into
-//!   a reused buffer, body-frame components) and [`checkpoint`] (flat layouts).
+//!   a reused buffer, body-frame components), [`checkpoint`] (flat layouts)
+//!   and `rotor_chunks` (per-rotor passes over fixed chunks of rotors across
+//!   the rayon pool, all five).
 
 pub mod checkpoint;
 mod dlm;
@@ -23,6 +25,7 @@ mod kick;
 mod no_squish;
 mod richardson;
 pub mod rigid_body;
+mod rotor_chunks;
 pub mod scheme_a;
 pub mod scheme_b;
 pub mod setup;

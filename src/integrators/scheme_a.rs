@@ -20,6 +20,7 @@
 use super::checkpoint::checkpoint_data;
 use super::gear::{Nordsieck, FIRST_ORDER_5};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::rotor_chunks::for_each_rotor_chunk;
 use super::startup::{start, GearStart, Startup};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
@@ -77,31 +78,44 @@ impl GearA {
         &self.options
     }
 
-    /// One step (a)-(f) of the note, monomorphised on the kind of top.
+    /// One step (a)-(f) of the note, monomorphised on the kind of top; the
+    /// per-rotor work runs over chunks of rotors across the rayon pool.
     fn step_with<K: TopKind, P: Potential>(&mut self, potential: &P) {
         let h = self.dt;
+        let renormalise = self.options.renormalise;
         // (a), (b): predict.
-        self.q.predict();
-        self.omega_body.predict();
+        let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
+        for_each_rotor_chunk(rotors, |(mut q, mut omega_body)| {
+            q.predict();
+            omega_body.predict();
+        });
         // (c): torque at the predicted Q.
         evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
-        for i in 0..self.moments.len() {
-            let q = self.q.r[0][i];
-            // (d): correct w_b with Euler's equations at the predicted values.
-            let n_b = torque_body(&q, &self.torque_space[i]);
-            let w_dot = K::omega_dot_body(&self.moments[i], &self.omega_body.r[0][i], &n_b);
-            let delta_w = w_dot * h - self.omega_body.r[1][i];
-            self.omega_body.correct(i, &FIRST_ORDER_5, delta_w);
-            // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
-            let q_dot = q.q_dot_from_omega_body(&self.omega_body.r[0][i]);
-            let delta_q = q_dot * h - self.q.r[1][i];
-            self.q.correct(i, &FIRST_ORDER_5, delta_q);
-        }
-        if self.options.renormalise {
-            for q in &mut self.q.r[0] {
-                *q = *q * (1.0 / q.norm());
+        let rotors = (
+            self.q.as_chunk(),
+            self.omega_body.as_chunk(),
+            &self.torque_space[..],
+            &self.moments[..],
+        );
+        for_each_rotor_chunk(rotors, |(mut q, mut omega_body, torque_space, moments)| {
+            for i in 0..moments.len() {
+                let q_i = q.r[0][i];
+                // (d): correct w_b with Euler's equations at the predicted values.
+                let n_b = torque_body(&q_i, &torque_space[i]);
+                let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
+                let delta_w = w_dot * h - omega_body.r[1][i];
+                omega_body.correct(i, &FIRST_ORDER_5, delta_w);
+                // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
+                let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
+                let delta_q = q_dot * h - q.r[1][i];
+                q.correct(i, &FIRST_ORDER_5, delta_q);
             }
-        }
+            if renormalise {
+                for q in q.r[0].iter_mut() {
+                    *q = *q * (1.0 / q.norm());
+                }
+            }
+        });
     }
 }
 

@@ -37,6 +37,7 @@
 use super::checkpoint::checkpoint_data;
 use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::rotor_chunks::for_each_rotor_chunk;
 use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
 use crate::observables;
@@ -172,46 +173,56 @@ impl GearB {
         &self.options
     }
 
-    /// One step (a)-(c) of the note plus the switched corrections.
+    /// One step (a)-(c) of the note plus the switched corrections; the
+    /// per-rotor work runs over chunks of rotors across the rayon pool.
     fn step_with<K: TopKind, P: Potential>(&mut self, potential: &P) {
         let h = self.dt;
         let opts = self.options;
+        let coefficients = &self.coefficients;
         // (a): predict.
-        self.q.predict();
+        for_each_rotor_chunk(self.q.as_chunk(), |mut q| q.predict());
         // (b): the unconstrained gradient (eq 14) at the predicted Q.
         self.gradient.fill(Quat::ZERO);
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
-        for i in 0..self.moments.len() {
-            let q = self.q.r[0][i];
-            let force = quaternion_force(&q, &self.gradient[i], opts.project_torque);
-            self.q_dot_force[i] = observables::norm_force(&q, &force);
-            let q_dot = self.q.r[1][i] * (1.0 / h);
-            let accel = q_ddot::<K>(&self.moments[i], &q, &q_dot, &force);
-            // (c): correct.
-            let delta = accel * (0.5 * h * h) - self.q.r[2][i];
-            self.q.correct(i, &self.coefficients, delta);
-        }
-        // The switched corrections, each rotor on its own, after the force
-        // loop (the same values as rotor by rotor inside it).
-        if opts.renormalise {
-            for q in &mut self.q.r[0] {
-                *q = *q * (1.0 / q.norm());
+        let rotors = (
+            self.q.as_chunk(),
+            &self.gradient[..],
+            &mut self.q_dot_force[..],
+            &self.moments[..],
+        );
+        for_each_rotor_chunk(rotors, |(mut q, gradient, q_dot_force, moments)| {
+            for i in 0..moments.len() {
+                let q_i = q.r[0][i];
+                let force = quaternion_force(&q_i, &gradient[i], opts.project_torque);
+                q_dot_force[i] = observables::norm_force(&q_i, &force);
+                let q_dot = q.r[1][i] * (1.0 / h);
+                let accel = q_ddot::<K>(&moments[i], &q_i, &q_dot, &force);
+                // (c): correct.
+                let delta = accel * (0.5 * h * h) - q.r[2][i];
+                q.correct(i, coefficients, delta);
             }
-        }
-        if opts.project_velocity || opts.correct_higher_derivatives {
-            for i in 0..self.q.len() {
-                let mut r = self.q.rotor(i);
-                if opts.project_velocity {
-                    enforce_norm_derivative(&mut r, 1);
+            // The switched corrections, each rotor on its own, after the
+            // force loop (the same values as rotor by rotor inside it).
+            if opts.renormalise {
+                for q in q.r[0].iter_mut() {
+                    *q = *q * (1.0 / q.norm());
                 }
-                if opts.correct_higher_derivatives {
-                    for k in 2..6 {
-                        enforce_norm_derivative(&mut r, k);
+            }
+            if opts.project_velocity || opts.correct_higher_derivatives {
+                for i in 0..moments.len() {
+                    let mut r = q.rotor(i);
+                    if opts.project_velocity {
+                        enforce_norm_derivative(&mut r, 1);
                     }
+                    if opts.correct_higher_derivatives {
+                        for k in 2..6 {
+                            enforce_norm_derivative(&mut r, k);
+                        }
+                    }
+                    q.set_rotor(i, &r);
                 }
-                self.q.set_rotor(i, &r);
             }
-        }
+        });
     }
 }
 
