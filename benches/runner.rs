@@ -13,6 +13,7 @@
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use quatrot::integrators::{Dlm, GearB, Integrator};
+use quatrot::parallel::on_worker;
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
 use quatrot::run::{run, EnergyReference, Observer, RunOptions, Scheduled, SeriesObserver};
@@ -86,12 +87,14 @@ fn cases(integrator_name: &str, energies_every: u64) -> [(String, Option<Series>
     ]
 }
 
-/// `steps` bare steps.
-fn bare<I: Integrator, P: Potential>(mut integrator: I, potential: &P, steps: u64) {
-    for _ in 0..steps {
-        integrator.step(potential);
-    }
-    black_box(integrator.orientations()[0]);
+/// `steps` bare steps, on a rayon worker as `run::execute` runs them.
+fn bare<I: Integrator + Send, P: Potential>(mut integrator: I, potential: &P, steps: u64) {
+    on_worker(|| {
+        for _ in 0..steps {
+            integrator.step(potential);
+        }
+        black_box(integrator.orientations()[0]);
+    });
 }
 
 /// The observer of `series`, writing CSV to `csv` (created outside the
@@ -101,8 +104,8 @@ fn observer(series: Option<&Series>, csv: &std::path::Path) -> Option<SeriesObse
 }
 
 /// The runner from `options.start_step` to `options.end_step`, feeding
-/// `observer` every `every` steps.
-fn through_runner<I: Integrator, P: Potential>(
+/// `observer` every `every` steps, on a rayon worker as `run::execute` runs it.
+fn through_runner<I: Integrator + Send, P: Potential>(
     mut integrator: I,
     mut observer: Option<SeriesObserver>,
     every: u64,
@@ -110,27 +113,29 @@ fn through_runner<I: Integrator, P: Potential>(
     options: &RunOptions,
     inertia: &[Inertia],
 ) {
-    let mut scheduled: Vec<Scheduled<'_>> = observer
-        .iter_mut()
-        .map(|o| Scheduled {
-            every,
-            observer: o as &mut dyn Observer,
-        })
-        .collect();
-    black_box(
-        run(
-            &mut integrator,
-            potential,
-            inertia,
-            &mut scheduled,
-            None,
-            options,
-        )
-        .expect("runs"),
-    );
+    on_worker(|| {
+        let mut scheduled: Vec<Scheduled<'_>> = observer
+            .iter_mut()
+            .map(|o| Scheduled {
+                every,
+                observer: o as &mut dyn Observer,
+            })
+            .collect();
+        black_box(
+            run(
+                &mut integrator,
+                potential,
+                inertia,
+                &mut scheduled,
+                None,
+                options,
+            )
+            .expect("runs"),
+        );
+    });
 }
 
-fn bench_system<I: Integrator + Clone, P: Potential>(
+fn bench_system<I: Integrator + Clone + Send, P: Potential>(
     c: &mut Criterion,
     group_name: &str,
     scene: &Scene,
@@ -171,7 +176,7 @@ fn bench_system<I: Integrator + Clone, P: Potential>(
 
 /// Runs the bare loop and the three runner cases in turn and prints the best
 /// time per step of each and the overhead over the bare loop.
-fn interleaved<I: Integrator + Clone, P: Potential>(
+fn interleaved<I: Integrator + Clone + Send, P: Potential>(
     group_name: &str,
     scene: &Scene,
     integrator: &I,

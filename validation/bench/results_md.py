@@ -191,7 +191,7 @@ def _scaling(scaling) -> list[str]:
     for r in (r for r in rows if r["threads"] == 1):
         n = r["rotors"]
         t2 = per_step.get((n, 2))
-        eff = fit["efficiency"].get(n)
+        eff = fit["efficiency"].get(str(n))  # JSON keys are strings
         lines.append(
             f"| {r['cells']} | {n} | {_g(r['pairs'] / n, 3)} | {_g(r['pair_list_seconds'])} | {r['steps']} | {_g(r['seconds_per_step'])} | "
             f"{_g(r['seconds_per_step'] / n * 1e9)} | {_g(t2) if t2 else '-'} | {_g(eff, 2) if eff else '-'} |"
