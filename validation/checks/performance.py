@@ -4,8 +4,9 @@ plot for the 1000-rotor dipole lattice; the largest stable steps, long runs,
 stress cases and scaling. The numbers come from the last `make bench`
 (`benchmarks/results.json`, section of `benchmarks/RESULTS.md`); this module
 does not time anything. It checks that the results file is complete, that its
-target-error table follows from its own runs, and the accuracy-only facts it
-records: the observed global order of the second-order baselines."""
+target-error table follows from its own runs, that the recorded runs meet
+issue 8's two targets against LAMMPS, and the accuracy-only facts it records:
+the observed global order of the second-order baselines."""
 
 from __future__ import annotations
 
@@ -22,6 +23,8 @@ SECTIONS = ("studies", "lammps", "stability", "long_runs", "stress", "scaling", 
 # the fitted slope over three halvings of dt is 2 up to higher-order terms.
 ORDER_TOL = 0.3
 SECOND_ORDER = ("NO_SQUISH", "DLM", "Richardson")
+# Issue 8: quatrot at least this many times faster than LAMMPS dipole/dlm.
+THROUGHPUT_RATIO = 10.0
 
 
 def _load() -> dict | None:
@@ -84,6 +87,7 @@ def run(ctx: Context) -> list[Check]:
             details="\n".join(f"- {b}" for b in bad),
         )
     )
+    checks += _issue_targets(results, versions)
     free = next((s for s in results["studies"] if s["scene"] == "free_asymmetric_top"), None)
     if free is not None:
         orders = {k: free["orders"].get(k) for k in SECOND_ORDER}
@@ -99,6 +103,39 @@ def run(ctx: Context) -> list[Check]:
             )
         )
     return checks
+
+
+def _issue_targets(results: dict, versions: dict) -> list[Check]:
+    """Issue 8's two targets, as the last `make bench` recorded them (no timing
+    here): the side-by-side throughput of every quatrot CLI run at least
+    THROUGHPUT_RATIO times LAMMPS dipole/dlm's per thread, and each target
+    error reached by quatrot in under 1/THROUGHPUT_RATIO of LAMMPS dipole/dlm's
+    time (measured, or extrapolated along LAMMPS's own error-cost line)."""
+    rates = (results["lammps"].get("side_by_side") or {}).get("rotor_steps_per_second", {})
+    lattice = next((s for s in results["studies"] if s["scene"] == "dipole_lattice_sc"), None)
+    if not rates or lattice is None or "LAMMPS dipole/dlm" not in rates:
+        return []
+    dlm = rates["LAMMPS dipole/dlm"]
+    ratios = {k: v / dlm for k, v in rates.items() if k.startswith("quatrot")}
+    speedups = {row["target"]: row.get("ratio_vs_dlm") for row in lattice["targets"]}
+    return [
+        Check(
+            name="throughput: quatrot CLI / LAMMPS dipole/dlm per thread, side by side (lattice)",
+            proves="Every quatrot CLI run (step loop and whole process, NO_SQUISH and scheme B) did at least 10x LAMMPS dipole/dlm's rotor-steps per second on one thread, in alternation in the last `make bench`.",
+            tolerance=0.0,
+            measured=max(0.0, THROUGHPUT_RATIO - min(ratios.values())),
+            references=versions,
+            details=", ".join(f"{k}: {v:.3g}x" for k, v in ratios.items()),
+        ),
+        Check(
+            name="work-precision: quatrot reaches each target error in < 1/10 of LAMMPS dipole/dlm's time (lattice)",
+            proves="For target errors 1e-4, 1e-6, 1e-8 the fastest quatrot run took under a tenth of LAMMPS dipole/dlm's time to reach the same error (LAMMPS's time extrapolated where it does not reach the target in the tested steps).",
+            tolerance=0.0,
+            measured=float(sum(1 for v in speedups.values() if v is None or v < THROUGHPUT_RATIO)),
+            references=versions,
+            details=", ".join(f"{t:g}: {v:.3g}x" if v else f"{t:g}: not reached" for t, v in speedups.items()),
+        ),
+    ]
 
 
 def _summary(results: dict) -> str:
