@@ -1,8 +1,10 @@
-//! The `quatrot` command line: `run`, `scenes` and `check`. A thin layer over
-//! [`crate::scene`] and [`crate::run`]; every user error becomes a message
-//! and an exit code, never a panic.
+//! The `quatrot` command line: `run`, `scenes`, `check` and `sweep`. A thin
+//! layer over [`crate::scene`] and [`crate::run`] (and, for `sweep`, over the
+//! Python package `quatrot.sweep`); every user error becomes a message and an
+//! exit code, never a panic.
 
 mod progress;
+mod sweep;
 
 use crate::run::{execute, potential, Outputs, Progress, RunResult, Stop};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
@@ -11,7 +13,7 @@ use progress::ProgressBarObserver;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
-/// Exit code of a scene or run error.
+/// Exit code of a scene or run error (and of a sweep that cannot start).
 const EXIT_ERROR: i32 = 2;
 /// Exit code of a run that blew up (its outputs are written and valid).
 const EXIT_BLOW_UP: i32 = 3;
@@ -58,6 +60,15 @@ enum Command {
         /// Built-in scene name or path to a .toml file.
         scene: String,
     },
+    /// Run a grid of scenes as Dask tasks: `python -m quatrot.sweep` with
+    /// these arguments (interpreter: $QUATROT_PYTHON, default python3; see
+    /// `quatrot sweep --help`).
+    #[command(disable_help_flag = true)]
+    Sweep {
+        /// Passed to `python -m quatrot.sweep` as they are.
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
 }
 
 /// Runs the command line and returns the process exit code.
@@ -93,6 +104,10 @@ pub fn main() -> i32 {
             };
             run(&scene, &overrides, out, restart)
         }
+        Command::Sweep { args } => match sweep::launch(&args) {
+            Ok(code) => code,
+            Err(e) => fail(&e),
+        },
     }
 }
 

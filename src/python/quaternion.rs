@@ -271,7 +271,8 @@ fn checked_rotation(m: &Items<'_>, i: usize, transpose: bool) -> PyResult<Quat> 
     })
 }
 
-/// Adds the submodule `quatrot.quaternion` (importable as such).
+/// Adds the submodule `quatrot._native.quaternion` (importable as such;
+/// `quatrot.quaternion` re-exports it).
 pub(crate) fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = parent.py();
     let m = PyModule::new(py, "quaternion")?;
@@ -298,6 +299,6 @@ pub(crate) fn register(parent: &Bound<'_, PyModule>) -> PyResult<()> {
     parent.add_submodule(&m)?;
     py.import("sys")?
         .getattr("modules")?
-        .set_item("quatrot.quaternion", &m)?;
+        .set_item("quatrot._native.quaternion", &m)?;
     Ok(())
 }

@@ -1,0 +1,174 @@
+"""Running a sweep's runs as Dask tasks and keeping its results table.
+
+Nothing lost, nothing repeated:
+
+* a run with a final status in the table (completed, blew up, scene error)
+  is not run again when the sweep is started again (resumed) with the same
+  threads per run; neither is one whose folder holds the `result.json` of a
+  finished attempt that the table missed (the sweep was killed in between);
+* a run that fails or blows up is a row with its status and error; the
+  other runs go on;
+* a worker that dies mid-run has its task retried on another worker by the
+  scheduler (up to `distributed.scheduler.allowed-failures` deaths; the
+  local cluster sets `ALLOWED_FAILURES`), from scratch in the run's folder;
+  past that the run is recorded as `failed` and retried on the next resume;
+* the table is rewritten atomically after each run.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import uuid
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+try:
+    import dask
+    import distributed
+except ImportError as e:  # the `sweep` extra is not installed
+    raise ImportError(
+        f"quatrot.sweep runs on Dask: install it with `pip install 'quatrot[sweep]'` ({e})"
+    ) from e
+
+from quatrot.sweep.plan import Run, expand
+from quatrot.sweep.table import FINISHED, NAME, Table
+from quatrot.sweep.task import RESULT_FILE, run_task
+
+#: Deaths of workers running the same task before the local cluster's
+#: scheduler gives up on it (Dask's default).
+ALLOWED_FAILURES = 3
+
+#: The folder, inside the sweep's, holding one folder per run.
+RUNS = "runs"
+
+
+@dataclass
+class Results:
+    """What a sweep call did: the table's path, its runs and their rows (in
+    the plan's order; cells as text, as in the file) and how many runs it
+    submitted (the others were finished already)."""
+
+    table: Path
+    runs: list[Run]
+    rows: list[dict[str, str]]
+    submitted: int
+
+    def unfinished(self) -> list[dict[str, str]]:
+        """The rows without a final status (run again on the next call)."""
+        return [r for r in self.rows if r["status"] not in FINISHED]
+
+
+def run(
+    scene: Any,
+    grid: Mapping[str, Iterable[Any]] | None = None,
+    cases: Iterable[Mapping[str, Any]] | None = None,
+    *,
+    out: str | os.PathLike,
+    client: distributed.Client | str | None = None,
+    workers: int | None = None,
+    threads_per_run: int = 1,
+    on_result: Callable[[Run, dict[str, str]], None] | None = None,
+) -> Results:
+    """Runs the sweep of `scene` over `grid` and `cases` (see
+    `quatrot.sweep.expand`) into the folder `out`: `out/runs/<id>/` holds
+    each run's outputs, `out/results.csv` the table. `client` is a
+    `distributed.Client` or a scheduler address; without one, a local
+    cluster of `workers` processes (default: cores / `threads_per_run`)
+    starts and stops with the call. Each run uses `threads_per_run` threads.
+    `on_result(run, row)` is called after each run is recorded. Runs already
+    finished in `out` are not run again."""
+    _positive("threads_per_run", threads_per_run)
+    if workers is not None:
+        _positive("workers", workers)
+        if client is not None:
+            raise ValueError("workers: only for the local cluster (not with a client or scheduler address)")
+    runs = expand(scene, grid, cases)
+    out = Path(out).resolve()
+    (out / RUNS).mkdir(parents=True, exist_ok=True)
+    table = Table(out / NAME)
+    order = [r.id for r in runs]
+    for r in runs:
+        _adopt_finished_attempt(table, r, out, threads_per_run)
+    table.write(order)
+    todo = [r for r in runs if not table.finished(r.id, threads_per_run)]
+    if todo:
+        n_workers = workers or max(1, (os.cpu_count() or 1) // threads_per_run)
+        with _connect(client, n_workers) as c:
+            _submit_and_record(c, todo, table, order, out, threads_per_run, on_result)
+    return Results(out / NAME, runs, [table.rows[i] for i in order], len(todo))
+
+
+def _positive(name: str, value: int) -> None:
+    if not isinstance(value, int) or value < 1:
+        raise ValueError(f"{name}: must be an integer >= 1, got {value!r}")
+
+
+def _outputs(run: Run) -> str:
+    return f"{RUNS}/{run.id}"
+
+
+def _adopt_finished_attempt(table: Table, run: Run, out: Path, threads: int) -> None:
+    """Records a finished attempt that the table missed (the sweep was killed
+    between the run's end and the table's next write)."""
+    if table.finished(run.id, threads):
+        return
+    try:
+        outcome = json.loads((out / _outputs(run) / RESULT_FILE).read_text())
+    except (OSError, ValueError):
+        return
+    if outcome.get("status") in FINISHED and outcome.get("threads") == threads:
+        table.record(run, {**outcome, "outputs": _outputs(run)})
+
+
+@contextlib.contextmanager
+def _connect(client: distributed.Client | str | None, workers: int) -> Iterator[distributed.Client]:
+    """The given client, a client of the scheduler at the given address, or
+    one of a local cluster started (and stopped) here."""
+    if isinstance(client, distributed.Client):
+        yield client
+    elif isinstance(client, str):
+        with distributed.Client(client) as c:
+            yield c
+    elif client is None:
+        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+            cluster = distributed.LocalCluster(
+                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+            )
+        with cluster, distributed.Client(cluster) as c:
+            yield c
+    else:
+        raise TypeError(f"client: expected a distributed.Client or a scheduler address, got {type(client).__name__}")
+
+
+def _submit_and_record(
+    client: distributed.Client,
+    todo: list[Run],
+    table: Table,
+    order: list[str],
+    out: Path,
+    threads: int,
+    on_result: Callable[[Run, dict[str, str]], None] | None,
+) -> None:
+    """Submits one task per run and records each outcome as it arrives."""
+    call = uuid.uuid4().hex[:8]  # keys unique to this call on a shared scheduler
+    futures = {
+        client.submit(
+            run_task, str(out / _outputs(r)), r.scene, threads, key=f"quatrot-run-{r.id}-{call}", pure=False
+        ): r
+        for r in todo
+    }
+    for future in distributed.as_completed(futures):
+        r = futures[future]
+        try:
+            outcome = future.result()
+        except Exception as e:  # the task raised outside the run, or its workers kept dying
+            outcome = {"status": "failed", "error": f"{type(e).__name__}: {e}", "threads": threads}
+        future.release()
+        row = table.record(r, {**outcome, "outputs": _outputs(r)})
+        table.write(order)
+        if on_result:
+            on_result(r, row)
