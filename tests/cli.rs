@@ -178,3 +178,83 @@ fn run_that_blows_up_exits_with_the_blow_up_code() {
     assert_eq!(out.status.code(), Some(EXIT_BLOW_UP));
     assert!(String::from_utf8_lossy(&out.stdout).contains("STOPPED: blew up at step"));
 }
+
+/// A stand-in interpreter at `dir/python`: a shell script with `body`.
+#[cfg(unix)]
+fn fake_python(dir: &Path, body: &str) -> std::path::PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let path = dir.join("python");
+    std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).expect("script");
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    path
+}
+
+fn sweep_with(python: &Path, args: &[&str]) -> Output {
+    Command::new(BIN)
+        .arg("sweep")
+        .args(args)
+        .env("QUATROT_PYTHON", python)
+        .output()
+        .expect("the binary runs")
+}
+
+/// `quatrot sweep ARGS` runs `$QUATROT_PYTHON -m quatrot.sweep ARGS`, every
+/// argument as given (`--help` included), after checking the import.
+#[cfg(unix)]
+#[test]
+fn sweep_hands_its_arguments_to_the_python_sweep() {
+    let dir = tempfile::tempdir().expect("dir");
+    let python = fake_python(dir.path(), r#"printf '%s\n' "$@""#);
+    let args = ["scene.toml", "--set", "run.dt=0.1,0.2", "--out", "a b", "--help"];
+    let out = sweep_with(&python, &args);
+    assert!(out.status.success(), "{out:?}");
+    let mut expected = vec!["-m", "quatrot.sweep"];
+    expected.extend(args);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout).lines().collect::<Vec<_>>(),
+        expected
+    );
+}
+
+/// The Python program's exit code is the launcher's.
+#[cfg(unix)]
+#[test]
+fn sweep_exits_with_the_python_sweeps_code() {
+    let dir = tempfile::tempdir().expect("dir");
+    let python = fake_python(dir.path(), r#"[ "$1" = "-m" ] && exit 1; exit 0"#);
+    assert_eq!(sweep_with(&python, &["x"]).status.code(), Some(1));
+}
+
+/// An interpreter that cannot start, or that lacks `quatrot.sweep`, is named
+/// in the message with the way out.
+#[cfg(unix)]
+#[test]
+fn sweep_explains_a_missing_interpreter_or_package() {
+    let dir = tempfile::tempdir().expect("dir");
+    let missing = dir.path().join("no_such_python");
+    let out = sweep_with(&missing, &["x"]);
+    assert_eq!(out.status.code(), Some(EXIT_ERROR));
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        message.starts_with(&format!(
+            "error: cannot start the Python interpreter `{}` (set QUATROT_PYTHON",
+            missing.display()
+        )),
+        "{message}"
+    );
+
+    let python = fake_python(
+        dir.path(),
+        "echo 'Traceback (most recent call last):' >&2\necho \"ModuleNotFoundError: No module named 'distributed'\" >&2\nexit 1",
+    );
+    let out = sweep_with(&python, &["x"]);
+    assert_eq!(out.status.code(), Some(EXIT_ERROR));
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        message.starts_with(&format!(
+            "error: `{}` cannot import quatrot.sweep: ModuleNotFoundError: No module named 'distributed'; install it with `pip install 'quatrot[sweep]'`",
+            python.display()
+        )),
+        "{message}"
+    );
+}

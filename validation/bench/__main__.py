@@ -106,7 +106,7 @@ def main(argv=None) -> int:
         "figures": {k: v.name for k, v in figures.items()},
     }
     results = _clean(results)
-    (args.out / "results.json").write_text(json.dumps(results, indent=1) + "\n")
+    results_md.update_json(args.out / "results.json", results)
     results_md.write_section(args.out / "RESULTS.md", results)
     print(f"wrote {args.out / 'results.json'} and the benchmark section of {args.out / 'RESULTS.md'}")
     return 0

@@ -4,6 +4,7 @@ by other benchmarks, are kept as they are)."""
 from __future__ import annotations
 
 import datetime
+import json
 import os
 import platform
 import subprocess
@@ -287,11 +288,24 @@ def section(results: dict) -> str:
 
 def write_section(path: Path, results: dict) -> None:
     """Replaces this benchmark's section (between its markers) or appends it."""
+    replace_section(path, BEGIN, END, section(results))
+
+
+def update_json(path: Path, results: dict) -> None:
+    """Writes `results`' top-level keys into the JSON file `path`, keeping the
+    keys of the other benchmarks (each owns its own keys)."""
+    merged = json.loads(path.read_text()) if path.exists() else {}
+    merged.update(results)
+    path.write_text(json.dumps(merged, indent=1) + "\n")
+
+
+def replace_section(path: Path, begin: str, end: str, new: str) -> None:
+    """Replaces the text from the line `begin` to the line `end` of `path` by
+    `new` (which starts with `begin` and ends with `end`), or appends it."""
     text = path.read_text() if path.exists() else "# Benchmark results\n"
-    new = section(results)
-    if BEGIN in text and END in text:
-        head, rest = text.split(BEGIN, 1)
-        tail = rest.split(END, 1)[1].lstrip("\n")
+    if begin in text and end in text:
+        head, rest = text.split(begin, 1)
+        tail = rest.split(end, 1)[1].lstrip("\n")
         text = head + new + ("\n" + tail if tail else "")
     else:
         text = text.rstrip("\n") + "\n\n" + new
