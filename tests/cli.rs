@@ -205,13 +205,22 @@ fn sweep_with(python: &Path, args: &[&str]) -> Output {
 fn sweep_hands_its_arguments_to_the_python_sweep() {
     let dir = tempfile::tempdir().expect("dir");
     let python = fake_python(dir.path(), r#"printf '%s\n' "$@""#);
-    let args = ["scene.toml", "--set", "run.dt=0.1,0.2", "--out", "a b", "--help"];
+    let args = [
+        "scene.toml",
+        "--set",
+        "run.dt=0.1,0.2",
+        "--out",
+        "a b",
+        "--help",
+    ];
     let out = sweep_with(&python, &args);
     assert!(out.status.success(), "{out:?}");
     let mut expected = vec!["-m", "quatrot.sweep"];
     expected.extend(args);
     assert_eq!(
-        String::from_utf8_lossy(&out.stdout).lines().collect::<Vec<_>>(),
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .collect::<Vec<_>>(),
         expected
     );
 }
