@@ -5,7 +5,8 @@ from the command line. Values are TOML literals (`0.01`, `true`, `"gear_b"`,
 
 Exit codes: 0 when every run has a final status (completed, blew up or scene
 error: see the table), 1 when some runs failed (lost workers, I/O; run the
-same command again to retry them), 2 for a bad command line or base scene.
+same command again to retry them), 2 for a bad command line or base scene,
+130 when interrupted (Ctrl-C; the table keeps what finished).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import argparse
 import re
 import sys
 import tomllib
+from pathlib import Path
 from typing import Any
 
 import quatrot
@@ -23,6 +25,7 @@ from quatrot.sweep.table import NAME, Table
 
 EXIT_UNFINISHED = 1
 EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
 
 _BARE_WORD = re.compile(r"[^\s\"'\[\]{},;=]+")
 
@@ -168,6 +171,9 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, quatrot.SceneError, OSError) as e:
         print(f"error: {e}", file=sys.stderr)
         return EXIT_USAGE
+    except KeyboardInterrupt:
+        print(f"interrupted: {Path(args.out) / NAME} holds the runs finished so far; the same command resumes", file=sys.stderr)
+        return EXIT_INTERRUPTED
     return _report(results, counter.done)
 
 
@@ -184,8 +190,6 @@ class _Progress:
 
 
 def _dry_run(runs: list[Run], args) -> int:
-    from pathlib import Path
-
     path = Path(args.out) / NAME
     table = Table(path) if path.exists() else None
     for r in runs:

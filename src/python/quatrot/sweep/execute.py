@@ -12,7 +12,8 @@ Nothing lost, nothing repeated:
   scheduler (up to `distributed.scheduler.allowed-failures` deaths; the
   local cluster sets `ALLOWED_FAILURES`), from scratch in the run's folder;
   past that the run is recorded as `failed` and retried on the next resume;
-* the table is rewritten atomically after each run.
+* the table is rewritten atomically after each run (or after each batch of
+  runs that finished while it was being written).
 """
 
 from __future__ import annotations
@@ -80,7 +81,9 @@ def run(
     cluster of `workers` processes (default: cores / `threads_per_run`)
     starts and stops with the call. Each run uses `threads_per_run` threads.
     `on_result(run, row)` is called after each run is recorded. Runs already
-    finished in `out` are not run again."""
+    finished in `out` are not run again. (A script that starts the local
+    cluster needs the `if __name__ == "__main__":` guard: its workers are
+    new Python processes.)"""
     _positive("threads_per_run", threads_per_run)
     if workers is not None:
         _positive("workers", workers)
@@ -153,7 +156,9 @@ def _submit_and_record(
     threads: int,
     on_result: Callable[[Run, dict[str, str]], None] | None,
 ) -> None:
-    """Submits one task per run and records each outcome as it arrives."""
+    """Submits one task per run and records the outcomes as they arrive, the
+    table rewritten once for the runs that finished since its last write
+    (one run each time, unless they finish faster than it is written)."""
     call = uuid.uuid4().hex[:8]  # keys unique to this call on a shared scheduler
     futures = {
         client.submit(
@@ -161,14 +166,19 @@ def _submit_and_record(
         ): r
         for r in todo
     }
-    for future in distributed.as_completed(futures):
-        r = futures[future]
-        try:
-            outcome = future.result()
-        except Exception as e:  # the task raised outside the run, or its workers kept dying
-            outcome = {"status": "failed", "error": f"{type(e).__name__}: {e}", "threads": threads}
-        future.release()
-        row = table.record(r, {**outcome, "outputs": _outputs(r)})
+    for batch in distributed.as_completed(futures).batches():
+        recorded = [(futures[f], table.record(futures[f], _outcome(f, threads, futures[f]))) for f in batch]
         table.write(order)
-        if on_result:
-            on_result(r, row)
+        for r, row in recorded:
+            if on_result:
+                on_result(r, row)
+
+
+def _outcome(future: distributed.Future, threads: int, run: Run) -> dict[str, Any]:
+    """The row of a finished task (and the future released)."""
+    try:
+        outcome = future.result()
+    except Exception as e:  # the task raised outside the run, or its workers kept dying
+        outcome = {"status": "failed", "error": f"{type(e).__name__}: {e}", "threads": threads}
+    future.release()
+    return {**outcome, "outputs": _outputs(run)}
