@@ -35,7 +35,7 @@ GRID = {
 }
 STEPS = 200
 #: Timed rounds (serial, 1 worker, 2 workers in turn); the best of each is kept.
-ROUNDS = 2
+ROUNDS = 3
 
 #: Run in a fresh interpreter: a worker-like process (quatrot, Dask and
 #: distributed imported) runs one scene as a task; its resident set before
@@ -66,20 +66,24 @@ def base_scene() -> dict:
     return quatrot.sweep.apply(scene, {"run.steps": STEPS, "record.energy_error_threshold": None})
 
 
-def serial(runs, folder: Path) -> float:
-    """The runs one after another in this process, as the tasks do them."""
-    start = time.perf_counter()
+def serial(runs, folder: Path) -> tuple[float, float]:
+    """The runs one after another in this process, as the tasks do them:
+    wall time, and the cores it had on average (CPU time / wall time)."""
+    start, cpu = time.perf_counter(), time.process_time()
     for r in runs:
         run_task(str(folder / r.id), r.scene, 1)
-    return time.perf_counter() - start
+    wall = time.perf_counter() - start
+    return wall, (time.process_time() - cpu) / wall
 
 
-def swept(scene: dict, client: distributed.Client, folder: Path) -> tuple[float, list[dict]]:
+def swept(scene: dict, client: distributed.Client, folder: Path) -> tuple[float, float, list[dict]]:
+    """The runs as a sweep: wall time, the cores its tasks had on average
+    (their CPU time / wall time), and the rows."""
     start = time.perf_counter()
     results = quatrot.sweep.run(scene, GRID, out=folder, client=client)
-    seconds = time.perf_counter() - start
+    wall = time.perf_counter() - start
     assert results.submitted == len(results.rows) and not results.unfinished()
-    return seconds, results.rows
+    return wall, sum(float(r["cpu_seconds"]) for r in results.rows) / wall, results.rows
 
 
 def memory() -> list[dict]:
@@ -106,6 +110,7 @@ def main(argv=None) -> int:
     scene = base_scene()
     runs = quatrot.sweep.expand(scene, GRID)
     times = {"serial": [], "1 worker": [], "2 workers": []}
+    cores = {k: [] for k in times}
     startup = {}
     work = Path(tempfile.mkdtemp(prefix="quatrot-sweep-bench-"))
     try:
@@ -118,10 +123,13 @@ def main(argv=None) -> int:
         idle = idle_worker_mib(clusters[2][1])
         for k in range(ROUNDS):
             print(f"round {k + 1}/{ROUNDS}: {len(runs)} runs serially, on 1 worker, on 2 workers ...", flush=True)
-            times["serial"].append(serial(runs, work / f"serial{k}"))
+            wall, used = serial(runs, work / f"serial{k}")
+            times["serial"].append(wall)
+            cores["serial"].append(used)
             for n, label in ((1, "1 worker"), (2, "2 workers")):
-                seconds, rows = swept(scene, clusters[n][1], work / f"sweep{n}-{k}")
-                times[label].append(seconds)
+                wall, used, rows = swept(scene, clusters[n][1], work / f"sweep{n}-{k}")
+                times[label].append(wall)
+                cores[label].append(used)
         for cluster, client in clusters.values():
             client.close()
             cluster.close()
@@ -139,6 +147,7 @@ def main(argv=None) -> int:
         "grid": GRID,
         "runs": len(runs),
         "seconds": times,
+        "cores_used": cores,
         "best_seconds": best,
         "mean_task_seconds": sum(task_seconds) / len(task_seconds),
         "overhead_per_run_seconds": (best["1 worker"] - best["serial"]) / len(runs),
@@ -169,12 +178,17 @@ def section(r: dict) -> str:
         f"over the grid {grid}; mean task time {r['mean_task_seconds'] * 1e3:.0f} ms (run, outputs, `result.json`). "
         f"Each way of running them is timed {len(r['seconds']['serial'])} times in turn; the best is kept.",
         "",
-        "| how | wall time (best) | all rounds | per run |",
-        "|---|---|---|---|",
+        "Cores used: the CPU time of the runs (of the serial process; of the tasks, from the table's `cpu_seconds`) over the wall "
+        "time, in each round: on an idle machine 1 for the serial loop and the 1-worker sweep and 2 for 2 workers; less when other "
+        "work shares the cores.",
+        "",
+        "| how | wall time (best) | all rounds | cores used, each round | per run |",
+        "|---|---|---|---|---|",
     ]
     for how, label in (("serial", "serially in one process (the task function in a loop)"), ("1 worker", "sweep, local cluster of 1 worker"), ("2 workers", "sweep, local cluster of 2 workers")):
         rounds = ", ".join(f"{s:.2f}" for s in r["seconds"][how])
-        lines.append(f"| {label} | {b[how]:.2f} s | {rounds} s | {b[how] / n * 1e3:.1f} ms |")
+        used = ", ".join(f"{c:.2f}" for c in r["cores_used"][how])
+        lines.append(f"| {label} | {b[how]:.2f} s | {rounds} s | {used} | {b[how] / n * 1e3:.1f} ms |")
     lines += [
         "",
         f"Parallel efficiency on 2 workers: serial / (2 x sweep) = **{r['efficiency_2_workers']:.2f}** "

@@ -33,7 +33,9 @@ FINISHED = frozenset({"completed", "blew_up", "scene_error"})
 HEAD = ("id", "status", "error")
 
 #: The columns after the overrides: what the run's summary says, then how
-#: and where it ran.
+#: and where it ran (`wall_seconds`: the run's loop; `task_seconds`: the
+#: whole task; `cpu_seconds`: the worker process's CPU time during the task,
+#: below `task_seconds x threads` when the cores are shared).
 TAIL = (
     "integrator",
     "rotors",
@@ -48,6 +50,7 @@ TAIL = (
     "drift_per_time",
     "wall_seconds",
     "task_seconds",
+    "cpu_seconds",
     "threads",
     "worker",
     "quatrot_version",

@@ -32,7 +32,7 @@ def run_task(run_dir: str, scene: dict[str, Any], threads: int) -> dict[str, Any
     if folder.exists():
         shutil.rmtree(folder)
     folder.mkdir(parents=True)
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), time.process_time()
     try:
         row = summary_row(quatrot.run(scene, out_dir=folder, threads=threads)["summary"])
     except quatrot.BlowUpError as e:
@@ -40,6 +40,7 @@ def run_task(run_dir: str, scene: dict[str, Any], threads: int) -> dict[str, Any
     except quatrot.SceneError as e:
         row = {"status": "scene_error", "error": str(e)}
     row["task_seconds"] = time.perf_counter() - start
+    row["cpu_seconds"] = time.process_time() - cpu_start
     row["threads"] = threads
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     write_json(folder / RESULT_FILE, row)
