@@ -161,3 +161,11 @@ def test_a_failed_write_leaves_the_previous_table(tmp_path: Path):
     assert [p.name for p in tmp_path.iterdir()] == ["results.csv"]
     rows = list(csv.DictReader(path.open()))
     assert rows[0]["run.dt"] == "0.01" and float(rows[0]["final_total_energy"]) == -0.5
+
+
+def test_without_dask_the_import_says_what_to_install():
+    code = "import sys; sys.modules['distributed'] = None; import quatrot.sweep"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 1
+    assert "ImportError: quatrot.sweep runs on Dask: install it with `pip install 'quatrot[sweep]'`" in out.stderr
+    subprocess.run([sys.executable, "-c", "import sys; sys.modules['distributed'] = None; import quatrot"], check=True)
