@@ -14,6 +14,7 @@
 //! * [`run`]: the runner, its observers and output files.
 //! * [`cli`]: the `quatrot` command line.
 
+pub mod checks;
 pub mod cli;
 pub mod experiments;
 pub mod integrators;

@@ -5,7 +5,10 @@
 //! differences, so the tests do not depend on the multipole module.
 
 use nalgebra::Vector3;
-use quatrot::integrators::{Dlm, Integrator, NoSquish, Richardson, RotorState, SphericalTops};
+use quatrot::integrators::{
+    Dlm, DlmOptions, Integrator, IntegratorSpec, NoSquish, NoSquishOptions, RichardsonOptions,
+    RotorState, SphericalTops,
+};
 use quatrot::potential::{Free, Potential};
 use quatrot::rotor::Inertia;
 use quatrot::Quat;
@@ -104,51 +107,42 @@ const BASELINES: [&str; 4] = ["no_squish/1", "no_squish/10", "dlm", "richardson"
 
 /// A fresh integrator by test name.
 fn make(name: &str) -> AnyIntegrator {
-    match name {
-        "no_squish/1" => AnyIntegrator::NoSquish(NoSquish::new(
-            NoSquish::SUBSTEPS_LAMMPS,
-            SphericalTops::Exact,
-        )),
-        "no_squish/10" => AnyIntegrator::NoSquish(NoSquish::new(
-            NoSquish::SUBSTEPS_DL_POLY,
-            SphericalTops::Exact,
-        )),
-        "dlm" => AnyIntegrator::Dlm(Dlm::new(SphericalTops::Exact)),
-        "richardson" => AnyIntegrator::Richardson(Richardson::new()),
+    let spec = match name {
+        "no_squish/1" => IntegratorSpec::NoSquish(NoSquishOptions {
+            substeps: NoSquishOptions::SUBSTEPS_LAMMPS,
+            spherical_tops: SphericalTops::Exact,
+        }),
+        "no_squish/10" => IntegratorSpec::NoSquish(NoSquishOptions {
+            substeps: NoSquishOptions::SUBSTEPS_DL_POLY,
+            spherical_tops: SphericalTops::Exact,
+        }),
+        "dlm" => IntegratorSpec::Dlm(DlmOptions {
+            spherical_tops: SphericalTops::Exact,
+        }),
+        "richardson" => IntegratorSpec::Richardson(RichardsonOptions {}),
         other => panic!("unknown test integrator {other}"),
-    }
-}
-
-/// The trait has generic methods, so the tests dispatch by hand.
-enum AnyIntegrator {
-    NoSquish(NoSquish),
-    Dlm(Dlm),
-    Richardson(Richardson),
-}
-
-macro_rules! dispatch {
-    ($self:expr, $i:ident => $body:expr) => {
-        match $self {
-            AnyIntegrator::NoSquish($i) => $body,
-            AnyIntegrator::Dlm($i) => $body,
-            AnyIntegrator::Richardson($i) => $body,
-        }
     };
+    AnyIntegrator(spec.build())
 }
+
+/// An integrator of any kind, built by [`IntegratorSpec::build`].
+struct AnyIntegrator(Box<dyn Integrator>);
 
 impl AnyIntegrator {
-    fn setup<P: Potential>(&mut self, inertia: &[Inertia], p: &P, initial: &[RotorState], dt: f64) {
-        dispatch!(self, i => i.setup(inertia, p, initial, dt)).expect("valid test setup");
+    fn setup(&mut self, inertia: &[Inertia], p: &dyn Potential, initial: &[RotorState], dt: f64) {
+        self.0
+            .setup(inertia, p, initial, dt)
+            .expect("valid test setup");
     }
-    fn run<P: Potential>(&mut self, p: &P, steps: usize) {
+    fn run(&mut self, p: &dyn Potential, steps: usize) {
         for _ in 0..steps {
-            dispatch!(self, i => i.step(p));
+            self.0.step(p);
         }
     }
     fn states(&self) -> Vec<RotorState> {
-        let q = dispatch!(self, i => i.orientations()).to_vec();
+        let q = self.0.orientations().to_vec();
         let mut w = vec![Vector3::zeros(); q.len()];
-        dispatch!(self, i => i.omega_body(&mut w));
+        self.0.omega_body(&mut w);
         q.into_iter()
             .zip(w)
             .map(|(orientation, omega_body)| RotorState {
@@ -257,7 +251,9 @@ fn body_axis_sweep_is_not_exact_for_a_free_spherical_top() {
     const MIN_ERROR: f64 = 1e-6; // an O(dt^2) global error at dt = 0.05, far above round-off
     let inertia = vec![Inertia::Spherical(2.0)];
     let initial = vec![state([0.9, 0.1, -0.3, 0.2], [0.3, -1.1, 0.7])];
-    let mut dlm = Dlm::new(SphericalTops::Split);
+    let mut dlm = Dlm::new(DlmOptions {
+        spherical_tops: SphericalTops::Split,
+    });
     dlm.setup(&inertia, &Free, &initial, 0.05)
         .expect("valid setup");
     for _ in 0..200 {
@@ -272,11 +268,11 @@ fn body_axis_sweep_is_not_exact_for_a_free_spherical_top() {
 /// Reverses the angular velocities of `forward`'s final states, runs a fresh
 /// `name` integrator `steps` steps from there, and reverses them again: a
 /// time-reversible scheme returns to the states `forward` started from.
-fn run_back<P: Potential>(
+fn run_back(
     name: &str,
     forward: &AnyIntegrator,
     inertia: &[Inertia],
-    p: &P,
+    p: &dyn Potential,
     dt: f64,
     steps: usize,
 ) -> Vec<RotorState> {
@@ -501,16 +497,16 @@ fn checkpoint_restore_is_bit_exact() {
         let mut a = make(name);
         a.setup(&inertia, &p, &initial, 0.01);
         a.run(&p, 37);
-        let saved = dispatch!(&a, i => i.checkpoint());
+        let saved = a.0.checkpoint();
         a.run(&p, 25);
         let mut b = make(name);
         b.setup(&inertia, &p, &initial, 0.01);
-        dispatch!(&mut b, i => i.restore(&saved)).expect("own checkpoint");
+        b.0.restore(&saved).expect("own checkpoint");
         b.run(&p, 25);
         assert_eq!(a.states(), b.states(), "{name}");
         let short = &saved[..saved.len() - 1];
         assert!(
-            dispatch!(&mut b, i => i.restore(short)).is_err(),
+            b.0.restore(short).is_err(),
             "{name}: short checkpoint accepted"
         );
     }
@@ -520,7 +516,7 @@ fn checkpoint_restore_is_bit_exact() {
 #[test]
 fn bad_setup_is_an_error() {
     let (inertia, p, initial) = asymmetric_system();
-    let mut dlm = Dlm::new(SphericalTops::Exact);
+    let mut dlm = Dlm::default();
     assert!(dlm.setup(&inertia, &p, &initial, 0.0).is_err());
     assert!(dlm.setup(&inertia, &p, &initial, f64::NAN).is_err());
     assert!(dlm.setup(&inertia[..2], &p, &initial, 0.01).is_err());
@@ -540,7 +536,7 @@ fn zero_moment_axis_is_skipped_by_no_squish() {
         coupling: 0.0,
     };
     let initial = vec![state([0.9, 0.1, -0.3, 0.2], [0.5, -0.7, 0.0])];
-    let mut ns = NoSquish::new(NoSquish::SUBSTEPS_LAMMPS, SphericalTops::Exact);
+    let mut ns = NoSquish::default();
     ns.setup(&inertia, &p, &initial, 0.01).expect("valid setup");
     let e0 = total_energy(&inertia, &p, &initial);
     let mut w = vec![Vector3::zeros()];

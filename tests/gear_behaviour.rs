@@ -157,7 +157,7 @@ fn norm_diagnostics(options: GearBOptions) -> (f64, f64) {
         500,
         |_, i| {
             i.q_dot(&mut q_dot);
-            assert!(i.q_dot_n(&mut q_n));
+            assert!(i.norm_force(&mut q_n));
             for ((q, qd), qn) in i.orientations().iter().zip(&q_dot).zip(&q_n) {
                 worst_qq = worst_qq.max(q.dot(qd).abs());
                 worst_qn = worst_qn.max(qn.abs());

@@ -103,7 +103,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
     run_scene(
         &scene,
         definition(),
-        Dlm::default(),
+        &mut Dlm::default(),
         &counting,
         &in_memory(),
         None,
@@ -120,7 +120,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
     let result = run_scene(
         &scene,
         definition(),
-        Dlm::default(),
+        &mut Dlm::default(),
         &counting,
         &in_memory(),
         None,
@@ -150,10 +150,10 @@ impl<I: Integrator> Integrator for Poisoned<I> {
     fn name(&self) -> &'static str {
         self.inner.name()
     }
-    fn setup<P: Potential>(
+    fn setup(
         &mut self,
         inertia: &[Inertia],
-        potential: &P,
+        potential: &dyn Potential,
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
@@ -161,7 +161,7 @@ impl<I: Integrator> Integrator for Poisoned<I> {
         self.orientations = self.inner.orientations().to_vec();
         Ok(())
     }
-    fn step<P: Potential>(&mut self, potential: &P) {
+    fn step(&mut self, potential: &dyn Potential) {
         self.inner.step(potential);
         self.step += 1;
         self.orientations.copy_from_slice(self.inner.orientations());
@@ -199,7 +199,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
         dir: Some(dir.path().to_path_buf()),
         keep: false,
     };
-    let integrator = Poisoned {
+    let mut integrator = Poisoned {
         inner: Dlm::default(),
         step: 0,
         poison_at: 11,
@@ -209,7 +209,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
     let result = run_scene(
         &scene,
         definition(),
-        integrator,
+        &mut integrator,
         &Free,
         &outputs,
         None,

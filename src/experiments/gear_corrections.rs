@@ -197,7 +197,7 @@ fn trace<I: Integrator, P: Potential>(
         for (qi, qd) in q.iter().zip(&q_dot) {
             t.max_q_dot_q_dot = t.max_q_dot_q_dot.max(norm_velocity(qi, qd).abs());
         }
-        if integrator.q_dot_n(&mut q_n) {
+        if integrator.norm_force(&mut q_n) {
             let worst = q_n.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             t.max_q_dot_force = Some(t.max_q_dot_force.unwrap_or(0.0).max(worst));
         }

@@ -2,20 +2,24 @@
 //!
 //! Every integrator implements [`Integrator`]: it is set up once from the
 //! initial orientations and body angular velocities (validated by
-//! [`setup::validate_setup`], allocating all its scratch buffers then), and
-//! then advanced one step at a time without allocating. It is generic over
-//! the [`Potential`] so that the step is monomorphised.
+//! [`setup_checks::validate_setup`], allocating all its scratch buffers then),
+//! and then advanced one step at a time without allocating. The trait is
+//! object safe (the potential arrives as `&dyn Potential`, one virtual call
+//! per evaluation); the per-rotor loops inside each step are monomorphised.
+//! [`IntegratorSpec`] (an enum of the option structs) builds any of them:
+//! the one dispatch from a choice of integrator to a running one.
 //!
 //! * Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
-//!   [`Richardson`], sharing their per-rotor state, kick and checkpoint
-//!   (`kick`) and the free-rotation flows of [`free_rotation`].
+//!   [`Richardson`], one [`Kicked`] integrator each over its [`Splitting`]
+//!   (`kick`: per-rotor state, kick, checkpoint and every method of the
+//!   trait), with the free-rotation flows of [`free_rotation`].
 //! * The note's Gear schemes: [`GearA`] (`scheme_a`) and [`GearB`]
 //!   (`scheme_b`), built on the Nordsieck machinery of [`gear`], the Euler
-//!   equations of [`rigid_body`] and the start-up of [`startup`].
-//! * Shared pieces: [`setup`] (argument validation, all five), `torque` (torques into
-//!   a reused buffer, body-frame components), [`checkpoint`] (flat layouts)
-//!   and `rotor_chunks` (per-rotor passes over fixed chunks of rotors across
-//!   the rayon pool, all five).
+//!   equations and eq 12 of [`rigid_body`] and the start-up of [`startup`].
+//! * Shared pieces: [`setup_checks`] (argument validation, all five),
+//!   `torque` (torques into a reused buffer, body-frame components),
+//!   [`checkpoint`] (flat layouts) and `rotor_chunks` (per-rotor passes over
+//!   fixed chunks of rotors across the rayon pool, all five).
 
 pub mod checkpoint;
 mod dlm;
@@ -28,16 +32,19 @@ pub mod rigid_body;
 mod rotor_chunks;
 pub mod scheme_a;
 pub mod scheme_b;
-pub mod setup;
+pub mod setup_checks;
+mod spec;
 pub mod startup;
 mod torque;
 
-pub use dlm::Dlm;
+pub use dlm::{Dlm, DlmOptions};
 pub use free_rotation::SphericalTops;
-pub use no_squish::NoSquish;
-pub use richardson::Richardson;
+pub use kick::{Kicked, Splitting};
+pub use no_squish::{NoSquish, NoSquishOptions};
+pub use richardson::{Richardson, RichardsonOptions};
 pub use scheme_a::{GearA, GearAOptions};
 pub use scheme_b::{FirstCorrector, GearB, GearBOptions};
+pub use spec::{IntegratorOptions, IntegratorSpec};
 pub use startup::Startup;
 
 use crate::potential::Potential;
@@ -68,23 +75,24 @@ pub enum IntegratorError {
     BadTimeStep(f64),
 }
 
-/// A time-stepping scheme for rigid rotors.
-pub trait Integrator {
+/// A time-stepping scheme for rigid rotors (object safe: runs hold a
+/// `Box<dyn Integrator>` from [`IntegratorSpec::build`]).
+pub trait Integrator: Send {
     /// A short stable name (as used in scene files), e.g. `"gear_a"`.
     fn name(&self) -> &'static str;
 
     /// Initialises the internal state at t = 0 from `initial` (one entry per
     /// rotor) for steps of `dt`. May evaluate the potential (start-up).
-    fn setup<P: Potential>(
+    fn setup(
         &mut self,
         inertia: &[Inertia],
-        potential: &P,
+        potential: &dyn Potential,
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError>;
 
     /// Advances all rotors by one time step.
-    fn step<P: Potential>(&mut self, potential: &P);
+    fn step(&mut self, potential: &dyn Potential);
 
     /// The current orientations (not necessarily exactly unit, depending on
     /// the scheme's switches).
@@ -112,11 +120,11 @@ pub trait Integrator {
         }
     }
 
-    /// Writes `Q.N` per rotor (the zeroth component of eq 15b, up to a factor
-    /// 1/2) for schemes that store the quaternion force `N`, and returns true;
-    /// schemes working with body torques satisfy it by construction and
-    /// return false.
-    fn q_dot_n(&self, _out: &mut [f64]) -> bool {
+    /// Writes `Q.N` per rotor ([`crate::observables::norm_force`], the
+    /// zeroth component of eq 15b up to a factor 1/2) for schemes that store
+    /// the quaternion force `N`, and returns true; schemes working with body
+    /// torques satisfy eq 15b by construction and return false.
+    fn norm_force(&self, _out: &mut [f64]) -> bool {
         false
     }
 }

@@ -2,7 +2,7 @@
 //! potential (open boundaries) and an optional uniform field, sampled every
 //! step, for the LAMMPS comparison (`validation/checks/lammps_dipoles.py`).
 
-use crate::integrators::{Dlm, Integrator, IntegratorError, RotorState, SphericalTops};
+use crate::integrators::{Dlm, DlmOptions, Integrator, IntegratorError, RotorState, SphericalTops};
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
 use crate::quaternion::Quat;
@@ -137,7 +137,9 @@ fn run<P: Potential>(
     spherical: SphericalTops,
 ) -> Result<Samples, IntegratorError> {
     let n = initial.len();
-    let mut dlm = Dlm::new(spherical);
+    let mut dlm = Dlm::new(DlmOptions {
+        spherical_tops: spherical,
+    });
     dlm.setup(inertia, potential, initial, dt)?;
     let mut s = Samples {
         orientations: Array3::zeros((steps + 1, n, 4)),

@@ -4,7 +4,7 @@
 
 use super::arrays::{common_len, single, Items};
 use crate::experiments::gear_corrections::{correction_table, Settings, System};
-use crate::integrators::setup::{validate_setup, Moments};
+use crate::integrators::setup_checks::{validate_setup, Moments};
 use crate::integrators::RotorState;
 use crate::parallel::on_worker;
 use crate::potential::{ExternalFields, MultipolePotential};

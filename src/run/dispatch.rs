@@ -3,16 +3,16 @@
 
 use super::error::RunError;
 use super::scene_run::{run_scene, Outputs, Progress, RunResult};
-use crate::integrators::free_rotation::SphericalTops;
 use crate::integrators::{
-    Dlm, FirstCorrector, GearA, GearAOptions, GearB, GearBOptions, NoSquish, Richardson, Startup,
+    DlmOptions, FirstCorrector, GearAOptions, GearBOptions, IntegratorSpec, NoSquishOptions,
+    RichardsonOptions, SphericalTops, Startup,
 };
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use crate::scene::{
     BoundaryChoice, GearBC0, GearStartup, IntegratorChoice, Scene, SphericalTopRotation,
 };
-use std::num::NonZeroUsize;
+use std::num::NonZeroU32;
 use std::path::Path;
 
 /// The potential of a scene: `None` for rotors without interactions or
@@ -69,27 +69,22 @@ fn spherical(s: SphericalTopRotation) -> SphericalTops {
 /// Runs a validated scene with the given potential (built by the caller from
 /// the scene, possibly wrapped, e.g. to count evaluations in the benchmarks)
 /// and the integrator the scene chooses.
-pub fn with_integrator<P: Potential>(
+pub fn with_integrator(
     scene: &Scene,
     definition: serde_json::Value,
-    potential: &P,
+    potential: &dyn Potential,
     outputs: &Outputs,
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
-    match scene.integrator {
+    let spec = match scene.integrator {
         IntegratorChoice::GearA {
             renormalise,
             startup: s,
-        } => {
-            let integrator = GearA::new(GearAOptions {
-                renormalise,
-                startup: startup(s),
-            });
-            run_scene(
-                scene, definition, integrator, potential, outputs, restart, progress,
-            )
-        }
+        } => IntegratorSpec::GearA(GearAOptions {
+            renormalise,
+            startup: startup(s),
+        }),
         IntegratorChoice::GearB {
             c0,
             project_torque,
@@ -97,46 +92,36 @@ pub fn with_integrator<P: Potential>(
             renormalise,
             correct_higher_derivatives,
             startup: s,
-        } => {
-            let integrator = GearB::new(GearBOptions {
-                c0: match c0 {
-                    GearBC0::ThreeSixteenths => FirstCorrector::VelocityDependent,
-                    GearBC0::ThreeTwentieths => FirstCorrector::PositionOnly,
-                },
-                project_torque,
-                project_velocity,
-                renormalise,
-                correct_higher_derivatives,
-                startup: startup(s),
-            });
-            run_scene(
-                scene, definition, integrator, potential, outputs, restart, progress,
-            )
-        }
+        } => IntegratorSpec::GearB(GearBOptions {
+            c0: match c0 {
+                GearBC0::ThreeSixteenths => FirstCorrector::VelocityDependent,
+                GearBC0::ThreeTwentieths => FirstCorrector::PositionOnly,
+            },
+            project_torque,
+            project_velocity,
+            renormalise,
+            correct_higher_derivatives,
+            startup: startup(s),
+        }),
         IntegratorChoice::NoSquish {
             substeps,
             spherical_tops,
-        } => {
-            let substeps = NonZeroUsize::new(substeps as usize).unwrap_or(NonZeroUsize::MIN);
-            let integrator = NoSquish::new(substeps, spherical(spherical_tops));
-            run_scene(
-                scene, definition, integrator, potential, outputs, restart, progress,
-            )
-        }
-        IntegratorChoice::Dlm { spherical_tops } => {
-            let integrator = Dlm::new(spherical(spherical_tops));
-            run_scene(
-                scene, definition, integrator, potential, outputs, restart, progress,
-            )
-        }
-        IntegratorChoice::Richardson => run_scene(
-            scene,
-            definition,
-            Richardson::new(),
-            potential,
-            outputs,
-            restart,
-            progress,
-        ),
-    }
+        } => IntegratorSpec::NoSquish(NoSquishOptions {
+            substeps: NonZeroU32::new(substeps).unwrap_or(NonZeroU32::MIN),
+            spherical_tops: spherical(spherical_tops),
+        }),
+        IntegratorChoice::Dlm { spherical_tops } => IntegratorSpec::Dlm(DlmOptions {
+            spherical_tops: spherical(spherical_tops),
+        }),
+        IntegratorChoice::Richardson => IntegratorSpec::Richardson(RichardsonOptions {}),
+    };
+    run_scene(
+        scene,
+        definition,
+        &mut *spec.build(),
+        potential,
+        outputs,
+        restart,
+        progress,
+    )
 }

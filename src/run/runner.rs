@@ -145,9 +145,9 @@ fn hottest(inertia: &[Inertia], omega_body: &[Vector3<f64>]) -> usize {
 /// Runs `integrator` (already set up, or restored at `options.start_step`)
 /// from `start_step` to `end_step`, feeding the observers at their intervals
 /// and writing checkpoints. Observers are finished in every case.
-pub fn run<I: Integrator, P: Potential>(
-    integrator: &mut I,
-    potential: &P,
+pub fn run(
+    integrator: &mut dyn Integrator,
+    potential: &dyn Potential,
     inertia: &[Inertia],
     observers: &mut [Scheduled<'_>],
     checkpoints: Option<(u64, &CheckpointWriter)>,
@@ -169,9 +169,9 @@ pub fn run<I: Integrator, P: Potential>(
     Ok(report)
 }
 
-fn run_loop<I: Integrator, P: Potential>(
-    integrator: &mut I,
-    potential: &P,
+fn run_loop(
+    integrator: &mut dyn Integrator,
+    potential: &dyn Potential,
     inertia: &[Inertia],
     observers: &mut [Scheduled<'_>],
     checkpoints: Option<(u64, &CheckpointWriter)>,
@@ -223,7 +223,7 @@ fn run_loop<I: Integrator, P: Potential>(
             if needs.q_dot {
                 integrator.q_dot(&mut buffers.q_dot);
             }
-            let q_dot_n = needs.q_dot_n && integrator.q_dot_n(&mut buffers.q_dot_n);
+            let q_dot_n = needs.q_dot_n && integrator.norm_force(&mut buffers.q_dot_n);
             let energies = needs.energies.then(|| {
                 let kinetic = total_kinetic_energy(inertia, &buffers.omega_body);
                 let total = kinetic + potential.energy(orientations);

@@ -47,11 +47,11 @@ pub struct RunResult {
 
 /// Runs `scene` with a concrete integrator and potential (both built from
 /// the scene by the caller), from t = 0 or from the checkpoint `restart`.
-pub fn run_scene<I: Integrator, P: Potential>(
+pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,
-    mut integrator: I,
-    potential: &P,
+    integrator: &mut dyn Integrator,
+    potential: &dyn Potential,
     outputs: &Outputs,
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
@@ -154,7 +154,7 @@ pub fn run_scene<I: Integrator, P: Potential>(
         reference: checkpoint.as_ref().and_then(Checkpoint::reference),
     };
     let report = run(
-        &mut integrator,
+        integrator,
         potential,
         &inertia,
         &mut scheduled,
