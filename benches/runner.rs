@@ -58,10 +58,10 @@ fn all_quantities(integrator_name: &str) -> Vec<Quantity> {
         Quantity::EnergyError,
         Quantity::Temperature,
         Quantity::NormError,
-        Quantity::QDotQ,
+        Quantity::NormVelocity,
     ];
     if integrator_name == "gear_b" {
-        all.push(Quantity::QDotN);
+        all.push(Quantity::NormForce);
     }
     all
 }
@@ -220,7 +220,7 @@ fn interleaved<I: Integrator + Clone + Send, P: Potential>(
 fn runner(c: &mut Criterion) {
     let (_, lattice) = load("dipole_lattice_sc", &Overrides::default()).expect("built-in");
     let periodic = Boundary::Periodic {
-        box_lengths: lattice.box_lengths.expect("periodic"),
+        box_lengths: lattice.box_lengths().expect("periodic"),
         cutoff: 3.1,
     };
     let potential = MultipolePotential::new(&lattice.rotors, periodic, ExternalFields::NONE)

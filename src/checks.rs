@@ -5,6 +5,7 @@
 //! turns `[1]` of a field into `fields.uniform[1]`. Each fact is checked by
 //! one function here or on the type that owns it, with one tolerance.
 
+use crate::quaternion::Quat;
 use nalgebra::Matrix3;
 use serde::de::{Deserialize, Deserializer, Error as _};
 use std::num::NonZeroU32;
@@ -99,6 +100,19 @@ pub fn each(values: &[f64], check: fn(f64) -> Result<f64, InputError>) -> Result
         check(*x).map_err(|e| e.at(&format!("[{k}]")))?;
     }
     Ok(())
+}
+
+/// The unit orientation of `q`: every component finite (path `[k]`), and a
+/// non-zero finite norm.
+pub fn orientation(q: &Quat) -> Result<Quat, InputError> {
+    each(&q.0, finite)?;
+    q.try_normalize().ok_or_else(|| {
+        let [a, b, c, d] = q.0.map(num);
+        InputError::new(
+            "",
+            format!("must be a non-zero quaternion with a finite norm, got [{a}, {b}, {c}, {d}]"),
+        )
+    })
 }
 
 /// Every entry finite, a failure naming the entry (`[i][j]`).

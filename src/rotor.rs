@@ -4,6 +4,7 @@
 //! Units are reduced throughout (4 pi eps0 = 1, and whatever length, mass and
 //! time units the scene uses). Rotors never translate: the site is fixed.
 
+use crate::checks::{each, finite, finite_matrix, symmetric, traceless, InputError};
 use nalgebra::{Matrix3, Vector3};
 
 /// Principal moments of inertia about the body axes 1, 2, 3.
@@ -42,4 +43,39 @@ pub struct Rotor {
     /// Traceless symmetric point quadrupole in body-fixed components, if any
     /// (Buckingham convention: see `potential::multipole::convention`).
     pub quadrupole_body: Option<Matrix3<f64>>,
+}
+
+impl Rotor {
+    /// Checks the site and the multipoles ([`check_site`], [`check_dipole`],
+    /// [`check_quadrupole`]); the error's path names the field
+    /// (`site[0]`, `quadrupole_body`).
+    pub fn check(&self) -> Result<(), InputError> {
+        check_site(&self.site).map_err(|e| e.at("site"))?;
+        if let Some(mu) = &self.dipole_body {
+            check_dipole(mu).map_err(|e| e.at("dipole_body"))?;
+        }
+        if let Some(theta) = &self.quadrupole_body {
+            check_quadrupole(theta).map_err(|e| e.at("quadrupole_body"))?;
+        }
+        Ok(())
+    }
+}
+
+/// A site: every component finite (path `[k]`).
+pub fn check_site(site: &Vector3<f64>) -> Result<(), InputError> {
+    each(site.as_slice(), finite)
+}
+
+/// A body dipole: every component finite (path `[k]`).
+pub fn check_dipole(dipole_body: &Vector3<f64>) -> Result<(), InputError> {
+    each(dipole_body.as_slice(), finite)
+}
+
+/// A body quadrupole (Buckingham, `potential::multipole::convention`):
+/// every entry finite (path `[i][j]`), symmetric and traceless within
+/// [`crate::checks::TENSOR_TOLERANCE`] of its largest entry.
+pub fn check_quadrupole(quadrupole_body: &Matrix3<f64>) -> Result<(), InputError> {
+    finite_matrix(quadrupole_body)?;
+    symmetric(quadrupole_body)?;
+    traceless(quadrupole_body)
 }

@@ -44,7 +44,7 @@ fn every_builtin_scene_runs_a_few_steps() {
 fn dipole_lattice_builtin_matches_the_specification() {
     let (_, scene) = load("dipole_lattice_sc", &Overrides::default()).expect("valid");
     assert_eq!(scene.rotors.len(), 1000);
-    assert_eq!(scene.box_lengths, Some(Vector3::repeat(10.0)));
+    assert_eq!(scene.box_lengths(), Some(Vector3::repeat(10.0)));
     for r in &scene.rotors {
         assert_eq!(r.inertia, Inertia::Spherical(0.1));
         assert_eq!(r.dipole_body.map(|d| d.norm()), Some(1.0));

@@ -68,7 +68,7 @@ fn lattice(asymmetric: bool) -> (Scene, OnOneThread<MultipolePotential>) {
         }
     }
     let periodic = Boundary::Periodic {
-        box_lengths: scene.box_lengths.expect("periodic scene"),
+        box_lengths: scene.box_lengths().expect("periodic scene"),
         cutoff: 3.1,
     };
     let potential = MultipolePotential::new(&scene.rotors, periodic, ExternalFields::NONE)

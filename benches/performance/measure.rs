@@ -4,7 +4,7 @@
 
 use crate::counting::Counting;
 use quatrot::potential::{Free, Potential};
-use quatrot::run::{execute, potential, with_integrator, Outputs, RunResult, Stop};
+use quatrot::run::{execute, potential, run_scene, Outputs, RunResult, Stop};
 use quatrot::scene::{Quantity, Record, Scene, Series, TrajectorySpec};
 use serde::Serialize;
 use std::error::Error;
@@ -118,9 +118,10 @@ fn counted<P: Potential>(
         dir: None,
         keep: true,
     };
-    let result = with_integrator(
+    let result = run_scene(
         scene,
         serde_json::Value::Null,
+        scene.integrator.build().as_mut(),
         &counting,
         &outputs,
         None,

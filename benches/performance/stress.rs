@@ -111,7 +111,7 @@ fn scene_of(base: &Scene, case: &Case) -> Scene {
         Inertia::Principal(Vector3::new(a, b, c))
     };
     rotor.dipole_body = case.dipole.map(Vector3::from);
-    s.fields.uniform = case.field.map(Vector3::from);
+    s.fields.field = case.field.map(Vector3::from);
     s.initial = vec![RotorState {
         orientation: Quat(case.orientation),
         omega_body: Vector3::from(case.omega_body),

@@ -42,6 +42,12 @@ impl IntegratorSpec {
         }
     }
 
+    /// True for the integrators that store the quaternion force `N` (and
+    /// report `Q.N` through [`Integrator::norm_force`]).
+    pub fn stores_quaternion_force(&self) -> bool {
+        matches!(self, IntegratorSpec::GearB(_))
+    }
+
     /// A new integrator of this kind and options (set up before stepping).
     pub fn build(&self) -> Box<dyn Integrator> {
         match self {

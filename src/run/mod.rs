@@ -1,12 +1,12 @@
 //! Running a scene: the generic run loop (monomorphised over integrator and
 //! potential), the observers it feeds at the intervals it owns, the output
 //! files (CSV series, DCD + PDB trajectory, JSON summary, checkpoints), and
-//! the dispatch from a scene's choices to concrete types.
+//! the run of a scene from its physics objects.
 
 mod checkpoint;
 mod dcd;
-mod dispatch;
 mod error;
+mod execute;
 mod observer;
 mod pdb;
 mod runner;
@@ -17,8 +17,8 @@ mod trajectory;
 
 pub use checkpoint::{Checkpoint, CheckpointWriter};
 pub use dcd::DcdWriter;
-pub use dispatch::{execute, potential, with_integrator};
 pub use error::RunError;
+pub use execute::{execute, potential};
 pub use observer::{Energies, Needs, Observer, Sample, Scheduled};
 pub use pdb::ROTOR_ATOMS;
 pub use runner::{run, EnergyReference, RunOptions, RunReport, Stop};

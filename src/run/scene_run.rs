@@ -89,6 +89,7 @@ pub fn run_scene(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let (dcd, pdb) = (file(DCD_FILE), file(PDB_FILE));
+    let box_lengths = scene.box_lengths();
     let mut trajectory = scene
         .record
         .trajectory
@@ -100,7 +101,7 @@ pub fn run_scene(
                 .map(|(dcd, pdb)| TrajectoryFiles {
                     dcd,
                     pdb,
-                    box_lengths: scene.box_lengths.as_ref(),
+                    box_lengths: box_lengths.as_ref(),
                     first_step: start_step,
                     dt: scene.dt,
                     title: &scene.name,

@@ -84,7 +84,7 @@ fn value(q: Quantity, sample: &Sample<'_>) -> f64 {
             energy(|e| e.kinetic) * 2.0 / dof
         }
         Quantity::NormError => max_abs(sample.orientations.iter().map(observables::norm_error)),
-        Quantity::QDotQ => sample.q_dot.map_or(f64::NAN, |q_dot| {
+        Quantity::NormVelocity => sample.q_dot.map_or(f64::NAN, |q_dot| {
             max_abs(
                 sample
                     .orientations
@@ -93,7 +93,7 @@ fn value(q: Quantity, sample: &Sample<'_>) -> f64 {
                     .map(|(q, d)| observables::norm_velocity(q, d)),
             )
         }),
-        Quantity::QDotN => sample
+        Quantity::NormForce => sample
             .q_dot_n
             .map_or(f64::NAN, |qn| max_abs(qn.iter().copied())),
     }
@@ -111,8 +111,8 @@ impl Observer for SeriesObserver {
                 Quantity::Temperature,
             ]),
             omega_body: false,
-            q_dot: has(&[Quantity::QDotQ]),
-            q_dot_n: has(&[Quantity::QDotN]),
+            q_dot: has(&[Quantity::NormVelocity]),
+            q_dot_n: has(&[Quantity::NormForce]),
         }
     }
 

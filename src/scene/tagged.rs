@@ -34,8 +34,9 @@ pub(super) fn variant<T: DeserializeOwned, E: serde::de::Error>(
     table: toml::Table,
 ) -> Result<T, E> {
     serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
-        let (path, message) = join_path(&e.path().to_string(), e.inner().message());
-        let path = if path == "." { String::new() } else { path };
+        let outer = e.path().to_string();
+        let outer = if outer == "." { "" } else { outer.as_str() };
+        let (path, message) = join_path(outer, e.inner().message());
         if path.is_empty() {
             E::custom(message)
         } else {
@@ -57,22 +58,21 @@ pub(super) fn take_kind<E: serde::de::Error>(table: &mut toml::Table) -> Result<
 }
 
 /// Implements `Deserialize` for an enum of newtype variants around structs,
-/// tagged by `kind`.
+/// tagged by `kind` (each tag a `&str` expression, such as a literal or an
+/// integrator's [`crate::integrators::IntegratorOptions::NAME`]).
 macro_rules! tagged {
-    ($enum:ident { $($tag:literal => $variant:ident($payload:ty)),+ $(,)? }) => {
+    ($enum:ident { $($tag:expr => $variant:ident($payload:ty)),+ $(,)? }) => {
         impl<'de> serde::Deserialize<'de> for $enum {
             fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
                 use super::tagged::{take_kind, variant, with_inner_path};
                 const TAGS: &[&str] = &[$($tag),+];
                 let mut table = toml::Table::deserialize(deserializer)?;
                 let kind = take_kind::<D::Error>(&mut table)?;
-                match kind.as_str() {
-                    $($tag => variant::<$payload, D::Error>(table).map($enum::$variant),)+
-                    other => {
-                        let e: D::Error = serde::de::Error::unknown_variant(other, TAGS);
-                        Err(with_inner_path("kind", &e.to_string()))
-                    }
-                }
+                $(if kind == $tag {
+                    return variant::<$payload, D::Error>(table).map($enum::$variant);
+                })+
+                let e: D::Error = serde::de::Error::unknown_variant(&kind, TAGS);
+                Err(with_inner_path("kind", &e.to_string()))
             }
         }
     };

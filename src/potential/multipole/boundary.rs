@@ -2,6 +2,7 @@
 //! size of the periodic image sum.
 
 use super::PotentialError;
+use crate::checks::{each, positive};
 use nalgebra::Vector3;
 
 /// The most interacting pairs (periodic images included) a pair list may
@@ -33,9 +34,10 @@ pub enum Boundary {
 }
 
 impl Boundary {
-    /// Checks the box and the cutoff for `sites` sites (the estimated size of
-    /// the periodic image sum at most [`MAX_PAIRS`]).
-    pub(crate) fn validate(&self, sites: usize) -> Result<(), PotentialError> {
+    /// Checks the box (path `box_lengths[k]`) and the cutoff (path `cutoff`)
+    /// for `sites` sites: finite and > 0, and the estimated size of the
+    /// periodic image sum at most [`MAX_PAIRS`].
+    pub fn validate(&self, sites: usize) -> Result<(), PotentialError> {
         let Boundary::Periodic {
             box_lengths,
             cutoff,
@@ -43,21 +45,8 @@ impl Boundary {
         else {
             return Ok(());
         };
-        if !box_lengths.iter().all(|l| l.is_finite() && *l > 0.0) {
-            return Err(PotentialError::new(
-                "box_lengths",
-                format!(
-                    "must be finite and > 0, got [{}, {}, {}]",
-                    box_lengths.x, box_lengths.y, box_lengths.z
-                ),
-            ));
-        }
-        if !(cutoff.is_finite() && cutoff > 0.0) {
-            return Err(PotentialError::new(
-                "cutoff",
-                format!("must be finite and > 0, got {cutoff}"),
-            ));
-        }
+        each(box_lengths.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
+        positive(cutoff).map_err(|e| e.at("cutoff"))?;
         let sphere = 4.0 / 3.0 * std::f64::consts::PI * cutoff.powi(3);
         let estimate = (sites as f64).powi(2) * sphere / (2.0 * box_lengths.product());
         if estimate > MAX_PAIRS as f64 {

@@ -372,7 +372,7 @@ mod tests {
             cutoff: 1e4,
         };
         let e = boundary.validate(1).unwrap_err();
-        assert_eq!(e.what, "cutoff");
-        assert!(e.problem.contains("more than the limit"), "{e}");
+        assert_eq!(e.path, "cutoff");
+        assert!(e.message.contains("more than the limit"), "{e}");
     }
 }

@@ -14,8 +14,6 @@ use crate::rotor::Rotor;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
-/// Relative tolerance on the symmetry and tracelessness of body quadrupoles.
-const TRACELESS_TOLERANCE: f64 = 1e-10;
 /// Rotors per rayon task in the per-rotor loops (below this, threads cost more than they save).
 const ROTORS_PER_TASK: usize = 256;
 
@@ -81,8 +79,9 @@ pub struct MultipolePotential {
 impl MultipolePotential {
     /// Builds the pair list and the pair geometry once. Checks every input:
     /// finite sites and multipoles, symmetric traceless body quadrupoles
-    /// (Buckingham convention, see [`super::convention`]), distinct sites,
-    /// a valid box and cutoff, finite symmetric external fields.
+    /// (Buckingham convention, see [`super::convention`]; [`Rotor::check`]),
+    /// distinct sites, a valid box and cutoff ([`Boundary::validate`]),
+    /// finite symmetric external fields ([`ExternalFields::validate`]).
     pub fn new(
         rotors: &[Rotor],
         boundary: Boundary,
@@ -91,7 +90,7 @@ impl MultipolePotential {
         boundary.validate(rotors.len())?;
         external.validate()?;
         for (i, rotor) in rotors.iter().enumerate() {
-            validate_rotor(i, rotor)?;
+            rotor.check().map_err(|e| e.at(&format!("rotors[{i}]")))?;
         }
         let has_dipoles = rotors.iter().any(|r| r.dipole_body.is_some());
         let has_quadrupoles = rotors.iter().any(|r| r.quadrupole_body.is_some());
@@ -359,48 +358,6 @@ fn add_torques<K: MultipoleKind>(
             *torque -= Vector3::new(m.m23 - m.m32, m.m31 - m.m13, m.m12 - m.m21) * 2.0;
         }
     }
-}
-
-fn validate_rotor(i: usize, rotor: &Rotor) -> Result<(), PotentialError> {
-    let site = rotor.site;
-    if !site.iter().all(|x| x.is_finite()) {
-        return Err(PotentialError::new(
-            format!("rotors[{i}].site"),
-            format!("must be finite, got [{}, {}, {}]", site.x, site.y, site.z),
-        ));
-    }
-    if let Some(mu) = rotor.dipole_body {
-        if !mu.iter().all(|x| x.is_finite()) {
-            return Err(PotentialError::new(
-                format!("rotors[{i}].dipole_body"),
-                format!("must be finite, got [{}, {}, {}]", mu.x, mu.y, mu.z),
-            ));
-        }
-    }
-    if let Some(theta) = rotor.quadrupole_body {
-        let what = format!("rotors[{i}].quadrupole_body");
-        if !theta.iter().all(|x| x.is_finite()) {
-            return Err(PotentialError::new(what, "must be finite"));
-        }
-        let scale = theta.abs().max();
-        let asymmetry = (theta - theta.transpose()).abs().max();
-        if asymmetry > TRACELESS_TOLERANCE * scale {
-            return Err(PotentialError::new(
-                what,
-                format!("must be symmetric, got |Theta - Theta^T|max = {asymmetry:e}"),
-            ));
-        }
-        if theta.trace().abs() > TRACELESS_TOLERANCE * scale {
-            return Err(PotentialError::new(
-                what,
-                format!(
-                    "must be traceless (Buckingham convention), got trace {:e}",
-                    theta.trace()
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
 
 impl Potential for MultipolePotential {

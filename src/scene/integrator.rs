@@ -1,0 +1,118 @@
+//! The `[integrator]` section: read straight into the physics
+//! [`IntegratorSpec`], whose option structs carry every option, its default,
+//! its check and its documentation. Only the `kind` of each integrator is
+//! registered here.
+
+use super::tagged::{tagged, variant};
+use crate::integrators::{
+    DlmOptions, GearAOptions, GearBOptions, IntegratorOptions, IntegratorSpec, NoSquishOptions,
+    RichardsonOptions,
+};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+tagged!(IntegratorSpec {
+    GearAOptions::NAME => GearA(GearAOptions),
+    GearBOptions::NAME => GearB(GearBOptions),
+    NoSquishOptions::NAME => NoSquish(NoSquishOptions),
+    DlmOptions::NAME => Dlm(DlmOptions),
+    RichardsonOptions::NAME => Richardson(RichardsonOptions),
+});
+
+/// The `[integrator]` table: the [`IntegratorSpec`] it describes, and the
+/// table as written (what the run summary records as the scene's definition,
+/// with the options left out left out).
+#[derive(Debug, Clone)]
+pub struct RawIntegrator {
+    /// The integrator and its options.
+    pub spec: IntegratorSpec,
+    written: toml::Table,
+}
+
+impl RawIntegrator {
+    /// The table of an integrator with its default options (`kind = name`).
+    pub fn named(name: &str) -> Result<Self, String> {
+        let mut table = toml::Table::new();
+        table.insert("kind".into(), toml::Value::String(name.into()));
+        Self::from_table(table)
+    }
+
+    fn from_table(table: toml::Table) -> Result<Self, String> {
+        let spec = variant::<IntegratorSpec, toml::de::Error>(table.clone())
+            .map_err(|e| e.message().to_string())?;
+        Ok(RawIntegrator {
+            spec,
+            written: table,
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for RawIntegrator {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let table = toml::Table::deserialize(deserializer)?;
+        RawIntegrator::from_table(table).map_err(serde::de::Error::custom)
+    }
+}
+
+impl Serialize for RawIntegrator {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.written.serialize(serializer)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrators::{SphericalTops, Startup};
+    use std::num::NonZeroU32;
+
+    fn read(text: &str) -> Result<IntegratorSpec, String> {
+        crate::scene::parse::parse_value::<RawIntegrator>(toml::from_str(text).expect("valid"))
+            .map(|r| r.spec)
+            .map_err(|e| e.to_string())
+    }
+
+    /// Options left out take the physics defaults; given ones are read into
+    /// the physics types.
+    #[test]
+    fn tables_become_the_physics_options() {
+        assert_eq!(
+            read("kind = 'gear_a'"),
+            Ok(IntegratorSpec::GearA(GearAOptions::default()))
+        );
+        assert_eq!(
+            read("kind = 'no_squish'\nsubsteps = 10\nspherical_tops = 'split'"),
+            Ok(IntegratorSpec::NoSquish(NoSquishOptions {
+                substeps: NonZeroU32::new(10).expect("non-zero"),
+                spherical_tops: SphericalTops::Split
+            }))
+        );
+        assert_eq!(
+            read("kind = 'gear_b'\nstartup = 'zeros'"),
+            Ok(IntegratorSpec::GearB(GearBOptions {
+                startup: Startup::Zeros,
+                ..GearBOptions::default()
+            }))
+        );
+    }
+
+    /// Errors name the option (relative to the table) and the value.
+    #[test]
+    fn bad_options_name_the_option() {
+        assert_eq!(
+            read("kind = 'no_squish'\nsubsteps = -2"),
+            Err("substeps: must be >= 1, got -2".to_string())
+        );
+        assert_eq!(
+            read("kind = 'dlm'\nspherical_tops = 'exactly'"),
+            Err("spherical_tops: must be \"exact\" or \"split\", got \"exactly\"".to_string())
+        );
+        assert_eq!(
+            read("kind = 'richardson'\nsubsteps = 1"),
+            Err("substeps: unknown field `substeps`, there are no fields".to_string())
+        );
+        assert_eq!(
+            RawIntegrator::named("gear_a").map(|r| r.spec),
+            Ok(IntegratorSpec::GearA(GearAOptions::default()))
+        );
+    }
+}
