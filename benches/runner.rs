@@ -16,8 +16,11 @@ use quatrot::integrators::{Dlm, GearB, Integrator};
 use quatrot::parallel::on_worker;
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
-use quatrot::run::{run, EnergyReference, Observer, RunOptions, Scheduled, SeriesObserver};
-use quatrot::scene::{load, validate, Overrides, Quantity, Scene, Series};
+use quatrot::run::{RunError, SeriesObserver};
+use quatrot::scene::{load, validate, Overrides, Scene, Series};
+use quatrot::simulation::{
+    run, BlowUpChecks, EnergyReference, Observer, Quantity, RunOptions, Scheduled,
+};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -35,8 +38,10 @@ fn options(scene: &Scene, start: u64, end: u64, reference: Option<EnergyReferenc
         dt: scene.dt,
         start_step: start,
         end_step: end,
-        check_every: scene.record.check_every,
-        energy_error_threshold: None,
+        checks: Some(BlowUpChecks {
+            every: scene.record.check_every,
+            energy_error_threshold: None,
+        }),
         reference,
     }
 }
@@ -114,11 +119,12 @@ fn through_runner<I: Integrator + Send, P: Potential>(
     inertia: &[Inertia],
 ) {
     on_worker(|| {
-        let mut scheduled: Vec<Scheduled<'_>> = observer
+        let mut scheduled: Vec<Scheduled<'_, RunError>> = observer
             .iter_mut()
             .map(|o| Scheduled {
                 every,
-                observer: o as &mut dyn Observer,
+                at_end: false,
+                observer: o as &mut dyn Observer<Error = RunError>,
             })
             .collect();
         black_box(

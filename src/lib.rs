@@ -26,6 +26,8 @@ pub mod quaternion;
 pub mod rotor;
 pub mod run;
 pub mod scene;
+pub mod simulation;
+pub mod stats;
 
 #[cfg(feature = "python")]
 mod python;

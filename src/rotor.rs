@@ -25,10 +25,29 @@ impl Inertia {
         }
     }
 
-    /// True for a spherical top (no inertia-tensor work needed).
-    pub fn is_spherical(&self) -> bool {
-        matches!(self, Inertia::Spherical(_))
+    /// The inertia of principal moments `moments`: [`Inertia::Spherical`]
+    /// for a spherical top ([`is_spherical_top`]), otherwise
+    /// [`Inertia::Principal`].
+    pub fn from_moments(moments: Vector3<f64>) -> Inertia {
+        if is_spherical_top(&moments) {
+            Inertia::Spherical(moments.x)
+        } else {
+            Inertia::Principal(moments)
+        }
     }
+
+    /// True for a spherical top ([`is_spherical_top`]; no inertia-tensor
+    /// work needed), whichever variant holds the moments.
+    pub fn is_spherical(&self) -> bool {
+        is_spherical_top(&self.principal())
+    }
+}
+
+/// True when the three principal moments are equal and positive: the one
+/// definition of a spherical top (the Gear schemes' shortcut, the exact free
+/// flow of the baselines, the rotors built from arrays).
+pub fn is_spherical_top(moments: &Vector3<f64>) -> bool {
+    moments.x > 0.0 && moments.x == moments.y && moments.y == moments.z
 }
 
 /// One rotor: its fixed site, inertia and body-fixed multipoles.

@@ -11,6 +11,7 @@ use quatrot::integrators::{
 };
 use quatrot::potential::{Free, Potential};
 use quatrot::rotor::Inertia;
+use quatrot::stats::{block_means, line_fit};
 use quatrot::Quat;
 
 /// Dipoles `mu_s = R(Q) mu_b` in a uniform field `E` with the coupling
@@ -322,33 +323,6 @@ fn time_reversibility() {
     }
 }
 
-/// Least-squares slope of y against x.
-fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
-}
-
-/// Slope of y against x fitted to `blocks` block means (so that correlated
-/// fluctuations average out), with its standard error from the residuals.
-fn block_slope(x: &[f64], y: &[f64], blocks: usize) -> (f64, f64) {
-    let len = x.len() / blocks;
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let bx: Vec<f64> = x.chunks_exact(len).map(mean).collect();
-    let by: Vec<f64> = y.chunks_exact(len).map(mean).collect();
-    let s = slope(&bx, &by);
-    let (mx, my) = (mean(&bx), mean(&by));
-    let residual: f64 = bx
-        .iter()
-        .zip(&by)
-        .map(|(a, b)| (b - my - s * (a - mx)).powi(2))
-        .sum();
-    let sxx: f64 = bx.iter().map(|a| (a - mx).powi(2)).sum();
-    (s, (residual / (bx.len() - 2) as f64 / sxx).sqrt())
-}
-
 /// No secular energy drift over a long run: the fitted energy trend is
 /// consistent with zero (within 3 standard errors of the block-averaged fit)
 /// and the trend over the whole run is below the rms fluctuation.
@@ -370,7 +344,10 @@ fn no_secular_energy_drift() {
             t.push(((n + 1) * every) as f64 * dt);
             e.push(total_energy(&inertia, &p, &integ.states()));
         }
-        let (s, se) = block_slope(&t, &e, BLOCKS);
+        // The slope fitted to block means (so that correlated fluctuations
+        // average out), with its standard error from the residuals.
+        let fit = line_fit(&block_means(&t, BLOCKS), &block_means(&e, BLOCKS));
+        let (s, se) = (fit.slope, fit.slope_standard_error());
         let mean = e.iter().sum::<f64>() / e.len() as f64;
         let rms = (e.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / e.len() as f64).sqrt();
         let drift = s * (t[t.len() - 1] - t[0]);
@@ -482,7 +459,7 @@ fn second_order_global_convergence() {
         }
         let x: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
         let y: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
-        let order = slope(&x, &y);
+        let order = line_fit(&x, &y).slope;
         eprintln!("{name}: global errors {errors:?}, fitted order {order:.3}");
         assert!((order - 2.0).abs() < ORDER_TOL, "{name}: order {order}");
     }

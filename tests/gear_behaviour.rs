@@ -19,7 +19,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Expected global order of both schemes (see `gear_references.rs`).
 const GEAR_ORDER: f64 = 5.0;
-/// Allowed distance of a fitted order from the expected one (the 0.3).
+/// Allowed distance of a fitted order from the expected one: a fit over a few
+/// step sizes carries the higher-order terms.
 const ORDER_TOLERANCE: f64 = 0.3;
 
 /// The final orientations of the cluster after t = 5 with `steps` steps.

@@ -8,8 +8,9 @@ use quatrot::integrators::{Dlm, Integrator, IntegratorError, RotorState};
 use quatrot::potential::{Free, Potential};
 use quatrot::quaternion::Quat;
 use quatrot::rotor::Inertia;
-use quatrot::run::{execute, run_scene, Outputs, Stop, CHECKPOINT_FILE, SUMMARY_FILE};
+use quatrot::run::{execute, run_scene, Outputs, CHECKPOINT_FILE, SUMMARY_FILE};
 use quatrot::scene::{load, parse_toml, validate, Overrides, BUILTINS};
+use quatrot::simulation::Stop;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 fn definition() -> serde_json::Value {
@@ -39,7 +40,8 @@ fn every_builtin_scene_runs_a_few_steps() {
     }
 }
 
-/// The 1000-rotor lattice is what the issue specifies.
+/// The 1000-rotor lattice is the note's test system: simple-cubic unit
+/// dipoles, spherical tops with I = 0.1, a periodic box of side 10.
 #[test]
 fn dipole_lattice_builtin_matches_the_specification() {
     let (_, scene) = load("dipole_lattice_sc", &Overrides::default()).expect("valid");

@@ -4,8 +4,9 @@
 
 mod progress;
 
-use crate::run::{execute, potential, Outputs, Progress, RunResult, Stop};
+use crate::run::{execute, potential, Outputs, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
+use crate::simulation::Stop;
 use clap::{Parser, Subcommand};
 use progress::ProgressBarObserver;
 use std::io::IsTerminal;

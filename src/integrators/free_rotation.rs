@@ -22,6 +22,7 @@
 
 use crate::checks::deserialize_named;
 use crate::quaternion::Quat;
+use crate::rotor::is_spherical_top;
 use nalgebra::Vector3;
 use serde::{Deserialize, Deserializer};
 
@@ -135,11 +136,6 @@ pub fn rotate_spherical_top<M: BodyMomentum>(
     let e = Quat::exp(&(momentum.angular_momentum_body(q) * (duration / inertia)));
     *q = *q * e;
     momentum.carry(&e);
-}
-
-/// True when the three moments are equal and positive.
-pub fn is_spherical_top(inertia: &Vector3<f64>) -> bool {
-    inertia.x > 0.0 && inertia.x == inertia.y && inertia.y == inertia.z
 }
 
 /// The free flow over `duration` used by NO_SQUISH and DLM: the exact

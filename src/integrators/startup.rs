@@ -36,8 +36,8 @@
 //! global error depends on how each scheme's corrector damps them: the
 //! substep count was set by measuring it.
 //!
-//! Why 2 substeps (measured; the start-up used 32 before, 1025 torque
-//! evaluations). Gear runs started with `m` substeps were compared with runs
+//! Why 2 substeps (measured; 32 would cost 1025 torque evaluations). Gear
+//! runs started with `m` substeps were compared with runs
 //! started with 256 (64 on the lattice), for schemes A, B and B with the
 //! higher-derivative correction, on the free asymmetric top and the dipole in
 //! a field (spherical and asymmetric) of the scipy references, the free
@@ -49,8 +49,8 @@
 //! cluster and 1e-4 on the lattice) it is at most 1.3e-2 for `m = 1`, 2.9e-4
 //! for `m = 2` (the lattice at h = 0.016 with the higher-derivative
 //! correction, whose own error is the smallest) and 2.2e-5 for `m = 4`, until
-//! all reach the rounding level (~1e-13 rad; the old 32 substeps were within
-//! 3e-11 rad of the 256-substep runs everywhere). Two substeps leave every
+//! all reach the rounding level (~1e-13 rad; 32 substeps are within 3e-11 rad
+//! of the 256-substep runs everywhere). Two substeps leave every
 //! Gear error unchanged to three digits. Seven samples (`+-3h`, degree 6)
 //! would save a quarter of the cost but alias `r_7` into `r_3` with the
 //! factor 49, which changed Gear errors by up to 20 % at h = 0.2: the nine

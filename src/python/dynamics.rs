@@ -67,11 +67,7 @@ fn gear_corrections_table<'py>(
             let m = moments.vector(i);
             Rotor {
                 site: sites.vector(i),
-                inertia: if m.x == m.y && m.y == m.z {
-                    Inertia::Spherical(m.x)
-                } else {
-                    Inertia::Principal(m)
-                },
+                inertia: Inertia::from_moments(m),
                 dipole_body: dipoles.as_ref().map(|d| d.vector(i)),
                 quadrupole_body: quadrupoles.as_ref().map(|t| t.matrix(i)),
             }
@@ -113,7 +109,7 @@ fn gear_corrections_table<'py>(
         t_energy,
         t_error,
         t_stability,
-        sample_every,
+        sample_every: sample_every as u64,
     };
     let table = py.detach(|| {
         on_worker(|| {
@@ -135,8 +131,8 @@ fn gear_corrections_table<'py>(
             d.set_item("global_error", row.global_error)?;
             d.set_item("order", row.order)?;
             d.set_item("largest_stable_dt", row.largest_stable_dt)?;
-            d.set_item("max_q_dot_q_dot", row.max_q_dot_q_dot)?;
-            d.set_item("max_q_dot_force", row.max_q_dot_force)?;
+            d.set_item("max_q_dot_q_dot", row.max_norm_velocity)?;
+            d.set_item("max_q_dot_force", row.max_norm_force)?;
             Ok(d)
         })
         .collect()

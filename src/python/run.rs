@@ -5,9 +5,10 @@
 //! field; a blow-up raises `quatrot.BlowUpError` carrying the partial
 //! results in its `result` attribute.
 
-use crate::run::{execute, Outputs, RunError, RunResult, Stop};
+use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
 use crate::scene::{load, load_table, load_text, Overrides, Scene, BUILTINS};
+use crate::simulation::Stop;
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};

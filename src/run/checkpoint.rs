@@ -4,7 +4,7 @@
 //! what is needed to check that it belongs to the scene it is restarted with.
 
 use super::error::RunError;
-use super::runner::EnergyReference;
+use crate::simulation::{CheckpointSink, EnergyReference};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -107,10 +107,12 @@ pub struct CheckpointWriter {
     pub dt: f64,
 }
 
-impl CheckpointWriter {
+impl CheckpointSink for CheckpointWriter {
+    type Error = RunError;
+
     /// Writes the state at `step` (to a temporary file, then renamed).
-    pub fn write(
-        &self,
+    fn write(
+        &mut self,
         step: u64,
         state: &[f64],
         reference: Option<EnergyReference>,

@@ -1,9 +1,8 @@
 //! The JSON summary of a run: the scene, the seed, the versions, the time
 //! taken, the final energies and the drift.
 
-use super::observer::Energies;
-use super::runner::{EnergyReference, RunReport, Stop};
 use crate::scene::{Scene, SCENE_VERSION};
+use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
 use serde::Serialize;
 
 /// Versions of what produced the outputs.
@@ -60,32 +59,17 @@ pub struct Summary {
     pub drift: Option<Drift>,
 }
 
-/// Least-squares slope of `y` against `x`.
-fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / n;
-    let mean_y = points.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = points.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
-    let sxx: f64 = points.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
-    sxy / sxx
-}
-
+/// The drift of the run's total energy, relative to the mean kinetic
+/// energy over the samples (or to the reference scale when that vanishes).
 fn drift(report: &RunReport) -> Option<Drift> {
     let reference = report.reference?;
-    let history = &report.energy_history;
     let (_, last) = report.last_energies?;
+    let history = &report.energy_history;
     if history.len() < 2 {
         return None;
     }
-    let points: Vec<(f64, f64)> = history.iter().map(|h| (h[0], h[2])).collect();
-    let mean_kinetic = history.iter().map(|h| h[1]).sum::<f64>() / history.len() as f64;
-    let scale = if mean_kinetic > 0.0 {
-        mean_kinetic
-    } else {
-        reference.scale
-    };
     Some(Drift {
-        relative_per_time: slope(&points) / scale,
+        relative_per_time: history.drift(reference.scale).relative_per_time,
         final_error: last.error,
         samples: history.len(),
     })

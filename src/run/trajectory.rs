@@ -5,11 +5,11 @@
 
 use super::dcd::DcdWriter;
 use super::error::RunError;
-use super::observer::{Needs, Observer, Sample};
 use super::pdb::write_topology;
 use crate::quaternion::Quat;
 use crate::rotor::Rotor;
 use crate::scene::TrajectorySpec;
+use crate::simulation::{Needs, Observer, Sample};
 use nalgebra::Vector3;
 use std::path::{Path, PathBuf};
 
@@ -105,6 +105,8 @@ impl TrajectoryObserver {
 }
 
 impl Observer for TrajectoryObserver {
+    type Error = RunError;
+
     fn needs(&self) -> Needs {
         Needs {
             omega_body: self.frames.is_some(),

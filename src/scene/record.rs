@@ -4,6 +4,7 @@
 use super::error::SceneError;
 use crate::checks::{at_least_one, positive};
 use crate::integrators::IntegratorSpec;
+use crate::simulation::Quantity;
 use serde::{Deserialize, Serialize};
 
 /// Default interval of the blow-up checks, in steps.
@@ -83,56 +84,6 @@ pub struct TrajectorySpec {
     pub every: u64,
     /// Distance of the body-axis markers from the centre (length units, > 0).
     pub marker_length: f64,
-}
-
-/// A scalar observable; per-rotor diagnostics are reduced to their largest
-/// magnitude over the rotors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Quantity {
-    /// `K = 1/2 sum w_b . I w_b`.
-    KineticEnergy,
-    /// `V`.
-    PotentialEnergy,
-    /// `K + V`.
-    TotalEnergy,
-    /// `(E - E_0) / s` with the scale `s` of the run's energy reference.
-    EnergyError,
-    /// Rotational temperature `2 K / (3 n)`.
-    Temperature,
-    /// `max_i ||Q_i| - 1|`.
-    NormError,
-    /// `max_i |Q_i . Q_i'|` (zeroth component of eq 15a).
-    NormVelocity,
-    /// `max_i |Q_i . N_i|` (zeroth component of eq 15b; scheme B only).
-    NormForce,
-}
-
-impl Quantity {
-    /// Every quantity, in the order of [`Quantity::name`]'s documentation.
-    pub const ALL: [Quantity; 8] = [
-        Quantity::KineticEnergy,
-        Quantity::PotentialEnergy,
-        Quantity::TotalEnergy,
-        Quantity::EnergyError,
-        Quantity::Temperature,
-        Quantity::NormError,
-        Quantity::NormVelocity,
-        Quantity::NormForce,
-    ];
-
-    /// The name used in scene files and as the CSV column header.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Quantity::KineticEnergy => "kinetic_energy",
-            Quantity::PotentialEnergy => "potential_energy",
-            Quantity::TotalEnergy => "total_energy",
-            Quantity::EnergyError => "energy_error",
-            Quantity::Temperature => "temperature",
-            Quantity::NormError => "norm_error",
-            Quantity::NormVelocity => "q_dot_q",
-            Quantity::NormForce => "q_dot_n",
-        }
-    }
 }
 
 fn quantity(path: &str, name: &str) -> Result<Quantity, SceneError> {
