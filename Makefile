@@ -27,9 +27,14 @@ $(STAMP_VENV): validation/requirements.txt
 develop: $(STAMP_VENV)
 	$(VENV)/bin/maturin develop --quiet --release
 
+# cargo doc with warnings denied: the public docs (broken links, and links
+# from public items to private ones), then every item's docs (broken links
+# in private items).
 lint:
 	cargo fmt --all -- --check
 	cargo clippy --all-targets --features python -- -D warnings
+	RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features python
+	RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features python --document-private-items
 
 rust-test:
 	cargo test --release

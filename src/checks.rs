@@ -97,7 +97,7 @@ pub fn at_least_one(v: i64) -> Result<u64, InputError> {
 /// component (`[k]`).
 pub fn each(values: &[f64], check: fn(f64) -> Result<f64, InputError>) -> Result<(), InputError> {
     for (k, x) in values.iter().enumerate() {
-        check(*x).map_err(|e| e.at(&format!("[{k}]")))?;
+        let _ = check(*x).map_err(|e| e.at(&format!("[{k}]")))?;
     }
     Ok(())
 }
@@ -119,7 +119,7 @@ pub fn orientation(q: &Quat) -> Result<Quat, InputError> {
 pub fn finite_matrix(m: &Matrix3<f64>) -> Result<(), InputError> {
     for i in 0..3 {
         for j in 0..3 {
-            finite(m[(i, j)]).map_err(|e| e.at(&format!("[{i}][{j}]")))?;
+            let _ = finite(m[(i, j)]).map_err(|e| e.at(&format!("[{i}][{j}]")))?;
         }
     }
     Ok(())

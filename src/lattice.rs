@@ -59,7 +59,7 @@ impl Lattice {
         if cells == 0 {
             return Err(InputError::new("cells", "must be >= 1, got 0"));
         }
-        positive(spacing).map_err(|e| e.at("spacing"))?;
+        let _ = positive(spacing).map_err(|e| e.at("spacing"))?;
         let basis = kind.basis();
         let count = (cells as u128).pow(3) * basis.len() as u128;
         if count > MAX_SITES as u128 {

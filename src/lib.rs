@@ -14,6 +14,15 @@
 //! * [`run`]: the runner, its observers and output files.
 //! * [`cli`]: the `quatrot` command line.
 
+#![warn(
+    missing_docs,
+    trivial_casts,
+    unused_import_braces,
+    variant_size_differences
+)]
+#![warn(unused_qualifications, unused_results, rust_2018_idioms)]
+#![deny(unused_must_use)]
+
 pub mod checks;
 pub mod cli;
 pub mod experiments;

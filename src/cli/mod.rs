@@ -36,6 +36,8 @@ enum Command {
         /// Built-in scene name (see `quatrot scenes`) or path to a .toml file.
         scene: String,
         /// Output directory (default: quatrot_out/<scene name>).
+        // The doc comment is the --help text, shown as written.
+        #[allow(rustdoc::invalid_html_tags)]
         #[arg(long)]
         out: Option<PathBuf>,
         /// Replace the scene's time step.

@@ -199,7 +199,7 @@ struct Trace {
 
 /// Runs `variant` on `system` to `t_end` with steps of `dt` through the run
 /// loop, stopping at the first non-finite sample.
-fn trace(variant: Variant, system: &System, dt: f64, t_end: f64, sample_every: u64) -> Trace {
+fn trace(variant: Variant, system: &System<'_>, dt: f64, t_end: f64, sample_every: u64) -> Trace {
     let mut integrator = variant.spec().build();
     let mut t = Trace {
         final_orientations: Vec::new(),
@@ -255,7 +255,7 @@ fn max_angle(a: &[Quat], b: &[Quat]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn is_stable(variant: Variant, system: &System, dt: f64, t_end: f64) -> bool {
+fn is_stable(variant: Variant, system: &System<'_>, dt: f64, t_end: f64) -> bool {
     let t = trace(variant, system, dt, t_end, 1);
     let Some((&e0, &k0)) = t.energies.total.first().zip(t.energies.kinetic.first()) else {
         return false;
@@ -268,7 +268,7 @@ fn is_stable(variant: Variant, system: &System, dt: f64, t_end: f64) -> bool {
 }
 
 /// The table: one row per configuration of [`variants`].
-pub fn correction_table(system: &System, settings: &Settings) -> Vec<Row> {
+pub fn correction_table(system: &System<'_>, settings: &Settings) -> Vec<Row> {
     let dts = [settings.dt, settings.dt / 2.0, settings.dt / 4.0];
     let reference = trace(
         Variant::A,

@@ -102,8 +102,8 @@ impl<S: Splitting> Integrator for Kicked<S> {
         self.state.omega_body(out, S::omega_body);
     }
 
-    /// Layout of [`KickState::checkpoint`]: `Q`, then the momenta, then the
-    /// torques.
+    /// Layout: every `Q` (4 values each), then every momentum (4 for `P`,
+    /// 3 for `L`), then every space-fixed torque (3 each).
     fn checkpoint(&self) -> Vec<f64> {
         self.state.checkpoint()
     }
@@ -241,7 +241,7 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
         check_length(state, self.orientation.len(), Quat::LEN + M::LEN + 3)?;
         let rest = read_values(state, &mut self.orientation);
         let rest = read_values(rest, &mut self.momentum);
-        read_values(rest, &mut self.torque_space);
+        let _ = read_values(rest, &mut self.torque_space);
         Ok(())
     }
 }

@@ -66,7 +66,12 @@ pub struct RotorState {
 pub enum IntegratorError {
     /// The integrator cannot handle this rotor (for example a zero moment).
     #[error("rotor {rotor}: {reason}")]
-    Unsupported { rotor: usize, reason: String },
+    Unsupported {
+        /// The first offending rotor.
+        rotor: usize,
+        /// What is wrong with it, with the value found.
+        reason: String,
+    },
     /// A checkpoint does not match this integrator and system.
     #[error("checkpoint: {0}")]
     BadCheckpoint(String),

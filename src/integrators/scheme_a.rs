@@ -190,7 +190,7 @@ impl Integrator for GearA {
         let len = self.q.flat_len() + self.omega_body.flat_len();
         let data = checkpoint_data(state, self.dt, len)?;
         let rest = self.q.read_flat(data);
-        self.omega_body.read_flat(rest);
+        let _ = self.omega_body.read_flat(rest);
         Ok(())
     }
 }

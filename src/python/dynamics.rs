@@ -102,7 +102,7 @@ fn gear_corrections_table<'py>(
     }
     // Validate the rotors and states once, so the experiment itself cannot fail.
     let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
-    validate_setup(&inertia, &initial, dt, Moments::Positive)
+    let _ = validate_setup(&inertia, &initial, dt, Moments::Positive)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let settings = Settings {
         dt,

@@ -82,7 +82,7 @@ fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
             } else {
                 format!("{path}.{key}")
             };
-            table.insert(key, to_toml(&v, &sub)?);
+            let _ = table.insert(key, to_toml(&v, &sub)?);
         }
         return Ok(toml::Value::Table(table));
     }

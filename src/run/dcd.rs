@@ -84,12 +84,12 @@ impl DcdWriter {
             record(&mut self.file, &payload)?;
         }
         self.frames += 1;
-        self.file.seek(SeekFrom::Start(NSET_OFFSET))?;
+        let _ = self.file.seek(SeekFrom::Start(NSET_OFFSET))?;
         self.file.write_all(&self.frames.to_le_bytes())?;
-        self.file.seek(SeekFrom::Start(NSTEP_OFFSET))?;
+        let _ = self.file.seek(SeekFrom::Start(NSTEP_OFFSET))?;
         let steps = self.frames.saturating_mul(self.steps_per_frame);
         self.file.write_all(&steps.to_le_bytes())?;
-        self.file.seek(SeekFrom::End(0))?;
+        let _ = self.file.seek(SeekFrom::End(0))?;
         Ok(())
     }
 

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 /// The columns and rows of a finished series.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SeriesTable {
+    /// The series' name.
     pub name: String,
     /// `step`, `time`, then the quantities' names.
     pub columns: Vec<String>,

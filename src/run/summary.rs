@@ -8,17 +8,24 @@ use serde::Serialize;
 /// Versions of what produced the outputs.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Versions {
+    /// The crate's version.
     pub quatrot: &'static str,
+    /// The scene format version read.
     pub scene_format: i64,
 }
 
 /// Energies at the last step they were computed.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct FinalEnergies {
+    /// The step.
     pub step: u64,
+    /// `K`.
     pub kinetic: f64,
+    /// `V`.
     pub potential: f64,
+    /// `K + V`.
     pub total: f64,
+    /// The relative energy error.
     pub error: f64,
 }
 
@@ -38,24 +45,37 @@ pub struct Drift {
 /// The summary written to `summary.json` and returned to Python.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Summary {
+    /// The scene's name.
     pub scene: String,
+    /// The scene's description.
     pub description: String,
     /// The scene as run (after command-line overrides), as JSON.
     pub definition: serde_json::Value,
+    /// The seed of the random initial state, if any.
     pub seed: Option<u64>,
+    /// What produced the outputs.
     pub versions: Versions,
+    /// The integrator's name.
     pub integrator: String,
+    /// The number of rotors.
     pub rotors: usize,
+    /// The time step.
     pub dt: f64,
+    /// The first step of this run (0, or the checkpoint's).
     pub start_step: u64,
+    /// The step the run ended at.
     pub last_step: u64,
     /// "completed" or "blew_up".
     pub status: &'static str,
     /// The blow-up message (step and rotor), if any.
     pub message: Option<String>,
+    /// Wall-clock seconds of the run loop.
     pub wall_seconds: f64,
+    /// The energy reference.
     pub initial_energy: Option<EnergyReference>,
+    /// The last energies computed.
     pub final_energies: Option<FinalEnergies>,
+    /// The energy drift, when energies were computed at two steps or more.
     pub drift: Option<Drift>,
 }
 

@@ -16,7 +16,9 @@ use std::path::{Path, PathBuf};
 /// Orientations and angular velocities kept in memory, frame-major.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TrajectoryFrames {
+    /// The step of each frame.
     pub steps: Vec<u64>,
+    /// The time of each frame.
     pub times: Vec<f64>,
     /// `frames x rotors x 4`, scalar first.
     pub orientations: Vec<f64>,
@@ -35,11 +37,17 @@ pub struct TrajectoryObserver {
 
 /// Where the files of a trajectory go.
 pub struct TrajectoryFiles<'a> {
+    /// The DCD file of the frames.
     pub dcd: &'a Path,
+    /// The PDB file of the topology.
     pub pdb: &'a Path,
+    /// The periodic box, if any (the PDB's CRYST1 record).
     pub box_lengths: Option<&'a Vector3<f64>>,
+    /// The step of the first frame.
     pub first_step: u64,
+    /// The time step.
     pub dt: f64,
+    /// The title of both files.
     pub title: &'a str,
 }
 

@@ -32,7 +32,7 @@ impl RawIntegrator {
     /// The table of an integrator with its default options (`kind = name`).
     pub fn named(name: &str) -> Result<Self, String> {
         let mut table = toml::Table::new();
-        table.insert("kind".into(), toml::Value::String(name.into()));
+        let _ = table.insert("kind".into(), toml::Value::String(name.into()));
         Self::from_table(table)
     }
 

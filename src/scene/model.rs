@@ -1,5 +1,5 @@
 //! The validated scene: physics objects the runner uses directly. Every value
-//! here has passed the checks of [`super::validate`].
+//! here has passed the checks of [`super::validate()`].
 
 use super::record::Record;
 use crate::integrators::{IntegratorSpec, RotorState};

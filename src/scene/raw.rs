@@ -1,7 +1,7 @@
 //! The scene file as written: serde structs that mirror the TOML (or JSON)
 //! exactly, with `deny_unknown_fields` everywhere and internally tagged enums
 //! (`kind = "..."`) of struct variants. Each section's types live in the
-//! section's file; [`super::validate`] turns a [`RawScene`] into a typed
+//! section's file; [`super::validate()`] turns a [`RawScene`] into a typed
 //! [`super::Scene`].
 
 use serde::{Deserialize, Serialize};

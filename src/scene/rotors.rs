@@ -120,7 +120,7 @@ impl<'de> Deserialize<'de> for RawInertia {
         struct InertiaVisitor;
         impl<'de> Visitor<'de> for InertiaVisitor {
             type Value = RawInertia;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 f.write_str("a number or an array of 3 numbers")
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawInertia, E> {
@@ -260,7 +260,7 @@ struct Props<'a> {
 
 /// The rotor at `site`: each property from `own` if set there, otherwise
 /// from `default`, checked with the path of where it was written.
-fn rotor(site: Vector3<f64>, own: Props, default: &RawRotorProps) -> Result<Rotor, SceneError> {
+fn rotor(site: Vector3<f64>, own: Props<'_>, default: &RawRotorProps) -> Result<Rotor, SceneError> {
     let path = |field: &str, own_set: bool| {
         if own_set {
             format!("{}.{field}", own.path)

@@ -28,7 +28,9 @@ pub enum Boundary {
     /// `N^2 (4 pi / 3) cutoff^3 / (2 V)` pairs for `N` sites in a box of
     /// volume `V`, at most [`MAX_PAIRS`].
     Periodic {
+        /// The edges of the box along x, y, z.
         box_lengths: Vector3<f64>,
+        /// The spherical cutoff.
         cutoff: f64,
     },
 }
@@ -46,7 +48,7 @@ impl Boundary {
             return Ok(());
         };
         each(box_lengths.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
-        positive(cutoff).map_err(|e| e.at("cutoff"))?;
+        let _ = positive(cutoff).map_err(|e| e.at("cutoff"))?;
         let sphere = 4.0 / 3.0 * std::f64::consts::PI * cutoff.powi(3);
         let estimate = (sites as f64).powi(2) * sphere / (2.0 * box_lengths.product());
         if estimate > MAX_PAIRS as f64 {

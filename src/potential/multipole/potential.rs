@@ -366,11 +366,11 @@ impl Potential for MultipolePotential {
     }
 
     fn accumulate_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) {
-        self.evaluate(orientations, Some(gradient), None);
+        let _ = self.evaluate(orientations, Some(gradient), None);
     }
 
     fn accumulate_torques(&self, orientations: &[Quat], torques_space: &mut [Vector3<f64>]) {
-        self.evaluate(orientations, None, Some(torques_space));
+        let _ = self.evaluate(orientations, None, Some(torques_space));
     }
 
     fn energy_and_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) -> f64 {

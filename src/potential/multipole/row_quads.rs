@@ -467,7 +467,7 @@ mod tests {
     /// (self pairs counting both ends) and each partner many times.
     #[test]
     fn self_images_match_the_half_list() {
-        check_against_half_list(&simple_cubic(2, &[]), &periodic(2, 3.1));
+        let _ = check_against_half_list(&simple_cubic(2, &[]), &periodic(2, 3.1));
     }
 
     /// A 10^3 lattice with two vacancies: rows of different lengths (missing
