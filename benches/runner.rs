@@ -54,21 +54,13 @@ fn every_quantity(every: u64, quantities: Vec<Quantity>) -> Series {
     }
 }
 
-/// The observables of the "everything every step" case.
+/// The observables of the "everything every step" case: every quantity the
+/// integrator can give (`q_dot_n` needs scheme B).
 fn all_quantities(integrator_name: &str) -> Vec<Quantity> {
-    let mut all = vec![
-        Quantity::KineticEnergy,
-        Quantity::PotentialEnergy,
-        Quantity::TotalEnergy,
-        Quantity::EnergyError,
-        Quantity::Temperature,
-        Quantity::NormError,
-        Quantity::NormVelocity,
-    ];
-    if integrator_name == "gear_b" {
-        all.push(Quantity::NormForce);
-    }
-    all
+    Quantity::ALL
+        .into_iter()
+        .filter(|&q| q != Quantity::NormForce || integrator_name == "gear_b")
+        .collect()
 }
 
 /// The runner cases: a name and the series recorded (none for the first);

@@ -172,6 +172,21 @@ pub fn deserialize_at_least_one<'de, D: Deserializer<'de>>(
         .ok_or_else(|| D::Error::custom(format!("must be <= {}, got {n}", u32::MAX)))
 }
 
+/// Implements `Deserialize` for a field-less enum from names:
+/// `named_choices!(Startup { "consistent" => Startup::Consistent, ... })`
+/// reads `"consistent"` as `Startup::Consistent` and refuses any other
+/// string ([`deserialize_named`]).
+macro_rules! named_choices {
+    ($enum:ty { $($name:literal => $value:expr),+ $(,)? }) => {
+        impl<'de> serde::Deserialize<'de> for $enum {
+            fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+                $crate::checks::deserialize_named(deserializer, &[$(($name, $value)),+])
+            }
+        }
+    };
+}
+pub(crate) use named_choices;
+
 /// Deserialises a string naming one of `choices`, refusing any other with
 /// `must be "a" or "b", got "c"`.
 pub fn deserialize_named<'de, D: Deserializer<'de>, T: Copy>(

@@ -20,11 +20,10 @@
 //! (two equal moments), which would also be a composition of two commuting
 //! exact flows; symmetric tops use the sweep.
 
-use crate::checks::deserialize_named;
+use crate::checks::named_choices;
 use crate::quaternion::Quat;
 use crate::rotor::is_spherical_top;
 use nalgebra::Vector3;
-use serde::{Deserialize, Deserializer};
 
 /// How the free rotation of a spherical top (three equal, positive moments)
 /// is integrated. Other tops always use the sweep about body axes.
@@ -39,18 +38,10 @@ pub enum SphericalTops {
     Split,
 }
 
-/// The scene's names: `"exact"` and `"split"`.
-impl<'de> Deserialize<'de> for SphericalTops {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserialize_named(
-            deserializer,
-            &[
-                ("exact", SphericalTops::Exact),
-                ("split", SphericalTops::Split),
-            ],
-        )
-    }
-}
+named_choices!(SphericalTops {
+    "exact" => SphericalTops::Exact,
+    "split" => SphericalTops::Split,
+});
 
 /// A momentum variable carried by the rotation of the body frame: the body
 /// angular momentum itself (DLM) or the conjugate quaternion momentum

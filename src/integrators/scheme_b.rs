@@ -41,13 +41,13 @@ use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
 use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
-use crate::checks::deserialize_named;
+use crate::checks::named_choices;
 use crate::observables::norm_force;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
-use serde::{Deserialize, Deserializer};
+use serde::Deserialize;
 
 /// The first coefficient `c0` of the second-order corrector table.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -60,18 +60,10 @@ pub enum FirstCorrector {
     PositionOnly,
 }
 
-/// The scene's names: `"3/16"` and `"3/20"`.
-impl<'de> Deserialize<'de> for FirstCorrector {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserialize_named(
-            deserializer,
-            &[
-                ("3/16", FirstCorrector::VelocityDependent),
-                ("3/20", FirstCorrector::PositionOnly),
-            ],
-        )
-    }
-}
+named_choices!(FirstCorrector {
+    "3/16" => FirstCorrector::VelocityDependent,
+    "3/20" => FirstCorrector::PositionOnly,
+});
 
 impl FirstCorrector {
     /// The coefficient `c0`.

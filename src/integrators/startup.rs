@@ -61,12 +61,11 @@ use super::rigid_body::{q_ddot, General, PrincipalMoments, Spherical, TopKind};
 use super::setup_checks::{validate_setup, Moments};
 use super::torque::{evaluate_torques, torque_body};
 use super::{IntegratorError, RotorState};
-use crate::checks::deserialize_named;
+use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::{SMatrix, Vector3};
-use serde::{Deserialize, Deserializer};
 
 /// RK4 substeps per Gear step in the start-up integration (module doc: the
 /// measured choice).
@@ -89,18 +88,10 @@ pub enum Startup {
     Zeros,
 }
 
-/// The scene's names: `"consistent"` and `"zeros"`.
-impl<'de> Deserialize<'de> for Startup {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserialize_named(
-            deserializer,
-            &[
-                ("consistent", Startup::Consistent),
-                ("zeros", Startup::Zeros),
-            ],
-        )
-    }
-}
+named_choices!(Startup {
+    "consistent" => Startup::Consistent,
+    "zeros" => Startup::Zeros,
+});
 
 /// Scaled derivatives at t = 0, orders 0..=5, of the orientation and of the
 /// body angular velocity of every rotor.
