@@ -1,22 +1,28 @@
 //! The `[integrator]` section: read straight into the physics
 //! [`IntegratorSpec`], whose option structs carry every option, its default,
-//! its check and its documentation. Only the `kind` of each integrator is
-//! registered here.
+//! its check and its documentation, and whose list of integrators (and their
+//! `kind`s) is the physics' own: nothing here names an integrator.
 
-use super::tagged::{tagged, variant};
-use crate::integrators::{
-    DlmOptions, GearAOptions, GearBOptions, IntegratorOptions, IntegratorSpec, NoSquishOptions,
-    RichardsonOptions,
-};
+use super::tagged::{take_kind, variant, variant_with, with_inner_path};
+use crate::integrators::IntegratorSpec;
+use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-tagged!(IntegratorSpec {
-    GearAOptions::NAME => GearA(GearAOptions),
-    GearBOptions::NAME => GearB(GearBOptions),
-    NoSquishOptions::NAME => NoSquish(NoSquishOptions),
-    DlmOptions::NAME => Dlm(DlmOptions),
-    RichardsonOptions::NAME => Richardson(RichardsonOptions),
-});
+/// `kind = "..."` and the options of that integrator, with errors naming the
+/// option's path inside the table.
+impl<'de> Deserialize<'de> for IntegratorSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let mut table = toml::Table::deserialize(deserializer)?;
+        let kind = take_kind::<D::Error>(&mut table)?;
+        if !IntegratorSpec::KINDS.contains(&kind.as_str()) {
+            let e = D::Error::unknown_variant(&kind, IntegratorSpec::KINDS);
+            return Err(with_inner_path("kind", &e.to_string()));
+        }
+        variant_with(table, |options| {
+            IntegratorSpec::deserialize_kind(&kind, options)
+        })
+    }
+}
 
 /// The `[integrator]` table: the [`IntegratorSpec`] it describes, and the
 /// table as written (what the run summary records as the scene's definition,
@@ -62,7 +68,7 @@ impl Serialize for RawIntegrator {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrators::{SphericalTops, Startup};
+    use crate::integrators::{GearAOptions, GearBOptions, NoSquishOptions, SphericalTops, Startup};
     use std::num::NonZeroU32;
 
     fn read(text: &str) -> Result<IntegratorSpec, String> {

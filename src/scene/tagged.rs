@@ -33,10 +33,24 @@ pub(super) fn with_inner_path<E: serde::de::Error>(path: &str, message: &str) ->
 pub(super) fn variant<T: DeserializeOwned, E: serde::de::Error>(
     table: toml::Table,
 ) -> Result<T, E> {
-    serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
-        let outer = e.path().to_string();
+    variant_with(table, |deserializer| T::deserialize(deserializer))
+}
+
+/// The table read through a deserializer that tracks paths.
+pub(super) type Tracked<'a> = serde_path_to_error::Deserializer<'a, 'a, toml::Value>;
+
+/// Reads a variant from the rest of the table with `read`, the error
+/// carrying the path inside the table.
+pub(super) fn variant_with<T, E: serde::de::Error>(
+    table: toml::Table,
+    read: impl FnOnce(Tracked<'_>) -> Result<T, toml::de::Error>,
+) -> Result<T, E> {
+    let mut track = serde_path_to_error::Track::new();
+    let value = toml::Value::Table(table);
+    read(serde_path_to_error::Deserializer::new(value, &mut track)).map_err(|e| {
+        let outer = track.path().to_string();
         let outer = if outer == "." { "" } else { outer.as_str() };
-        let (path, message) = join_path(outer, e.inner().message());
+        let (path, message) = join_path(outer, e.message());
         if path.is_empty() {
             E::custom(message)
         } else {
@@ -58,21 +72,22 @@ pub(super) fn take_kind<E: serde::de::Error>(table: &mut toml::Table) -> Result<
 }
 
 /// Implements `Deserialize` for an enum of newtype variants around structs,
-/// tagged by `kind` (each tag a `&str` expression, such as a literal or an
-/// integrator's [`crate::integrators::IntegratorOptions::NAME`]).
+/// tagged by `kind`.
 macro_rules! tagged {
-    ($enum:ident { $($tag:expr => $variant:ident($payload:ty)),+ $(,)? }) => {
+    ($enum:ident { $($tag:literal => $variant:ident($payload:ty)),+ $(,)? }) => {
         impl<'de> serde::Deserialize<'de> for $enum {
             fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
                 use super::tagged::{take_kind, variant, with_inner_path};
                 const TAGS: &[&str] = &[$($tag),+];
                 let mut table = toml::Table::deserialize(deserializer)?;
                 let kind = take_kind::<D::Error>(&mut table)?;
-                $(if kind == $tag {
-                    return variant::<$payload, D::Error>(table).map($enum::$variant);
-                })+
-                let e: D::Error = serde::de::Error::unknown_variant(&kind, TAGS);
-                Err(with_inner_path("kind", &e.to_string()))
+                match kind.as_str() {
+                    $($tag => variant::<$payload, D::Error>(table).map($enum::$variant),)+
+                    other => {
+                        let e: D::Error = serde::de::Error::unknown_variant(other, TAGS);
+                        Err(with_inner_path("kind", &e.to_string()))
+                    }
+                }
             }
         }
     };
