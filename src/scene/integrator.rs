@@ -26,7 +26,7 @@ impl<'de> Deserialize<'de> for IntegratorSpec {
 
 /// The `[integrator]` table: the [`IntegratorSpec`] it describes, and the
 /// table as written (what the run summary records as the scene's definition,
-/// with the options left out left out).
+/// keeping out the options it leaves out).
 #[derive(Debug, Clone)]
 pub struct RawIntegrator {
     /// The integrator and its options.

@@ -112,6 +112,19 @@ fn next_multiple(step: u64, every: u64) -> u64 {
     (step / every + 1).saturating_mul(every)
 }
 
+/// The energies from the kinetic and potential energy, the error measured
+/// from `reference` (set from these energies if there is none yet).
+fn energies(kinetic: f64, potential: f64, reference: &mut Option<EnergyReference>) -> Energies {
+    let total = kinetic + potential;
+    let reference = *reference.get_or_insert_with(|| EnergyReference::initial(kinetic, total));
+    Energies {
+        kinetic,
+        potential: total - kinetic,
+        total,
+        error: reference.error(total),
+    }
+}
+
 /// One run in progress.
 struct Loop<'a, 'c, E> {
     integrator: &'a mut dyn Integrator,
@@ -196,17 +209,11 @@ impl<E> Loop<'_, '_, E> {
         let norm_force = needs.norm_force && self.integrator.norm_force(&mut buffers.norm_force);
         let energies = needs.energies.then(|| {
             let kinetic = total_kinetic_energy(self.inertia, &buffers.omega_body);
-            let total = kinetic + self.potential.energy(orientations);
-            let reference = *self
-                .report
-                .reference
-                .get_or_insert_with(|| EnergyReference::initial(kinetic, total));
-            Energies {
+            energies(
                 kinetic,
-                potential: total - kinetic,
-                total,
-                error: reference.error(total),
-            }
+                self.potential.energy(orientations),
+                &mut self.report.reference,
+            )
         });
         let time = step as f64 * options.dt;
         if let Some(e) = energies {
