@@ -172,15 +172,23 @@ pub fn deserialize_at_least_one<'de, D: Deserializer<'de>>(
         .ok_or_else(|| D::Error::custom(format!("must be <= {}, got {n}", u32::MAX)))
 }
 
-/// Implements `Deserialize` for a field-less enum from names:
+/// Implements `Deserialize` and `Serialize` for a field-less enum by names:
 /// `named_choices!(Startup { "consistent" => Startup::Consistent, ... })`
-/// reads `"consistent"` as `Startup::Consistent` and refuses any other
-/// string ([`deserialize_named`]).
+/// reads and writes `"consistent"` for `Startup::Consistent` and refuses any
+/// other string ([`deserialize_named`]).
 macro_rules! named_choices {
-    ($enum:ty { $($name:literal => $value:expr),+ $(,)? }) => {
+    ($enum:ty { $($name:literal => $value:path),+ $(,)? }) => {
         impl<'de> serde::Deserialize<'de> for $enum {
             fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
                 $crate::checks::deserialize_named(deserializer, &[$(($name, $value)),+])
+            }
+        }
+
+        impl serde::Serialize for $enum {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+                serializer.serialize_str(match self {
+                    $($value => $name),+
+                })
             }
         }
     };

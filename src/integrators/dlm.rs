@@ -24,7 +24,7 @@ use super::spec::IntegratorOptions;
 use super::Integrator;
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Body axes of the symmetric sweep, outermost first (axes 1, 2, 3).
 const SWEEP_AXES: [usize; 3] = [0, 1, 2];
@@ -33,7 +33,7 @@ const SWEEP_AXES: [usize; 3] = [0, 1, 2];
 pub type Dlm = Kicked<DlmOptions>;
 
 /// Options of [`Dlm`] (the scene's `[integrator]` table with `kind = "dlm"`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DlmOptions {
     /// The free flow of spherical tops (default [`SphericalTops::Exact`];

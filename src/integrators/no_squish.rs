@@ -25,7 +25,7 @@ use super::spec::IntegratorOptions;
 use super::Integrator;
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 
 /// Body axes of the symmetric sweep, outermost first (axes 3, 2, 1).
@@ -36,7 +36,7 @@ pub type NoSquish = Kicked<NoSquishOptions>;
 
 /// Options of [`NoSquish`] (the scene's `[integrator]` table with
 /// `kind = "no_squish"`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NoSquishOptions {
     /// Free-rotation sweeps per step, each over `dt / substeps` (>= 1,

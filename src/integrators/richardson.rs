@@ -25,14 +25,14 @@ use super::spec::IntegratorOptions;
 use super::Integrator;
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The Richardson integrator (scene name `richardson`).
 pub type Richardson = Kicked<RichardsonOptions>;
 
 /// Options of [`Richardson`]: none (the scene's `[integrator]` table with
 /// `kind = "richardson"` takes no other key).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RichardsonOptions {}
 

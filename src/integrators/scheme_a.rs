@@ -29,11 +29,11 @@ use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Options of [`GearA`] (the scene's `[integrator]` table with
 /// `kind = "gear_a"`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GearAOptions {
     /// Rescale `Q` to unit norm after each step (default true).

@@ -47,7 +47,7 @@ use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The first coefficient `c0` of the second-order corrector table.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -78,7 +78,7 @@ impl FirstCorrector {
 /// Options of [`GearB`] (the scene's `[integrator]` table with
 /// `kind = "gear_b"`). The default is the note's recommended set: both
 /// projections and renormalisation, without the higher-derivative correction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GearBOptions {
     /// The first corrector coefficient (default 3/16).

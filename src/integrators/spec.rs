@@ -6,7 +6,7 @@
 use super::{
     DlmOptions, GearAOptions, GearBOptions, Integrator, NoSquishOptions, RichardsonOptions,
 };
-use serde::{Deserialize, Deserializer};
+use serde::{Deserialize, Deserializer, Serialize};
 
 /// The options of one integrator: its stable name and how to build it.
 pub trait IntegratorOptions {
@@ -22,8 +22,10 @@ pub trait IntegratorOptions {
 macro_rules! integrator_spec {
     ($($(#[$doc:meta])* $variant:ident($options:ty)),+ $(,)?) => {
         /// An integrator and its options: the scene's `[integrator]` table,
-        /// whose `kind` is the variant's [`IntegratorOptions::NAME`].
-        #[derive(Clone, Copy, Debug, PartialEq)]
+        /// whose `kind` is the variant's [`IntegratorOptions::NAME`] (also
+        /// when written: the variant's name in snake case, tested).
+        #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+        #[serde(tag = "kind", rename_all = "snake_case")]
         pub enum IntegratorSpec {
             $($(#[$doc])* $variant($options)),+
         }
@@ -101,6 +103,8 @@ mod tests {
         for (spec, kind) in specs.iter().zip(IntegratorSpec::KINDS) {
             assert_eq!(spec.build().name(), spec.name());
             assert_eq!(spec.name(), *kind);
+            let written = serde_json::to_value(spec).expect("serialisable");
+            assert_eq!(written["kind"], *kind);
         }
     }
 }

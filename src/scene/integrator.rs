@@ -101,6 +101,28 @@ mod tests {
         );
     }
 
+    /// A spec written out (every option, the enums by their scene names)
+    /// reads back as itself.
+    #[test]
+    fn written_specs_read_back() {
+        let spec = IntegratorSpec::GearB(GearBOptions {
+            c0: crate::integrators::FirstCorrector::PositionOnly,
+            startup: Startup::Zeros,
+            ..GearBOptions::default()
+        });
+        let written = toml::to_string(&spec).expect("serialisable");
+        assert!(written.contains("c0 = \"3/20\""), "{written}");
+        assert_eq!(read(&written), Ok(spec));
+        let spec = IntegratorSpec::NoSquish(NoSquishOptions {
+            substeps: NoSquishOptions::SUBSTEPS_DL_POLY,
+            spherical_tops: SphericalTops::Split,
+        });
+        assert_eq!(
+            read(&toml::to_string(&spec).expect("serialisable")),
+            Ok(spec)
+        );
+    }
+
     /// Errors name the option (relative to the table) and the value.
     #[test]
     fn bad_options_name_the_option() {
