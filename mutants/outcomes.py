@@ -18,10 +18,12 @@ class Mutant:
     file: str
     summary: str  # CaughtMutant, MissedMutant, Unviable, Timeout, Failure
     diff_path: Path | None  # absolute path of the mutant's diff
+    seconds: float  # build and test time in stage 1
 
 
 def read(out_dir: Path) -> list[Mutant]:
     """Every mutant scenario of a cargo-mutants run (the baseline left out)."""
+    out_dir = out_dir.resolve()
     data = json.loads((out_dir / "outcomes.json").read_text())
     mutants = []
     for o in data["outcomes"]:
@@ -30,7 +32,8 @@ def read(out_dir: Path) -> list[Mutant]:
             continue
         m = scenario["Mutant"]
         diff = o.get("diff_path")
-        mutants.append(Mutant(m["name"], m["file"], o["summary"], out_dir / diff if diff else None))
+        seconds = sum(p["duration"] for p in o.get("phase_results", []))
+        mutants.append(Mutant(m["name"], m["file"], o["summary"], out_dir / diff if diff else None, seconds))
     return mutants
 
 

@@ -79,8 +79,12 @@ def _build_and_test(scratch: Path, tree: Path, timeout: float | None) -> str:
     return "passed" if passed else "failed"
 
 
-def _apply(tree: Path, diff: Path) -> bool:
-    return _run(["git", "apply", "--unsafe-paths", str(diff)], tree)
+def _apply(tree: Path, mutant: Mutant) -> bool:
+    """Applies the mutant's diff to its file (cargo-mutants' diffs name the
+    file on the `---` line only, so the file is given to patch)."""
+    if mutant.diff_path is None:
+        return False
+    return _run(["patch", "--quiet", "--forward", mutant.file, str(mutant.diff_path)], tree)
 
 
 def main() -> int:
@@ -106,7 +110,7 @@ def main() -> int:
     for k, mutant in enumerate(missed, 1):
         start = time.monotonic()
         tree = _copy_tree(scratch)
-        if mutant.diff_path is None or not _apply(tree, mutant.diff_path):
+        if not _apply(tree, mutant):
             outcome = "unapplied"
         else:
             outcome = OUTCOMES[_build_and_test(scratch, tree, timeout)]
