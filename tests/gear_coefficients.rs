@@ -127,17 +127,22 @@ fn solve(mut a: Vec<Vec<Ratio>>, mut b: Vec<Ratio>) -> Vec<Ratio> {
             .expect("the order conditions are independent");
         a.swap(col, pivot);
         b.swap(col, pivot);
-        for r in 0..n {
-            if r != col && a[r][col] != Ratio::ZERO {
-                let f = a[r][col] / a[col][col];
-                for c in col..n {
-                    a[r][c] = a[r][c] - f * a[col][c];
-                }
-                b[r] = b[r] - f * b[col];
+        let (pivot_row, pivot_rhs) = (a[col].clone(), b[col]);
+        for (row, rhs) in a.iter_mut().zip(b.iter_mut()).skip(col + 1) {
+            let f = row[col] / pivot_row[col];
+            for (x, p) in row.iter_mut().zip(&pivot_row).skip(col) {
+                *x = *x - f * *p;
             }
+            *rhs = *rhs - f * pivot_rhs;
         }
     }
-    (0..n).map(|i| b[i] / a[i][i]).collect()
+    // Back substitution on the upper-triangular system.
+    let mut x = vec![Ratio::ZERO; n];
+    for i in (0..n).rev() {
+        let known = (i + 1..n).fold(Ratio::ZERO, |acc, j| acc + a[i][j] * x[j]);
+        x[i] = (b[i] - known) / a[i][i];
+    }
+    x
 }
 
 /// A formula for a scaled derivative `r_j = y^(j)(0)/j!` at the new time:

@@ -21,6 +21,13 @@ const OMEGA_MAX: f64 = 2.0;
 /// baselines): both below `(|w|max dt)^2` (measured up to 2e-7).
 const DERIVATIVE_TOLERANCE: f64 = (OMEGA_MAX * DT) * (OMEGA_MAX * DT);
 
+/// What an integrator reports after a step: orientations, `Q'` and `w_b`.
+struct Frame {
+    orientations: Vec<Quat>,
+    q_dot: Vec<Quat>,
+    omega_body: Vec<Vector3<f64>>,
+}
+
 fn to_nalgebra(q: &Quat) -> Quaternion<f64> {
     Quaternion::new(q[0], q[1], q[2], q[3])
 }
@@ -33,7 +40,7 @@ fn to_nalgebra(q: &Quat) -> Quaternion<f64> {
 fn rate_errors<I: Integrator>(mut integrator: I) -> (f64, f64) {
     let (cluster, inertia, initial) = cube(true);
     let n = initial.len();
-    let mut frames: Vec<(Vec<Quat>, Vec<Quat>, Vec<Vector3<f64>>)> = Vec::new();
+    let mut frames: Vec<Frame> = Vec::new();
     run(
         &mut integrator,
         &inertia,
@@ -46,14 +53,22 @@ fn rate_errors<I: Integrator>(mut integrator: I) -> (f64, f64) {
             let mut omega = vec![Vector3::zeros(); n];
             i.q_dot(&mut q_dot);
             i.omega_body(&mut omega);
-            frames.push((i.orientations().to_vec(), q_dot, omega));
+            frames.push(Frame {
+                orientations: i.orientations().to_vec(),
+                q_dot,
+                omega_body: omega,
+            });
         },
     );
     let (mut q_dot_error, mut omega_error) = (0.0_f64, 0.0_f64);
     for k in 1..frames.len() - 1 {
-        let (q, q_dot, omega) = &frames[k];
+        let Frame {
+            orientations: q,
+            q_dot,
+            omega_body: omega,
+        } = &frames[k];
         for r in 0..n {
-            let fd = (frames[k + 1].0[r] - frames[k - 1].0[r]) * (0.5 / DT);
+            let fd = (frames[k + 1].orientations[r] - frames[k - 1].orientations[r]) * (0.5 / DT);
             q_dot_error =
                 q_dot_error.max((q_dot[r] - fd).0.iter().fold(0.0, |m, x| m.max(x.abs())));
             let q_n = to_nalgebra(&q[r]);
