@@ -58,20 +58,22 @@ bench: develop
 # from mutants/explanations.toml. MUTANTS_ARGS limits the run, e.g.
 # MUTANTS_ARGS="--in-diff change.diff" or "--shard 0/60 --sharding round-robin"
 # (cargo-mutants exits 2 for missed mutants and 3 for timeouts: both are
-# results; any other failure stops the target).
+# results; any other failure stops the target). MUTANTS_DIR separates the
+# outputs of shards run apart; `python -m mutants.report DIR/mutants.out ...
+# --report mutants/REPORT.md` merges them.
 MUTANTS_VERSION := 27.1.0
 CARGO_MUTANTS := target/tools/cargo-mutants-$(MUTANTS_VERSION)/bin/cargo-mutants
-MUTANTS_OUT := target/mutants-out/mutants.out
+MUTANTS_DIR ?= target/mutants-out
 MUTANTS_ARGS ?=
 
 $(CARGO_MUTANTS):
 	cargo install --locked --root target/tools/cargo-mutants-$(MUTANTS_VERSION) cargo-mutants@$(MUTANTS_VERSION)
 
 mutants: $(CARGO_MUTANTS) $(STAMP_VENV)
-	$(CARGO_MUTANTS) mutants $(MUTANTS_ARGS); status=$$?; \
+	$(CARGO_MUTANTS) mutants --output $(MUTANTS_DIR) $(MUTANTS_ARGS); status=$$?; \
 	  case $$status in 0|2|3) ;; *) exit $$status ;; esac
-	$(PY) -m mutants.python_stage --out $(MUTANTS_OUT)
-	$(PY) -m mutants.report $(MUTANTS_OUT) --report mutants/REPORT.md \
+	$(PY) -m mutants.python_stage --out $(MUTANTS_DIR)/mutants.out
+	$(PY) -m mutants.report $(MUTANTS_DIR)/mutants.out --report mutants/REPORT.md \
 	  --command "$(if $(MUTANTS_ARGS),$(MUTANTS_ARGS),all mutants)"
 
 clean:
