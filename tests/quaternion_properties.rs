@@ -3,7 +3,6 @@
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use proptest::prelude::*;
-use quatrot::observables::{omega_body, omega_space};
 use quatrot::Quat;
 use std::f64::consts::PI;
 
@@ -117,14 +116,14 @@ proptest! {
 proptest! {
     /// Eq 10 inverted is exact for any non-zero `Q`: with
     /// `Q' = 1/2 Q*(0, w_b) + lambda Q` (a turn about `w_b` while `|Q|`
-    /// changes at the rate `lambda`), `omega_body(Q, Q') = w_b`, and likewise
-    /// `omega_space(Q, 1/2 (0, w_s)*Q + lambda Q) = w_s` (the `1/|Q|^2` of
+    /// changes at the rate `lambda`), `Q.omega_body_from_q_dot(Q') = w_b`, and likewise
+    /// `Q.omega_space_from_q_dot(1/2 (0, w_s)*Q + lambda Q) = w_s` (the `1/|Q|^2` of
     /// both undoes the scale of `Q` and of `Q'`).
     #[test]
     fn angular_velocities_are_exact_for_non_unit_q(q in non_unit_quat(), w in vector(3.0), lambda in -2.0f64..2.0) {
-        let body = omega_body(&q, &(q.q_dot_from_omega_body(&w) + q * lambda));
+        let body = q.omega_body_from_q_dot(&(q.q_dot_from_omega_body(&w) + q * lambda));
         prop_assert!((body - w).amax() < TIGHT * (1.0 + w.amax()));
-        let space = omega_space(&q, &(q.q_dot_from_omega_space(&w) + q * lambda));
+        let space = q.omega_space_from_q_dot(&(q.q_dot_from_omega_space(&w) + q * lambda));
         prop_assert!((space - w).amax() < TIGHT * (1.0 + w.amax()));
     }
 
@@ -134,8 +133,8 @@ proptest! {
     fn body_and_space_angular_velocities_agree_for_non_unit_q(q in non_unit_quat(), w in vector(3.0)) {
         let q_dot = q.q_dot_from_omega_body(&w);
         let unit = q * (1.0 / q.norm());
-        let rotated = unit.body_to_space(&omega_body(&q, &q_dot));
-        prop_assert!((omega_space(&q, &q_dot) - rotated).amax() < TIGHT * (1.0 + w.amax()));
+        let rotated = unit.body_to_space(&q.omega_body_from_q_dot(&q_dot));
+        prop_assert!((q.omega_space_from_q_dot(&q_dot) - rotated).amax() < TIGHT * (1.0 + w.amax()));
     }
 
     /// The matrix of eq 7 of a non-unit `Q` is `|Q|^2` times the rotation of

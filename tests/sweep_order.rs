@@ -12,11 +12,12 @@
 //! the order of the sweep is pinned, not only the order of the method.
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
-use quatrot::integrators::{Dlm, Integrator, NoSquish, RotorState, SphericalTops};
+use quatrot::integrators::{
+    Dlm, DlmOptions, Integrator, NoSquish, NoSquishOptions, RotorState, SphericalTops,
+};
 use quatrot::potential::Potential;
 use quatrot::rotor::Inertia;
 use quatrot::Quat;
-use std::num::NonZeroUsize;
 
 /// Round-off of `STEPS` steps of products of O(1) rotation matrices (each
 /// entry rounding at ~1e-16 per product, some tens of products per step,
@@ -235,19 +236,32 @@ fn check<I: Integrator>(name: &str, mut integrator: I, axes: [usize; 3], substep
 /// `fix nve/sphere update dipole/dlm`.
 #[test]
 fn dlm_sweeps_axes_1_2_3_2_1() {
-    check("dlm", Dlm::new(SphericalTops::Split), [0, 1, 2], 1);
+    check(
+        "dlm",
+        Dlm::new(DlmOptions {
+            spherical_tops: SphericalTops::Split,
+        }),
+        [0, 1, 2],
+        1,
+    );
 }
 
 /// NO_SQUISH sweeps body axes 3, 2, 1, 2, 3, as its paper, LAMMPS
 /// `fix rigid/nve` and HOOMD-blue (one sweep) and DL_POLY (ten).
 #[test]
 fn no_squish_sweeps_axes_3_2_1_2_3() {
-    for substeps in [NoSquish::SUBSTEPS_LAMMPS, NoSquish::SUBSTEPS_DL_POLY] {
+    for substeps in [
+        NoSquishOptions::SUBSTEPS_LAMMPS,
+        NoSquishOptions::SUBSTEPS_DL_POLY,
+    ] {
         check(
             &format!("no_squish/{substeps}"),
-            NoSquish::new(substeps, SphericalTops::Split),
+            NoSquish::new(NoSquishOptions {
+                substeps,
+                spherical_tops: SphericalTops::Split,
+            }),
             [2, 1, 0],
-            NonZeroUsize::get(substeps),
+            substeps.get() as usize,
         );
     }
 }
