@@ -9,11 +9,15 @@
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, Allen's schemes A and B, baselines.
 //! * [`experiments`]: the note's experiment on the corrections of scheme B.
-//! * [`observables`]: energies, norm errors and angular velocities of a state.
+//! * [`observables`]: energies, norm errors and angular velocities of a state;
+//!   the total dipole and the orientational order of a configuration.
+//! * [`analysis`]: post-processing of recorded series and trajectories
+//!   (time-correlation functions, block averages, the dielectric constant).
 //! * [`scene`]: scene files (TOML), parsed and validated into typed objects.
 //! * [`run`]: the runner, its observers and output files.
 //! * [`cli`]: the `quatrot` command line.
 
+pub mod analysis;
 pub mod cli;
 pub mod experiments;
 pub mod integrators;
