@@ -1,12 +1,14 @@
 //! Running a scene: the generic run loop (monomorphised over integrator and
 //! potential), the observers it feeds at the intervals it owns, the output
-//! files (CSV series, DCD + PDB trajectory, JSON summary, checkpoints), and
+//! files (CSV series, DCD + PDB trajectory, GSD trajectory, JSON summary,
+//! checkpoints), and
 //! the dispatch from a scene's choices to concrete types.
 
 mod checkpoint;
 mod dcd;
 mod dispatch;
 mod error;
+mod gsd;
 mod observer;
 mod pdb;
 mod runner;
@@ -19,6 +21,7 @@ pub use checkpoint::{Checkpoint, CheckpointWriter};
 pub use dcd::DcdWriter;
 pub use dispatch::{execute, potential, with_integrator};
 pub use error::RunError;
+pub use gsd::{GsdBox, GsdWriter};
 pub use observer::{Energies, Needs, Observer, Sample, Scheduled};
 pub use pdb::ROTOR_ATOMS;
 pub use runner::{run, EnergyReference, RunOptions, RunReport, Stop};
