@@ -66,12 +66,7 @@ impl Numbers {
     ) -> PyResult<(Vec<[f64; W]>, Vec<usize>)> {
         let (last, leading) = self.shape.split_last().unwrap_or((&0, &[]));
         if *last != W || !ranks.contains(&leading.len()) {
-            let got: Vec<String> = self.shape.iter().map(usize::to_string).collect();
-            return Err(PyValueError::new_err(format!(
-                "{}: expected shape {expected}, got ({})",
-                self.name,
-                got.join(", ")
-            )));
+            return Err(self.wrong_shape(expected));
         }
         let items = self
             .values
@@ -79,6 +74,26 @@ impl Numbers {
             .map(|c| std::array::from_fn(|k| c[k]))
             .collect();
         Ok((items, leading.to_vec()))
+    }
+
+    /// The error for a shape other than `expected`, naming the argument and
+    /// the shape found as Python prints it.
+    fn wrong_shape(&self, expected: &str) -> PyErr {
+        let got: Vec<String> = self.shape.iter().map(usize::to_string).collect();
+        let got = match got.len() {
+            1 => format!("({},)", got[0]),
+            _ => format!("({})", got.join(", ")),
+        };
+        PyValueError::new_err(format!("{}: expected shape {expected}, got {got}", self.name))
+    }
+
+    /// A one-dimensional array `(n,)`.
+    fn series(self) -> PyResult<Vec<f64>> {
+        if self.shape.len() == 1 {
+            Ok(self.values)
+        } else {
+            Err(self.wrong_shape("(n,)"))
+        }
     }
 
     /// A single value of `W` numbers.
@@ -370,8 +385,7 @@ fn block_dict<'py>(py: Python<'py>, b: &BlockAverage) -> PyResult<Bound<'py, PyD
 /// (`RuntimeWarning`) when no level passes (`converged` False).
 #[pyfunction]
 fn block_average<'py>(py: Python<'py>, series: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
-    let (x, _) = Numbers::new(series, "series")?.items::<1>(&[1], "(n,)")?;
-    let x: Vec<f64> = x.into_iter().map(|[v]| v).collect();
+    let x = Numbers::new(series, "series")?.series()?;
     let b = py.detach(|| block_average_of(&x))?;
     warn_unconverged(py, "block_average", &b)?;
     block_dict(py, &b)
