@@ -84,7 +84,10 @@ impl Numbers {
             1 => format!("({},)", got[0]),
             _ => format!("({})", got.join(", ")),
         };
-        PyValueError::new_err(format!("{}: expected shape {expected}, got {got}", self.name))
+        PyValueError::new_err(format!(
+            "{}: expected shape {expected}, got {got}",
+            self.name
+        ))
     }
 
     /// A one-dimensional array `(n,)`.
