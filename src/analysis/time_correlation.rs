@@ -4,8 +4,8 @@
 //! as the angular-velocity `<w(0).w(t)>`.
 //!
 //! Each lag `k` (time `k dt`) averages over the `T - k` origins of a
-//! trajectory of `T` frames and over the rotors, computed by FFT
-//! ([`super::autocorrelation`]). `C2` uses
+//! trajectory of `T` frames and over the rotors, computed by FFT (the
+//! private `autocorrelation` module: zero-padded, power spectra summed). `C2` uses
 //! `(u(0).u(t))^2 = sum_{a,b} u_a u_b (0) u_a u_b (t)`: the autocorrelations
 //! of the six products `u_a u_b` (the three off-diagonal ones twice), so
 //! `C2 = (3 <(u(0).u(t))^2> - 1) / 2` comes from the same FFT sums.
