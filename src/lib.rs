@@ -12,7 +12,10 @@
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, [`integrators::IntegratorSpec`]
 //!   (the one dispatch), Allen's schemes A and B, the baselines.
-//! * [`observables`]: energies, norm errors and angular velocities of a state.
+//! * [`observables`]: energies, norm errors and angular velocities of a state;
+//!   the total dipole and the orientational order of a configuration.
+//! * [`analysis`]: post-processing of recorded series and trajectories
+//!   (time-correlation functions, block averages, the dielectric constant).
 //! * [`stats`]: least-squares lines, block means, energy drift.
 //! * [`simulation`]: the one run loop, its observers and stop conditions.
 //! * [`experiments`]: the note's experiment on the corrections of scheme B.
@@ -34,6 +37,7 @@
 #![warn(unused_qualifications, unused_results, rust_2018_idioms)]
 #![deny(unused_must_use)]
 
+pub mod analysis;
 pub mod checks;
 pub mod cli;
 pub mod experiments;

@@ -1,6 +1,10 @@
 //! Observables of a rotor system as pure functions of its state (the
 //! sampling runner calls them; potential and total energy use
-//! [`Potential::energy`]).
+//! [`Potential::energy`]). The orientational order and the total dipole are
+//! in [`order`] and [`polarization`].
+
+pub mod order;
+pub mod polarization;
 
 use crate::potential::Potential;
 use crate::quaternion::Quat;

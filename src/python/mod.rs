@@ -4,9 +4,11 @@
 
 use pyo3::prelude::*;
 
+mod analysis;
 mod arrays;
 mod baselines;
 mod dynamics;
+mod gsd;
 mod potential;
 mod quaternion;
 mod run;
@@ -20,5 +22,7 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     dynamics::register(m)?;
     quaternion::register(m)?;
     run::register(m)?;
+    analysis::register(m)?;
+    gsd::register(m)?;
     Ok(())
 }

@@ -1,11 +1,12 @@
-//! Running a scene: its outputs (CSV series, DCD + PDB trajectory, JSON
-//! summary, checkpoints) as observers of the one run loop of
+//! Running a scene: its outputs (CSV series, DCD + PDB or GSD trajectory,
+//! JSON summary, checkpoints) as observers of the one run loop of
 //! [`crate::simulation`], and the run of a scene from its physics objects.
 
 mod checkpoint;
 mod dcd;
 mod error;
 mod execute;
+mod gsd;
 mod pdb;
 mod scene_run;
 mod series;
@@ -16,6 +17,7 @@ pub use checkpoint::{Checkpoint, CheckpointWriter};
 pub use dcd::DcdWriter;
 pub use error::RunError;
 pub use execute::{execute, potential};
+pub use gsd::{GsdBox, GsdWriter};
 pub use pdb::ROTOR_ATOMS;
 pub use scene_run::{
     run_scene, Outputs, Progress, RunResult, CHECKPOINT_FILE, DCD_FILE, PDB_FILE, SUMMARY_FILE,

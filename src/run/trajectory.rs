@@ -79,6 +79,7 @@ impl TrajectoryObserver {
                 spec.every,
                 f.dt,
                 f.title,
+                f.box_lengths,
             )
             .map_err(|e| RunError::io(f.dcd, e))?;
             observer.dcd = Some((f.dcd.to_path_buf(), dcd));
