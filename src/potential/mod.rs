@@ -10,7 +10,10 @@ use nalgebra::Vector3;
 
 pub mod multipole;
 
-pub use multipole::{Boundary, ExternalFields, MultipolePotential, PotentialError};
+pub use multipole::{
+    Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod, SumPath,
+    Surface,
+};
 
 /// A potential energy term (or a sum of terms). Implementors are plain data
 /// shared by all threads; the integrators are generic over it so the hot

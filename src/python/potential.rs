@@ -25,10 +25,7 @@ pub(crate) fn boundary(
 ) -> PyResult<Boundary> {
     match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
         (None, None) => Ok(Boundary::Open),
-        (Some(l), Some(cutoff)) => Ok(Boundary::Periodic {
-            box_lengths: l.vector(0),
-            cutoff,
-        }),
+        (Some(l), Some(cutoff)) => Ok(Boundary::periodic_cutoff(l.vector(0), cutoff)),
         _ => Err(PyValueError::new_err(
             "box_lengths, cutoff: give both for periodic boundaries, or neither for open",
         )),

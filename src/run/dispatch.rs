@@ -27,10 +27,9 @@ pub fn potential(scene: &Scene) -> Result<Option<MultipolePotential>, RunError> 
         return Ok(None);
     }
     let boundary = match (scene.interactions.map(|i| i.boundary), scene.box_lengths) {
-        (Some(BoundaryChoice::Periodic { cutoff }), Some(box_lengths)) => Boundary::Periodic {
-            box_lengths,
-            cutoff,
-        },
+        (Some(BoundaryChoice::Periodic { cutoff }), Some(box_lengths)) => {
+            Boundary::periodic_cutoff(box_lengths, cutoff)
+        }
         _ => Boundary::Open,
     };
     MultipolePotential::new(&scene.rotors, boundary, fields)

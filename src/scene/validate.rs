@@ -419,14 +419,11 @@ fn interactions(
             let cutoff = positive("interactions.boundary.cutoff", *cutoff)?;
             // Any cutoff is a lattice sum over the images inside it; only its
             // size is limited.
-            Boundary::Periodic {
-                box_lengths,
-                cutoff,
-            }
-            .validate(rotors.len())
-            .map_err(|e| {
-                SceneError::field(format!("interactions.boundary.{}", e.what), e.problem)
-            })?;
+            Boundary::periodic_cutoff(box_lengths, cutoff)
+                .validate(rotors.len())
+                .map_err(|e| {
+                    SceneError::field(format!("interactions.boundary.{}", e.what), e.problem)
+                })?;
             if matches!(raw_rotors, RawRotors::Sites(_)) {
                 check_inside_box(rotors, &box_lengths)?;
             }
