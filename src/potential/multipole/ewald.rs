@@ -56,8 +56,9 @@ pub(crate) struct EwaldSum {
 impl EwaldSum {
     /// Chooses the parameters for `accuracy` (balancing the real- and
     /// reciprocal-space work of this `N`), then builds the pair list and the
-    /// wave vectors. Refuses sums larger than [`MAX_PAIRS`] pairs (a box too
-    /// small for its sites) or [`MAX_WAVE_VECTORS`] wave vectors.
+    /// wave vectors. Refuses sums larger than [`MAX_PAIRS`] pairs or
+    /// [`MAX_WAVE_VECTORS`] wave vectors, and coincident sites (periodic
+    /// images included).
     pub fn new(
         sites: &[Vector3<f64>],
         box_lengths: Vector3<f64>,
@@ -92,14 +93,11 @@ impl EwaldSum {
         let estimate = n * n * (2.0 * PI / 3.0) * rc.powi(3) / volume;
         if estimate > MAX_PAIRS as f64 {
             return Err(PotentialError::new(
-                "box_lengths",
+                "rotors",
                 format!(
-                    "[{}, {}, {}] is too small for the Ewald sum of {} rotors: its real-space \
-                     sum (cutoff {rc:.3}) would hold about {estimate:.2e} pairs, periodic images \
-                     included, more than the limit {MAX_PAIRS}",
-                    box_lengths.x,
-                    box_lengths.y,
-                    box_lengths.z,
+                    "the direct Ewald sum of {} rotors would hold about {estimate:.2e} \
+                     real-space pairs (cutoff {rc:.3}, periodic images included), more than \
+                     the limit {MAX_PAIRS}",
                     sites.len()
                 ),
             ));
@@ -374,4 +372,100 @@ fn wave_vectors(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::potential::multipole::kernels::{DipolesAndQuadrupoles, Lanes};
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha20Rng;
+
+    /// Ewald sums converged far below round-off (`s = 7` in both spaces:
+    /// `exp(-49)`) of the same sites differ only by the rounding of sums of
+    /// ~1e4 terms that cancel to a few percent of their absolute sum.
+    const ROUND_OFF: f64 = 1e-13;
+
+    /// The Ewald sum does not depend on the splitting parameter: energies
+    /// and fields of irregular sites with dipoles and quadrupoles at three
+    /// `alpha`, with converged cutoffs, in both surfaces.
+    #[test]
+    fn converged_sum_does_not_depend_on_alpha() {
+        let mut rng = ChaCha20Rng::seed_from_u64(14);
+        let box_lengths = Vector3::new(3.1, 2.7, 3.6);
+        let n = 24;
+        let sites: Vec<Vector3<f64>> = (0..n)
+            .map(|_| Vector3::from_fn(|a, _| rng.random_range(0.0..box_lengths[a])))
+            .collect();
+        let unit = |rng: &mut ChaCha20Rng| Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+        let multipoles = SpaceMultipoles {
+            dipoles: (0..n)
+                .map(|_| {
+                    let mu = unit(&mut rng);
+                    Lanes([mu.x, mu.y, mu.z, 0.0])
+                })
+                .collect(),
+            quadrupoles: (0..n)
+                .map(|_| {
+                    let m = Matrix3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+                    let s = (m + m.transpose()) * 0.5;
+                    s - Matrix3::identity() * (s.trace() / 3.0)
+                })
+                .collect(),
+        };
+        let energy = |f: &SiteFields| {
+            (0..n)
+                .map(|i| {
+                    let mu = &multipoles.dipoles[i];
+                    let e = &f.field[i];
+                    -(mu[0] * e[0] + mu[1] * e[1] + mu[2] * e[2])
+                        + multipoles.quadrupoles[i].dot(&f.quadrupole_conjugate[i])
+                })
+                .sum::<f64>()
+                * 0.5
+        };
+        for surface in [Surface::Conducting, Surface::Vacuum] {
+            let evaluate = |alpha: f64| {
+                let parameters = EwaldParameters {
+                    alpha,
+                    real_cutoff: 7.0 / alpha,
+                    reciprocal_cutoff: 14.0 * alpha,
+                    real_estimate: 0.0,
+                    reciprocal_estimate: 0.0,
+                };
+                let sum =
+                    EwaldSum::with_parameters(&sites, box_lengths, parameters, surface).unwrap();
+                sum.fields::<DipolesAndQuadrupoles>(&multipoles)
+            };
+            let reference = evaluate(1.0);
+            let v_ref = energy(&reference);
+            let e_scale = reference
+                .field
+                .iter()
+                .flat_map(|e| e.0)
+                .fold(0.0, |m: f64, x| m.max(x.abs()));
+            let w_scale = reference
+                .quadrupole_conjugate
+                .iter()
+                .map(|w| w.amax())
+                .fold(0.0, f64::max);
+            for alpha in [0.7, 1.4] {
+                let other = evaluate(alpha);
+                let v = energy(&other);
+                assert!(
+                    (v - v_ref).abs() < ROUND_OFF * v_ref.abs(),
+                    "{surface:?} alpha {alpha}: {v} vs {v_ref}"
+                );
+                for i in 0..n {
+                    for k in 0..3 {
+                        let d = (other.field[i][k] - reference.field[i][k]).abs();
+                        assert!(d < ROUND_OFF * e_scale, "field {i} {k}: {d:e}");
+                    }
+                    let d =
+                        (other.quadrupole_conjugate[i] - reference.quadrupole_conjugate[i]).amax();
+                    assert!(d < ROUND_OFF * w_scale, "W {i}: {d:e}");
+                }
+            }
+        }
+    }
 }

@@ -133,7 +133,7 @@ pub(crate) struct LatticeFft {
     quadrupoles: bool,
     sources: usize,
     fields: usize,
-    /// `K^ / N_cells` per frequency, as `[b][b'][f][c]`.
+    /// `K^ / N_cells` per frequency, as `[b][f][b'][c]` (see [`kernel_index`]).
     kernel: Vec<C64>,
     parameters: Option<EwaldParameters>,
 }
@@ -146,6 +146,15 @@ impl LatticeFft {
         tensor: LatticeTensor,
         (dipoles, quadrupoles): (bool, bool),
     ) -> Result<Self, PotentialError> {
+        let mut occupant = std::collections::HashMap::new();
+        for (i, slot) in grid.slots.iter().enumerate() {
+            if let Some(j) = occupant.insert(*slot, i) {
+                return Err(PotentialError::new(
+                    format!("rotors[{j}].site and rotors[{i}].site"),
+                    "coincide (periodic images included)",
+                ));
+            }
+        }
         let sources = 3 * dipoles as usize + 5 * quadrupoles as usize;
         let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
         let b = grid.basis.len();
@@ -232,8 +241,10 @@ impl LatticeFft {
                 for fc in 0..block {
                     real.copy_from_slice(&tensor_grid[fc * cells..(fc + 1) * cells]);
                     plan.forward(&mut real, &mut transformed, &mut work);
+                    let (f, c) = (fc / sources, fc % sources);
                     for (q, value) in transformed.iter().enumerate() {
-                        kernel[((q * b + target) * b + source) * block + fc] = value * scale;
+                        let at = kernel_index(q, (target, f), (source, c), b, sources, fields);
+                        kernel[at] = value * scale;
                     }
                 }
                 if let Some(p) = parameters {
@@ -260,7 +271,9 @@ impl LatticeFft {
                 for target in 0..b {
                     for source in 0..b {
                         for a in 0..3 {
-                            kernel[(target * b + source) * block + a * sources + a] += value;
+                            kernel
+                                [kernel_index(0, (target, a), (source, a), b, sources, fields)] +=
+                                value;
                         }
                     }
                 }
@@ -317,27 +330,20 @@ impl LatticeFft {
         for (grid, out) in grids.chunks_mut(cells).zip(sources.chunks_mut(spectrum)) {
             self.plan.forward(grid, out, &mut work);
         }
-        // Multiply by the kernel, frequency by frequency.
-        let block = c_count * f_count;
+        // Multiply by the kernel, frequency by frequency: each row of the
+        // kernel ([b][f] fixed) against the sources ([b'][c]) at q.
+        let bc = b * c_count;
         let mut fields = vec![C64::default(); b * f_count * spectrum];
-        let mut p = vec![C64::default(); b * c_count];
-        for q in 0..spectrum {
+        let mut p = vec![C64::default(); bc];
+        for (q, kernel) in self.kernel.chunks_exact(b * f_count * bc).enumerate() {
             for (k, v) in p.iter_mut().enumerate() {
                 *v = sources[k * spectrum + q];
             }
-            let kernel = &self.kernel[q * b * b * block..(q + 1) * b * b * block];
-            for target in 0..b {
-                for f in 0..f_count {
-                    let mut sum = C64::default();
-                    for source in 0..b {
-                        let row = &kernel[(target * b + source) * block + f * c_count..][..c_count];
-                        let p_s = &p[source * c_count..(source + 1) * c_count];
-                        for (k, pv) in row.iter().zip(p_s) {
-                            sum += k * pv;
-                        }
-                    }
-                    fields[(target * f_count + f) * spectrum + q] = sum;
-                }
+            for (tf, row) in kernel.chunks_exact(bc).enumerate() {
+                fields[tf * spectrum + q] = row
+                    .iter()
+                    .zip(&p)
+                    .fold(C64::default(), |sum, (k, v)| sum + k * v);
             }
         }
         let mut real = vec![0.0; b * f_count * cells];
@@ -362,6 +368,19 @@ impl LatticeFft {
         }
         out
     }
+}
+
+/// The position of `K^_{(target, f), (source, c)}(q) / N_cells` in the
+/// kernel: per frequency, rows `(target, f)` of `b sources` entries.
+fn kernel_index(
+    q: usize,
+    (target, f): (usize, usize),
+    (source, c): (usize, usize),
+    b: usize,
+    sources: usize,
+    fields: usize,
+) -> usize {
+    ((q * b + target) * fields + f) * b * sources + source * sources + c
 }
 
 /// Bytes of the kernel, of one evaluation's buffers and of the construction's.
@@ -424,7 +443,7 @@ fn add_reciprocal(
     (target, source, shift): (usize, usize, &Vector3<f64>),
 ) {
     let b = grid.basis.len();
-    let block = units.len() * (3 * dipoles as usize + 6 * quadrupoles as usize);
+    let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
     let sources = units.len();
     let [nx, ny, nz] = plan.dims();
     let kc = p.reciprocal_cutoff;
@@ -446,7 +465,6 @@ fn add_reciprocal(
                     2.0 * PI * jz as f64 / box_lengths.z,
                 );
                 let index = plan.spectrum_index([jx, jy, jz]);
-                let entry = &mut kernel[((index * b + target) * b + source) * block..][..block];
                 let range = |a: usize| {
                     let step = 2.0 * PI / c[a];
                     (((-kc - q[a]) / step).ceil() as i64)..=(((kc - q[a]) / step).floor() as i64)
@@ -475,7 +493,15 @@ fn add_reciprocal(
                                     .into_iter()
                                     .enumerate()
                                 {
-                                    entry[f * sources + ci] += v * phase;
+                                    let at = kernel_index(
+                                        index,
+                                        (target, f),
+                                        (source, ci),
+                                        b,
+                                        sources,
+                                        fields,
+                                    );
+                                    kernel[at] += v * phase;
                                 }
                             }
                         }
