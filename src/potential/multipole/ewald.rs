@@ -284,14 +284,14 @@ impl EwaldSum {
                     let t = s * self.phase(&phases, wave.index);
                     if K::DIPOLES {
                         let f = wave.weight * t.im;
-                        for a in 0..3 {
-                            e[a] += f * wave.k[a];
+                        for (e, k) in e.iter_mut().zip(wave.k.iter()) {
+                            *e += f * k;
                         }
                     }
                     if K::QUADRUPOLES {
                         let f = wave.weight * t.re;
-                        for a in 0..6 {
-                            w[a] += f * wave.kk[a];
+                        for (w, kk) in w.iter_mut().zip(&wave.kk) {
+                            *w += f * kk;
                         }
                     }
                 }

@@ -46,14 +46,14 @@ pub struct EwaldParameters {
     pub reciprocal_estimate: f64,
 }
 
-/// The tensor ranks the carried multipoles need (2 for dipoles; 3 and 4
-/// with quadrupoles).
+/// The tensor ranks the carried multipoles need (2 between dipoles, 3
+/// between a dipole and a quadrupole, 4 between quadrupoles).
 pub(crate) fn ranks(dipoles: bool, quadrupoles: bool) -> Vec<i32> {
     let mut out = Vec::new();
     if dipoles {
         out.push(2);
     }
-    if dipoles && quadrupoles || quadrupoles {
+    if dipoles && quadrupoles {
         out.push(3);
     }
     if quadrupoles {

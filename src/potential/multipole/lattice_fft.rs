@@ -98,15 +98,12 @@ fn source_components(
 
 /// The field components `(E_x, E_y, E_z)` and/or
 /// `(W_xx, W_yy, W_zz, W_xy, W_xz, W_yz)` of `(E, W)`.
-fn field_components<T: Copy>(
+fn field_components<T: nalgebra::Scalar + Copy>(
     dipoles: bool,
     quadrupoles: bool,
     e: &Vector3<T>,
     w: &Matrix3<T>,
-) -> Vec<T>
-where
-    T: nalgebra::Scalar,
-{
+) -> Vec<T> {
     let mut out = Vec::with_capacity(9);
     if dipoles {
         out.extend([e[0], e[1], e[2]]);

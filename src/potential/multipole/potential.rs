@@ -116,6 +116,22 @@ pub enum SumMethod {
     LatticeFft,
 }
 
+impl std::str::FromStr for SumMethod {
+    type Err = PotentialError;
+    /// `"auto"`, `"direct"` or `"lattice_fft"`.
+    fn from_str(s: &str) -> Result<Self, PotentialError> {
+        match s {
+            "auto" => Ok(SumMethod::Auto),
+            "direct" => Ok(SumMethod::Direct),
+            "lattice_fft" => Ok(SumMethod::LatticeFft),
+            _ => Err(PotentialError::new(
+                "method",
+                format!("must be \"auto\", \"direct\" or \"lattice_fft\", got \"{s}\""),
+            )),
+        }
+    }
+}
+
 /// The way a potential sums its pair fields (see [`MultipolePotential::sum_path`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SumPath {
