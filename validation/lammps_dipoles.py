@@ -62,6 +62,10 @@ class DipoleSystem:
     field: tuple[float, float, float] | None = None  # uniform E, fix efield
     cutoff: float = 50.0  # larger than every site distance: an open cluster
     box: float | None = None  # periodic cube [0, box)^3 when given (else open)
+    # (style, accuracy) of a long-range sum, e.g. ("ewald/dipole", 1e-6) or
+    # ("pppm/dipole", 1e-6): pair lj/cut/dipole/long with that kspace_style
+    # (tin-foil boundary, as quatrot's conducting surface); periodic only.
+    kspace: tuple[str, float] | None = None
 
     @property
     def inertia(self) -> float:
@@ -131,8 +135,9 @@ def _setup(lmp, system: DipoleSystem, dt: float, update: str) -> None:
         f"set type 1 diameter {system.diameter:.17g}",
         f"set type 1 mass {system.mass:.17g}",
         "velocity all set 0 0 0",
-        f"pair_style lj/cut/dipole/cut {system.cutoff:.17g}",
+        f"pair_style lj/cut/dipole/{'cut' if system.kspace is None else 'long'} {system.cutoff:.17g}",
         "pair_coeff * * 0.0 1.0",
+        *([] if system.kspace is None else [f"kspace_style {system.kspace[0]} {system.kspace[1]:.17g}"]),
         "neighbor 1.0 bin",
         "neigh_modify every 1 delay 0 check yes",
         f"fix integrate all nve/sphere update {update}",
