@@ -48,6 +48,7 @@ validate: develop
 bench: develop
 	cargo bench
 	$(PY) -m validation.bench --out benchmarks
+	$(PY) -m validation.bench.ewald --out benchmarks
 
 clean:
 	rm -rf target $(VENV) $(RESULTS)
