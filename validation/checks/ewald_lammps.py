@@ -31,6 +31,9 @@ BOX = 10.0
 CUTOFF = 3.1
 INERTIA = 0.1  # unit mass and diameter: 0.4 m (d/2)^2, the scene's inertia
 DT, STEPS = 0.002, 20  # the scene's time step
+# Requested accuracies LAMMPS misses on this lattice (ERRATA.md): its RMS
+# torque error stops at ~4e-7 with ewald/dipole and real-space cutoff 3.1.
+MISSES = {("ewald/dipole", 1e-7)}
 # The same sum to round-off (pair kernel, truncated at 3.1) in both codes.
 TRUNCATED_ROUNDOFF = 1e-12
 
@@ -107,6 +110,18 @@ def run(ctx: Context) -> list[Check]:
         rms = float(np.sqrt(np.mean(np.sum((t - t_ref) ** 2, axis=1))))
         energy_error = abs(e - e_ref) / n
         table.append(f"{style} {accuracy:g}: energy per dipole {energy_error:.2e}, RMS torque {rms:.2e}")
+        if (style, accuracy) in MISSES:
+            checks.append(
+                Check(
+                    name=f"LAMMPS {style} accuracy {accuracy:g}: misses the requested accuracy (trap reproduced)",
+                    proves="LAMMPS's RMS torque error stays above the accuracy it was asked for (ERRATA.md), at least twice it: measured = 2 x accuracy / error",
+                    tolerance=1.0,
+                    measured=2 * accuracy / rms,
+                    references=refs,
+                    details=f"RMS |tau - tau_converged| {rms:.3e} for requested {accuracy:g}; energy {e:.12g} vs converged {e_ref:.12g} ({energy_error:.2e} per dipole)",
+                )
+            )
+            continue
         checks.append(
             Check(
                 name=f"LAMMPS {style} accuracy {accuracy:g}: RMS torque error within the requested accuracy",
