@@ -74,7 +74,8 @@ fn time_case(rotors: &[Rotor], boundary: Boundary, method: SumMethod, q: &[Quat]
     let mut gradient = vec![Quat::ZERO; q.len()];
     let mut times = Vec::new();
     let budget = Instant::now();
-    while times.len() < 5 || (budget.elapsed().as_secs_f64() < SECONDS_PER_CASE && times.len() < 2000)
+    while times.len() < 5
+        || (budget.elapsed().as_secs_f64() < SECONDS_PER_CASE && times.len() < 2000)
     {
         gradient.fill(Quat::ZERO);
         let t = Instant::now();
@@ -112,7 +113,11 @@ fn main() {
         let cutoff = Boundary::periodic_cutoff(l, 3.1);
         let mut lattice_cases = Vec::new();
         for (name, boundary, method) in [
-            ("truncated, cutoff 3.1, pair kernel", cutoff, SumMethod::Auto),
+            (
+                "truncated, cutoff 3.1, pair kernel",
+                cutoff,
+                SumMethod::Auto,
+            ),
             ("truncated, cutoff 3.1, FFT", cutoff, SumMethod::LatticeFft),
             ("Ewald 1e-6, FFT", ewald(l, 1e-6), SumMethod::Auto),
             ("Ewald 1e-12, FFT", ewald(l, 1e-12), SumMethod::Auto),
@@ -131,12 +136,21 @@ fn main() {
                 let lattice = Lattice::cubic(LatticeKind::SimpleCubic, c, 1.0).expect("lattice");
                 let rotors = dipoles(&lattice.sites);
                 let q = orientations(rotors.len(), 2);
-                let case = time_case(&rotors, ewald(lattice.box_lengths, 1e-12), SumMethod::Auto, &q);
+                let case = time_case(
+                    &rotors,
+                    ewald(lattice.box_lengths, 1e-12),
+                    SumMethod::Auto,
+                    &q,
+                );
                 eprintln!("{case}");
                 case
             })
             .collect();
-        let sizes: &[usize] = if quick { &[125, 250] } else { &[125, 250, 500, 1000, 2000, 4000] };
+        let sizes: &[usize] = if quick {
+            &[125, 250]
+        } else {
+            &[125, 250, 500, 1000, 2000, 4000]
+        };
         let mut direct = Vec::new();
         for &accuracy in &[1e-6, 1e-12] {
             for &n in sizes {
@@ -147,8 +161,12 @@ fn main() {
                     .collect();
                 let rotors = dipoles(&sites);
                 let q = orientations(n, 3);
-                let mut case =
-                    time_case(&rotors, ewald(Vector3::repeat(edge), accuracy), SumMethod::Auto, &q);
+                let mut case = time_case(
+                    &rotors,
+                    ewald(Vector3::repeat(edge), accuracy),
+                    SumMethod::Auto,
+                    &q,
+                );
                 case["accuracy"] = json!(accuracy);
                 eprintln!("{case}");
                 direct.push(case);
