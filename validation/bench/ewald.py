@@ -90,8 +90,8 @@ def section(r: dict) -> str:
     ]
     for c in r["quatrot"]["lattice"]:
         err = errors.get(c["case"])
-        # Errors measured for the FFT path; the other paths sum the same terms to round-off.
-        cells = f"{err['energy_error_per_dipole']:.2g} | {err['rms_torque_error']:.2g}" if err else "as the FFT path (same sum) | "
+        # Errors measured on one path per sum; the other path equals it to round-off.
+        cells = f"{err['energy_error_per_dipole']:.2g} | {err['rms_torque_error']:.2g}" if err else "as the same sum on its other path (equal to round-off) | "
         lines.append(f"| quatrot {c['case']} | {c['median_seconds'] * 1e6:.1f} us ({c['best_seconds'] * 1e6:.1f}) | {c['median_seconds'] / truncated:.3g} | {cells} |")
     for l in r["lammps"]:
         acc = f" {l['accuracy']:g}" if l["accuracy"] else ""
