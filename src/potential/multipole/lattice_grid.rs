@@ -9,9 +9,12 @@
 //! site, modulo the box) must all be multiples of one grid step `L_a / G_a`
 //! to within [`LATTICE_TOLERANCE`] of the box edge (the smallest such
 //! `G_a`); then among the cells of `k_a` grid steps (`k_a` dividing `G_a`, at
-//! most [`MAX_STEPS_PER_CELL`]) the one with the fewest slots
-//! `B M_x M_y M_z` is taken (fcc: 4 basis offsets in the conventional cell,
-//! not 1 in a grid of half steps with half the slots empty). Sites whose
+//! most [`MAX_STEPS_PER_CELL`]) the one with the least estimated work per
+//! evaluation is taken (FFTs of `B M_x M_y M_z` slots and `B^2` kernel
+//! products per cell, see [`WORK_PER_SLOT`]): fcc gets 4 basis offsets in the
+//! conventional cell, not 1 in a grid of half steps with half the slots
+//! empty; a lattice with vacancies keeps its cell, not the whole box as one
+//! cell of many offsets. Sites whose
 //! slots would outnumber them by more than [`MAX_EMPTY_FACTOR`] are not a
 //! lattice worth a grid.
 
@@ -22,6 +25,10 @@ use nalgebra::Vector3;
 pub const LATTICE_TOLERANCE: f64 = 1e-10;
 /// The largest cell tried, in grid steps along each axis.
 const MAX_STEPS_PER_CELL: usize = 8;
+/// The work of one evaluation per slot (its FFTs), relative to that per
+/// cell and basis pair (the kernel products): the cell with the least
+/// `WORK_PER_SLOT B N_cells + B^2 N_cells` is chosen.
+const WORK_PER_SLOT: usize = 10;
 /// At most this many slots per site.
 const MAX_EMPTY_FACTOR: usize = 8;
 
@@ -105,9 +112,10 @@ pub fn detect(sites: &[Vector3<f64>], box_lengths: &Vector3<f64>) -> Option<Latt
                     seen[class(&index, i, &k)] = true;
                 }
                 let basis = seen.iter().filter(|s| **s).count();
-                let slots = basis * (0..3).map(|a| steps[a] / k[a]).product::<usize>();
-                if best.is_none_or(|(s, b, _)| (slots, basis) < (s, b)) {
-                    best = Some((slots, basis, k));
+                let cells: usize = (0..3).map(|a| steps[a] / k[a]).product();
+                let cost = WORK_PER_SLOT * basis * cells + cells * basis * basis;
+                if best.is_none_or(|(c, b, _)| (cost, basis) < (c, b)) {
+                    best = Some((cost, basis, k));
                 }
             }
         }
