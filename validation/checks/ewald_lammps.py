@@ -23,7 +23,7 @@ import numpy as np
 import quatrot
 
 from validation.checks.base import Check, Context
-from validation.checks.lammps_dipoles import restated_free_step
+from validation import dlm_restatement as restated
 from validation.lammps_dipoles import DipoleSystem, lammps_version, quatrot_rotor, run_lammps
 
 CONVERGED = 1e-14
@@ -66,13 +66,22 @@ def restated_trajectory(system: DipoleSystem, torque_of):
     torque = torque_of(mu)
     for _ in range(STEPS):
         omega = omega + 0.5 * DT / INERTIA * torque
-        stepped = [restated_free_step(m, w, DT, consistent=False) for m, w in zip(mu, omega)]
+        stepped = [_lammps_free_step(m, w) for m, w in zip(mu, omega)]
         mu = np.array([s[0] for s in stepped])
         omega = np.array([s[1] for s in stepped])
         torque = torque_of(mu)
         omega = omega + 0.5 * DT / INERTIA * torque
         out.append(mu.copy())
     return np.array(out)
+
+
+def _lammps_free_step(mu: np.ndarray, omega: np.ndarray):
+    """LAMMPS's DLM free rotation of one sphere (its frame rebuilt from the
+    dipole, validation/dlm_restatement.py): the new dipole and space omega."""
+    length = np.linalg.norm(mu)
+    frame = restated.lammps_frame(mu / length)
+    frame, w = restated.sweep(frame, frame @ omega, DT, restated.LAMMPS_DLM)
+    return frame[2] * length, frame.T @ w
 
 
 def run(ctx: Context) -> list[Check]:
