@@ -16,8 +16,11 @@ use quatrot::integrators::{Dlm, GearB, Integrator};
 use quatrot::parallel::on_worker;
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
-use quatrot::run::{run, EnergyReference, Observer, RunOptions, Scheduled, SeriesObserver};
-use quatrot::scene::{load, validate, Overrides, Quantity, Scene, Series};
+use quatrot::run::{RunError, SeriesObserver};
+use quatrot::scene::{load, validate, Overrides, Scene, Series};
+use quatrot::simulation::{
+    run, BlowUpChecks, EnergyReference, Observer, Quantity, RunOptions, Scheduled,
+};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -35,8 +38,10 @@ fn options(scene: &Scene, start: u64, end: u64, reference: Option<EnergyReferenc
         dt: scene.dt,
         start_step: start,
         end_step: end,
-        check_every: scene.record.check_every,
-        energy_error_threshold: None,
+        checks: Some(BlowUpChecks {
+            every: scene.record.check_every,
+            energy_error_threshold: None,
+        }),
         reference,
     }
 }
@@ -49,21 +54,13 @@ fn every_quantity(every: u64, quantities: Vec<Quantity>) -> Series {
     }
 }
 
-/// The observables of the "everything every step" case.
+/// The observables of the "everything every step" case: every quantity the
+/// integrator can give (`q_dot_n` needs scheme B).
 fn all_quantities(integrator_name: &str) -> Vec<Quantity> {
-    let mut all = vec![
-        Quantity::KineticEnergy,
-        Quantity::PotentialEnergy,
-        Quantity::TotalEnergy,
-        Quantity::EnergyError,
-        Quantity::Temperature,
-        Quantity::NormError,
-        Quantity::QDotQ,
-    ];
-    if integrator_name == "gear_b" {
-        all.push(Quantity::QDotN);
-    }
-    all
+    Quantity::ALL
+        .into_iter()
+        .filter(|&q| q != Quantity::NormForce || integrator_name == "gear_b")
+        .collect()
 }
 
 /// The runner cases: a name and the series recorded (none for the first);
@@ -114,11 +111,12 @@ fn through_runner<I: Integrator + Send, P: Potential>(
     inertia: &[Inertia],
 ) {
     on_worker(|| {
-        let mut scheduled: Vec<Scheduled<'_>> = observer
+        let mut scheduled: Vec<Scheduled<'_, RunError>> = observer
             .iter_mut()
             .map(|o| Scheduled {
                 every,
-                observer: o as &mut dyn Observer,
+                at_end: false,
+                observer: o as &mut dyn Observer<Error = RunError>,
             })
             .collect();
         black_box(
@@ -219,10 +217,7 @@ fn interleaved<I: Integrator + Clone + Send, P: Potential>(
 
 fn runner(c: &mut Criterion) {
     let (_, lattice) = load("dipole_lattice_sc", &Overrides::default()).expect("built-in");
-    let periodic = Boundary::Periodic {
-        box_lengths: lattice.box_lengths.expect("periodic"),
-        cutoff: 3.1,
-    };
+    let periodic = Boundary::periodic_cutoff(lattice.box_lengths().expect("periodic"), 3.1);
     let potential = MultipolePotential::new(&lattice.rotors, periodic, ExternalFields::NONE)
         .expect("potential");
     bench_system(

@@ -3,11 +3,18 @@
 //!
 //! Explicit site lists need no type of their own: they are `Vec<Vector3<f64>>`.
 
+use crate::checks::{positive, InputError};
 use nalgebra::Vector3;
-use thiserror::Error;
+use serde::{Deserialize, Serialize};
 
-/// The Bravais lattice of a [`Lattice`]: the basis of the conventional cubic cell.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The most sites a lattice may have (a guard on memory, checked before
+/// anything is allocated).
+pub const MAX_SITES: usize = 1_000_000;
+
+/// The Bravais lattice of a [`Lattice`]: the basis of the conventional cubic
+/// cell. Scene files name it `"simple_cubic"`, `"bcc"` or `"fcc"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum LatticeKind {
     /// One site per cell, at `(0, 0, 0)`.
     SimpleCubic,
@@ -19,7 +26,7 @@ pub enum LatticeKind {
 
 impl LatticeKind {
     /// The sites of the conventional cell, in units of the lattice constant.
-    fn basis(self) -> &'static [[f64; 3]] {
+    pub fn basis(self) -> &'static [[f64; 3]] {
         match self {
             LatticeKind::SimpleCubic => &[[0.0, 0.0, 0.0]],
             LatticeKind::Bcc => &[[0.0, 0.0, 0.0], [0.5, 0.5, 0.5]],
@@ -33,17 +40,6 @@ impl LatticeKind {
     }
 }
 
-/// Invalid lattice parameters.
-#[derive(Debug, Error, PartialEq)]
-pub enum LatticeError {
-    /// The number of cells per edge is zero.
-    #[error("cells: must be >= 1, got {0}")]
-    NoCells(usize),
-    /// The lattice constant is not a positive finite number.
-    #[error("spacing: must be finite and > 0, got {0}")]
-    BadSpacing(f64),
-}
-
 /// The sites of a cubic lattice and the lengths of its periodic box.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lattice {
@@ -54,17 +50,24 @@ pub struct Lattice {
 }
 
 impl Lattice {
-    /// `cells x cells x cells` conventional cells of lattice constant `spacing`
-    /// (length unit of the scene, > 0): `cells^3 * (1, 2, 4)` sites for
-    /// (sc, bcc, fcc), all inside `[0, cells * spacing)^3`.
-    pub fn cubic(kind: LatticeKind, cells: usize, spacing: f64) -> Result<Lattice, LatticeError> {
+    /// `cells x cells x cells` conventional cells (>= 1) of lattice constant
+    /// `spacing` (length unit of the scene, > 0): `cells^3 * (1, 2, 4)` sites
+    /// for (sc, bcc, fcc), all inside `[0, cells * spacing)^3`, at most
+    /// [`MAX_SITES`]. The error's path names the parameter (`cells`,
+    /// `spacing`).
+    pub fn cubic(kind: LatticeKind, cells: usize, spacing: f64) -> Result<Lattice, InputError> {
         if cells == 0 {
-            return Err(LatticeError::NoCells(cells));
+            return Err(InputError::new("cells", "must be >= 1, got 0"));
         }
-        if !(spacing.is_finite() && spacing > 0.0) {
-            return Err(LatticeError::BadSpacing(spacing));
-        }
+        let _ = positive(spacing).map_err(|e| e.at("spacing"))?;
         let basis = kind.basis();
+        let count = (cells as u128).pow(3) * basis.len() as u128;
+        if count > MAX_SITES as u128 {
+            return Err(InputError::new(
+                "cells",
+                format!("{cells} cells give {count} rotors, more than the limit {MAX_SITES}"),
+            ));
+        }
         let mut sites = Vec::with_capacity(cells.pow(3) * basis.len());
         for x in 0..cells {
             for y in 0..cells {

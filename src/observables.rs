@@ -1,6 +1,10 @@
 //! Observables of a rotor system as pure functions of its state (the
 //! sampling runner calls them; potential and total energy use
-//! [`Potential::energy`]).
+//! [`Potential::energy`]). The orientational order and the total dipole are
+//! in [`order`] and [`polarization`].
+
+pub mod order;
+pub mod polarization;
 
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -16,17 +20,6 @@ pub fn kinetic_energy_spherical(moment: f64, q_dot: &Quat) -> f64 {
 /// Kinetic energy `1/2 w_b . I w_b` of one rotor.
 pub fn kinetic_energy(inertia: &Inertia, omega_body: &Vector3<f64>) -> f64 {
     0.5 * omega_body.dot(&inertia.principal().component_mul(omega_body))
-}
-
-/// Body angular velocity from `Q` and `Q'`, `w_b = 2 vec(Q~*Q')/|Q|^2` (eq 10
-/// inverted; exact for a non-unit `Q` too).
-pub fn omega_body(q: &Quat, q_dot: &Quat) -> Vector3<f64> {
-    (q.conjugate() * *q_dot).vector() * (2.0 / q.norm_squared())
-}
-
-/// Space angular velocity from `Q` and `Q'`, `w_s = 2 vec(Q'*Q~)/|Q|^2`.
-pub fn omega_space(q: &Quat, q_dot: &Quat) -> Vector3<f64> {
-    (*q_dot * q.conjugate()).vector() * (2.0 / q.norm_squared())
 }
 
 /// Total kinetic energy of all rotors.
@@ -69,16 +62,16 @@ pub fn norm_force(q: &Quat, force: &Quat) -> f64 {
 mod tests {
     use super::*;
 
-    /// The angular velocities are exact for a non-unit `Q` (scaling `Q` and
-    /// `Q'` together leaves them unchanged), and body and space forms are
-    /// related by the rotation of `Q` (eq 6).
+    /// The angular velocities of eq 10 inverted are exact for a non-unit `Q`
+    /// (scaling `Q` and `Q'` together leaves them unchanged), and body and
+    /// space forms are related by the rotation of `Q` (eq 6).
     #[test]
     fn angular_velocities_are_scale_invariant_and_related_by_the_rotation() {
         let q = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
         let w_b = Vector3::new(0.7, -1.1, 0.9);
         let q_dot = q.q_dot_from_omega_body(&w_b);
-        assert!((omega_body(&(q * 1.3), &(q_dot * 1.3)) - w_b).norm() < 1e-15);
-        assert!((omega_space(&q, &q_dot) - q.body_to_space(&w_b)).norm() < 1e-15);
+        assert!(((q * 1.3).omega_body_from_q_dot(&(q_dot * 1.3)) - w_b).norm() < 1e-15);
+        assert!((q.omega_space_from_q_dot(&q_dot) - q.body_to_space(&w_b)).norm() < 1e-15);
         assert!(norm_velocity(&q, &q_dot).abs() < 1e-16);
         assert!((norm_error(&(q * 1.5)) - 0.5).abs() < 1e-15);
     }

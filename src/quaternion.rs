@@ -193,16 +193,25 @@ impl Quat {
         (Quat::pure(omega_space) * *self) * 0.5
     }
 
-    /// `w_b = 2 vec(Q~*Q')`, the inverse of eq 10 (body form) for unit `Q`.
+    /// `w_b = 2 vec(Q~*Q')/|Q|^2`, the inverse of eq 10 (body form), exact for
+    /// a non-unit `Q` too (scaling `Q` and `Q'` together leaves it unchanged).
     #[inline]
     pub fn omega_body_from_q_dot(&self, q_dot: &Quat) -> Vector3<f64> {
-        (self.conjugate() * *q_dot).vector() * 2.0
+        self.omega_body_from_scaled_q_dot(q_dot, 1.0)
     }
 
-    /// `w_s = 2 vec(Q'*Q~)`, the inverse of eq 10 (space form) for unit `Q`.
+    /// [`Quat::omega_body_from_q_dot`] from `h Q'` (the first scaled
+    /// derivative of a Gear scheme with step `h`), dividing `h` out.
+    #[inline]
+    pub fn omega_body_from_scaled_q_dot(&self, h_q_dot: &Quat, h: f64) -> Vector3<f64> {
+        (self.conjugate() * *h_q_dot).vector() * (2.0 / (h * self.norm_squared()))
+    }
+
+    /// `w_s = 2 vec(Q'*Q~)/|Q|^2`, the inverse of eq 10 (space form), exact
+    /// for a non-unit `Q` too.
     #[inline]
     pub fn omega_space_from_q_dot(&self, q_dot: &Quat) -> Vector3<f64> {
-        (*q_dot * self.conjugate()).vector() * 2.0
+        (*q_dot * self.conjugate()).vector() * (2.0 / self.norm_squared())
     }
 
     /// The unit quaternion of Euler angles `(phi, theta, psi)` in the y-convention (eq 8).

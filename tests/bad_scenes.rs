@@ -1,15 +1,18 @@
 //! Every file in `tests/bad_scenes/` is a scene that must be rejected with the
-//! exact message stated on its `# error: ` line.
+//! exact message stated on its `# error: ` line. Each file is a test case of
+//! its own (named after the file), so a failure names the scene.
 
+use libtest_mimic::{Arguments, Failed, Trial};
 use quatrot::scene::{load, Overrides};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const MARKER: &str = "# error: ";
-/// The issue asks for at least this many bad scenes.
+/// The corpus holds at least this many bad scenes (a folder emptied or
+/// misread would otherwise pass).
 const MIN_BAD_SCENES: usize = 30;
 
-#[test]
-fn every_bad_scene_fails_with_its_stated_message() {
+/// The scene files of the corpus, sorted.
+fn corpus() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_scenes");
     let mut paths: Vec<_> = std::fs::read_dir(&dir)
         .expect("tests/bad_scenes exists")
@@ -17,26 +20,39 @@ fn every_bad_scene_fails_with_its_stated_message() {
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     paths.sort();
-    assert!(
-        paths.len() >= MIN_BAD_SCENES,
-        "only {} bad scenes",
-        paths.len()
-    );
-    let mut failures = Vec::new();
-    for path in &paths {
-        let text = std::fs::read_to_string(path).expect("readable file");
-        let expected = text
-            .lines()
-            .find_map(|l| l.strip_prefix(MARKER))
-            .unwrap_or_else(|| panic!("{}: no `{MARKER}` line", path.display()));
-        match load(path.to_str().expect("utf-8 path"), &Overrides::default()) {
-            Ok(_) => failures.push(format!("{}: accepted", path.display())),
-            Err(e) if e.to_string() == expected => {}
-            Err(e) => failures.push(format!(
-                "{}:\n  expected: {expected}\n  got:      {e}",
-                path.file_name().unwrap_or_default().to_string_lossy()
-            )),
-        }
+    paths
+}
+
+/// The scene at `path` fails to load with its stated message.
+fn fails_with_its_stated_message(path: &Path) -> Result<(), Failed> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("unreadable: {e}"))?;
+    let expected = text
+        .lines()
+        .find_map(|l| l.strip_prefix(MARKER))
+        .ok_or_else(|| format!("no `{MARKER}` line"))?;
+    let path = path.to_str().ok_or("not a UTF-8 path")?;
+    match load(path, &Overrides::default()) {
+        Ok(_) => Err("accepted".into()),
+        Err(e) if e.to_string() == expected => Ok(()),
+        Err(e) => Err(format!("\n  expected: {expected}\n  got:      {e}").into()),
     }
-    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+fn main() {
+    let paths = corpus();
+    let count = paths.len();
+    let mut trials = vec![Trial::test("corpus_has_enough_bad_scenes", move || {
+        if count >= MIN_BAD_SCENES {
+            Ok(())
+        } else {
+            Err(format!("only {count} bad scenes, at least {MIN_BAD_SCENES} expected").into())
+        }
+    })];
+    trials.extend(paths.into_iter().map(|path| {
+        let name = path
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        Trial::test(name, move || fails_with_its_stated_message(&path))
+    }));
+    libtest_mimic::run(&Arguments::from_args(), trials).exit();
 }

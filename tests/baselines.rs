@@ -5,9 +5,13 @@
 //! differences, so the tests do not depend on the multipole module.
 
 use nalgebra::Vector3;
-use quatrot::integrators::{Dlm, Integrator, NoSquish, Richardson, RotorState, SphericalTops};
+use quatrot::integrators::{
+    Dlm, DlmOptions, Integrator, IntegratorSpec, NoSquish, NoSquishOptions, RichardsonOptions,
+    RotorState, SphericalTops,
+};
 use quatrot::potential::{Free, Potential};
 use quatrot::rotor::Inertia;
+use quatrot::stats::{block_means, line_fit};
 use quatrot::Quat;
 
 /// Dipoles `mu_s = R(Q) mu_b` in a uniform field `E` with the coupling
@@ -104,51 +108,42 @@ const BASELINES: [&str; 4] = ["no_squish/1", "no_squish/10", "dlm", "richardson"
 
 /// A fresh integrator by test name.
 fn make(name: &str) -> AnyIntegrator {
-    match name {
-        "no_squish/1" => AnyIntegrator::NoSquish(NoSquish::new(
-            NoSquish::SUBSTEPS_LAMMPS,
-            SphericalTops::Exact,
-        )),
-        "no_squish/10" => AnyIntegrator::NoSquish(NoSquish::new(
-            NoSquish::SUBSTEPS_DL_POLY,
-            SphericalTops::Exact,
-        )),
-        "dlm" => AnyIntegrator::Dlm(Dlm::new(SphericalTops::Exact)),
-        "richardson" => AnyIntegrator::Richardson(Richardson::new()),
+    let spec = match name {
+        "no_squish/1" => IntegratorSpec::NoSquish(NoSquishOptions {
+            substeps: NoSquishOptions::SUBSTEPS_LAMMPS,
+            spherical_tops: SphericalTops::Exact,
+        }),
+        "no_squish/10" => IntegratorSpec::NoSquish(NoSquishOptions {
+            substeps: NoSquishOptions::SUBSTEPS_DL_POLY,
+            spherical_tops: SphericalTops::Exact,
+        }),
+        "dlm" => IntegratorSpec::Dlm(DlmOptions {
+            spherical_tops: SphericalTops::Exact,
+        }),
+        "richardson" => IntegratorSpec::Richardson(RichardsonOptions {}),
         other => panic!("unknown test integrator {other}"),
-    }
-}
-
-/// The trait has generic methods, so the tests dispatch by hand.
-enum AnyIntegrator {
-    NoSquish(NoSquish),
-    Dlm(Dlm),
-    Richardson(Richardson),
-}
-
-macro_rules! dispatch {
-    ($self:expr, $i:ident => $body:expr) => {
-        match $self {
-            AnyIntegrator::NoSquish($i) => $body,
-            AnyIntegrator::Dlm($i) => $body,
-            AnyIntegrator::Richardson($i) => $body,
-        }
     };
+    AnyIntegrator(spec.build())
 }
+
+/// An integrator of any kind, built by [`IntegratorSpec::build`].
+struct AnyIntegrator(Box<dyn Integrator>);
 
 impl AnyIntegrator {
-    fn setup<P: Potential>(&mut self, inertia: &[Inertia], p: &P, initial: &[RotorState], dt: f64) {
-        dispatch!(self, i => i.setup(inertia, p, initial, dt)).expect("valid test setup");
+    fn setup(&mut self, inertia: &[Inertia], p: &dyn Potential, initial: &[RotorState], dt: f64) {
+        self.0
+            .setup(inertia, p, initial, dt)
+            .expect("valid test setup");
     }
-    fn run<P: Potential>(&mut self, p: &P, steps: usize) {
+    fn run(&mut self, p: &dyn Potential, steps: usize) {
         for _ in 0..steps {
-            dispatch!(self, i => i.step(p));
+            self.0.step(p);
         }
     }
     fn states(&self) -> Vec<RotorState> {
-        let q = dispatch!(self, i => i.orientations()).to_vec();
+        let q = self.0.orientations().to_vec();
         let mut w = vec![Vector3::zeros(); q.len()];
-        dispatch!(self, i => i.omega_body(&mut w));
+        self.0.omega_body(&mut w);
         q.into_iter()
             .zip(w)
             .map(|(orientation, omega_body)| RotorState {
@@ -257,7 +252,9 @@ fn body_axis_sweep_is_not_exact_for_a_free_spherical_top() {
     const MIN_ERROR: f64 = 1e-6; // an O(dt^2) global error at dt = 0.05, far above round-off
     let inertia = vec![Inertia::Spherical(2.0)];
     let initial = vec![state([0.9, 0.1, -0.3, 0.2], [0.3, -1.1, 0.7])];
-    let mut dlm = Dlm::new(SphericalTops::Split);
+    let mut dlm = Dlm::new(DlmOptions {
+        spherical_tops: SphericalTops::Split,
+    });
     dlm.setup(&inertia, &Free, &initial, 0.05)
         .expect("valid setup");
     for _ in 0..200 {
@@ -272,11 +269,11 @@ fn body_axis_sweep_is_not_exact_for_a_free_spherical_top() {
 /// Reverses the angular velocities of `forward`'s final states, runs a fresh
 /// `name` integrator `steps` steps from there, and reverses them again: a
 /// time-reversible scheme returns to the states `forward` started from.
-fn run_back<P: Potential>(
+fn run_back(
     name: &str,
     forward: &AnyIntegrator,
     inertia: &[Inertia],
-    p: &P,
+    p: &dyn Potential,
     dt: f64,
     steps: usize,
 ) -> Vec<RotorState> {
@@ -326,33 +323,6 @@ fn time_reversibility() {
     }
 }
 
-/// Least-squares slope of y against x.
-fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
-}
-
-/// Slope of y against x fitted to `blocks` block means (so that correlated
-/// fluctuations average out), with its standard error from the residuals.
-fn block_slope(x: &[f64], y: &[f64], blocks: usize) -> (f64, f64) {
-    let len = x.len() / blocks;
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let bx: Vec<f64> = x.chunks_exact(len).map(mean).collect();
-    let by: Vec<f64> = y.chunks_exact(len).map(mean).collect();
-    let s = slope(&bx, &by);
-    let (mx, my) = (mean(&bx), mean(&by));
-    let residual: f64 = bx
-        .iter()
-        .zip(&by)
-        .map(|(a, b)| (b - my - s * (a - mx)).powi(2))
-        .sum();
-    let sxx: f64 = bx.iter().map(|a| (a - mx).powi(2)).sum();
-    (s, (residual / (bx.len() - 2) as f64 / sxx).sqrt())
-}
-
 /// No secular energy drift over a long run: the fitted energy trend is
 /// consistent with zero (within 3 standard errors of the block-averaged fit)
 /// and the trend over the whole run is below the rms fluctuation.
@@ -374,7 +344,10 @@ fn no_secular_energy_drift() {
             t.push(((n + 1) * every) as f64 * dt);
             e.push(total_energy(&inertia, &p, &integ.states()));
         }
-        let (s, se) = block_slope(&t, &e, BLOCKS);
+        // The slope fitted to block means (so that correlated fluctuations
+        // average out), with its standard error from the residuals.
+        let fit = line_fit(&block_means(&t, BLOCKS), &block_means(&e, BLOCKS));
+        let (s, se) = (fit.slope, fit.slope_standard_error());
         let mean = e.iter().sum::<f64>() / e.len() as f64;
         let rms = (e.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / e.len() as f64).sqrt();
         let drift = s * (t[t.len() - 1] - t[0]);
@@ -486,7 +459,7 @@ fn second_order_global_convergence() {
         }
         let x: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
         let y: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
-        let order = slope(&x, &y);
+        let order = line_fit(&x, &y).slope;
         eprintln!("{name}: global errors {errors:?}, fitted order {order:.3}");
         assert!((order - 2.0).abs() < ORDER_TOL, "{name}: order {order}");
     }
@@ -501,16 +474,16 @@ fn checkpoint_restore_is_bit_exact() {
         let mut a = make(name);
         a.setup(&inertia, &p, &initial, 0.01);
         a.run(&p, 37);
-        let saved = dispatch!(&a, i => i.checkpoint());
+        let saved = a.0.checkpoint();
         a.run(&p, 25);
         let mut b = make(name);
         b.setup(&inertia, &p, &initial, 0.01);
-        dispatch!(&mut b, i => i.restore(&saved)).expect("own checkpoint");
+        b.0.restore(&saved).expect("own checkpoint");
         b.run(&p, 25);
         assert_eq!(a.states(), b.states(), "{name}");
         let short = &saved[..saved.len() - 1];
         assert!(
-            dispatch!(&mut b, i => i.restore(short)).is_err(),
+            b.0.restore(short).is_err(),
             "{name}: short checkpoint accepted"
         );
     }
@@ -520,7 +493,7 @@ fn checkpoint_restore_is_bit_exact() {
 #[test]
 fn bad_setup_is_an_error() {
     let (inertia, p, initial) = asymmetric_system();
-    let mut dlm = Dlm::new(SphericalTops::Exact);
+    let mut dlm = Dlm::default();
     assert!(dlm.setup(&inertia, &p, &initial, 0.0).is_err());
     assert!(dlm.setup(&inertia, &p, &initial, f64::NAN).is_err());
     assert!(dlm.setup(&inertia[..2], &p, &initial, 0.01).is_err());
@@ -540,7 +513,7 @@ fn zero_moment_axis_is_skipped_by_no_squish() {
         coupling: 0.0,
     };
     let initial = vec![state([0.9, 0.1, -0.3, 0.2], [0.5, -0.7, 0.0])];
-    let mut ns = NoSquish::new(NoSquish::SUBSTEPS_LAMMPS, SphericalTops::Exact);
+    let mut ns = NoSquish::default();
     ns.setup(&inertia, &p, &initial, 0.01).expect("valid setup");
     let e0 = total_energy(&inertia, &p, &initial);
     let mut w = vec![Vector3::zeros()];

@@ -11,7 +11,8 @@ use quatrot::experiments::gear_corrections::{
     correction_table, variants, Settings, System, Variant,
 };
 
-/// Allowed distance of a fitted order from the expected 5 (the 0.3).
+/// Allowed distance of a fitted order from the expected 5: a fit over three
+/// step sizes carries the higher-order terms.
 const ORDER_TOLERANCE: f64 = 0.3;
 /// Rounding level of `Q.N` after the torque projection (|Q|, |N| ~ 1).
 const PROJECTED: f64 = 1e-13;
@@ -46,8 +47,8 @@ fn correction_table_rows_follow_theory() {
             row.global_error,
             row.order,
             row.largest_stable_dt,
-            row.max_q_dot_q_dot,
-            row.max_q_dot_force
+            row.max_norm_velocity,
+            row.max_norm_force
         );
         let projected = match row.variant {
             Variant::A => true,
@@ -61,16 +62,12 @@ fn correction_table_rows_follow_theory() {
                 row.order
             );
             assert!(
-                row.max_q_dot_force.unwrap_or(0.0) < PROJECTED,
+                row.max_norm_force.unwrap_or(0.0) < PROJECTED,
                 "{}",
                 row.label
             );
         } else {
-            assert!(
-                row.max_q_dot_force.is_some_and(|x| x > 0.1),
-                "{}",
-                row.label
-            );
+            assert!(row.max_norm_force.is_some_and(|x| x > 0.1), "{}", row.label);
         }
     }
 }

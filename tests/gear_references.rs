@@ -28,7 +28,8 @@ use quatrot::potential::{Free, Potential};
 use quatrot::rotor::Inertia;
 use quatrot::Quat;
 
-/// Allowed distance of a fitted order from the expected one (the 0.3).
+/// Allowed distance of a fitted order from the expected one: a fit over a few
+/// step sizes carries the higher-order terms.
 const ORDER_TOLERANCE: f64 = 0.3;
 /// Expected global order of both schemes with a consistent start-up (module doc).
 const GEAR_ORDER: f64 = 5.0;

@@ -5,7 +5,7 @@
 //! divided by the moment of inertia.
 
 use nalgebra::{Unit, Vector3};
-use quatrot::observables::{kinetic_energy, kinetic_energy_spherical, omega_body, omega_space};
+use quatrot::observables::{kinetic_energy, kinetic_energy_spherical};
 use quatrot::rotor::Inertia;
 use quatrot::Quat;
 
@@ -87,11 +87,11 @@ fn eq11_printed_holds_for_spherical_top_only() {
     let spin = driven(0.8);
     let omega_b = |t: f64| {
         let q = spin.q(t);
-        Quat::pure(&omega_body(&q, &first_derivative(&|s| spin.q(s), t)))
+        Quat::pure(&q.omega_body_from_q_dot(&first_derivative(&|s| spin.q(s), t)))
     };
     let omega_s = |t: f64| {
         let q = spin.q(t);
-        Quat::pure(&omega_space(&q, &first_derivative(&|s| spin.q(s), t)))
+        Quat::pure(&q.omega_space_from_q_dot(&first_derivative(&|s| spin.q(s), t)))
     };
     for t in [0.0, 0.7, 1.9] {
         let n_s = Quat::pure(&(spin.axis.into_inner() * spin.a));
@@ -168,7 +168,7 @@ fn eq12_general_top_form_matches_free_symmetric_top() {
     };
     for t in [0.0, 0.6, 2.3] {
         let (q, q_dot) = (path(t), first_derivative(&path, t));
-        let w = omega_body(&q, &q_dot);
+        let w = q.omega_body_from_q_dot(&q_dot);
         let w_dot = (-w.cross(&moments.component_mul(&w))).component_div(&moments);
         let rhs = q_dot * q.conjugate() * q_dot + q * Quat::pure(&w_dot) * 0.5;
         let miss = (rhs - second_derivative(&path, t)).norm();

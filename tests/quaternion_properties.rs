@@ -1,4 +1,5 @@
-//! Property tests (proptest) of the quaternion algebra over random inputs.
+//! Property tests (proptest) of the quaternion algebra over random inputs,
+//! and of the identities documented as exact for non-unit quaternions.
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use proptest::prelude::*;
@@ -23,6 +24,12 @@ fn unit_quat() -> impl Strategy<Value = Quat> {
             c.iter().map(|x| x * x).sum::<f64>() > 1e-2
         })
         .prop_map(|c| Quat(c) * (1.0 / Quat(c).norm()))
+}
+
+/// A quaternion of norm between 0.3 and 2 (far from unit on both sides), as
+/// a Gear predictor or a run without renormalisation can make.
+fn non_unit_quat() -> impl Strategy<Value = Quat> {
+    (unit_quat(), 0.3f64..2.0).prop_map(|(q, s)| q * s)
 }
 
 fn vector(max: f64) -> impl Strategy<Value = Vector3<f64>> {
@@ -103,5 +110,42 @@ proptest! {
         prop_assert!(rotation_diff(&Quat::exp(&q.ln()), &q) < TIGHT);
         prop_assume!(v.norm() < PI - 1e-6);
         prop_assert!((Quat::exp(&v).ln() - v).amax() < TIGHT);
+    }
+}
+
+proptest! {
+    /// Eq 10 inverted is exact for any non-zero `Q`: with
+    /// `Q' = 1/2 Q*(0, w_b) + lambda Q` (a turn about `w_b` while `|Q|`
+    /// changes at the rate `lambda`), `Q.omega_body_from_q_dot(Q') = w_b`, and likewise
+    /// `Q.omega_space_from_q_dot(1/2 (0, w_s)*Q + lambda Q) = w_s` (the `1/|Q|^2` of
+    /// both undoes the scale of `Q` and of `Q'`).
+    #[test]
+    fn angular_velocities_are_exact_for_non_unit_q(q in non_unit_quat(), w in vector(3.0), lambda in -2.0f64..2.0) {
+        let body = q.omega_body_from_q_dot(&(q.q_dot_from_omega_body(&w) + q * lambda));
+        prop_assert!((body - w).amax() < TIGHT * (1.0 + w.amax()));
+        let space = q.omega_space_from_q_dot(&(q.q_dot_from_omega_space(&w) + q * lambda));
+        prop_assert!((space - w).amax() < TIGHT * (1.0 + w.amax()));
+    }
+
+    /// Body and space angular velocities of the same motion are related by
+    /// the rotation of `Q/|Q|` (eq 6), for any non-zero `Q`.
+    #[test]
+    fn body_and_space_angular_velocities_agree_for_non_unit_q(q in non_unit_quat(), w in vector(3.0)) {
+        let q_dot = q.q_dot_from_omega_body(&w);
+        let unit = q * (1.0 / q.norm());
+        let rotated = unit.body_to_space(&q.omega_body_from_q_dot(&q_dot));
+        prop_assert!((q.omega_space_from_q_dot(&q_dot) - rotated).amax() < TIGHT * (1.0 + w.amax()));
+    }
+
+    /// The matrix of eq 7 of a non-unit `Q` is `|Q|^2` times the rotation of
+    /// `Q/|Q|`: `A A^T = |Q|^4 I`, `det A = |Q|^6`.
+    #[test]
+    fn matrix_of_non_unit_q_is_scaled_rotation(q in non_unit_quat()) {
+        let n2 = q.norm_squared();
+        let a = q.space_to_body_matrix();
+        let unit = q * (1.0 / q.norm());
+        prop_assert!((a - unit.space_to_body_matrix() * n2).amax() < TIGHT * n2);
+        prop_assert!((a * a.transpose() - Matrix3::identity() * (n2 * n2)).amax() < TIGHT * n2 * n2);
+        prop_assert!((a.determinant() - n2 * n2 * n2).abs() < TIGHT * n2 * n2 * n2);
     }
 }

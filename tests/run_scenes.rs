@@ -8,8 +8,9 @@ use quatrot::integrators::{Dlm, Integrator, IntegratorError, RotorState};
 use quatrot::potential::{Free, Potential};
 use quatrot::quaternion::Quat;
 use quatrot::rotor::Inertia;
-use quatrot::run::{execute, run_scene, Outputs, Stop, CHECKPOINT_FILE, SUMMARY_FILE};
+use quatrot::run::{execute, run_scene, Outputs, CHECKPOINT_FILE, SUMMARY_FILE};
 use quatrot::scene::{load, parse_toml, validate, Overrides, BUILTINS};
+use quatrot::simulation::Stop;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 fn definition() -> serde_json::Value {
@@ -39,12 +40,13 @@ fn every_builtin_scene_runs_a_few_steps() {
     }
 }
 
-/// The 1000-rotor lattice is what the issue specifies.
+/// The 1000-rotor lattice is the note's test system: simple-cubic unit
+/// dipoles, spherical tops with I = 0.1, a periodic box of side 10.
 #[test]
 fn dipole_lattice_builtin_matches_the_specification() {
     let (_, scene) = load("dipole_lattice_sc", &Overrides::default()).expect("valid");
     assert_eq!(scene.rotors.len(), 1000);
-    assert_eq!(scene.box_lengths, Some(Vector3::repeat(10.0)));
+    assert_eq!(scene.box_lengths(), Some(Vector3::repeat(10.0)));
     for r in &scene.rotors {
         assert_eq!(r.inertia, Inertia::Spherical(0.1));
         assert_eq!(r.dipole_body.map(|d| d.norm()), Some(1.0));
@@ -103,7 +105,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
     run_scene(
         &scene,
         definition(),
-        Dlm::default(),
+        &mut Dlm::default(),
         &counting,
         &in_memory(),
         None,
@@ -120,7 +122,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
     let result = run_scene(
         &scene,
         definition(),
-        Dlm::default(),
+        &mut Dlm::default(),
         &counting,
         &in_memory(),
         None,
@@ -150,10 +152,10 @@ impl<I: Integrator> Integrator for Poisoned<I> {
     fn name(&self) -> &'static str {
         self.inner.name()
     }
-    fn setup<P: Potential>(
+    fn setup(
         &mut self,
         inertia: &[Inertia],
-        potential: &P,
+        potential: &dyn Potential,
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
@@ -161,7 +163,7 @@ impl<I: Integrator> Integrator for Poisoned<I> {
         self.orientations = self.inner.orientations().to_vec();
         Ok(())
     }
-    fn step<P: Potential>(&mut self, potential: &P) {
+    fn step(&mut self, potential: &dyn Potential) {
         self.inner.step(potential);
         self.step += 1;
         self.orientations.copy_from_slice(self.inner.orientations());
@@ -199,7 +201,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
         dir: Some(dir.path().to_path_buf()),
         keep: false,
     };
-    let integrator = Poisoned {
+    let mut integrator = Poisoned {
         inner: Dlm::default(),
         step: 0,
         poison_at: 11,
@@ -209,7 +211,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
     let result = run_scene(
         &scene,
         definition(),
-        integrator,
+        &mut integrator,
         &Free,
         &outputs,
         None,

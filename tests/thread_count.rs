@@ -14,8 +14,8 @@
 
 use nalgebra::Vector3;
 use quatrot::integrators::{
-    Dlm, FirstCorrector, GearA, GearAOptions, GearB, GearBOptions, Integrator, NoSquish,
-    Richardson, SphericalTops, Startup,
+    Dlm, DlmOptions, FirstCorrector, GearA, GearAOptions, GearB, GearBOptions, Integrator,
+    NoSquish, Richardson, SphericalTops, Startup,
 };
 use quatrot::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
@@ -67,10 +67,7 @@ fn lattice(asymmetric: bool) -> (Scene, OnOneThread<MultipolePotential>) {
             rotor.inertia = Inertia::Principal(Vector3::new(0.08, 0.1, 0.13));
         }
     }
-    let periodic = Boundary::Periodic {
-        box_lengths: scene.box_lengths.expect("periodic scene"),
-        cutoff: 3.1,
-    };
+    let periodic = Boundary::periodic_cutoff(scene.box_lengths().expect("periodic scene"), 3.1);
     let potential = MultipolePotential::new(&scene.rotors, periodic, ExternalFields::NONE)
         .expect("valid lattice");
     (
@@ -188,10 +185,12 @@ fn gear_b_is_bitwise_independent_of_the_thread_count() {
 /// The kick-based baselines (their per-rotor passes share the chunking).
 #[test]
 fn baselines_are_bitwise_independent_of_the_thread_count() {
+    assert_thread_count_independent("NO_SQUISH", NoSquish::default());
     assert_thread_count_independent(
-        "NO_SQUISH",
-        NoSquish::new(NoSquish::SUBSTEPS_LAMMPS, SphericalTops::Exact),
+        "DLM",
+        Dlm::new(DlmOptions {
+            spherical_tops: SphericalTops::Split,
+        }),
     );
-    assert_thread_count_independent("DLM", Dlm::new(SphericalTops::Split));
-    assert_thread_count_independent("Richardson", Richardson::new());
+    assert_thread_count_independent("Richardson", Richardson::default());
 }

@@ -4,8 +4,10 @@
 
 use crate::counting::Counting;
 use quatrot::potential::{Free, Potential};
-use quatrot::run::{execute, potential, with_integrator, Outputs, RunResult, Stop};
-use quatrot::scene::{Quantity, Record, Scene, Series, TrajectorySpec};
+use quatrot::run::{execute, potential, run_scene, Outputs, RunResult};
+use quatrot::scene::{Record, Scene, Series, TrajectorySpec};
+use quatrot::simulation::{Quantity, Stop};
+use quatrot::stats::line_fit;
 use serde::Serialize;
 use std::error::Error;
 
@@ -118,9 +120,10 @@ fn counted<P: Potential>(
         dir: None,
         keep: true,
     };
-    let result = with_integrator(
+    let result = run_scene(
         scene,
         serde_json::Value::Null,
+        scene.integrator.build().as_mut(),
         &counting,
         &outputs,
         None,
@@ -169,16 +172,12 @@ fn summarise(result: &RunResult, steps: u64, torque_evaluations: u64) -> Observe
     }
 }
 
-/// The least-squares slope of `y` against `x`.
+/// The least-squares slope of `y` against `x` (NaN for fewer than 2 points).
 fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
     if x.len() < 2 {
         return f64::NAN;
     }
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
+    line_fit(x, y).slope
 }
 
 /// A rayon pool of `threads` threads for the potential's parallel loops.

@@ -10,13 +10,12 @@
 
 use crate::measure::{median, pool};
 use crate::Effort;
-use quatrot::integrators::{Integrator, NoSquish, SphericalTops};
+use quatrot::integrators::{Integrator, NoSquish};
 use quatrot::rotor::Inertia;
 use quatrot::scene::raw::RawRotors;
 use quatrot::scene::{load_raw, validate};
 use serde_json::{json, Value};
 use std::error::Error;
-use std::num::NonZeroUsize;
 use std::time::Instant;
 
 type Res<T> = Result<T, Box<dyn Error + Send + Sync>>;
@@ -57,7 +56,7 @@ pub fn run(effort: Effort) -> Res<Value> {
             let walls = pool(threads)?.install(|| -> Res<Vec<f64>> {
                 let mut walls = Vec::new();
                 for _ in 0..REPEATS {
-                    let mut integrator = NoSquish::new(NonZeroUsize::MIN, SphericalTops::Exact);
+                    let mut integrator = NoSquish::default();
                     integrator.setup(&inertia, &potential, &scene.initial, scene.dt)?;
                     let started = Instant::now();
                     for _ in 0..steps {

@@ -171,5 +171,5 @@ pub fn long_runs(effort: Effort) -> Res<Value> {
     })
 }
 
-/// Steps of the lattice long runs (issue 8: 1e5).
+/// Steps of the lattice long runs.
 const LATTICE_LONG_STEPS: u64 = 100_000;

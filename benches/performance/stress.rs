@@ -104,14 +104,9 @@ fn cases() -> Vec<Case> {
 fn scene_of(base: &Scene, case: &Case) -> Scene {
     let mut s = base.clone();
     let rotor = &mut s.rotors[0];
-    let [a, b, c] = case.inertia;
-    rotor.inertia = if a == b && b == c {
-        Inertia::Spherical(a)
-    } else {
-        Inertia::Principal(Vector3::new(a, b, c))
-    };
+    rotor.inertia = Inertia::from_moments(Vector3::from(case.inertia));
     rotor.dipole_body = case.dipole.map(Vector3::from);
-    s.fields.uniform = case.field.map(Vector3::from);
+    s.fields.field = case.field.map(Vector3::from);
     s.initial = vec![RotorState {
         orientation: Quat(case.orientation),
         omega_body: Vector3::from(case.omega_body),

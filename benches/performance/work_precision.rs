@@ -7,8 +7,9 @@
 use crate::measure::{median, observed, pool, timed, with_step, Observed};
 use crate::schemes::{all, Scheme};
 use crate::Effort;
+use quatrot::integrators::IntegratorSpec;
 use quatrot::rotor::Inertia;
-use quatrot::scene::{load, IntegratorChoice, Overrides, Scene};
+use quatrot::scene::{load, Overrides, Scene};
 use serde::Serialize;
 use serde_json::{json, Value};
 use std::error::Error;
@@ -121,8 +122,8 @@ fn system(scene: &Scene) -> Value {
         "rotors": scene.rotors.len(),
         "inertia": inertia,
         "dipole_body": rotor.dipole_body.map(|d| [d.x, d.y, d.z]),
-        "field": scene.fields.uniform.map(|e| [e.x, e.y, e.z]),
-        "box_lengths": scene.box_lengths.map(|b| [b.x, b.y, b.z]),
+        "field": scene.fields.field.map(|e| [e.x, e.y, e.z]),
+        "box_lengths": scene.box_lengths().map(|b| [b.x, b.y, b.z]),
         "sites": scene.rotors.iter().map(|r| [r.site.x, r.site.y, r.site.z]).collect::<Vec<_>>(),
         "orientations": scene.initial.iter().map(|s| s.orientation.0).collect::<Vec<_>>(),
         "omega_body": scene.initial.iter().map(|s| [s.omega_body.x, s.omega_body.y, s.omega_body.z]).collect::<Vec<_>>(),
@@ -148,7 +149,7 @@ fn study(s: &Study) -> Result<Value, Box<dyn Error + Send + Sync>> {
         .map(|&dt| run_one(&scene, &reference, dt, s.time, 1))
         .collect::<Result<Vec<_>, _>>()?;
     let reference_name = match reference.choice {
-        IntegratorChoice::GearA { .. } => "scheme A",
+        IntegratorSpec::GearA(_) => "scheme A",
         _ => reference.label,
     };
     Ok(json!({

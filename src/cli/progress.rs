@@ -1,6 +1,7 @@
 //! A progress bar (indicatif) fed as an observer that needs nothing.
 
-use crate::run::{Needs, Observer, RunError, Sample};
+use crate::run::RunError;
+use crate::simulation::{Needs, Observer, Sample};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Shows the step on a terminal progress bar.
@@ -22,6 +23,8 @@ impl ProgressBarObserver {
 }
 
 impl Observer for ProgressBarObserver {
+    type Error = RunError;
+
     fn needs(&self) -> Needs {
         Needs::default()
     }

@@ -3,17 +3,21 @@
 //! [`Row`]: energy drift and fluctuation, global error and its observed order,
 //! the largest stable time step, and the size of the eq 15 zeroth components.
 
-use crate::integrators::{FirstCorrector, GearA, GearB, GearBOptions, Integrator, RotorState};
-use crate::observables::{norm_velocity, total_energy, total_kinetic_energy};
+use crate::integrators::{FirstCorrector, GearAOptions, GearBOptions, IntegratorSpec, RotorState};
+use crate::observables::norm_velocity;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use nalgebra::Vector3;
+use crate::simulation::{
+    run, BlowUpChecks, EnergyHistory, Needs, Observer, RunOptions, Sample, Scheduled, Stop,
+};
+use crate::stats::line_fit;
+use std::convert::Infallible;
 
 /// A system of pinned rotors with its initial state.
-pub struct System<'a, P> {
+pub struct System<'a> {
     /// The interactions.
-    pub potential: &'a P,
+    pub potential: &'a dyn Potential,
     /// One inertia per rotor.
     pub inertia: &'a [Inertia],
     /// The initial orientations and body angular velocities.
@@ -33,7 +37,7 @@ pub struct Settings {
     /// Length of the stability runs.
     pub t_stability: f64,
     /// Energy samples are taken every this many steps (>= 1).
-    pub sample_every: usize,
+    pub sample_every: u64,
 }
 
 /// How much finer than the finest measured step the reference run is (its
@@ -56,6 +60,16 @@ pub enum Variant {
     B(GearBOptions),
 }
 
+impl Variant {
+    /// The integrator of this configuration.
+    pub fn spec(self) -> IntegratorSpec {
+        match self {
+            Variant::A => IntegratorSpec::GearA(GearAOptions::default()),
+            Variant::B(options) => IntegratorSpec::GearB(options),
+        }
+    }
+}
+
 /// One row of the table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -76,10 +90,10 @@ pub struct Row {
     /// Largest stable step of the scan, or `None` if even `dt` is unstable.
     pub largest_stable_dt: Option<f64>,
     /// Largest `|Q.Q'|` over the energy run (eq 15a).
-    pub max_q_dot_q_dot: f64,
+    pub max_norm_velocity: f64,
     /// Largest `|Q.N|` over the energy run (eq 15b); `None` for scheme A,
     /// which works with body torques.
-    pub max_q_dot_force: Option<f64>,
+    pub max_norm_force: Option<f64>,
 }
 
 /// The configurations of the note's comparison.
@@ -137,101 +151,96 @@ pub fn variants() -> Vec<(String, Variant)> {
     ]
 }
 
-/// What one run records.
+/// The largest `|Q.Q'|` and `|Q.N|` (eqs 15a, 15b) over the samples of a run.
+#[derive(Default)]
+struct NormDiagnostics {
+    max_norm_velocity: f64,
+    max_norm_force: Option<f64>,
+}
+
+impl Observer for NormDiagnostics {
+    type Error = Infallible;
+
+    fn needs(&self) -> Needs {
+        Needs {
+            energies: true,
+            q_dot: true,
+            norm_force: true,
+            ..Needs::default()
+        }
+    }
+
+    /// Samples whose energy is not finite (the run stops there) are left out.
+    fn observe(&mut self, sample: &Sample<'_>) -> Result<(), Infallible> {
+        if sample.energies.is_some_and(|e| !e.total.is_finite()) {
+            return Ok(());
+        }
+        let q_dot = sample.q_dot.unwrap_or_default();
+        for (q, d) in sample.orientations.iter().zip(q_dot) {
+            self.max_norm_velocity = self.max_norm_velocity.max(norm_velocity(q, d).abs());
+        }
+        if let Some(norm_force) = sample.norm_force {
+            let worst = norm_force.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            self.max_norm_force = Some(self.max_norm_force.unwrap_or(0.0).max(worst));
+        }
+        Ok(())
+    }
+}
+
+/// What one run records: energies every `sample_every` steps and at the
+/// end, the eq 15 diagnostics, the final orientations, and whether it stayed
+/// finite.
 struct Trace {
     final_orientations: Vec<Quat>,
-    times: Vec<f64>,
-    energies: Vec<f64>,
-    kinetic: Vec<f64>,
-    max_q_dot_q_dot: f64,
-    max_q_dot_force: Option<f64>,
+    energies: EnergyHistory,
+    norms: NormDiagnostics,
     finite: bool,
 }
 
-fn trace<I: Integrator, P: Potential>(
-    mut integrator: I,
-    system: &System<P>,
-    dt: f64,
-    t_end: f64,
-    sample_every: usize,
-) -> Trace {
-    let n = system.initial.len();
-    let steps = (t_end / dt).round() as usize;
-    let mut omega = vec![Vector3::zeros(); n];
-    let mut q_dot = vec![Quat::ZERO; n];
-    let mut q_n = vec![0.0; n];
+/// Runs `variant` on `system` to `t_end` with steps of `dt` through the run
+/// loop, stopping at the first non-finite sample.
+fn trace(variant: Variant, system: &System<'_>, dt: f64, t_end: f64, sample_every: u64) -> Trace {
+    let mut integrator = variant.spec().build();
     let mut t = Trace {
         final_orientations: Vec::new(),
-        times: Vec::new(),
-        energies: Vec::new(),
-        kinetic: Vec::new(),
-        max_q_dot_q_dot: 0.0,
-        max_q_dot_force: None,
-        finite: true,
+        energies: EnergyHistory::default(),
+        norms: NormDiagnostics::default(),
+        finite: false,
     };
     if integrator
         .setup(system.inertia, system.potential, system.initial, dt)
         .is_err()
     {
-        t.finite = false;
         return t;
     }
-    for step in 0..=steps {
-        if step > 0 {
-            integrator.step(system.potential);
-        }
-        if step % sample_every.max(1) != 0 && step != steps {
-            continue;
-        }
-        let q = integrator.orientations();
-        integrator.omega_body(&mut omega);
-        integrator.q_dot(&mut q_dot);
-        let energy = total_energy(system.potential, system.inertia, q, &omega);
-        if !energy.is_finite() {
-            t.finite = false;
-            break;
-        }
-        t.times.push(step as f64 * dt);
-        t.energies.push(energy);
-        t.kinetic.push(total_kinetic_energy(system.inertia, &omega));
-        for (qi, qd) in q.iter().zip(&q_dot) {
-            t.max_q_dot_q_dot = t.max_q_dot_q_dot.max(norm_velocity(qi, qd).abs());
-        }
-        if integrator.q_dot_n(&mut q_n) {
-            let worst = q_n.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            t.max_q_dot_force = Some(t.max_q_dot_force.unwrap_or(0.0).max(worst));
-        }
-    }
+    let options = RunOptions {
+        dt,
+        start_step: 0,
+        end_step: (t_end / dt).round() as u64,
+        // Checked at the samples only.
+        checks: Some(BlowUpChecks {
+            every: u64::MAX,
+            energy_error_threshold: None,
+        }),
+        reference: None,
+    };
+    let mut observers = [Scheduled {
+        every: sample_every,
+        at_end: true,
+        observer: &mut t.norms,
+    }];
+    let Ok(report) = run(
+        integrator.as_mut(),
+        system.potential,
+        system.inertia,
+        &mut observers,
+        None,
+        &options,
+    );
     t.final_orientations = integrator.orientations().to_vec();
+    t.energies = report.energy_history;
+    t.finite = report.stop == Stop::Completed;
     t
-}
-
-fn trace_variant<P: Potential>(
-    variant: Variant,
-    system: &System<P>,
-    dt: f64,
-    t_end: f64,
-    sample_every: usize,
-) -> Trace {
-    match variant {
-        Variant::A => trace(GearA::default(), system, dt, t_end, sample_every),
-        Variant::B(options) => trace(GearB::new(options), system, dt, t_end, sample_every),
-    }
-}
-
-/// Least-squares line `y = a + b x`: returns `(b, rms residual)`.
-fn line_fit(x: &[f64], y: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
-    let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-    let rss: f64 = x
-        .iter()
-        .zip(y)
-        .map(|(a, b)| (b - my - slope * (a - mx)).powi(2))
-        .sum();
-    (slope, (rss / n).sqrt())
 }
 
 /// The largest rotation angle between corresponding orientations (radians),
@@ -246,45 +255,44 @@ fn max_angle(a: &[Quat], b: &[Quat]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn is_stable<P: Potential>(variant: Variant, system: &System<P>, dt: f64, t_end: f64) -> bool {
-    let t = trace_variant(variant, system, dt, t_end, 1);
-    let Some((&e0, &k0)) = t.energies.first().zip(t.kinetic.first()) else {
+fn is_stable(variant: Variant, system: &System<'_>, dt: f64, t_end: f64) -> bool {
+    let t = trace(variant, system, dt, t_end, 1);
+    let Some((&e0, &k0)) = t.energies.total.first().zip(t.energies.kinetic.first()) else {
         return false;
     };
     t.finite
         && t.energies
+            .total
             .iter()
             .all(|e| (e - e0).abs() <= STABILITY_ENERGY_FRACTION * k0)
 }
 
 /// The table: one row per configuration of [`variants`].
-pub fn correction_table<P: Potential>(system: &System<P>, settings: &Settings) -> Vec<Row> {
+pub fn correction_table(system: &System<'_>, settings: &Settings) -> Vec<Row> {
     let dts = [settings.dt, settings.dt / 2.0, settings.dt / 4.0];
     let reference = trace(
-        GearA::default(),
+        Variant::A,
         system,
         dts[2] / REFERENCE_REFINEMENT as f64,
         settings.t_error,
-        usize::MAX,
+        u64::MAX,
     )
     .final_orientations;
     variants()
         .into_iter()
         .map(|(label, variant)| {
-            let energy = trace_variant(
+            let energy = trace(
                 variant,
                 system,
                 settings.dt,
                 settings.t_energy,
                 settings.sample_every,
             );
-            let mean_kinetic =
-                energy.kinetic.iter().sum::<f64>() / energy.kinetic.len().max(1) as f64;
-            let (slope, rms) = line_fit(&energy.times, &energy.energies);
+            let drift = energy.energies.drift(0.0);
             let errors: Vec<f64> = dts
                 .iter()
                 .map(|&dt| {
-                    let t = trace_variant(variant, system, dt, settings.t_error, usize::MAX);
+                    let t = trace(variant, system, dt, settings.t_error, u64::MAX);
                     if t.finite {
                         max_angle(&t.final_orientations, &reference)
                     } else {
@@ -294,7 +302,7 @@ pub fn correction_table<P: Potential>(system: &System<P>, settings: &Settings) -
                 .collect();
             let log_dts: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
             let log_errors: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
-            let order = line_fit(&log_dts, &log_errors).0;
+            let order = line_fit(&log_dts, &log_errors).slope;
             let largest_stable_dt = (0..=STABILITY_STEPS)
                 .map(|k| settings.dt * 2f64.powf(k as f64 / 4.0))
                 .take_while(|&dt| is_stable(variant, system, dt, settings.t_stability))
@@ -303,20 +311,20 @@ pub fn correction_table<P: Potential>(system: &System<P>, settings: &Settings) -
                 label,
                 variant,
                 drift: if energy.finite {
-                    slope / mean_kinetic
+                    drift.relative_per_time
                 } else {
                     f64::NAN
                 },
                 fluctuation: if energy.finite {
-                    rms / mean_kinetic
+                    drift.relative_fluctuation
                 } else {
                     f64::NAN
                 },
                 global_error: errors[0],
                 order,
                 largest_stable_dt,
-                max_q_dot_q_dot: energy.max_q_dot_q_dot,
-                max_q_dot_force: energy.max_q_dot_force,
+                max_norm_velocity: energy.norms.max_norm_velocity,
+                max_norm_force: energy.norms.max_norm_force,
             }
         })
         .collect()

@@ -15,83 +15,72 @@
 //! stays 1 to round-off (only products with unit quaternions).
 //! Stores per rotor: `Q` (4), the body angular momentum `L_b` (3) and the
 //! space-fixed torque at `Q` (3, reused by the next step's first kick), plus
-//! the principal moments (3). One potential evaluation per step.
+//! the principal moments (3). One potential evaluation per step. The step
+//! itself is [`Kicked`]'s.
 
 use super::free_rotation::{free_flow, omega_from_momentum, SphericalTops};
-use super::kick::KickState;
-use super::{Integrator, IntegratorError, RotorState};
-use crate::potential::Potential;
+use super::kick::{Kicked, Splitting};
+use super::spec::IntegratorOptions;
+use super::Integrator;
 use crate::quaternion::Quat;
-use crate::rotor::Inertia;
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
 
 /// Body axes of the symmetric sweep, outermost first (axes 1, 2, 3).
 const SWEEP_AXES: [usize; 3] = [0, 1, 2];
 
 /// The DLM integrator (scene name `dlm`).
-#[derive(Clone, Debug, Default)]
-pub struct Dlm {
-    spherical: SphericalTops,
-    state: KickState<Vector3<f64>>,
+pub type Dlm = Kicked<DlmOptions>;
+
+/// Options of [`Dlm`] (the scene's `[integrator]` table with `kind = "dlm"`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DlmOptions {
+    /// The free flow of spherical tops (default [`SphericalTops::Exact`];
+    /// `Split` is LAMMPS's choice).
+    pub spherical_tops: SphericalTops,
 }
 
-impl Dlm {
-    /// A DLM integrator treating spherical tops as `spherical` says (default,
-    /// via `Dlm::default()`: [`SphericalTops::Exact`]; `Split` is LAMMPS's
-    /// choice).
-    pub fn new(spherical: SphericalTops) -> Self {
-        Dlm {
-            spherical,
-            ..Dlm::default()
-        }
+impl IntegratorOptions for DlmOptions {
+    const NAME: &'static str = "dlm";
+
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(Dlm::new(*self))
     }
 }
 
-/// DLM's half kick: `L_b += half A(Q) n_s` (body torque, eq 6).
-fn kick(momentum_body: &mut Vector3<f64>, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
-    *momentum_body += q.space_to_body(torque_space) * half;
-}
+impl Splitting for DlmOptions {
+    /// The body angular momentum `L_b`.
+    type Momentum = Vector3<f64>;
 
-impl Integrator for Dlm {
-    fn name(&self) -> &'static str {
-        "dlm"
+    fn momentum(_: &Quat, angular_momentum_body: &Vector3<f64>) -> Vector3<f64> {
+        *angular_momentum_body
     }
 
-    fn setup<P: Potential>(
-        &mut self,
-        inertia: &[Inertia],
-        potential: &P,
-        initial: &[RotorState],
+    /// `L_b += half A(Q) n_s` (body torque, eq 6).
+    fn kick(momentum_body: &mut Vector3<f64>, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
+        *momentum_body += q.space_to_body(torque_space) * half;
+    }
+
+    fn rotate(
+        &self,
+        q: &mut Quat,
+        momentum_body: &mut Vector3<f64>,
+        moments: &Vector3<f64>,
         dt: f64,
-    ) -> Result<(), IntegratorError> {
-        self.state = KickState::new(inertia, potential, initial, dt, |_, l_body| *l_body)?;
-        Ok(())
+    ) {
+        free_flow(
+            q,
+            momentum_body,
+            moments,
+            self.spherical_tops,
+            SWEEP_AXES,
+            1,
+            dt,
+        );
     }
 
-    fn step<P: Potential>(&mut self, potential: &P) {
-        self.state.half_kick(kick);
-        let (spherical, dt) = (self.spherical, self.state.dt);
-        self.state
-            .update(|q, l, i| free_flow(q, l, i, spherical, SWEEP_AXES, 1, dt));
-        self.state.evaluate_torques(potential);
-        self.state.half_kick(kick);
-    }
-
-    fn orientations(&self) -> &[Quat] {
-        &self.state.orientation
-    }
-
-    fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        self.state
-            .omega_body(out, |l, _, i| omega_from_momentum(l, i));
-    }
-
-    /// Layout of [`KickState::checkpoint`]: `Q`, then `L_b`, then torques.
-    fn checkpoint(&self) -> Vec<f64> {
-        self.state.checkpoint()
-    }
-
-    fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        self.state.restore(state)
+    fn omega_body(momentum_body: &Vector3<f64>, _: &Quat, moments: &Vector3<f64>) -> Vector3<f64> {
+        omega_from_momentum(momentum_body, moments)
     }
 }

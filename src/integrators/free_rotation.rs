@@ -20,7 +20,9 @@
 //! (two equal moments), which would also be a composition of two commuting
 //! exact flows; symmetric tops use the sweep.
 
+use crate::checks::named_choices;
 use crate::quaternion::Quat;
+use crate::rotor::is_spherical_top;
 use nalgebra::Vector3;
 
 /// How the free rotation of a spherical top (three equal, positive moments)
@@ -35,6 +37,11 @@ pub enum SphericalTops {
     /// `fix nve/sphere update dipole/dlm` does): second order only.
     Split,
 }
+
+named_choices!(SphericalTops {
+    "exact" => SphericalTops::Exact,
+    "split" => SphericalTops::Split,
+});
 
 /// A momentum variable carried by the rotation of the body frame: the body
 /// angular momentum itself (DLM) or the conjugate quaternion momentum
@@ -120,11 +127,6 @@ pub fn rotate_spherical_top<M: BodyMomentum>(
     let e = Quat::exp(&(momentum.angular_momentum_body(q) * (duration / inertia)));
     *q = *q * e;
     momentum.carry(&e);
-}
-
-/// True when the three moments are equal and positive.
-pub fn is_spherical_top(inertia: &Vector3<f64>) -> bool {
-    inertia.x > 0.0 && inertia.x == inertia.y && inertia.y == inertia.z
 }
 
 /// The free flow over `duration` used by NO_SQUISH and DLM: the exact

@@ -1,8 +1,11 @@
-//! The state and the pieces of a step shared by the kick-based baselines
-//! (NO_SQUISH, DLM, Richardson): per rotor the unit orientation, a momentum
-//! variable, and the space-fixed torque at the orientation, reused by the
-//! next step's first half kick. Each baseline only chooses its momentum
-//! variable, its kick and its orientation update.
+//! The kick-based baselines (NO_SQUISH, DLM, Richardson) as one integrator,
+//! [`Kicked`], over a [`Splitting`]: per rotor the unit orientation, a
+//! momentum variable, and the space-fixed torque at the orientation, reused
+//! by the next step's first half kick. One step is a half kick, the
+//! splitting's orientation update, the torques at the new orientations and a
+//! second half kick. Each baseline only chooses its momentum variable, its
+//! kick and its orientation update; everything else (set-up, the step, the
+//! angular velocities, checkpoints) is written here once.
 //!
 //! The per-rotor passes run over chunks of rotors split across the rayon
 //! pool (`rotor_chunks`); each rotor's update reads only its own state, so
@@ -10,13 +13,105 @@
 
 use super::checkpoint::{check_length, read_values, write_values, Components};
 use super::rotor_chunks::for_each_rotor_chunk;
-use super::setup::{validate_setup, Moments, ValidSetup};
+use super::setup_checks::{validate_setup, Moments, ValidSetup};
+use super::spec::IntegratorOptions;
 use super::torque::evaluate_torques;
-use super::{IntegratorError, RotorState};
+use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
+use std::fmt::Debug;
+
+/// What distinguishes one kick-based baseline: its momentum variable, its
+/// kick and its orientation update. Implemented by the baseline's options,
+/// so that `Kicked<NoSquishOptions>` is NO_SQUISH with those options.
+pub trait Splitting: IntegratorOptions + Clone + Debug + Send + Sync + 'static {
+    /// The momentum variable (`L_b`, `L_s` or the conjugate `P`).
+    type Momentum: Components + Copy + Debug + Send + Sync;
+
+    /// The momentum of a rotor at unit orientation `q` with body angular
+    /// momentum `angular_momentum_body` (`L_b = I w_b`).
+    fn momentum(q: &Quat, angular_momentum_body: &Vector3<f64>) -> Self::Momentum;
+
+    /// A half kick of duration `half` with the space-fixed torque at `q`.
+    fn kick(momentum: &mut Self::Momentum, q: &Quat, torque_space: &Vector3<f64>, half: f64);
+
+    /// The orientation update over a whole step `dt` (principal moments
+    /// `moments`, zero moments allowed).
+    fn rotate(&self, q: &mut Quat, momentum: &mut Self::Momentum, moments: &Vector3<f64>, dt: f64);
+
+    /// The body angular velocity of a rotor.
+    fn omega_body(momentum: &Self::Momentum, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64>;
+}
+
+/// A kick-based baseline: half kick, [`Splitting::rotate`], torques, half
+/// kick. Stores per rotor `Q` (4), the momentum variable and the space-fixed
+/// torque at `Q` (3, reused by the next step's first kick), plus the
+/// principal moments (3). One potential evaluation per step.
+#[derive(Clone, Debug, Default)]
+pub struct Kicked<S: Splitting> {
+    splitting: S,
+    state: KickState<S::Momentum>,
+}
+
+impl<S: Splitting> Kicked<S> {
+    /// The baseline with these options (set up before stepping).
+    pub fn new(options: S) -> Self {
+        Kicked {
+            splitting: options,
+            state: KickState::default(),
+        }
+    }
+
+    /// The options.
+    pub fn options(&self) -> &S {
+        &self.splitting
+    }
+}
+
+impl<S: Splitting> Integrator for Kicked<S> {
+    fn name(&self) -> &'static str {
+        S::NAME
+    }
+
+    fn setup(
+        &mut self,
+        inertia: &[Inertia],
+        potential: &dyn Potential,
+        initial: &[RotorState],
+        dt: f64,
+    ) -> Result<(), IntegratorError> {
+        self.state = KickState::new(inertia, potential, initial, dt, S::momentum)?;
+        Ok(())
+    }
+
+    fn step(&mut self, potential: &dyn Potential) {
+        let (splitting, dt) = (&self.splitting, self.state.dt);
+        self.state.half_kick(S::kick);
+        self.state.update(|q, p, i| splitting.rotate(q, p, i, dt));
+        self.state.evaluate_torques(potential);
+        self.state.half_kick(S::kick);
+    }
+
+    fn orientations(&self) -> &[Quat] {
+        &self.state.orientation
+    }
+
+    fn omega_body(&self, out: &mut [Vector3<f64>]) {
+        self.state.omega_body(out, S::omega_body);
+    }
+
+    /// Layout: every `Q` (4 values each), then every momentum (4 for `P`,
+    /// 3 for `L`), then every space-fixed torque (3 each).
+    fn checkpoint(&self) -> Vec<f64> {
+        self.state.checkpoint()
+    }
+
+    fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
+        self.state.restore(state)
+    }
+}
 
 /// The per-rotor arrays of a kick-based baseline, sized once at setup.
 #[derive(Clone, Debug)]
@@ -50,9 +145,9 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
     /// Validates the setup arguments, normalises the orientations, sets each
     /// momentum from the unit orientation and the body angular momentum
     /// `L_b = I w_b`, and evaluates the torques.
-    pub fn new<P: Potential>(
+    pub fn new(
         inertia: &[Inertia],
-        potential: &P,
+        potential: &dyn Potential,
         initial: &[RotorState],
         dt: f64,
         momentum: impl Fn(&Quat, &Vector3<f64>) -> M,
@@ -109,7 +204,7 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
     }
 
     /// The torques at the current orientations.
-    pub fn evaluate_torques<P: Potential>(&mut self, potential: &P) {
+    pub fn evaluate_torques(&mut self, potential: &dyn Potential) {
         evaluate_torques(potential, &self.orientation, &mut self.torque_space);
     }
 
@@ -146,7 +241,7 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
         check_length(state, self.orientation.len(), Quat::LEN + M::LEN + 3)?;
         let rest = read_values(state, &mut self.orientation);
         let rest = read_values(rest, &mut self.momentum);
-        read_values(rest, &mut self.torque_space);
+        let _ = read_values(rest, &mut self.torque_space);
         Ok(())
     }
 }

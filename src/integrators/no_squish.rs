@@ -17,102 +17,94 @@
 //! space-fixed torque at `Q` (3, reused by the next step's first kick), plus
 //! the principal moments (3). One potential evaluation per step; `substeps`
 //! only refines the free rotation (1 in LAMMPS `fix rigid/nve` and
-//! HOOMD-blue, 10 in DL_POLY).
+//! HOOMD-blue, 10 in DL_POLY). The step itself is [`Kicked`]'s.
 
 use super::free_rotation::{free_flow, omega_from_momentum, BodyMomentum, SphericalTops};
-use super::kick::KickState;
-use super::{Integrator, IntegratorError, RotorState};
-use crate::potential::Potential;
+use super::kick::{Kicked, Splitting};
+use super::spec::IntegratorOptions;
+use super::Integrator;
 use crate::quaternion::Quat;
-use crate::rotor::Inertia;
 use nalgebra::Vector3;
-use std::num::NonZeroUsize;
+use serde::{Deserialize, Serialize};
+use std::num::NonZeroU32;
 
 /// Body axes of the symmetric sweep, outermost first (axes 3, 2, 1).
 const SWEEP_AXES: [usize; 3] = [2, 1, 0];
 
 /// The NO_SQUISH integrator (scene name `no_squish`).
-#[derive(Clone, Debug)]
-pub struct NoSquish {
-    substeps: NonZeroUsize,
-    spherical: SphericalTops,
-    state: KickState<Quat>,
+pub type NoSquish = Kicked<NoSquishOptions>;
+
+/// Options of [`NoSquish`] (the scene's `[integrator]` table with
+/// `kind = "no_squish"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct NoSquishOptions {
+    /// Free-rotation sweeps per step, each over `dt / substeps` (>= 1,
+    /// default 1 as LAMMPS `fix rigid/nve` and HOOMD-blue; 10 as DL_POLY).
+    /// No effect on spherical tops with [`SphericalTops::Exact`].
+    #[serde(deserialize_with = "crate::checks::deserialize_at_least_one")]
+    pub substeps: NonZeroU32,
+    /// The free flow of spherical tops (default [`SphericalTops::Exact`]).
+    pub spherical_tops: SphericalTops,
 }
 
-impl NoSquish {
+impl NoSquishOptions {
     /// One free-rotation sweep per step, as LAMMPS `fix rigid/nve` and HOOMD-blue.
-    pub const SUBSTEPS_LAMMPS: NonZeroUsize = NonZeroUsize::MIN;
+    pub const SUBSTEPS_LAMMPS: NonZeroU32 = NonZeroU32::MIN;
     /// Ten free-rotation sweeps per step, as DL_POLY.
-    pub const SUBSTEPS_DL_POLY: NonZeroUsize = match NonZeroUsize::new(10) {
+    pub const SUBSTEPS_DL_POLY: NonZeroU32 = match NonZeroU32::new(10) {
         Some(n) => n,
-        None => NonZeroUsize::MIN,
+        None => NonZeroU32::MIN,
     };
+}
 
-    /// A NO_SQUISH integrator with `substeps` (>= 1, no default; see the
-    /// constants) free-rotation sweeps per step, each over `dt / substeps`;
-    /// `spherical` (default [`SphericalTops::Exact`]) chooses the free flow of
-    /// spherical tops, for which `substeps` then has no effect.
-    pub fn new(substeps: NonZeroUsize, spherical: SphericalTops) -> Self {
-        NoSquish {
-            substeps,
-            spherical,
-            state: KickState::default(),
+impl Default for NoSquishOptions {
+    fn default() -> Self {
+        NoSquishOptions {
+            substeps: NoSquishOptions::SUBSTEPS_LAMMPS,
+            spherical_tops: SphericalTops::default(),
         }
     }
 }
 
-/// NO_SQUISH's half kick: `P += half * 2 Q*(0, A(Q) n_s)` (body torque, eq 6),
-/// computed as `half * 2 |Q|^2 (0, n_s)*Q`: the same quaternion, since
-/// `(0, A(Q) n_s) = Q~*(0, n_s)*Q` (eq 9) and `Q*Q~ = |Q|^2` (eq 4), for one
-/// product instead of building `A(Q)`.
-fn kick(momentum: &mut Quat, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
-    *momentum += Quat::pure(torque_space) * *q * (2.0 * half * q.norm_squared());
+impl IntegratorOptions for NoSquishOptions {
+    const NAME: &'static str = "no_squish";
+
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(NoSquish::new(*self))
+    }
 }
 
-impl Integrator for NoSquish {
-    fn name(&self) -> &'static str {
-        "no_squish"
+impl Splitting for NoSquishOptions {
+    /// The conjugate momentum `P = 2 Q*(0, L_b)`.
+    type Momentum = Quat;
+
+    fn momentum(q: &Quat, angular_momentum_body: &Vector3<f64>) -> Quat {
+        *q * Quat::pure(angular_momentum_body) * 2.0
     }
 
-    fn setup<P: Potential>(
-        &mut self,
-        inertia: &[Inertia],
-        potential: &P,
-        initial: &[RotorState],
-        dt: f64,
-    ) -> Result<(), IntegratorError> {
-        self.state = KickState::new(inertia, potential, initial, dt, |q, l_body| {
-            *q * Quat::pure(l_body) * 2.0
-        })?;
-        Ok(())
+    /// `P += half * 2 Q*(0, A(Q) n_s)` (body torque, eq 6), computed as
+    /// `half * 2 |Q|^2 (0, n_s)*Q`: the same quaternion, since
+    /// `(0, A(Q) n_s) = Q~*(0, n_s)*Q` (eq 9) and `Q*Q~ = |Q|^2` (eq 4), for one
+    /// product instead of building `A(Q)`.
+    fn kick(momentum: &mut Quat, q: &Quat, torque_space: &Vector3<f64>, half: f64) {
+        *momentum += Quat::pure(torque_space) * *q * (2.0 * half * q.norm_squared());
     }
 
-    fn step<P: Potential>(&mut self, potential: &P) {
-        let (substeps, spherical, dt) = (self.substeps.get(), self.spherical, self.state.dt);
-        self.state.half_kick(kick);
-        self.state.update(|q, p, i| {
-            free_flow(q, p, i, spherical, SWEEP_AXES, substeps, dt);
-        });
-        self.state.evaluate_torques(potential);
-        self.state.half_kick(kick);
+    fn rotate(&self, q: &mut Quat, momentum: &mut Quat, moments: &Vector3<f64>, dt: f64) {
+        let substeps = self.substeps.get() as usize;
+        free_flow(
+            q,
+            momentum,
+            moments,
+            self.spherical_tops,
+            SWEEP_AXES,
+            substeps,
+            dt,
+        );
     }
 
-    fn orientations(&self) -> &[Quat] {
-        &self.state.orientation
-    }
-
-    fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        self.state.omega_body(out, |p, q, i| {
-            omega_from_momentum(&p.angular_momentum_body(q), i)
-        });
-    }
-
-    /// Layout of [`KickState::checkpoint`]: `Q`, then `P`, then torques.
-    fn checkpoint(&self) -> Vec<f64> {
-        self.state.checkpoint()
-    }
-
-    fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        self.state.restore(state)
+    fn omega_body(momentum: &Quat, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64> {
+        omega_from_momentum(&momentum.angular_momentum_body(q), moments)
     }
 }

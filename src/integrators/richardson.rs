@@ -17,21 +17,24 @@
 //! quaternion update is explicit and one-sided); `|Q| = 1` by normalisation.
 //! Stores per rotor: `Q` (4), the space-fixed angular momentum `L_s` (3) and
 //! the space-fixed torque at `Q` (3), plus the principal moments (3). One
-//! potential evaluation per step.
+//! potential evaluation per step. The step itself is [`Kicked`]'s.
 
 use super::free_rotation::omega_from_momentum;
-use super::kick::KickState;
-use super::{Integrator, IntegratorError, RotorState};
-use crate::potential::Potential;
+use super::kick::{Kicked, Splitting};
+use super::spec::IntegratorOptions;
+use super::Integrator;
 use crate::quaternion::Quat;
-use crate::rotor::Inertia;
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
 
 /// The Richardson integrator (scene name `richardson`).
-#[derive(Clone, Debug, Default)]
-pub struct Richardson {
-    state: KickState<Vector3<f64>>,
-}
+pub type Richardson = Kicked<RichardsonOptions>;
+
+/// Options of [`Richardson`]: none (the scene's `[integrator]` table with
+/// `kind = "richardson"` takes no other key).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RichardsonOptions {}
 
 /// `w_s = R(Q) I^-1 A(Q) L_s`.
 fn omega_space(q: &Quat, momentum_space: &Vector3<f64>, inertia: &Vector3<f64>) -> Vector3<f64> {
@@ -47,65 +50,48 @@ fn euler(q: &Quat, omega_space: &Vector3<f64>, h: f64) -> Quat {
     q_new.try_normalize().unwrap_or(*q)
 }
 
-impl Richardson {
-    /// A Richardson integrator.
-    pub fn new() -> Self {
-        Richardson::default()
+impl IntegratorOptions for RichardsonOptions {
+    const NAME: &'static str = "richardson";
+
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(Richardson::new(*self))
     }
 }
 
-/// Richardson's half kick: `L_s += half n_s`.
-fn kick(momentum_space: &mut Vector3<f64>, _q: &Quat, torque_space: &Vector3<f64>, half: f64) {
-    *momentum_space += torque_space * half;
-}
+impl Splitting for RichardsonOptions {
+    /// The space-fixed angular momentum `L_s`.
+    type Momentum = Vector3<f64>;
 
-impl Integrator for Richardson {
-    fn name(&self) -> &'static str {
-        "richardson"
+    fn momentum(q: &Quat, angular_momentum_body: &Vector3<f64>) -> Vector3<f64> {
+        q.body_to_space(angular_momentum_body)
     }
 
-    fn setup<P: Potential>(
-        &mut self,
-        inertia: &[Inertia],
-        potential: &P,
-        initial: &[RotorState],
+    /// `L_s += half n_s`.
+    fn kick(momentum_space: &mut Vector3<f64>, _q: &Quat, torque_space: &Vector3<f64>, half: f64) {
+        *momentum_space += torque_space * half;
+    }
+
+    /// Step 2 of the module doc.
+    fn rotate(
+        &self,
+        q: &mut Quat,
+        momentum_space: &mut Vector3<f64>,
+        moments: &Vector3<f64>,
         dt: f64,
-    ) -> Result<(), IntegratorError> {
-        self.state = KickState::new(inertia, potential, initial, dt, |q, l_body| {
-            q.body_to_space(l_body)
-        })?;
-        Ok(())
+    ) {
+        let half = 0.5 * dt;
+        let w = omega_space(q, momentum_space, moments);
+        let q_full = euler(q, &w, dt);
+        let q_half = euler(q, &w, half);
+        let q_two = euler(
+            &q_half,
+            &omega_space(&q_half, momentum_space, moments),
+            half,
+        );
+        *q = (q_two * 2.0 - q_full).try_normalize().unwrap_or(q_two);
     }
 
-    fn step<P: Potential>(&mut self, potential: &P) {
-        self.state.half_kick(kick);
-        let (dt, half) = (self.state.dt, 0.5 * self.state.dt);
-        self.state.update(|q, l, i| {
-            let w = omega_space(q, l, i);
-            let q_full = euler(q, &w, dt);
-            let q_half = euler(q, &w, half);
-            let q_two = euler(&q_half, &omega_space(&q_half, l, i), half);
-            *q = (q_two * 2.0 - q_full).try_normalize().unwrap_or(q_two);
-        });
-        self.state.evaluate_torques(potential);
-        self.state.half_kick(kick);
-    }
-
-    fn orientations(&self) -> &[Quat] {
-        &self.state.orientation
-    }
-
-    fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        self.state
-            .omega_body(out, |l, q, i| omega_from_momentum(&q.space_to_body(l), i));
-    }
-
-    /// Layout of [`KickState::checkpoint`]: `Q`, then `L_s`, then torques.
-    fn checkpoint(&self) -> Vec<f64> {
-        self.state.checkpoint()
-    }
-
-    fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        self.state.restore(state)
+    fn omega_body(momentum_space: &Vector3<f64>, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64> {
+        omega_from_momentum(&q.space_to_body(momentum_space), moments)
     }
 }

@@ -1,7 +1,9 @@
 //! Rigid-body kinematics shared by the Gear schemes: Euler's equations in the
-//! principal body frame, and the choice (once per system, at compile time in
-//! the step) between the spherical-top shortcut and the general top.
+//! principal body frame, the second-order quaternion equation (eq 12), and
+//! the choice (once per system, at compile time in the step) between the
+//! spherical-top shortcut and the general top.
 
+use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
 /// Principal moments of one rotor and their inverses, precomputed at setup.
@@ -19,7 +21,7 @@ pub struct PrincipalMoments {
 
 impl PrincipalMoments {
     /// From the principal moments `(I1, I2, I3)`, all finite and > 0 (as
-    /// [`super::setup::validate_setup`] checks with [`super::setup::Moments::Positive`]).
+    /// [`super::setup_checks::validate_setup`] checks with [`super::setup_checks::Moments::Positive`]).
     pub fn new(moments: Vector3<f64>) -> Self {
         PrincipalMoments {
             moments,
@@ -70,6 +72,27 @@ impl TopKind for General {
         let angular_momentum_body = moments.moments.component_mul(omega_body);
         (torque_body - omega_body.cross(&angular_momentum_body)).component_mul(&moments.inverse)
     }
+}
+
+/// `Q'*Q~*Q'`, the velocity term of eq 12 (the printed `Q'*Q'*Q'` is a
+/// misprint: ERRATA.md).
+fn velocity_term(q: &Quat, q_dot: &Quat) -> Quat {
+    *q_dot * q.conjugate() * *q_dot
+}
+
+/// Eq 12 (corrected), derived from eq 10: `Q'' = Q'*Q~*Q' + 1/2 Q*A` with
+/// the body-frame acceleration quaternion `A = (a0, w_b')` (`a0 = 0` on the
+/// exact motion of a unit `Q`; scheme B puts `n0/I0` there).
+pub fn q_ddot(q: &Quat, q_dot: &Quat, acceleration_body: &Quat) -> Quat {
+    velocity_term(q, q_dot) + *q * *acceleration_body * 0.5
+}
+
+/// Eq 12 (corrected) for a spherical top of inverse moment `inverse_moment`
+/// driven by the quaternion force `N = -dV/dQ` (eq 14):
+/// `Q'' = Q'*Q~*Q' + 1/4 N/I`, without body-frame work (the printed eq 12
+/// has `1/2 N`: ERRATA.md).
+pub fn q_ddot_spherical(q: &Quat, q_dot: &Quat, force: &Quat, inverse_moment: f64) -> Quat {
+    velocity_term(q, q_dot) + *force * (0.25 * inverse_moment)
 }
 
 #[cfg(test)]

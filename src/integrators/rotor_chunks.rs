@@ -78,7 +78,7 @@ fn split_into_tasks<D: RotorChunk>(data: D, pass: &(impl Fn(D) + Sync)) {
         return;
     }
     let (left, right) = data.split_at_rotor(chunks / 2 * ROTORS_PER_TASK);
-    rayon::join(
+    let ((), ()) = rayon::join(
         || split_into_tasks(left, pass),
         || split_into_tasks(right, pass),
     );
@@ -132,7 +132,8 @@ mod tests {
         let (a, b) = (vec![0.0; 5], vec![0.0; 3]);
         assert_eq!((&a[..], &b[..]).rotors(), 3);
         let calls = Mutex::new(0);
-        for_each_rotor_chunk(&[] as &[f64], |chunk| {
+        let empty: &[f64] = &[];
+        for_each_rotor_chunk(empty, |chunk| {
             assert!(chunk.is_empty());
             *calls.lock().expect("not poisoned") += 1;
         });

@@ -21,6 +21,7 @@ use super::checkpoint::checkpoint_data;
 use super::gear::{Nordsieck, FIRST_ORDER_5};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
 use super::rotor_chunks::for_each_rotor_chunk;
+use super::spec::IntegratorOptions;
 use super::startup::{start, GearStart, Startup};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
@@ -28,9 +29,12 @@ use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
 
-/// Options of [`GearA`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Options of [`GearA`] (the scene's `[integrator]` table with
+/// `kind = "gear_a"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct GearAOptions {
     /// Rescale `Q` to unit norm after each step (default true).
     pub renormalise: bool,
@@ -44,6 +48,14 @@ impl Default for GearAOptions {
             renormalise: true,
             startup: Startup::Consistent,
         }
+    }
+}
+
+impl IntegratorOptions for GearAOptions {
+    const NAME: &'static str = "gear_a";
+
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(GearA::new(*self))
     }
 }
 
@@ -80,7 +92,7 @@ impl GearA {
 
     /// One step (a)-(f) of the note, monomorphised on the kind of top; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
-    fn step_with<K: TopKind, P: Potential>(&mut self, potential: &P) {
+    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
         let h = self.dt;
         let renormalise = self.options.renormalise;
         // (a), (b): predict.
@@ -127,13 +139,13 @@ impl Default for GearA {
 
 impl Integrator for GearA {
     fn name(&self) -> &'static str {
-        "gear_a"
+        GearAOptions::NAME
     }
 
-    fn setup<P: Potential>(
+    fn setup(
         &mut self,
         inertia: &[Inertia],
-        potential: &P,
+        potential: &dyn Potential,
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
@@ -151,11 +163,11 @@ impl Integrator for GearA {
         Ok(())
     }
 
-    fn step<P: Potential>(&mut self, potential: &P) {
+    fn step(&mut self, potential: &dyn Potential) {
         if self.spherical {
-            self.step_with::<Spherical, P>(potential);
+            self.step_with::<Spherical>(potential);
         } else {
-            self.step_with::<General, P>(potential);
+            self.step_with::<General>(potential);
         }
     }
 
@@ -178,7 +190,7 @@ impl Integrator for GearA {
         let len = self.q.flat_len() + self.omega_body.flat_len();
         let data = checkpoint_data(state, self.dt, len)?;
         let rest = self.q.read_flat(data);
-        self.omega_body.read_flat(rest);
+        let _ = self.omega_body.read_flat(rest);
         Ok(())
     }
 }

@@ -36,15 +36,18 @@
 
 use super::checkpoint::checkpoint_data;
 use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
-use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::rigid_body::{q_ddot, q_ddot_spherical, General, PrincipalMoments, Spherical, TopKind};
 use super::rotor_chunks::for_each_rotor_chunk;
+use super::spec::IntegratorOptions;
 use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
-use crate::observables;
+use crate::checks::named_choices;
+use crate::observables::norm_force;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
 
 /// The first coefficient `c0` of the second-order corrector table.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -57,6 +60,11 @@ pub enum FirstCorrector {
     PositionOnly,
 }
 
+named_choices!(FirstCorrector {
+    "3/16" => FirstCorrector::VelocityDependent,
+    "3/20" => FirstCorrector::PositionOnly,
+});
+
 impl FirstCorrector {
     /// The coefficient `c0`.
     pub fn value(self) -> f64 {
@@ -67,9 +75,11 @@ impl FirstCorrector {
     }
 }
 
-/// Options of [`GearB`]. The default is the note's recommended set: both
+/// Options of [`GearB`] (the scene's `[integrator]` table with
+/// `kind = "gear_b"`). The default is the note's recommended set: both
 /// projections and renormalisation, without the higher-derivative correction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct GearBOptions {
     /// The first corrector coefficient (default 3/16).
     pub c0: FirstCorrector,
@@ -99,6 +109,14 @@ impl Default for GearBOptions {
     }
 }
 
+impl IntegratorOptions for GearBOptions {
+    const NAME: &'static str = "gear_b";
+
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(GearB::new(*self))
+    }
+}
+
 /// Scheme B: the 6-value second-order Gear corrector for eq 12 (module doc).
 #[derive(Clone, Debug)]
 pub struct GearB {
@@ -110,7 +128,7 @@ pub struct GearB {
     q: Nordsieck<Quat, 6>,
     /// `Q.N` of the last force evaluation, at the (predicted) `Q` where the
     /// force `N` was evaluated, after the projection if on (eq 15b).
-    q_dot_force: Vec<f64>,
+    norm_force: Vec<f64>,
     gradient: Vec<Quat>,
 }
 
@@ -125,23 +143,27 @@ fn quaternion_force(q: &Quat, gradient: &Quat, project: bool) -> Quat {
     }
 }
 
-/// The right-hand side of eq 12 (corrected; module doc) for one rotor.
-fn q_ddot<K: TopKind>(moments: &PrincipalMoments, q: &Quat, q_dot: &Quat, force: &Quat) -> Quat {
-    let kinetic = *q_dot * q.conjugate() * *q_dot;
+/// `Q''` of one rotor from the quaternion force `N` (module doc): eq 12 with
+/// the body acceleration `(n0/I0, w_b')`, or its spherical-top form.
+fn acceleration<K: TopKind>(
+    moments: &PrincipalMoments,
+    q: &Quat,
+    q_dot: &Quat,
+    force: &Quat,
+) -> Quat {
     if K::SPHERICAL {
-        return kinetic + *force * (0.25 * moments.inverse.x);
+        return q_ddot_spherical(q, q_dot, force, moments.inverse.x);
     }
-    let inv_norm2 = 1.0 / q.norm_squared();
-    let force_body = q.conjugate() * *force * (0.5 * inv_norm2);
-    let omega_body = (q.conjugate() * *q_dot).vector() * (2.0 * inv_norm2);
+    let force_body = q.conjugate() * *force * (0.5 / q.norm_squared());
+    let omega_body = q.omega_body_from_q_dot(q_dot);
     let omega_dot = K::omega_dot_body(moments, &omega_body, &force_body.vector());
-    let accel_body = Quat::new(
+    let acceleration_body = Quat::new(
         force_body.scalar() * moments.inverse_mean,
         omega_dot.x,
         omega_dot.y,
         omega_dot.z,
     );
-    kinetic + *q * accel_body * 0.5
+    q_ddot(q, q_dot, &acceleration_body)
 }
 
 /// Projects `r_k` along `r_0` so that `sum_{j=0..k} r_j.r_{k-j} = 0`, the k-th
@@ -163,7 +185,7 @@ impl GearB {
             moments: Vec::new(),
             spherical: true,
             q: Nordsieck::zeros(0),
-            q_dot_force: Vec::new(),
+            norm_force: Vec::new(),
             gradient: Vec::new(),
         }
     }
@@ -175,7 +197,7 @@ impl GearB {
 
     /// One step (a)-(c) of the note plus the switched corrections; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
-    fn step_with<K: TopKind, P: Potential>(&mut self, potential: &P) {
+    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
         let h = self.dt;
         let opts = self.options;
         let coefficients = &self.coefficients;
@@ -187,16 +209,16 @@ impl GearB {
         let rotors = (
             self.q.as_chunk(),
             &self.gradient[..],
-            &mut self.q_dot_force[..],
+            &mut self.norm_force[..],
             &self.moments[..],
         );
-        for_each_rotor_chunk(rotors, |(mut q, gradient, q_dot_force, moments)| {
+        for_each_rotor_chunk(rotors, |(mut q, gradient, norm_forces, moments)| {
             for i in 0..moments.len() {
                 let q_i = q.r[0][i];
                 let force = quaternion_force(&q_i, &gradient[i], opts.project_torque);
-                q_dot_force[i] = observables::norm_force(&q_i, &force);
+                norm_forces[i] = norm_force(&q_i, &force);
                 let q_dot = q.r[1][i] * (1.0 / h);
-                let accel = q_ddot::<K>(&moments[i], &q_i, &q_dot, &force);
+                let accel = acceleration::<K>(&moments[i], &q_i, &q_dot, &force);
                 // (c): correct.
                 let delta = accel * (0.5 * h * h) - q.r[2][i];
                 q.correct(i, coefficients, delta);
@@ -234,13 +256,13 @@ impl Default for GearB {
 
 impl Integrator for GearB {
     fn name(&self) -> &'static str {
-        "gear_b"
+        GearBOptions::NAME
     }
 
-    fn setup<P: Potential>(
+    fn setup(
         &mut self,
         inertia: &[Inertia],
-        potential: &P,
+        potential: &dyn Potential,
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
@@ -253,21 +275,21 @@ impl Integrator for GearB {
         self.q = derivatives.q;
         self.gradient = vec![Quat::ZERO; self.q.len()];
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
-        self.q_dot_force = self.q.r[0]
+        self.norm_force = self.q.r[0]
             .iter()
             .zip(&self.gradient)
-            .map(|(q, g)| q.dot(&quaternion_force(q, g, self.options.project_torque)))
+            .map(|(q, g)| norm_force(q, &quaternion_force(q, g, self.options.project_torque)))
             .collect();
         self.moments = moments;
         self.spherical = spherical;
         Ok(())
     }
 
-    fn step<P: Potential>(&mut self, potential: &P) {
+    fn step(&mut self, potential: &dyn Potential) {
         if self.spherical {
-            self.step_with::<Spherical, P>(potential);
+            self.step_with::<Spherical>(potential);
         } else {
-            self.step_with::<General, P>(potential);
+            self.step_with::<General>(potential);
         }
     }
 
@@ -276,9 +298,8 @@ impl Integrator for GearB {
     }
 
     fn omega_body(&self, out: &mut [Vector3<f64>]) {
-        for (i, w) in out.iter_mut().enumerate() {
-            let q = self.q.r[0][i];
-            *w = (q.conjugate() * self.q.r[1][i]).vector() * (2.0 / (self.dt * q.norm_squared()));
+        for ((w, q), r1) in out.iter_mut().zip(&self.q.r[0]).zip(&self.q.r[1]) {
+            *w = q.omega_body_from_scaled_q_dot(r1, self.dt);
         }
     }
 
@@ -288,23 +309,23 @@ impl Integrator for GearB {
         }
     }
 
-    fn q_dot_n(&self, out: &mut [f64]) -> bool {
-        out.copy_from_slice(&self.q_dot_force);
+    fn norm_force(&self, out: &mut [f64]) -> bool {
+        out.copy_from_slice(&self.norm_force);
         true
     }
 
     fn checkpoint(&self) -> Vec<f64> {
         let mut out = vec![self.dt];
         self.q.write_flat(&mut out);
-        out.extend_from_slice(&self.q_dot_force);
+        out.extend_from_slice(&self.norm_force);
         out
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        let len = self.q.flat_len() + self.q_dot_force.len();
+        let len = self.q.flat_len() + self.norm_force.len();
         let data = checkpoint_data(state, self.dt, len)?;
         let rest = self.q.read_flat(data);
-        self.q_dot_force.copy_from_slice(rest);
+        self.norm_force.copy_from_slice(rest);
         Ok(())
     }
 }
@@ -369,8 +390,8 @@ mod tests {
         let q = Quat::new(0.3, -0.5, 0.6, 0.2).try_normalize().unwrap();
         let q_dot = q.q_dot_from_omega_body(&Vector3::new(0.7, -1.1, 0.9));
         let force = Quat::new(0.4, 1.2, -0.3, 0.8);
-        let d =
-            q_ddot::<General>(&m, &q, &q_dot, &force) - q_ddot::<Spherical>(&m, &q, &q_dot, &force);
+        let d = acceleration::<General>(&m, &q, &q_dot, &force)
+            - acceleration::<Spherical>(&m, &q, &q_dot, &force);
         assert!(d.norm() < 1e-15, "{d:?}");
     }
 }

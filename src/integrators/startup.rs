@@ -36,8 +36,8 @@
 //! global error depends on how each scheme's corrector damps them: the
 //! substep count was set by measuring it.
 //!
-//! Why 2 substeps (measured; the start-up used 32 before, 1025 torque
-//! evaluations). Gear runs started with `m` substeps were compared with runs
+//! Why 2 substeps (measured; 32 would cost 1025 torque evaluations). Gear
+//! runs started with `m` substeps were compared with runs
 //! started with 256 (64 on the lattice), for schemes A, B and B with the
 //! higher-derivative correction, on the free asymmetric top and the dipole in
 //! a field (spherical and asymmetric) of the scipy references, the free
@@ -49,18 +49,19 @@
 //! cluster and 1e-4 on the lattice) it is at most 1.3e-2 for `m = 1`, 2.9e-4
 //! for `m = 2` (the lattice at h = 0.016 with the higher-derivative
 //! correction, whose own error is the smallest) and 2.2e-5 for `m = 4`, until
-//! all reach the rounding level (~1e-13 rad; the old 32 substeps were within
-//! 3e-11 rad of the 256-substep runs everywhere). Two substeps leave every
+//! all reach the rounding level (~1e-13 rad; 32 substeps are within 3e-11 rad
+//! of the 256-substep runs everywhere). Two substeps leave every
 //! Gear error unchanged to three digits. Seven samples (`+-3h`, degree 6)
 //! would save a quarter of the cost but alias `r_7` into `r_3` with the
 //! factor 49, which changed Gear errors by up to 20 % at h = 0.2: the nine
 //! samples stay.
 
 use super::gear::{GearValue, Nordsieck};
-use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
-use super::setup::{validate_setup, Moments};
+use super::rigid_body::{q_ddot, General, PrincipalMoments, Spherical, TopKind};
+use super::setup_checks::{validate_setup, Moments};
 use super::torque::{evaluate_torques, torque_body};
 use super::{IntegratorError, RotorState};
+use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
@@ -87,6 +88,11 @@ pub enum Startup {
     Zeros,
 }
 
+named_choices!(Startup {
+    "consistent" => Startup::Consistent,
+    "zeros" => Startup::Zeros,
+});
+
 /// Scaled derivatives at t = 0, orders 0..=5, of the orientation and of the
 /// body angular velocity of every rotor.
 pub struct InitialDerivatives {
@@ -98,10 +104,9 @@ pub struct InitialDerivatives {
 
 /// The time derivatives of the first-order system (eqs 10 and 11 / Euler):
 /// writes `Q'` and `w_b'` for every rotor. `torque_space` is scratch.
-#[allow(clippy::too_many_arguments)]
-fn rates<K: TopKind, P: Potential>(
+fn rates<K: TopKind>(
     moments: &[PrincipalMoments],
-    potential: &P,
+    potential: &dyn Potential,
     q: &[Quat],
     omega_body: &[Vector3<f64>],
     torque_space: &mut [Vector3<f64>],
@@ -144,21 +149,21 @@ impl State {
 }
 
 /// Classical RK4 integration of eqs 10 and Euler's equations (start-up only).
-struct Rk4<'a, K, P> {
+struct Rk4<'a, K> {
     moments: &'a [PrincipalMoments],
-    potential: &'a P,
+    potential: &'a dyn Potential,
     torque_space: Vec<Vector3<f64>>,
     _kind: std::marker::PhantomData<K>,
 }
 
-impl<K: TopKind, P: Potential> Rk4<'_, K, P> {
+impl<K: TopKind> Rk4<'_, K> {
     fn rate(&mut self, y: &State) -> State {
         let n = y.q.len();
         let mut rate = State {
             q: vec![Quat::ZERO; n],
             omega_body: vec![Vector3::zeros(); n],
         };
-        rates::<K, P>(
+        rates::<K>(
             self.moments,
             self.potential,
             &y.q,
@@ -213,10 +218,10 @@ fn fit_into<T: GearValue>(
 
 /// The scaled derivatives at t = 0 for steps of `dt` (module doc). The
 /// initial orientations are used as given (the caller normalises them).
-pub fn initial_derivatives<K: TopKind, P: Potential>(
+pub fn initial_derivatives<K: TopKind>(
     startup: Startup,
     moments: &[PrincipalMoments],
-    potential: &P,
+    potential: &dyn Potential,
     initial: &[RotorState],
     dt: f64,
 ) -> InitialDerivatives {
@@ -225,7 +230,7 @@ pub fn initial_derivatives<K: TopKind, P: Potential>(
         q: initial.iter().map(|s| s.orientation).collect(),
         omega_body: initial.iter().map(|s| s.omega_body).collect(),
     };
-    let mut rk = Rk4::<K, P> {
+    let mut rk = Rk4::<K> {
         moments,
         potential,
         torque_space: vec![Vector3::zeros(); n],
@@ -263,10 +268,10 @@ pub fn initial_derivatives<K: TopKind, P: Potential>(
     // The orders given directly by the equations of motion, exactly.
     for i in 0..n {
         let (q, q_dot) = (y0.q[i], rate0.q[i]);
-        let q_ddot = q_dot * q.conjugate() * q_dot + q * Quat::pure(&rate0.omega_body[i]) * 0.5;
+        let acceleration = q_ddot(&q, &q_dot, &Quat::pure(&rate0.omega_body[i]));
         out.q.r[0][i] = q;
         out.q.r[1][i] = q_dot * dt;
-        out.q.r[2][i] = q_ddot * (0.5 * dt * dt);
+        out.q.r[2][i] = acceleration * (0.5 * dt * dt);
         out.omega_body.r[0][i] = y0.omega_body[i];
         out.omega_body.r[1][i] = rate0.omega_body[i] * dt;
     }
@@ -287,10 +292,10 @@ pub struct GearStart {
 /// The shared setup of the Gear schemes: validates the arguments (every moment
 /// must be > 0, since the schemes divide by each) and computes the scaled
 /// derivatives at t = 0 for steps of `dt`.
-pub fn start<P: Potential>(
+pub fn start(
     startup: Startup,
     inertia: &[Inertia],
-    potential: &P,
+    potential: &dyn Potential,
     initial: &[RotorState],
     dt: f64,
 ) -> Result<GearStart, IntegratorError> {
@@ -302,9 +307,9 @@ pub fn start<P: Potential>(
         .collect();
     let spherical = inertia.iter().all(Inertia::is_spherical);
     let derivatives = if spherical {
-        initial_derivatives::<Spherical, P>(startup, &moments, potential, &valid.initial, dt)
+        initial_derivatives::<Spherical>(startup, &moments, potential, &valid.initial, dt)
     } else {
-        initial_derivatives::<General, P>(startup, &moments, potential, &valid.initial, dt)
+        initial_derivatives::<General>(startup, &moments, potential, &valid.initial, dt)
     };
     Ok(GearStart {
         moments,
@@ -353,9 +358,9 @@ mod tests {
             exact[k] = exact[k - 1] * half_w * (1.0 / k as f64);
         }
         let consistent =
-            initial_derivatives::<Spherical, _>(Startup::Consistent, &moments, &Free, &initial, h);
+            initial_derivatives::<Spherical>(Startup::Consistent, &moments, &Free, &initial, h);
         let general =
-            initial_derivatives::<General, _>(Startup::Consistent, &moments, &Free, &initial, h);
+            initial_derivatives::<General>(Startup::Consistent, &moments, &Free, &initial, h);
         for d in [&consistent, &general] {
             for (k, e) in exact.iter().enumerate() {
                 assert!((d.q.r[k][0] - *e).norm() < FIT_TOLERANCE, "Q order {k}");
@@ -365,8 +370,7 @@ mod tests {
                 assert!(d.omega_body.r[k][0].norm() < FIT_TOLERANCE, "w order {k}");
             }
         }
-        let zeros =
-            initial_derivatives::<Spherical, _>(Startup::Zeros, &moments, &Free, &initial, h);
+        let zeros = initial_derivatives::<Spherical>(Startup::Zeros, &moments, &Free, &initial, h);
         for (k, e) in exact.iter().enumerate() {
             let expected = if k <= 2 { *e } else { Quat::ZERO };
             assert!(
@@ -424,8 +428,7 @@ mod tests {
             orientation: q0,
             omega_body: w,
         }];
-        let d =
-            initial_derivatives::<General, _>(Startup::Consistent, &moments, &Free, &initial, h);
+        let d = initial_derivatives::<General>(Startup::Consistent, &moments, &Free, &initial, h);
         let w_q = a.norm() / h + b.norm() / h;
         let mut perpendicular = Vector3::new(w.x, w.y, 0.0);
         for k in 0..6 {

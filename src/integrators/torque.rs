@@ -7,8 +7,8 @@ use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
 /// Overwrites `torque_space` with the space-fixed torques at `orientations`.
-pub fn evaluate_torques<P: Potential>(
-    potential: &P,
+pub fn evaluate_torques(
+    potential: &dyn Potential,
     orientations: &[Quat],
     torque_space: &mut [Vector3<f64>],
 ) {

@@ -2,17 +2,19 @@
 //! potential (open boundaries) and an optional uniform field, sampled every
 //! step, for the LAMMPS comparison (`validation/checks/lammps_dipoles.py`).
 
-use crate::integrators::{Dlm, Integrator, IntegratorError, RotorState, SphericalTops};
+use crate::integrators::{Dlm, DlmOptions, Integrator, IntegratorError, RotorState, SphericalTops};
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
 use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
+use crate::simulation::{self, Needs, Observer, RunOptions, Sample, Scheduled};
 use nalgebra::Vector3;
 use numpy::ndarray::{Array1, Array3};
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::convert::Infallible;
 
 fn integrator_error(e: IntegratorError) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -114,59 +116,90 @@ fn dlm_dipoles<'py>(
     let out = PyDict::new(py);
     out.set_item("orientations", samples.orientations.into_pyarray(py))?;
     out.set_item("omega_body", samples.omega_body.into_pyarray(py))?;
-    out.set_item("potential", samples.potential.into_pyarray(py))?;
+    out.set_item("potential", samples.energy.into_pyarray(py))?;
     out.set_item("torques_space", samples.torques_space.into_pyarray(py))?;
     Ok(out)
 }
 
-/// Per-step samples of a run.
-struct Samples {
+/// Per-step samples of a run, recorded as an observer of the run loop: the
+/// orientations and angular velocities it samples, the potential energy and
+/// the torques evaluated here.
+struct Samples<'a> {
+    potential: &'a dyn Potential,
+    torques: Vec<Vector3<f64>>,
     orientations: Array3<f64>,
     omega_body: Array3<f64>,
-    potential: Array1<f64>,
+    energy: Array1<f64>,
     torques_space: Array3<f64>,
 }
 
-/// The run loop: set up, sample t = 0, then step and sample.
-fn run<P: Potential>(
+impl Observer for Samples<'_> {
+    type Error = Infallible;
+
+    fn needs(&self) -> Needs {
+        Needs {
+            omega_body: true,
+            ..Needs::default()
+        }
+    }
+
+    fn observe(&mut self, sample: &Sample<'_>) -> Result<(), Infallible> {
+        let k = sample.step as usize;
+        let q = sample.orientations;
+        let omega = sample.omega_body.unwrap_or_default();
+        self.torques.fill(Vector3::zeros());
+        self.potential.accumulate_torques(q, &mut self.torques);
+        self.energy[k] = self.potential.energy(q);
+        for (i, ((q, w), t)) in q.iter().zip(omega).zip(&self.torques).enumerate() {
+            for (c, x) in q.0.iter().enumerate() {
+                self.orientations[(k, i, c)] = *x;
+            }
+            for c in 0..3 {
+                self.omega_body[(k, i, c)] = w[c];
+                self.torques_space[(k, i, c)] = t[c];
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Sets DLM up and samples every step of the run loop (no blow-up checks:
+/// the arrays are filled to the end).
+fn run<'a>(
     inertia: &[Inertia],
-    potential: &P,
+    potential: &'a dyn Potential,
     initial: &[RotorState],
     dt: f64,
     steps: usize,
     spherical: SphericalTops,
-) -> Result<Samples, IntegratorError> {
+) -> Result<Samples<'a>, IntegratorError> {
     let n = initial.len();
-    let mut dlm = Dlm::new(spherical);
+    let mut dlm = Dlm::new(DlmOptions {
+        spherical_tops: spherical,
+    });
     dlm.setup(inertia, potential, initial, dt)?;
-    let mut s = Samples {
+    let mut samples = Samples {
+        potential,
+        torques: vec![Vector3::zeros(); n],
         orientations: Array3::zeros((steps + 1, n, 4)),
         omega_body: Array3::zeros((steps + 1, n, 3)),
-        potential: Array1::zeros(steps + 1),
+        energy: Array1::zeros(steps + 1),
         torques_space: Array3::zeros((steps + 1, n, 3)),
     };
-    let mut omega = vec![Vector3::zeros(); n];
-    let mut torques = vec![Vector3::zeros(); n];
-    for k in 0..=steps {
-        if k > 0 {
-            dlm.step(potential);
-        }
-        let q = dlm.orientations();
-        dlm.omega_body(&mut omega);
-        torques.fill(Vector3::zeros());
-        potential.accumulate_torques(q, &mut torques);
-        s.potential[k] = potential.energy(q);
-        for (i, ((q, w), t)) in q.iter().zip(&omega).zip(&torques).enumerate() {
-            for (c, x) in q.0.iter().enumerate() {
-                s.orientations[(k, i, c)] = *x;
-            }
-            for c in 0..3 {
-                s.omega_body[(k, i, c)] = w[c];
-                s.torques_space[(k, i, c)] = t[c];
-            }
-        }
-    }
-    Ok(s)
+    let options = RunOptions {
+        dt,
+        start_step: 0,
+        end_step: steps as u64,
+        checks: None,
+        reference: None,
+    };
+    let mut observers = [Scheduled {
+        every: 1,
+        at_end: false,
+        observer: &mut samples,
+    }];
+    let Ok(_) = simulation::run(&mut dlm, potential, inertia, &mut observers, None, &options);
+    Ok(samples)
 }
 
 /// Adds the functions of this module to `m`.

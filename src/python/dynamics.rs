@@ -4,7 +4,7 @@
 
 use super::arrays::{common_len, single, Items};
 use crate::experiments::gear_corrections::{correction_table, Settings, System};
-use crate::integrators::setup::{validate_setup, Moments};
+use crate::integrators::setup_checks::{validate_setup, Moments};
 use crate::integrators::RotorState;
 use crate::parallel::on_worker;
 use crate::potential::{ExternalFields, MultipolePotential};
@@ -61,17 +61,13 @@ fn gear_corrections_table<'py>(
     batch.extend(dipoles.iter().chain(quadrupoles.iter()));
     let (n, _) = common_len(&batch)?;
     let field = single(field, "field", &[3])?.map(|f| f.vector(0));
-    let boundary = super::potential::boundary(box_lengths, cutoff)?;
+    let boundary = super::potential::boundary(box_lengths, cutoff, None, None, None)?;
     let rotors: Vec<Rotor> = (0..n)
         .map(|i| {
             let m = moments.vector(i);
             Rotor {
                 site: sites.vector(i),
-                inertia: if m.x == m.y && m.y == m.z {
-                    Inertia::Spherical(m.x)
-                } else {
-                    Inertia::Principal(m)
-                },
+                inertia: Inertia::from_moments(m),
                 dipole_body: dipoles.as_ref().map(|d| d.vector(i)),
                 quadrupole_body: quadrupoles.as_ref().map(|t| t.matrix(i)),
             }
@@ -106,14 +102,14 @@ fn gear_corrections_table<'py>(
     }
     // Validate the rotors and states once, so the experiment itself cannot fail.
     let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
-    validate_setup(&inertia, &initial, dt, Moments::Positive)
+    let _ = validate_setup(&inertia, &initial, dt, Moments::Positive)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let settings = Settings {
         dt,
         t_energy,
         t_error,
         t_stability,
-        sample_every,
+        sample_every: sample_every as u64,
     };
     let table = py.detach(|| {
         on_worker(|| {
@@ -135,8 +131,8 @@ fn gear_corrections_table<'py>(
             d.set_item("global_error", row.global_error)?;
             d.set_item("order", row.order)?;
             d.set_item("largest_stable_dt", row.largest_stable_dt)?;
-            d.set_item("max_q_dot_q_dot", row.max_q_dot_q_dot)?;
-            d.set_item("max_q_dot_force", row.max_q_dot_force)?;
+            d.set_item("max_q_dot_q_dot", row.max_norm_velocity)?;
+            d.set_item("max_q_dot_force", row.max_norm_force)?;
             Ok(d)
         })
         .collect()

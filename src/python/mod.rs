@@ -4,14 +4,26 @@
 //! at the boundary and delegates to the library; one place maps errors to
 //! Python exceptions.
 
+use crate::checks::InputError;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+mod analysis;
 mod arrays;
 mod baselines;
 mod dynamics;
+mod gsd;
 mod potential;
 mod quaternion;
 mod run;
+
+/// Input the library refuses (a potential's sites or multipoles, an
+/// analysis' arrays) is a `ValueError` naming the argument.
+impl From<InputError> for PyErr {
+    fn from(e: InputError) -> PyErr {
+        PyValueError::new_err(e.to_string())
+    }
+}
 
 /// The `quatrot._native` Python module.
 #[pymodule]
@@ -23,5 +35,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     dynamics::register(m)?;
     quaternion::register(m)?;
     run::register(m)?;
+    analysis::register(m)?;
+    gsd::register(m)?;
     Ok(())
 }

@@ -211,7 +211,7 @@ fn q_dot_from_omega_space<'py>(
     })
 }
 
-/// `w_b = 2 vec(Q~*Q')` for unit `Q`.
+/// `w_b = 2 vec(Q~*Q')/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
 #[pyfunction]
 fn omega_body_from_q_dot<'py>(
     py: Python<'py>,
@@ -224,7 +224,7 @@ fn omega_body_from_q_dot<'py>(
     })
 }
 
-/// `w_s = 2 vec(Q'*Q~)` for unit `Q`.
+/// `w_s = 2 vec(Q'*Q~)/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
 #[pyfunction]
 fn omega_space_from_q_dot<'py>(
     py: Python<'py>,

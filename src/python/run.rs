@@ -6,9 +6,10 @@
 //! results in its `result` attribute.
 
 use crate::parallel::in_pool;
-use crate::run::{execute, Outputs, RunError, RunResult, Stop};
+use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
 use crate::scene::{load, load_table, load_text, Overrides, Scene, BUILTINS};
+use crate::simulation::Stop;
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -83,7 +84,7 @@ fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
             } else {
                 format!("{path}.{key}")
             };
-            table.insert(key, to_toml(&v, &sub)?);
+            let _ = table.insert(key, to_toml(&v, &sub)?);
         }
         return Ok(toml::Value::Table(table));
     }

@@ -4,7 +4,7 @@
 //! what is needed to check that it belongs to the scene it is restarted with.
 
 use super::error::RunError;
-use super::runner::EnergyReference;
+use crate::simulation::{CheckpointSink, EnergyReference};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -15,12 +15,17 @@ const FORMAT: &str = "quatrot-checkpoint-1";
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Checkpoint {
+    /// The format tag, `quatrot-checkpoint-1`.
     pub format: String,
+    /// The scene's name.
     pub scene: String,
+    /// The integrator's name.
     pub integrator: String,
+    /// The number of rotors.
     pub rotors: usize,
     /// `dt.to_bits()`: a restart must use the same time step exactly.
     pub dt_bits: u64,
+    /// The step of the state.
     pub step: u64,
     /// Bits of the reference energy `(total, scale)`, if one was computed.
     pub reference_bits: Option<[u64; 2]>,
@@ -100,17 +105,24 @@ impl Checkpoint {
 /// Writes checkpoints of one run to one file, replacing it atomically.
 #[derive(Clone, Debug)]
 pub struct CheckpointWriter {
+    /// The checkpoint file.
     pub path: PathBuf,
+    /// The scene's name.
     pub scene: String,
+    /// The integrator's name.
     pub integrator: String,
+    /// The number of rotors.
     pub rotors: usize,
+    /// The time step.
     pub dt: f64,
 }
 
-impl CheckpointWriter {
+impl CheckpointSink for CheckpointWriter {
+    type Error = RunError;
+
     /// Writes the state at `step` (to a temporary file, then renamed).
-    pub fn write(
-        &self,
+    fn write(
+        &mut self,
         step: u64,
         state: &[f64],
         reference: Option<EnergyReference>,

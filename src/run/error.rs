@@ -4,11 +4,14 @@ use crate::integrators::IntegratorError;
 use crate::scene::SceneError;
 
 /// Why a run could not start, continue or write its outputs. A blow-up is
-/// not an error: it is a [`super::Stop`] of a run whose outputs are valid.
+/// not an error: it is a [`crate::simulation::Stop`] of a run whose outputs
+/// are valid.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
+    /// The scene is invalid.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// The integrator could not be set up or restored.
     #[error(transparent)]
     Integrator(#[from] IntegratorError),
     /// The potential could not be built from the scene.
@@ -16,10 +19,20 @@ pub enum RunError {
     Potential(String),
     /// Writing or reading an output file failed.
     #[error("{path}: {message}")]
-    Io { path: String, message: String },
+    Io {
+        /// The file.
+        path: String,
+        /// What failed.
+        message: String,
+    },
     /// A checkpoint does not belong to this scene.
     #[error("checkpoint {path}: {message}")]
-    Checkpoint { path: String, message: String },
+    Checkpoint {
+        /// The checkpoint file.
+        path: String,
+        /// Why it does not fit.
+        message: String,
+    },
 }
 
 impl RunError {

@@ -1,15 +1,13 @@
-//! Running a scene: the generic run loop (monomorphised over integrator and
-//! potential), the observers it feeds at the intervals it owns, the output
-//! files (CSV series, DCD + PDB trajectory, JSON summary, checkpoints), and
-//! the dispatch from a scene's choices to concrete types.
+//! Running a scene: its outputs (CSV series, DCD + PDB or GSD trajectory,
+//! JSON summary, checkpoints) as observers of the one run loop of
+//! [`crate::simulation`], and the run of a scene from its physics objects.
 
 mod checkpoint;
 mod dcd;
-mod dispatch;
 mod error;
-mod observer;
+mod execute;
+mod gsd;
 mod pdb;
-mod runner;
 mod scene_run;
 mod series;
 mod summary;
@@ -17,11 +15,10 @@ mod trajectory;
 
 pub use checkpoint::{Checkpoint, CheckpointWriter};
 pub use dcd::DcdWriter;
-pub use dispatch::{execute, potential, with_integrator};
 pub use error::RunError;
-pub use observer::{Energies, Needs, Observer, Sample, Scheduled};
+pub use execute::{execute, potential};
+pub use gsd::{GsdBox, GsdWriter};
 pub use pdb::ROTOR_ATOMS;
-pub use runner::{run, EnergyReference, RunOptions, RunReport, Stop};
 pub use scene_run::{
     run_scene, Outputs, Progress, RunResult, CHECKPOINT_FILE, DCD_FILE, PDB_FILE, SUMMARY_FILE,
 };

@@ -2,9 +2,8 @@
 //! (a header, one row per sample) and/or kept in memory for Python.
 
 use super::error::RunError;
-use super::observer::{Needs, Observer, Sample};
-use crate::observables;
-use crate::scene::{Quantity, Series};
+use crate::scene::Series;
+use crate::simulation::{Needs, Observer, Sample};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -12,6 +11,7 @@ use std::path::{Path, PathBuf};
 /// The columns and rows of a finished series.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SeriesTable {
+    /// The series' name.
     pub name: String,
     /// `step`, `time`, then the quantities' names.
     pub columns: Vec<String>,
@@ -62,64 +62,20 @@ impl SeriesObserver {
     }
 }
 
-/// The largest magnitude of a per-rotor diagnostic (NaN if any is NaN).
-fn max_abs(values: impl Iterator<Item = f64>) -> f64 {
-    values.fold(
-        0.0,
-        |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
-    )
-}
-
-fn value(q: Quantity, sample: &Sample<'_>) -> f64 {
-    let energies = sample.energies;
-    let energy = |f: fn(&super::observer::Energies) -> f64| energies.as_ref().map_or(f64::NAN, f);
-    match q {
-        Quantity::KineticEnergy => energy(|e| e.kinetic),
-        Quantity::PotentialEnergy => energy(|e| e.potential),
-        Quantity::TotalEnergy => energy(|e| e.total),
-        Quantity::EnergyError => energy(|e| e.error),
-        // Three rotational degrees of freedom per rotor, k_B = 1.
-        Quantity::Temperature => {
-            let dof = 3.0 * sample.orientations.len() as f64;
-            energy(|e| e.kinetic) * 2.0 / dof
-        }
-        Quantity::NormError => max_abs(sample.orientations.iter().map(observables::norm_error)),
-        Quantity::QDotQ => sample.q_dot.map_or(f64::NAN, |q_dot| {
-            max_abs(
-                sample
-                    .orientations
-                    .iter()
-                    .zip(q_dot)
-                    .map(|(q, d)| observables::norm_velocity(q, d)),
-            )
-        }),
-        Quantity::QDotN => sample
-            .q_dot_n
-            .map_or(f64::NAN, |qn| max_abs(qn.iter().copied())),
-    }
-}
-
 impl Observer for SeriesObserver {
+    type Error = RunError;
+
     fn needs(&self) -> Needs {
-        let has = |qs: &[Quantity]| self.spec.quantities.iter().any(|q| qs.contains(q));
-        Needs {
-            energies: has(&[
-                Quantity::KineticEnergy,
-                Quantity::PotentialEnergy,
-                Quantity::TotalEnergy,
-                Quantity::EnergyError,
-                Quantity::Temperature,
-            ]),
-            omega_body: false,
-            q_dot: has(&[Quantity::QDotQ]),
-            q_dot_n: has(&[Quantity::QDotN]),
-        }
+        self.spec
+            .quantities
+            .iter()
+            .fold(Needs::default(), |n, q| n.union(q.needs()))
     }
 
     fn observe(&mut self, sample: &Sample<'_>) -> Result<(), RunError> {
         self.row.clear();
         self.row
-            .extend(self.spec.quantities.iter().map(|&q| value(q, sample)));
+            .extend(self.spec.quantities.iter().map(|q| q.value(sample)));
         if let Some((path, writer)) = &mut self.csv {
             // `{:e}` is the shortest representation that reads back exactly.
             let mut line = format!("{},{:e}", sample.step, sample.time);

@@ -1,25 +1,31 @@
 //! The JSON summary of a run: the scene, the seed, the versions, the time
 //! taken, the final energies and the drift.
 
-use super::observer::Energies;
-use super::runner::{EnergyReference, RunReport, Stop};
 use crate::scene::{Scene, SCENE_VERSION};
+use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
 use serde::Serialize;
 
 /// Versions of what produced the outputs.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Versions {
+    /// The crate's version.
     pub quatrot: &'static str,
+    /// The scene format version read.
     pub scene_format: i64,
 }
 
 /// Energies at the last step they were computed.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct FinalEnergies {
+    /// The step.
     pub step: u64,
+    /// `K`.
     pub kinetic: f64,
+    /// `V`.
     pub potential: f64,
+    /// `K + V`.
     pub total: f64,
+    /// The relative energy error.
     pub error: f64,
 }
 
@@ -39,53 +45,51 @@ pub struct Drift {
 /// The summary written to `summary.json` and returned to Python.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Summary {
+    /// The scene's name.
     pub scene: String,
+    /// The scene's description.
     pub description: String,
     /// The scene as run (after command-line overrides), as JSON.
     pub definition: serde_json::Value,
+    /// The seed of the random initial state, if any.
     pub seed: Option<u64>,
+    /// What produced the outputs.
     pub versions: Versions,
+    /// The integrator's name.
     pub integrator: String,
+    /// The number of rotors.
     pub rotors: usize,
+    /// The time step.
     pub dt: f64,
+    /// The first step of this run (0, or the checkpoint's).
     pub start_step: u64,
+    /// The step the run ended at.
     pub last_step: u64,
     /// "completed" or "blew_up".
     pub status: &'static str,
     /// The blow-up message (step and rotor), if any.
     pub message: Option<String>,
+    /// Wall-clock seconds of the run loop.
     pub wall_seconds: f64,
+    /// The energy reference.
     pub initial_energy: Option<EnergyReference>,
+    /// The last energies computed.
     pub final_energies: Option<FinalEnergies>,
+    /// The energy drift, when energies were computed at two steps or more.
     pub drift: Option<Drift>,
 }
 
-/// Least-squares slope of `y` against `x`.
-fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / n;
-    let mean_y = points.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = points.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
-    let sxx: f64 = points.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
-    sxy / sxx
-}
-
+/// The drift of the run's total energy, relative to the mean kinetic
+/// energy over the samples (or to the reference scale when that vanishes).
 fn drift(report: &RunReport) -> Option<Drift> {
     let reference = report.reference?;
-    let history = &report.energy_history;
     let (_, last) = report.last_energies?;
+    let history = &report.energy_history;
     if history.len() < 2 {
         return None;
     }
-    let points: Vec<(f64, f64)> = history.iter().map(|h| (h[0], h[2])).collect();
-    let mean_kinetic = history.iter().map(|h| h[1]).sum::<f64>() / history.len() as f64;
-    let scale = if mean_kinetic > 0.0 {
-        mean_kinetic
-    } else {
-        reference.scale
-    };
     Some(Drift {
-        relative_per_time: slope(&points) / scale,
+        relative_per_time: history.drift(reference.scale).relative_per_time,
         final_error: last.error,
         samples: history.len(),
     })

@@ -5,18 +5,20 @@
 
 use super::dcd::DcdWriter;
 use super::error::RunError;
-use super::observer::{Needs, Observer, Sample};
 use super::pdb::write_topology;
 use crate::quaternion::Quat;
 use crate::rotor::Rotor;
 use crate::scene::TrajectorySpec;
+use crate::simulation::{Needs, Observer, Sample};
 use nalgebra::Vector3;
 use std::path::{Path, PathBuf};
 
 /// Orientations and angular velocities kept in memory, frame-major.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TrajectoryFrames {
+    /// The step of each frame.
     pub steps: Vec<u64>,
+    /// The time of each frame.
     pub times: Vec<f64>,
     /// `frames x rotors x 4`, scalar first.
     pub orientations: Vec<f64>,
@@ -35,11 +37,17 @@ pub struct TrajectoryObserver {
 
 /// Where the files of a trajectory go.
 pub struct TrajectoryFiles<'a> {
+    /// The DCD file of the frames.
     pub dcd: &'a Path,
+    /// The PDB file of the topology.
     pub pdb: &'a Path,
+    /// The periodic box, if any (the PDB's CRYST1 record).
     pub box_lengths: Option<&'a Vector3<f64>>,
+    /// The step of the first frame.
     pub first_step: u64,
+    /// The time step.
     pub dt: f64,
+    /// The title of both files.
     pub title: &'a str,
 }
 
@@ -71,6 +79,7 @@ impl TrajectoryObserver {
                 spec.every,
                 f.dt,
                 f.title,
+                f.box_lengths,
             )
             .map_err(|e| RunError::io(f.dcd, e))?;
             observer.dcd = Some((f.dcd.to_path_buf(), dcd));
@@ -105,6 +114,8 @@ impl TrajectoryObserver {
 }
 
 impl Observer for TrajectoryObserver {
+    type Error = RunError;
+
     fn needs(&self) -> Needs {
         Needs {
             omega_body: self.frames.is_some(),

@@ -3,7 +3,9 @@
 /// A built-in scene: its name and TOML text.
 #[derive(Clone, Copy, Debug)]
 pub struct Builtin {
+    /// The name (`quatrot run NAME`).
     pub name: &'static str,
+    /// The scene file's text.
     pub toml: &'static str,
 }
 

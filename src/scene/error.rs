@@ -1,5 +1,7 @@
 //! The one error type of the scene layer.
 
+use crate::checks::InputError;
+
 /// Why a scene could not be read or validated. Every message names the
 /// field (as a path such as `rotors.sites[3].inertia`) and the offending value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -9,13 +11,23 @@ pub enum SceneError {
     Syntax(String),
     /// A field is unknown, missing, of the wrong type, or has a bad value.
     #[error("{path}: {message}")]
-    Field { path: String, message: String },
+    Field {
+        /// Where, e.g. `rotors.sites[3].inertia`.
+        path: String,
+        /// What is wrong, with the value found.
+        message: String,
+    },
     /// No built-in scene of that name and no such file.
     #[error("no built-in scene or file named `{0}` (`quatrot scenes` lists the built-ins)")]
     NotFound(String),
     /// The file exists but could not be read.
     #[error("{path}: cannot read: {message}")]
-    Io { path: String, message: String },
+    Io {
+        /// The file.
+        path: String,
+        /// Why it could not be read.
+        message: String,
+    },
 }
 
 impl SceneError {
@@ -24,6 +36,33 @@ impl SceneError {
         SceneError::Field {
             path: path.into(),
             message: message.into(),
+        }
+    }
+
+    /// The error of a physics check, its path renamed to the scene's: the
+    /// first entry `(physics, scene)` of `names` whose physics name starts the
+    /// path (followed by nothing, `[` or `.`) is replaced by the scene path.
+    pub fn renamed(e: InputError, names: &[(&str, &str)]) -> Self {
+        let path = names
+            .iter()
+            .find_map(|(physics, scene)| {
+                let rest = e.path.strip_prefix(physics)?;
+                (rest.is_empty() || rest.starts_with(['[', '.'])).then(|| format!("{scene}{rest}"))
+            })
+            .unwrap_or(e.path);
+        SceneError::Field {
+            path,
+            message: e.message,
+        }
+    }
+}
+
+/// A physics check's error whose path is already the scene's.
+impl From<InputError> for SceneError {
+    fn from(e: InputError) -> Self {
+        SceneError::Field {
+            path: e.path,
+            message: e.message,
         }
     }
 }

@@ -31,9 +31,8 @@ impl Overrides {
             raw.run.time = None;
         }
         if let Some(name) = &self.integrator {
-            let value = serde_json::json!({ "kind": name });
-            raw.integrator = serde_json::from_value::<RawIntegrator>(value).map_err(|e| {
-                let (path, message) = join_path("integrator", &e.to_string());
+            raw.integrator = RawIntegrator::named(name).map_err(|e| {
+                let (path, message) = join_path("integrator", &e);
                 SceneError::field(path, message)
             })?;
         }

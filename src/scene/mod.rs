@@ -1,16 +1,25 @@
 //! Scene files: versioned TOML (`version = 1`) describing the rotors, their
 //! interactions and fields, the initial conditions, the integrator, the run
 //! length and what to record. Text is parsed into raw serde structs
-//! ([`raw`]), then validated into a typed [`Scene`] whose errors name the
-//! field and the value. The format is documented in `docs/scenes.md`.
+//! ([`raw`]; the `[integrator]` table straight into the physics
+//! [`crate::integrators::IntegratorSpec`]), then validated into a typed
+//! [`Scene`] of physics objects whose errors name the field and the value.
+//! One file per section holds its raw types and its checks. The format is
+//! documented in `docs/scenes.md`.
 
 mod builtin;
 mod error;
+mod fields;
 mod initial;
+mod integrator;
+mod interactions;
 mod load;
 mod model;
 mod parse;
 pub mod raw;
+mod record;
+mod rotors;
+mod run_length;
 mod tagged;
 mod validate;
 
@@ -18,6 +27,7 @@ pub use builtin::{builtin, Builtin, BUILTINS};
 pub use error::SceneError;
 pub use initial::random_states;
 pub use load::{load, load_raw, load_table, load_text, Overrides};
-pub use model::*;
+pub use model::Scene;
 pub use parse::{parse_table, parse_toml};
-pub use validate::{validate, DEFAULT_CHECK_EVERY, DEFAULT_MARKER_LENGTH, SCENE_VERSION};
+pub use record::{Record, Series, TrajectorySpec, DEFAULT_CHECK_EVERY, DEFAULT_MARKER_LENGTH};
+pub use validate::{validate, SCENE_VERSION};

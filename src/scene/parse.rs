@@ -5,17 +5,11 @@ use super::error::SceneError;
 use super::raw::RawScene;
 use super::tagged::join_path;
 use serde::de::DeserializeOwned;
-use std::fmt::Display;
 
-/// Deserialises `T` from `deserializer`, turning the error into a field error
-/// at the path where it occurred (`(top level)` for the root).
-fn with_path<'de, T, D>(deserializer: D) -> Result<T, SceneError>
-where
-    T: DeserializeOwned,
-    D: serde::Deserializer<'de>,
-    D::Error: Display,
-{
-    serde_path_to_error::deserialize(deserializer).map_err(|e| {
+/// Reads `T` from a TOML value, turning the error into a field error at the
+/// path where it occurred (`(top level)` for the root).
+pub(super) fn parse_value<T: DeserializeOwned>(value: toml::Value) -> Result<T, SceneError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
         let outer = e.path().to_string();
         let outer = if outer == "." { "" } else { outer.as_str() };
         let message = e.inner().to_string();
@@ -51,11 +45,11 @@ pub fn parse_toml(text: &str) -> Result<RawScene, SceneError> {
             None => SceneError::Syntax(message),
         }
     })?;
-    with_path(toml::Value::Table(table))
+    parse_value(toml::Value::Table(table))
 }
 
 /// Parses a scene given as a TOML table built in memory (the form a Python
 /// dict is converted to).
 pub fn parse_table(table: toml::Table) -> Result<RawScene, SceneError> {
-    with_path(toml::Value::Table(table))
+    parse_value(toml::Value::Table(table))
 }

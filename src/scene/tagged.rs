@@ -33,9 +33,24 @@ pub(super) fn with_inner_path<E: serde::de::Error>(path: &str, message: &str) ->
 pub(super) fn variant<T: DeserializeOwned, E: serde::de::Error>(
     table: toml::Table,
 ) -> Result<T, E> {
-    serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
-        let (path, message) = join_path(&e.path().to_string(), e.inner().message());
-        let path = if path == "." { String::new() } else { path };
+    variant_with(table, |deserializer| T::deserialize(deserializer))
+}
+
+/// The table read through a deserializer that tracks paths.
+pub(super) type Tracked<'a> = serde_path_to_error::Deserializer<'a, 'a, toml::Value>;
+
+/// Reads a variant from the rest of the table with `read`, the error
+/// carrying the path inside the table.
+pub(super) fn variant_with<T, E: serde::de::Error>(
+    table: toml::Table,
+    read: impl FnOnce(Tracked<'_>) -> Result<T, toml::de::Error>,
+) -> Result<T, E> {
+    let mut track = serde_path_to_error::Track::new();
+    let value = toml::Value::Table(table);
+    read(serde_path_to_error::Deserializer::new(value, &mut track)).map_err(|e| {
+        let outer = track.path().to_string();
+        let outer = if outer == "." { "" } else { outer.as_str() };
+        let (path, message) = join_path(outer, e.message());
         if path.is_empty() {
             E::custom(message)
         } else {

@@ -49,12 +49,7 @@ pub fn reference(file: &str, name: &str) -> Reference {
         .iter()
         .find(|c| c["name"] == name)
         .unwrap_or_else(|| panic!("{path}: no case {name}"));
-    let moments = vec3(&case["inertia"]);
-    let inertia = if moments.x == moments.y && moments.y == moments.z {
-        Inertia::Spherical(moments.x)
-    } else {
-        Inertia::Principal(moments)
-    };
+    let inertia = Inertia::from_moments(vec3(&case["inertia"]));
     let field = (!case["field"].is_null()).then(|| DipoleInField {
         dipole_body: vec3(&case["dipole_body"]),
         field: vec3(&case["field"]),

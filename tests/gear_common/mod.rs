@@ -6,6 +6,7 @@ use nalgebra::Vector3;
 use quatrot::integrators::{Integrator, RotorState};
 use quatrot::potential::Potential;
 use quatrot::rotor::Inertia;
+use quatrot::stats::line_fit;
 use quatrot::Quat;
 
 pub mod cluster;
@@ -71,11 +72,7 @@ pub fn max_angle(a: &[Quat], b: &[Quat]) -> f64 {
 pub fn fitted_order(dts: &[f64], errors: &[f64]) -> f64 {
     let x: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
     let y: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
+    line_fit(&x, &y).slope
 }
 
 /// A spherical top: `Q(t) = Q0 * exp(w_b t)` with constant `w_b`.

@@ -143,168 +143,178 @@ def _plot(errors: dict[str, tuple[np.ndarray, float, bool]], out_dir: Path) -> P
     return path
 
 
-def run(ctx: Context) -> list[Check]:
-    q, v, angles = _inputs(ctx)
-    n = len(q)
-    generic = slice(0, n)  # the random Euler triples; the singular ones follow
-    refs_ase = {"ASE": ase.__version__}
-    refs_scipy = {"scipy": scipy.__version__}
-    refs_nalgebra = {"nalgebra": _nalgebra_version()}
-    both = refs_ase | refs_scipy
-    rot = scipy_rotation(q)
-    p = np.roll(q, 1, axis=0)
-    template = molecule("NH3").positions
-    center = np.array([0.25, -1.5, 2.0])
-    n_atoms = 16 if ctx.quick else 200
+class _Recorder:
+    """The checks of this module and every sample of their errors (for the plot)."""
 
-    errors: dict[str, tuple[np.ndarray, float, bool]] = {}
-    checks: list[Check] = []
+    def __init__(self):
+        self.errors: dict[str, tuple[np.ndarray, float, bool]] = {}
+        self.checks: list[Check] = []
 
-    def check(name, proves, err, references, tolerance=ROUND_OFF, details=""):
+    def check(self, name, proves, err, references, tolerance=ROUND_OFF, details=""):
         err = np.asarray(err, float)
-        errors[name] = (err, tolerance, False)
-        checks.append(Check(name, proves, tolerance, float(err.max()), references, details or f"{len(err)} samples."))
+        self.errors[name] = (err, tolerance, False)
+        self.checks.append(Check(name, proves, tolerance, float(err.max()), references, details or f"{len(err)} samples."))
 
-    def never_agrees(name, proves, err, references):
+    def never_agrees(self, name, proves, err, references):
         """An erratum: the printed form must disagree on every sample; measured is
         the fraction of samples on which it agrees."""
         err = np.asarray(err, float)
-        errors[name] = (err, AGREE, True)
+        self.errors[name] = (err, AGREE, True)
         fraction = float(np.mean(err <= AGREE))
         details = f"Measured: the fraction of {len(err)} samples on which the printed form agrees (to {AGREE:g}); it must be 0. Its smallest miss is {err.min():.3g}, median {np.median(err):.3g}."
-        checks.append(Check(name, proves, 0.0, fraction, references, details))
+        self.checks.append(Check(name, proves, 0.0, fraction, references, details))
 
-    # Eqs 1-2: component order and product.
-    check(
+
+REFS_ASE = {"ASE": ase.__version__}
+REFS_SCIPY = {"scipy": scipy.__version__}
+
+
+def _product_checks(rec: _Recorder, q, rot) -> None:
+    """Eqs 1-5: component order, product, conjugate and norm."""
+    n = len(q)
+    p = np.roll(q, 1, axis=0)
+    rec.check(
         "eq 2 Hamilton product vs ASE Quaternion.__mul__",
         "quatrot's product is ASE's (scalar first, + p x q) on random unit quaternions; it says nothing about non-unit inputs.",
         _rows_err(qr.product(p, q), [(Quaternion(a) * Quaternion(b)).q for a, b in zip(p, q)]),
-        refs_ase,
+        REFS_ASE,
     )
-    check(
+    rec.check(
         "eq 2 Hamilton product vs scipy composition",
         "quatrot's P*Q is scipy's rotation composition R(P) R(Q) (sign-blind, scalar-first after reordering scipy's scalar-last output).",
         _sign_blind_err(qr.product(p, q), (scipy_rotation(p) * rot).as_quat(scalar_first=True)),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    never_agrees(
+    rec.never_agrees(
         "erratum eq 2: printed - p x q, fraction agreeing with ASE",
         "The note's printed sign of the cross product is not the product ASE and scipy use for rotations (ERRATA.md E-2).",
         _sign_blind_err(_printed_product(p, q), [(Quaternion(a) * Quaternion(b)).q for a, b in zip(p, q)]),
-        refs_ase,
+        REFS_ASE,
     )
-    # Eqs 3-5: conjugate and norm.
-    check(
+    rec.check(
         "eqs 3-5 conjugate is scipy's inverse, Q*Q~ = (|Q|^2, 0)",
         "The conjugate of eq 3 is the inverse rotation in scipy and Q*Q~ is (1, 0) for unit Q (eqs 4-5).",
         np.maximum(
             _sign_blind_err(qr.conjugate(q), rot.inv().as_quat(scalar_first=True)),
             _rows_err(qr.product(q, qr.conjugate(q)), np.tile([1.0, 0, 0, 0], (n, 1))),
         ),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    # Eqs 6-7: the matrices.
-    check(
+
+
+def _matrix_checks(rec: _Recorder, q, v, rot) -> None:
+    """Eqs 6-7: the matrices A(Q) and R(Q)."""
+    rec.check(
         "eq 7 A(Q) vs scipy as_matrix().T",
         "The printed A of eq 7 maps space to body: it is the transpose of scipy's active matrix.",
         _rows_err(qr.space_to_body_matrix(q), rot.as_matrix().transpose(0, 2, 1)),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    check(
+    rec.check(
         "eq 7 R(Q) = A^T vs ASE rotation_matrix()",
         "ASE's quaternion matrix is the active body-to-space R = A^T.",
         _rows_err(qr.body_to_space_matrix(q), [Quaternion(x).rotation_matrix() for x in q]),
-        refs_ase,
+        REFS_ASE,
     )
-    check(
+    rec.check(
         "eq 7 R(Q) vs nalgebra Rotation3",
         "nalgebra's UnitQuaternion -> Rotation3 of Q (built from Quaternion::new(q0, q1, q2, q3), stored [q1, q2, q3, q0]) is R(Q).",
         _rows_err(qr.body_to_space_matrix(q), qr.nalgebra_body_to_space_matrix(q)),
-        refs_nalgebra,
+        {"nalgebra": _nalgebra_version()},
     )
-    check(
+    rec.check(
         "eq 6 r_b = A r_s vs scipy apply(inverse=True)",
         "space_to_body applies A and body_to_space applies R, as scipy's inverse and direct apply.",
         np.maximum(_rows_err(qr.space_to_body(q, v), rot.apply(v, inverse=True)), _rows_err(qr.body_to_space(q, v), rot.apply(v))),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    # Eq 8: Euler angles.
+
+
+def _euler_checks(rec: _Recorder, angles, generic: slice) -> None:
+    """Eq 8 and footnote 4: Euler angles (`generic` selects the random triples)."""
     q_euler = qr.from_euler_y(angles)
     scipy_euler = scipy_rotation_from_euler_y(angles)
-    check(
+    rec.check(
         "eq 8 y-convention vs scipy from_euler('ZYZ')",
         "The note's eq 8 is scipy's intrinsic ZYZ of (phi, theta, psi), including theta = 0, pi and 1e-9 from them.",
         _sign_blind_err(q_euler, scipy_euler.as_quat(scalar_first=True)),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    check(
+    rec.check(
         "eq 8 y-convention vs ASE from_euler_angles(psi, theta, phi)",
         "ASE's zyz Euler quaternion with the angles reversed is the note's eq 8.",
         _sign_blind_err(q_euler, [Quaternion.from_euler_angles(*a, mode="zyz").q for a in euler_y_to_ase_zyz(angles)]),
-        refs_ase,
+        REFS_ASE,
     )
     back = qr.from_euler_y(qr.to_euler_y(q_euler))
-    check(
+    rec.check(
         "eq 8 inverse: Q -> Euler -> Q, incl. theta = 0, pi, 1e-9 from them",
         "to_euler_y recovers the rotation to round-off everywhere, where ASE's and scipy's inverses lose O(theta) near the singularities.",
         _rows_err(qr.space_to_body_matrix(back), scipy_euler.as_matrix().transpose(0, 2, 1)),
-        refs_scipy,
+        REFS_SCIPY,
     )
     a_rows = scipy_euler.as_matrix().transpose(0, 2, 1)[:, 2, :]
-    check(
+    rec.check(
         "footnote 4: Goldstein (B-3y) bottom row with phi vs scipy",
         "With phi in its bottom row, Goldstein's y-convention matrix is scipy's ZYZ (the note's correction of p607 is right).",
         _rows_err(_goldstein_bottom_row(angles[generic], 0), a_rows[generic]),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    never_agrees(
+    rec.never_agrees(
         "erratum Goldstein p607: psi in bottom row, fraction agreeing with scipy",
         "Goldstein's printed bottom row (psi for phi) is wrong, as the note's footnote 4 says.",
         _rows_err(_goldstein_bottom_row(angles[generic], 2), a_rows[generic]),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    # Eq 9: the sandwich.
+
+
+def _sandwich_and_velocity_checks(rec: _Recorder, q, v, rot) -> None:
+    """Eq 9 (the sandwich) and eq 10 (the angular velocity), each with the
+    printed product of eq 2 as an erratum."""
     sandwich = qr.product(qr.product(qr.conjugate(q), _pure(v)), q)[:, 1:]
-    check(
+    rec.check(
         "eq 9 Q~*(0,r_s)*Q vs scipy apply(inverse=True)",
         "With the Hamilton product (and the tilde read as the conjugate of eq 3), eq 9 gives the body components A r_s.",
         _rows_err(sandwich, rot.apply(v, inverse=True)),
-        refs_scipy,
+        REFS_SCIPY,
     )
     printed = _printed_product(_printed_product(qr.conjugate(q), _pure(v)), q)[:, 1:]
-    never_agrees(
+    rec.never_agrees(
         "erratum eq 2 in eq 9: fraction agreeing with scipy's A r_s",
         "With the printed product, eq 9 gives R r_s, not A r_s: the printed eq 2 contradicts eqs 6-7.",
         _rows_err(printed, rot.apply(v, inverse=True)),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    # Eq 10: angular velocity.
     omega_body = v
     omega_space = rot.apply(omega_body)
-    check(
+    rec.check(
         "eq 10 Q' (body and space forms) vs scipy motion",
         "1/2 Q*(0,w_b) and 1/2 (0,w_s)*Q are the time derivative of scipy's R(Q) Rot(w_b t) = Rot(w_s t) R(Q) (central differences).",
         np.maximum(
             _rows_err(qr.q_dot_from_omega_body(q, omega_body), scipy_q_dot(q, omega_body, "body")),
             _rows_err(qr.q_dot_from_omega_space(q, omega_space), scipy_q_dot(q, omega_space, "space")),
         ),
-        refs_scipy,
+        REFS_SCIPY,
         tolerance=FD,
     )
-    never_agrees(
+    rec.never_agrees(
         "erratum eq 2 in eq 10: fraction agreeing with scipy's Q'",
         "With the printed product, 1/2 Q*(0,w_b) turns the body about w_b taken in the space frame.",
         _rows_err(0.5 * _printed_product(q, _pure(omega_body)), scipy_q_dot(q, omega_body, "body")),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    # Rotation vectors.
-    check(
+    rec.check(
         "ln / exp vs scipy as_rotvec / from_rotvec",
         "quatrot's logarithm and exponential map are scipy's rotation vectors (angle in [0, pi]).",
         np.maximum(_rows_err(qr.ln(q), rot.as_rotvec()), _sign_blind_err(qr.exp(rot.as_rotvec()), q)),
-        refs_scipy,
+        REFS_SCIPY,
     )
-    # ASE's Atoms methods on a molecule.
+
+
+def _ase_atoms_checks(rec: _Recorder, q, angles, n_atoms: int) -> None:
+    """ASE's Atoms methods moving an NH3 body template."""
+    template = molecule("NH3").positions
+    center = np.array([0.25, -1.5, 2.0])
     moved, expected = [], []
     for x in q[:n_atoms]:
         atoms = Atoms("NH3", positions=template + center)
@@ -312,11 +322,11 @@ def run(ctx: Context) -> list[Check]:
         atoms.rotate(angle_deg, axis, center=center)
         moved.append(atoms.positions)
         expected.append(center + qr.body_to_space(x, template.copy()))
-    check(
+    rec.check(
         "Atoms.rotate (axis, degrees, center) vs body_to_space",
         "ASE's Atoms.rotate with Q's axis and angle (degrees) about the centre moves an NH3 body template to center + R(Q) r_b.",
         _rows_err(moved, expected),
-        refs_ase,
+        REFS_ASE,
     )
     moved, expected = [], []
     for a, deg in zip(angles, euler_y_to_ase_euler_rotate(angles)):
@@ -324,24 +334,40 @@ def run(ctx: Context) -> list[Check]:
         atoms.euler_rotate(*deg, center=center)
         moved.append(atoms.positions)
         expected.append(center + qr.space_to_body(qr.from_euler_y(a), template.copy()))
-    check(
+    rec.check(
         "Atoms.euler_rotate (x-convention, degrees) vs space_to_body",
         "ASE's euler_rotate with (phi + 90, theta, psi - 90) degrees applies the note's passive A(phi, theta, psi), singular triples included.",
         _rows_err(moved, expected),
-        refs_ase,
+        REFS_ASE,
     )
-    checks[0].plots.append(_plot(errors, ctx.out_dir))
+
+
+def _errata_check() -> Check:
+    """The Rust tests that ERRATA.md cites, run and counted."""
+    failed, summary = _errata_tests()
+    return Check(
+        "ERRATA.md: every cited test passes (count not passing)",
+        "Each erratum and trap in ERRATA.md is backed by a test that runs and passes: the printed form fails its identity by a margin and the correction passes. It proves nothing about rows without a cited test.",
+        0.0,
+        failed,
+        {"quatrot": quatrot.__version__} | REFS_ASE | REFS_SCIPY | {"nalgebra": _nalgebra_version()},
+        summary,
+    )
+
+
+def run(ctx: Context) -> list[Check]:
+    q, v, angles = _inputs(ctx)
+    rot = scipy_rotation(q)
+    rec = _Recorder()
+    _product_checks(rec, q, rot)
+    _matrix_checks(rec, q, v, rot)
+    # The random Euler triples come first; the singular ones follow.
+    _euler_checks(rec, angles, slice(0, len(q)))
+    _sandwich_and_velocity_checks(rec, q, v, rot)
+    _ase_atoms_checks(rec, q, angles, 16 if ctx.quick else 200)
+    checks = rec.checks
+    checks[0].plots.append(_plot(rec.errors, ctx.out_dir))
     checks[0].details += " The plot shows every sample of every round-off check of this module."
     if not ctx.quick:
-        failed, summary = _errata_tests()
-        checks.append(
-            Check(
-                "ERRATA.md: every cited test passes (count not passing)",
-                "Each erratum and trap in ERRATA.md is backed by a test that runs and passes: the printed form fails its identity by a margin and the correction passes. It proves nothing about rows without a cited test.",
-                0.0,
-                failed,
-                {"quatrot": quatrot.__version__} | both | refs_nalgebra,
-                summary,
-            )
-        )
+        checks.append(_errata_check())
     return checks

@@ -1,5 +1,5 @@
 """The note's experiment: scheme A against scheme B with each of its
-corrections (issue 4), for a single asymmetric rotor in a uniform field and
+corrections, for a single asymmetric rotor in a uniform field and
 (full mode) a periodic 4 x 4 x 4 simple-cubic lattice of dipolar and
 quadrupolar rotors. The table comes from ``quatrot.gear_corrections_table``
 (Rust: ``experiments::gear_corrections``); this module writes it as
@@ -20,7 +20,7 @@ import quatrot
 from validation.checks.base import Check, Context
 
 EXPECTED_ORDER = 5.0  # both schemes: see tests/gear_references.rs
-ORDER_TOLERANCE = 0.3  # the issue's tolerance on a fitted order
+ORDER_TOLERANCE = 0.3  # a fitted order over three step sizes carries higher-order terms
 COMPETITIVE_FACTOR = 10.0  # "competitive": energy drift within 10x of scheme A's
 ROUNDING = 1e-12  # |Q.Q'| at rounding level (|Q|, |Q'| ~ 1)
 

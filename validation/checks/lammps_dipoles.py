@@ -5,7 +5,8 @@ Both codes start from identical orientations and angular velocities (mapping
 in :mod:`validation.lammps_dipoles`). Where they differ, the independent
 space-frame references of :mod:`validation.dipole_reference` (closed-form
 free rotation, DOP853 at 1e-12) decide, and a numpy restatement of LAMMPS's
-algorithm (written from its description) locates the cause.
+algorithm (written from its description, :mod:`validation.dlm_restatement`)
+locates the cause, and pins the sweep order of both codes.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from validation import dipole_reference as ref
+from validation import dlm_restatement as restated
 from validation.checks.base import Check, Context
 from validation.lammps_dipoles import DipoleSystem, lammps_version, quatrot_rotor, run_lammps
 
@@ -25,6 +27,17 @@ ORDER_TOL = 0.3
 # A free sphere's space angular velocity under an exactly consistent update:
 # only round-off over a few hundred steps.
 CONSERVATION_TOL = 1e-12
+# A code and its restatement: the same arithmetic in another order (sums of
+# torques, products of 3x3 rotations) over 40 steps of O(1) numbers, each
+# rounding at 1.1e-16 (measured: 3e-14 to 3e-13).
+TRAJECTORY_ROUNDOFF = 1e-11
+# The sweep order is resolved when the restatement with a code's own order is
+# closer to it than the reversed sweep by at least this factor (the reversed
+# sweep moves each step by O((|w| dt)^3), 1e-7 or more here).
+ORDER_RESOLUTION = 1e-3
+# LAMMPS's step with the body omega turned by R^T (the exact flow of each
+# kinetic term) instead of R, the Cayley angles and the rebuilt frame kept.
+CONSISTENT_SENSE = restated.Variant(cayley=True, lammps_sense=False, rebuild_frame=True)
 
 
 def systems(seed: int) -> dict[str, DipoleSystem]:
@@ -49,53 +62,6 @@ def _fitted_order(dts, errors) -> float:
 
 def _scale(x: np.ndarray) -> float:
     return max(1.0, float(np.abs(x).max()))
-
-
-# ---------------------------------------------------------------------------
-# A restatement of LAMMPS's dipole/dlm step (FixNVESphere::initial_integrate,
-# 2025 version), from its description: build the space-to-body matrix that
-# takes the unit dipole to z (the reflection -I when the dipole is exactly
-# along -z), rotate with Cayley rotations about body x, y, z, y, x for
-# dt/2, dt/2, dt, dt/2, dt/2, the frame by R^T and the body omega by R.
-# ``consistent=True`` rotates the body omega by R^T instead, which is the
-# exact flow of each kinetic term (the space angular momentum is then
-# conserved by every sub-step).
-
-
-def _cayley(axis: int, angle: float) -> np.ndarray:
-    c = (1 - angle * angle / 4) / (1 + angle * angle / 4)
-    s = angle / (1 + angle * angle / 4)
-    r = np.eye(3)
-    i, j = [(1, 2), (2, 0), (0, 1)][axis]
-    r[i, i] = r[j, j] = c
-    r[i, j], r[j, i] = -s, s
-    return r
-
-
-def _lammps_frame(a: np.ndarray) -> np.ndarray:
-    s2 = a[0] ** 2 + a[1] ** 2
-    if s2 == 0.0:
-        return np.eye(3) / a[2]
-    k = (1.0 - a[2]) / s2
-    return np.array(
-        [
-            [1 - k * a[0] ** 2, -k * a[0] * a[1], -a[0]],
-            [-k * a[0] * a[1], 1 - k * a[1] ** 2, -a[1]],
-            [a[0], a[1], 1 - k * s2],
-        ]
-    )
-
-
-def restated_free_step(mu: np.ndarray, omega: np.ndarray, dt: float, consistent: bool):
-    """One free-rotation part of LAMMPS's DLM step for one sphere."""
-    length = np.linalg.norm(mu)
-    frame = _lammps_frame(mu / length)
-    w = frame @ omega
-    for axis, fraction in [(0, 0.5), (1, 0.5), (2, 1.0), (1, 0.5), (0, 0.5)]:
-        r = _cayley(axis, fraction * dt * w[axis])
-        w = (r.T if consistent else r) @ w
-        frame = r.T @ frame
-    return frame[2] * length, frame.T @ w
 
 
 # ---------------------------------------------------------------------------
@@ -166,6 +132,7 @@ def run(ctx: Context) -> list[Check]:
         checks += _t0_checks(name, system, refs, have_quatrot)
         checks += _first_step_checks(name, system, refs, have_quatrot, ctx.quick)
         checks += _run_checks(name, system, refs, have_quatrot, ctx.quick, ctx.out_dir)
+        checks += _sweep_order_checks(name, system, refs, have_quatrot)
     checks += _free_sphere_checks(scenes["free rotor"], refs, have_quatrot)
     checks += _reversibility_checks(scenes, refs, have_quatrot, ctx.quick)
     checks += _minus_z_checks(refs, have_quatrot)
@@ -344,17 +311,89 @@ def _run_checks(name, system, refs, have_quatrot, quick, out_dir) -> list[Check]
     return out
 
 
+def _distance(a_orientations, a_omega, b_orientations, b_omega) -> float:
+    """Largest orientation (dipoles or frames) plus omega difference at any
+    step (axis 0), over all rotors and components."""
+
+    def per_step(x):
+        return np.abs(x).reshape(len(x), -1).max(axis=1)
+
+    return float(np.max(per_step(a_orientations - b_orientations) + per_step(a_omega - b_omega)))
+
+
+def _sweep_order_checks(name, system, refs, have_quatrot) -> list[Check]:
+    """Trajectories to round-off, step by step: LAMMPS against the restatement
+    of its step, quatrot's split DLM against the restatement of its own. The
+    two restatements share the sweep (body axes x, y, z, y, x) and differ
+    only in the switches named in :mod:`validation.dlm_restatement`; the
+    reversed sweep misses both codes by far more than round-off, so each
+    code's sweep order is pinned to the same one."""
+    # t = 2 in both modes: longer, round-off differences grow with the
+    # lattice's chaotic divergence (1e-6 at t = 20).
+    dt, steps = 0.05, 40
+    lmp = run_lammps(system, dt, steps)
+    lammps_own = restated.run(system, dt, steps, restated.LAMMPS_DLM)
+    lammps_reversed = restated.run(system, dt, steps, restated.LAMMPS_DLM.reversed())
+    own = _distance(lmp.dipoles, lmp.omega, lammps_own.dipoles, lammps_own.omega)
+    rev = _distance(lmp.dipoles, lmp.omega, lammps_reversed.dipoles, lammps_reversed.omega)
+    details = f"dt {dt}, {steps} steps; LAMMPS vs restatement of its step: {own:.3e} with the sweep x y z y x, {rev:.3e} with z y x y z"
+    out = [
+        Check(
+            name=f"restated lammps dlm trajectory, {name}",
+            proves="the restatement (Cayley rotations about body x, y, z, y, x, body omega turned by R, frame rebuilt from the dipole, half kicks) is LAMMPS's DLM step: dipoles and omegas agree at every step to round-off",
+            tolerance=TRAJECTORY_ROUNDOFF,
+            measured=own,
+            references=refs,
+            details=details,
+        ),
+        Check(
+            name=f"lammps dlm sweep order x y z y x, {name}",
+            proves="the reversed sweep (z y x y z) misses LAMMPS's trajectory by far more than round-off, so the previous check pins LAMMPS's sweep order; measured is the ratio of the two distances",
+            tolerance=ORDER_RESOLUTION,
+            measured=own / rev,
+            references=refs,
+            details=details,
+        ),
+    ]
+    if have_quatrot:
+        _, w_q, _, _, raw = run_quatrot(system, dt, steps, split=True)
+        frames_q = np.swapaxes(_body_to_space(raw["orientations"]), -1, -2)
+        quatrot_own = restated.run(system, dt, steps, restated.QUATROT_SPLIT)
+        quatrot_reversed = restated.run(system, dt, steps, restated.QUATROT_SPLIT.reversed())
+        q_own = _distance(frames_q, w_q, quatrot_own.frames, quatrot_own.omega)
+        q_rev = _distance(frames_q, w_q, quatrot_reversed.frames, quatrot_reversed.omega)
+        q_details = f"dt {dt}, {steps} steps; quatrot dlm (split) vs restatement with exact angles, omega turned by R^T, frame carried: {q_own:.3e} with the sweep x y z y x, {q_rev:.3e} with z y x y z"
+        out += [
+            Check(
+                name=f"quatrot dlm split = restated sweep, {name}",
+                proves="quatrot's DLM with the split sweep is LAMMPS's restated step with exact rotation angles, the body omega turned by R^T and the frame carried: frames and omegas agree at every step to round-off",
+                tolerance=TRAJECTORY_ROUNDOFF,
+                measured=q_own,
+                references=refs,
+                details=q_details,
+            ),
+            Check(
+                name=f"quatrot dlm sweep order 1 2 3 2 1, {name}",
+                proves="the reversed sweep misses quatrot's trajectory by far more than round-off: quatrot sweeps the body axes in LAMMPS's order (1, 2, 3, 2, 1 of the DLM paper); measured is the ratio of the two distances",
+                tolerance=ORDER_RESOLUTION,
+                measured=q_own / q_rev,
+                references=refs,
+                details=q_details,
+            ),
+        ]
+    return out
+
+
 def _free_sphere_checks(system, refs, have_quatrot) -> list[Check]:
     """The free sphere: the exact motion keeps omega_s constant. LAMMPS's DLM
     does not; the restatement shows why (the body omega is rotated by R, the
     frame by R^T) and that the consistent sense conserves it."""
     dt, steps = 0.1, 40
     lmp = run_lammps(system, dt, steps)
-    mu, w = system.dipoles[0].copy(), system.omega[0].copy()
-    mu_c, w_c = mu.copy(), w.copy()
-    for _ in range(steps):
-        mu, w = restated_free_step(mu, w, dt, consistent=False)
-        mu_c, w_c = restated_free_step(mu_c, w_c, dt, consistent=True)
+    lammps = restated.run(system, dt, steps, restated.LAMMPS_DLM)
+    mu, w = lammps.dipoles[-1, 0], lammps.omega[-1, 0]
+    consistent = restated.run(system, dt, steps, CONSISTENT_SENSE)
+    mu_c, w_c = consistent.dipoles[-1, 0], consistent.omega[-1, 0]
     lammps_change = float(np.abs(lmp.omega[-1, 0] - system.omega[0]).max())
     exact_mu = ref.free_rotation(system.dipoles[0], system.omega[0], dt * steps)
     details = (
@@ -418,12 +457,10 @@ def _quatrot_reversal(system: DipoleSystem, dt: float, steps: int) -> float:
     return float(max(np.abs(mu_b[-1] - system.dipoles).max(), np.abs(-w_b[-1] - system.omega).max()))
 
 
-def _restated_final(consistent):
+def _restated_final(variant: restated.Variant):
     def final(system, dt, steps):
-        mu, w = system.dipoles[0].copy(), system.omega[0].copy()
-        for _ in range(steps):
-            mu, w = restated_free_step(mu, w, dt, consistent)
-        return mu[None, :], w[None, :]
+        t = restated.run(system, dt, steps, variant)
+        return t.dipoles[-1], t.omega[-1]
 
     return final
 
@@ -437,19 +474,19 @@ def _reversibility_checks(scenes, refs, have_quatrot, quick) -> list[Check]:
     dt, steps = 0.01, 100 if quick else 200
     lmp = {name: _reversal(_lammps_final, s, dt, steps) for name, s in scenes.items()}
     free = scenes["free rotor"]
-    restated = _reversal(_restated_final(False), free, dt, steps)
-    consistent = _reversal(_restated_final(True), free, dt, steps)
+    restated_error = _reversal(_restated_final(restated.LAMMPS_DLM), free, dt, steps)
+    consistent = _reversal(_restated_final(CONSISTENT_SENSE), free, dt, steps)
     details = (
         f"dt {dt}, {steps}+{steps} steps; LAMMPS dlm reversal error "
         + ", ".join(f"{k} {v:.3e}" for k, v in lmp.items())
-        + f"; free sphere restated {restated:.3e}, restated with consistent omega sense (frame still rebuilt) {consistent:.3e}"
+        + f"; free sphere restated {restated_error:.3e}, restated with consistent omega sense (frame still rebuilt) {consistent:.3e}"
     )
     out = [
         Check(
             name="restated lammps dlm reproduces lammps reversal error, free sphere",
             proves="the reversal error of LAMMPS's DLM on a free sphere is that of its algorithm as restated (frame rebuilt from the dipole each step), not of round-off",
             tolerance=1e-3,  # relative agreement of two O(1e-8) reversal errors
-            measured=abs(restated - lmp["free rotor"]) / lmp["free rotor"],
+            measured=abs(restated_error - lmp["free rotor"]) / lmp["free rotor"],
             references=refs,
             details=details,
         )
@@ -478,7 +515,7 @@ def _mapping_check(system, refs) -> Check:
         a = mu / np.linalg.norm(mu)
         q, _ = quatrot_rotor(mu, np.zeros(3))
         a_q = _body_to_space(q)
-        worst = max(worst, float(np.abs(a_q.T - _lammps_frame(a)).max()), float(np.abs(a_q[:, 2] - a).max()))
+        worst = max(worst, float(np.abs(a_q.T - restated.lammps_frame(a)).max()), float(np.abs(a_q[:, 2] - a).max()))
     return Check(
         name="lammps dipole to quatrot frame mapping",
         proves="the mapped quatrot orientation is LAMMPS's DLM body frame (dipole along body z), so both codes start each comparison from the same rotor",

@@ -5,7 +5,7 @@ stress cases and scaling. The numbers come from the last `make bench`
 (`benchmarks/results.json`, section of `benchmarks/RESULTS.md`); this module
 does not time anything. It checks that the results file is complete, that its
 target-error table follows from its own runs, that the recorded runs meet
-issue 8's two targets against LAMMPS, and the accuracy-only facts it records:
+the two throughput targets against LAMMPS, and the accuracy-only facts it records:
 the observed global order of the second-order baselines."""
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ SECTIONS = ("studies", "lammps", "stability", "long_runs", "stress", "scaling", 
 # the fitted slope over three halvings of dt is 2 up to higher-order terms.
 ORDER_TOL = 0.3
 SECOND_ORDER = ("NO_SQUISH", "DLM", "Richardson")
-# Issue 8: quatrot at least this many times faster than LAMMPS dipole/dlm.
+# The throughput target: quatrot at least this many times faster than LAMMPS dipole/dlm.
 THROUGHPUT_RATIO = 10.0
 
 
@@ -87,7 +87,7 @@ def run(ctx: Context) -> list[Check]:
             details="\n".join(f"- {b}" for b in bad),
         )
     )
-    checks += _issue_targets(results, versions)
+    checks += _throughput_targets(results, versions)
     free = next((s for s in results["studies"] if s["scene"] == "free_asymmetric_top"), None)
     if free is not None:
         orders = {k: free["orders"].get(k) for k in SECOND_ORDER}
@@ -105,8 +105,8 @@ def run(ctx: Context) -> list[Check]:
     return checks
 
 
-def _issue_targets(results: dict, versions: dict) -> list[Check]:
-    """Issue 8's two targets, as the last `make bench` recorded them (no timing
+def _throughput_targets(results: dict, versions: dict) -> list[Check]:
+    """The two throughput targets against LAMMPS, as the last `make bench` recorded them (no timing
     here): the side-by-side throughput of every quatrot CLI run at least
     THROUGHPUT_RATIO times LAMMPS dipole/dlm's per thread, and each target
     error reached by quatrot in under 1/THROUGHPUT_RATIO of LAMMPS dipole/dlm's

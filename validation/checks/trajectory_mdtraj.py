@@ -5,7 +5,9 @@ standard tool: atom order, residue layout, Angstrom lengths, the direction of
 each marker (columns of R(Q) = A^T, not rows) and the frame count. Precision
 is that of DCD's float32 coordinates; the files cannot carry more.
 (mdtraj's own ``superpose`` is not used: its float32 QCP solver reports
-unconverged rotations on 4-atom sets a few hundredths of a nanometre wide.)"""
+unconverged rotations on 4-atom sets a few hundredths of a nanometre wide.)
+The DCD of a periodic run carries the box (CHARMM unit-cell record): mdtraj
+reads its lengths and 90-degree angles; the open run's DCD has none."""
 
 from __future__ import annotations
 
@@ -24,6 +26,21 @@ ANGSTROM_PER_NM = 10.0
 # ~1e-6 rad on a 0.3 marker; factor 10.
 ANGLE_TOLERANCE = 1e-5
 POSITION_TOLERANCE = 1e-5  # the centres, same float32 rounding
+# The cell is written in double precision and read back as float32 by
+# mdtraj: relative 6e-8 on lengths of a few units, and exact 90 degrees.
+CELL_TOLERANCE = 1e-5
+PERIODIC_CUTOFF = 2.0
+
+
+def unit_cell_error(files, box_lengths) -> float:
+    """Largest deviation of mdtraj's unit cell from the box (lengths, in the
+    scene's units) and from 90 degrees, over all frames of a periodic run."""
+    traj = md.load_dcd(str(files / "trajectory.dcd"), top=str(files / "topology.pdb"))
+    if traj.unitcell_lengths is None:
+        return float("inf")
+    lengths = np.abs(traj.unitcell_lengths * ANGSTROM_PER_NM - box_lengths).max()
+    angles = np.abs(traj.unitcell_angles - 90.0).max()
+    return float(max(lengths, angles))
 
 
 def rotation_angle(q, p) -> np.ndarray:
@@ -97,6 +114,13 @@ def run(ctx: Context) -> list[Check]:
         angles = rotation_angle(_matrix_to_quaternion(rotations), q)
     else:
         angles = np.full((1, 1), np.inf)
+    periodic = variant("multipole_tops_bcc", cells=cells, every=every, marker_length=MARKER_LENGTH, integrator="gear_b")
+    periodic["interactions"]["boundary"] = {"kind": "periodic", "cutoff": PERIODIC_CUTOFF}
+    periodic_files = ctx.out_dir / "mdtraj_periodic_run"
+    scene_runs.run(periodic, steps=every, out_dir=periodic_files)
+    box_lengths = cells * periodic["rotors"]["spacing"]
+    cell_err = unit_cell_error(periodic_files, box_lengths)
+    open_has_no_cell = traj.unitcell_lengths is None
     refs = {"mdtraj": md.__version__, "quatrot": quatrot.__version__}
     where = f"{traj.n_frames} frames (every {every} of {steps} steps, scheme B) of {n} asymmetric tops, marker length {MARKER_LENGTH}"
     checks = [
@@ -117,6 +141,16 @@ def run(ctx: Context) -> list[Check]:
             f"{where}; largest angle between rotations (rad), median {np.median(angles):.3g}.",
         ),
     ]
+    checks.append(
+        Check(
+            "DCD unit cell of a periodic run",
+            "mdtraj reads the CHARMM unit-cell record of a periodic run as the scene's box (lengths and 90-degree angles) in every frame, and finds none in the open run's DCD.",
+            CELL_TOLERANCE,
+            cell_err if open_has_no_cell else float("inf"),
+            refs,
+            f"{n} tops, box {box_lengths} (cubic), cutoff {PERIODIC_CUTOFF}; largest |length - L| or |angle - 90| (length units, degrees); open run without a cell: {open_has_no_cell}.",
+        )
+    )
     if not ctx.quick:
         checks[1].plots.append(_plot(frames["time"], angles, ctx.out_dir))
     return checks

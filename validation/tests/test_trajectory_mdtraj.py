@@ -66,6 +66,22 @@ def test_dcd_and_pdb_load_and_give_back_the_orientations(tmp_path: Path):
     assert worst_angle < ANGLE_TOLERANCE, worst_angle
 
 
+def test_periodic_dcd_carries_the_unit_cell(tmp_path: Path):
+    """A periodic run's DCD has CHARMM's unit-cell record: mdtraj reads the
+    box (lattice of 2 cells of 1.5, Angstrom to nm) and 90-degree angles in
+    every frame; the open run of the other tests has no unit cell."""
+    scene = dict(SCENE, interactions={"boundary": {"kind": "periodic", "cutoff": 1.4}})
+    quatrot.run(scene, out_dir=tmp_path)
+    traj = md.load_dcd(str(tmp_path / "trajectory.dcd"), top=str(tmp_path / "topology.pdb"))
+    assert traj.unitcell_lengths is not None
+    np.testing.assert_allclose(traj.unitcell_lengths * ANGSTROM_PER_NM, 3.0, atol=POSITION_TOLERANCE)
+    np.testing.assert_allclose(traj.unitcell_angles, 90.0, atol=POSITION_TOLERANCE)
+    assert traj.n_frames == 7
+    open_run = tmp_path / "open"
+    quatrot.run(SCENE, out_dir=open_run)
+    assert md.load_dcd(str(open_run / "trajectory.dcd"), top=str(open_run / "topology.pdb")).unitcell_lengths is None
+
+
 def test_first_frame_is_the_initial_state(tmp_path: Path):
     """Frame 0 is step 0: the markers give the scene's initial orientations."""
     result = quatrot.run(SCENE, out_dir=tmp_path)

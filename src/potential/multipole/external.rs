@@ -1,6 +1,7 @@
 //! Uniform external fields acting on every rotor.
 
 use super::PotentialError;
+use crate::checks::{each, finite, finite_matrix, symmetric};
 use nalgebra::{Matrix3, Vector3};
 
 /// Uniform external fields, each optional; an absent field costs nothing.
@@ -19,9 +20,6 @@ pub struct ExternalFields {
     pub field_gradient: Option<Matrix3<f64>>,
 }
 
-/// Relative asymmetry tolerated in user matrices (round-off of their construction).
-pub(crate) const SYMMETRY_TOLERANCE: f64 = 1e-10;
-
 impl ExternalFields {
     /// No external field at all.
     pub const NONE: ExternalFields = ExternalFields {
@@ -29,26 +27,17 @@ impl ExternalFields {
         field_gradient: None,
     };
 
-    pub(crate) fn validate(&self) -> Result<(), PotentialError> {
-        if let Some(e0) = self.field {
-            if !e0.iter().all(|x| x.is_finite()) {
-                return Err(PotentialError::new(
-                    "field",
-                    format!("must be finite, got [{}, {}, {}]", e0.x, e0.y, e0.z),
-                ));
-            }
+    /// Checks the fields: every component finite (paths `field[k]`,
+    /// `field_gradient[i][j]`), the gradient symmetric within
+    /// [`crate::checks::TENSOR_TOLERANCE`] (path `field_gradient`).
+    pub fn validate(&self) -> Result<(), PotentialError> {
+        if let Some(e0) = &self.field {
+            each(e0.as_slice(), finite).map_err(|e| e.at("field"))?;
         }
-        if let Some(g0) = self.field_gradient {
-            if !g0.iter().all(|x| x.is_finite()) {
-                return Err(PotentialError::new("field_gradient", "must be finite"));
-            }
-            let asymmetry = (g0 - g0.transpose()).abs().max();
-            if asymmetry > SYMMETRY_TOLERANCE * g0.abs().max() {
-                return Err(PotentialError::new(
-                    "field_gradient",
-                    format!("must be symmetric (a static field is curl-free), got |G - G^T|max = {asymmetry:e}"),
-                ));
-            }
+        if let Some(g0) = &self.field_gradient {
+            finite_matrix(g0)
+                .and_then(|()| symmetric(g0))
+                .map_err(|e| e.at("field_gradient"))?;
         }
         Ok(())
     }

@@ -3,6 +3,7 @@
 //! naming the rotor and the value.
 
 use super::{IntegratorError, RotorState};
+use crate::checks::{each, finite, orientation};
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
 
@@ -27,8 +28,8 @@ pub struct ValidSetup {
 
 /// Checks `dt` (finite, > 0), one inertia per initial state, the moments of
 /// inertia (finite, >= 0, not all zero, and all > 0 when `required` says so)
-/// and the initial states (orientation finite and non-zero, angular velocity
-/// finite); returns the principal moments and the states with normalised
+/// and the initial states ([`orientation`], angular velocity finite);
+/// returns the principal moments and the states with normalised
 /// orientations. Errors name the first offending rotor; the check that
 /// moments are positive comes after all the others.
 pub fn validate_setup(
@@ -60,15 +61,16 @@ pub fn validate_setup(
                 reason: format!("moments of inertia must be finite, >= 0 and not all 0, got {m:?}"),
             });
         }
-        let orientation = (state.omega_body.iter().all(|x| x.is_finite()))
-            .then(|| state.orientation.try_normalize())
-            .flatten();
-        let Some(orientation) = orientation else {
-            return Err(IntegratorError::Unsupported {
+        let orientation = orientation(&state.orientation)
+            .map_err(|e| e.at("orientation"))
+            .and_then(|q| {
+                each(state.omega_body.as_slice(), finite).map_err(|e| e.at("omega_body"))?;
+                Ok(q)
+            })
+            .map_err(|e| IntegratorError::Unsupported {
                 rotor,
-                reason: "orientation must be finite and non-zero, angular velocity finite".into(),
-            });
-        };
+                reason: e.to_string(),
+            })?;
         moments.push(m);
         unit_initial.push(RotorState {
             orientation,

@@ -1,0 +1,30 @@
+//! Post-processing of recorded runs: what rotor-lattice users measure from
+//! a trajectory or a series.
+//!
+//! * [`time_correlation`]: the orientational `C1(t)`, `C2(t)` of body axes
+//!   and vector autocorrelations (angular velocity), by FFT over all time
+//!   origins and rotors.
+//! * [`block_average`](mod@block_average): the mean of a correlated series and its error
+//!   (Flyvbjerg-Petersen blocking, Jonsson's automatic level).
+//! * [`dielectric`]: the static dielectric constant from the fluctuation of
+//!   the total dipole, with the formula of the boundary.
+//! * [`frames`]: the frame-major trajectory view the functions read.
+//!
+//! The order parameters and the total dipole of one configuration are
+//! observables: [`crate::observables::order`],
+//! [`crate::observables::polarization`].
+
+mod autocorrelation;
+pub mod block_average;
+pub mod dielectric;
+mod error;
+pub mod frames;
+pub mod time_correlation;
+
+pub use block_average::{block_average, BlockAverage, BlockLevel};
+pub use dielectric::{dielectric_constant, DielectricBoundary, DielectricConstant};
+pub use error::AnalysisError;
+pub use frames::Frames;
+pub use time_correlation::{
+    orientational_correlations, vector_autocorrelation, OrientationalCorrelation,
+};

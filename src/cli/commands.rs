@@ -1,0 +1,145 @@
+//! The commands: `run` (with a progress bar on a terminal), `scenes`,
+//! `check` and `sweep` (a launcher of the Python sweep), each turning every user error into a message and an exit code.
+
+use super::args::{Cli, Command};
+use super::progress::ProgressBarObserver;
+use super::sweep;
+use crate::run::{execute, potential, Outputs, Progress, RunResult};
+use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
+use crate::simulation::Stop;
+use clap::Parser;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+/// Exit code of a scene or run error (and of a sweep that cannot start).
+const EXIT_ERROR: i32 = 2;
+/// Exit code of a run that blew up (its outputs are written and valid).
+const EXIT_BLOW_UP: i32 = 3;
+/// Runs shorter than this many steps get no progress bar.
+const PROGRESS_MIN_STEPS: u64 = 1000;
+/// Progress bar updates per run.
+const PROGRESS_UPDATES: u64 = 200;
+
+/// Runs the command line and returns the process exit code.
+pub fn main() -> i32 {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Scenes => {
+            list_scenes();
+            0
+        }
+        Command::Check { scene } => match load(&scene, &Overrides::default()) {
+            Ok((_, scene)) => match potential(&scene) {
+                Ok(_) => {
+                    println!("ok: {}", describe(&scene));
+                    0
+                }
+                Err(e) => fail(&e),
+            },
+            Err(e) => fail(&e),
+        },
+        Command::Run {
+            scene,
+            out,
+            dt,
+            steps,
+            integrator,
+            restart,
+        } => {
+            let overrides = Overrides {
+                dt,
+                steps,
+                integrator,
+            };
+            run(&scene, &overrides, out, restart)
+        }
+        Command::Sweep { args } => match sweep::launch(&args) {
+            Ok(code) => code,
+            Err(e) => fail(&e),
+        },
+    }
+}
+
+fn fail(e: &dyn std::fmt::Display) -> i32 {
+    eprintln!("error: {e}");
+    EXIT_ERROR
+}
+
+fn list_scenes() {
+    let width = BUILTINS.iter().map(|b| b.name.len()).max().unwrap_or(0);
+    for b in BUILTINS {
+        let description = parse_toml(b.toml)
+            .ok()
+            .and_then(|raw| raw.description)
+            .unwrap_or_default();
+        println!("{:width$}  {description}", b.name);
+    }
+}
+
+fn describe(scene: &Scene) -> String {
+    let seed = scene.seed.map_or(String::new(), |s| format!(", seed {s}"));
+    format!(
+        "{}: {} rotors, {}, dt {}, {} steps{seed}",
+        scene.name,
+        scene.rotors.len(),
+        scene.integrator.name(),
+        scene.dt,
+        scene.steps
+    )
+}
+
+fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<PathBuf>) -> i32 {
+    let (raw, scene) = match load(name, overrides) {
+        Ok(loaded) => loaded,
+        Err(e) => return fail(&e),
+    };
+    let definition = raw.definition();
+    let dir = out.unwrap_or_else(|| PathBuf::from("quatrot_out").join(&scene.name));
+    let outputs = Outputs {
+        dir: Some(dir.clone()),
+        keep: false,
+    };
+    let show_progress = std::io::stderr().is_terminal() && scene.steps >= PROGRESS_MIN_STEPS;
+    let mut bar = show_progress.then(|| ProgressBarObserver::new(scene.steps));
+    let progress = bar.as_mut().map(|b| Progress {
+        every: (scene.steps / PROGRESS_UPDATES).max(1),
+        observer: b,
+    });
+    match execute(&scene, definition, &outputs, restart.as_deref(), progress) {
+        Ok(result) => {
+            println!("{}", one_line(&scene, &result, &dir));
+            match result.stop {
+                Stop::Completed => 0,
+                Stop::BlewUp { .. } => EXIT_BLOW_UP,
+            }
+        }
+        Err(e) => fail(&e),
+    }
+}
+
+/// The one-line summary printed at the end of a run.
+fn one_line(scene: &Scene, result: &RunResult, dir: &std::path::Path) -> String {
+    let s = &result.summary;
+    let steps = s.last_step - s.start_step;
+    let rate = steps as f64 / s.wall_seconds.max(f64::MIN_POSITIVE);
+    let energy = match (&s.final_energies, &s.drift) {
+        (Some(e), Some(d)) => format!(
+            ", energy error {:.3e}, drift {:.3e} per unit time",
+            e.error, d.relative_per_time
+        ),
+        (Some(e), None) => format!(", energy error {:.3e}", e.error),
+        _ => String::new(),
+    };
+    let status = result
+        .stop
+        .message()
+        .map_or(String::new(), |m| format!(" STOPPED: {m}."));
+    format!(
+        "{}: {steps} steps of {} ({} rotors) in {:.3} s ({rate:.0} steps/s){energy}.{status} Outputs in {}",
+        scene.name,
+        s.integrator,
+        s.rotors,
+        s.wall_seconds,
+        dir.display()
+    )
+}

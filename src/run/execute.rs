@@ -1,0 +1,50 @@
+//! Running a validated scene from its physics objects: its potential and the
+//! integrator its [`crate::integrators::IntegratorSpec`] builds.
+
+use super::error::RunError;
+use super::scene_run::{run_scene, Outputs, Progress, RunResult};
+use crate::parallel::on_worker;
+use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
+use crate::scene::Scene;
+use std::path::Path;
+
+/// The potential of a scene: `None` for rotors without interactions or
+/// fields (they run with [`Free`]), otherwise the [`MultipolePotential`]
+/// (which checks what scene validation cannot cheaply, such as coincident sites).
+pub fn potential(scene: &Scene) -> Result<Option<MultipolePotential>, RunError> {
+    if scene.interactions.is_none() && scene.fields == ExternalFields::NONE {
+        return Ok(None);
+    }
+    let boundary = scene.interactions.unwrap_or(Boundary::Open);
+    MultipolePotential::new(&scene.rotors, boundary, scene.fields)
+        .map(Some)
+        .map_err(|e| RunError::Potential(e.to_string()))
+}
+
+/// Runs a validated scene (`definition` is its raw form, for the summary)
+/// on a worker of the rayon pool.
+pub fn execute(
+    scene: &Scene,
+    definition: serde_json::Value,
+    outputs: &Outputs,
+    restart: Option<&Path>,
+    progress: Option<Progress<'_>>,
+) -> Result<RunResult, RunError> {
+    on_worker(|| {
+        let built = potential(scene)?;
+        let potential: &dyn Potential = match &built {
+            Some(p) => p,
+            None => &Free,
+        };
+        let mut integrator = scene.integrator.build();
+        run_scene(
+            scene,
+            definition,
+            integrator.as_mut(),
+            potential,
+            outputs,
+            restart,
+            progress,
+        )
+    })
+}

@@ -1,0 +1,257 @@
+//! The `[record]` section: what a run records (tables of scalar observables,
+//! a trajectory, checkpoints) and its blow-up guard. Nothing by default.
+
+use super::error::SceneError;
+use crate::checks::{at_least_one, positive};
+use crate::integrators::IntegratorSpec;
+use crate::simulation::Quantity;
+use serde::{Deserialize, Serialize};
+
+/// Default interval of the blow-up checks, in steps.
+pub const DEFAULT_CHECK_EVERY: u64 = 100;
+/// Default distance of the trajectory's body-axis markers from the centre.
+pub const DEFAULT_MARKER_LENGTH: f64 = 0.3;
+
+/// What to record; nothing by default.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRecord {
+    /// Tables of scalar observables.
+    #[serde(default)]
+    pub series: Vec<RawSeries>,
+    /// Trajectory frames.
+    pub trajectory: Option<RawTrajectory>,
+    /// Checkpoint interval in steps.
+    pub checkpoint_every: Option<i64>,
+    /// Stop when `|energy_error|` exceeds this.
+    pub energy_error_threshold: Option<f64>,
+    /// Interval of the blow-up checks in steps.
+    pub check_every: Option<i64>,
+}
+
+/// A table of scalar observables sampled every `every` steps.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSeries {
+    /// File stem and key of the table.
+    pub name: Option<String>,
+    /// Sampling interval in steps.
+    pub every: i64,
+    /// The quantities' names.
+    pub quantities: Vec<String>,
+}
+
+/// Frames of rotor centres and body-axis markers.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTrajectory {
+    /// Frame interval in steps.
+    pub every: i64,
+    /// Distance of the markers from the centre.
+    pub marker_length: Option<f64>,
+}
+
+/// Everything the scene asks to record.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Record {
+    /// Tables of scalar observables (CSV).
+    pub series: Vec<Series>,
+    /// Trajectory frames (DCD + PDB).
+    pub trajectory: Option<TrajectorySpec>,
+    /// Checkpoint interval in steps, if any.
+    pub checkpoint_every: Option<u64>,
+    /// Stop when `|energy_error|` exceeds this (needs energies at check steps).
+    pub energy_error_threshold: Option<f64>,
+    /// Interval of the blow-up checks in steps (default 100).
+    pub check_every: u64,
+}
+
+/// A table of scalar observables sampled every `every` steps (CSV).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    /// File stem and key of the table (`[A-Za-z0-9_-]+`, unique).
+    pub name: String,
+    /// Sampling interval in steps (>= 1); step 0 is always sampled.
+    pub every: u64,
+    /// The columns after `step` and `time`.
+    pub quantities: Vec<Quantity>,
+}
+
+/// Trajectory frames: rotor centres and markers along the body axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrajectorySpec {
+    /// Frame interval in steps (>= 1).
+    pub every: u64,
+    /// Distance of the body-axis markers from the centre (length units, > 0).
+    pub marker_length: f64,
+}
+
+fn quantity(path: &str, name: &str) -> Result<Quantity, SceneError> {
+    Quantity::ALL
+        .into_iter()
+        .find(|q| q.name() == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = Quantity::ALL.iter().map(|q| q.name()).collect();
+            SceneError::field(
+                path,
+                format!(
+                    "unknown quantity `{name}`, expected one of {}",
+                    names.join(", ")
+                ),
+            )
+        })
+}
+
+/// One series: its name (default `observables`, `observables1`, ...),
+/// interval and quantities.
+fn series(
+    s: usize,
+    raw: &RawSeries,
+    others: &[Series],
+    integrator: &IntegratorSpec,
+) -> Result<Series, SceneError> {
+    let path = format!("record.series[{s}]");
+    let name = raw.name.clone().unwrap_or_else(|| match s {
+        0 => "observables".to_string(),
+        _ => format!("observables{s}"),
+    });
+    let name_ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if !name_ok {
+        return Err(SceneError::field(
+            format!("{path}.name"),
+            format!("must be letters, digits, _ or -, got \"{name}\""),
+        ));
+    }
+    if others.iter().any(|o| o.name == name) {
+        return Err(SceneError::field(
+            format!("{path}.name"),
+            format!("\"{name}\" is used by another series"),
+        ));
+    }
+    let every = at_least_one(raw.every).map_err(|e| e.at(&format!("{path}.every")))?;
+    if raw.quantities.is_empty() {
+        return Err(SceneError::field(
+            format!("{path}.quantities"),
+            "must name at least one quantity",
+        ));
+    }
+    let mut quantities = Vec::with_capacity(raw.quantities.len());
+    for (k, qn) in raw.quantities.iter().enumerate() {
+        let qpath = format!("{path}.quantities[{k}]");
+        let q = quantity(&qpath, qn)?;
+        if quantities.contains(&q) {
+            return Err(SceneError::field(qpath, format!("`{qn}` is listed twice")));
+        }
+        if q == Quantity::NormForce && !integrator.stores_quaternion_force() {
+            return Err(SceneError::field(
+                qpath,
+                format!(
+                    "q_dot_n needs an integrator that stores the quaternion force (gear_b), got {}",
+                    integrator.name()
+                ),
+            ));
+        }
+        quantities.push(q);
+    }
+    Ok(Series {
+        name,
+        every,
+        quantities,
+    })
+}
+
+/// Validates the section for a run with `integrator`.
+pub(super) fn record(raw: &RawRecord, integrator: &IntegratorSpec) -> Result<Record, SceneError> {
+    let mut all: Vec<Series> = Vec::with_capacity(raw.series.len());
+    for (s, rs) in raw.series.iter().enumerate() {
+        let one = series(s, rs, &all, integrator)?;
+        all.push(one);
+    }
+    let trajectory = raw
+        .trajectory
+        .as_ref()
+        .map(|t| {
+            Ok::<_, SceneError>(TrajectorySpec {
+                every: at_least_one(t.every).map_err(|e| e.at("record.trajectory.every"))?,
+                marker_length: positive(t.marker_length.unwrap_or(DEFAULT_MARKER_LENGTH))
+                    .map_err(|e| e.at("record.trajectory.marker_length"))?,
+            })
+        })
+        .transpose()?;
+    let checkpoint_every = raw
+        .checkpoint_every
+        .map(|c| at_least_one(c).map_err(|e| e.at("record.checkpoint_every")))
+        .transpose()?;
+    let energy_error_threshold = raw
+        .energy_error_threshold
+        .map(|t| positive(t).map_err(|e| e.at("record.energy_error_threshold")))
+        .transpose()?;
+    let check_every = raw
+        .check_every
+        .map(|c| at_least_one(c).map_err(|e| e.at("record.check_every")))
+        .transpose()?
+        .unwrap_or(DEFAULT_CHECK_EVERY);
+    Ok(Record {
+        series: all,
+        trajectory,
+        checkpoint_every,
+        energy_error_threshold,
+        check_every,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrators::{DlmOptions, GearBOptions};
+
+    fn check(table: &str, integrator: IntegratorSpec) -> Result<Record, String> {
+        let raw: RawRecord = toml::from_str(table).expect("valid table");
+        record(&raw, &integrator).map_err(|e| e.to_string())
+    }
+
+    /// Defaults: names `observables`, `observables1`; checks every 100 steps;
+    /// markers at 0.3.
+    #[test]
+    fn defaults_fill_what_is_left_out() {
+        let r = check(
+            "[[series]]\nevery = 2\nquantities = ['q_dot_q']\n[[series]]\nevery = 3\nquantities = ['q_dot_n']\n[trajectory]\nevery = 5",
+            IntegratorSpec::GearB(GearBOptions::default()),
+        )
+        .expect("valid");
+        assert_eq!(r.series[0].name, "observables");
+        assert_eq!(r.series[1].name, "observables1");
+        assert_eq!(r.series[1].quantities, vec![Quantity::NormForce]);
+        assert_eq!(r.check_every, DEFAULT_CHECK_EVERY);
+        assert_eq!(
+            r.trajectory,
+            Some(TrajectorySpec {
+                every: 5,
+                marker_length: DEFAULT_MARKER_LENGTH
+            })
+        );
+    }
+
+    /// `q_dot_n` needs an integrator that stores the quaternion force; a
+    /// quantity may be listed once.
+    #[test]
+    fn quantities_are_checked_against_the_integrator() {
+        let dlm = IntegratorSpec::Dlm(DlmOptions::default());
+        assert_eq!(
+            check("[[series]]\nevery = 1\nquantities = ['q_dot_n']", dlm).err().as_deref(),
+            Some("record.series[0].quantities[0]: q_dot_n needs an integrator that stores the quaternion force (gear_b), got dlm")
+        );
+        assert_eq!(
+            check(
+                "[[series]]\nevery = 1\nquantities = ['norm_error', 'norm_error']",
+                dlm
+            )
+            .err()
+            .as_deref(),
+            Some("record.series[0].quantities[1]: `norm_error` is listed twice")
+        );
+    }
+}

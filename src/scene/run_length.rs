@@ -1,0 +1,87 @@
+//! The `[run]` section: the time step and the length of the run, in steps or
+//! as a time rounded to whole steps.
+
+use super::error::SceneError;
+use crate::checks::{at_least_one, num, positive};
+use serde::{Deserialize, Serialize};
+
+/// Time step and length of the run.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRun {
+    /// The time step (> 0).
+    pub dt: f64,
+    /// The number of steps (>= 1), or
+    pub steps: Option<i64>,
+    /// the run time (at least one step).
+    pub time: Option<f64>,
+}
+
+/// Validates the section: the time step and the number of steps.
+pub(super) fn run_length(raw: &RawRun) -> Result<(f64, u64), SceneError> {
+    let dt = positive(raw.dt).map_err(|e| e.at("run.dt"))?;
+    let steps = match (raw.steps, raw.time) {
+        (Some(_), Some(_)) => {
+            return Err(SceneError::field(
+                "run",
+                "give either steps or time, not both",
+            ))
+        }
+        (None, None) => return Err(SceneError::field("run", "give steps or time")),
+        (Some(steps), None) => at_least_one(steps).map_err(|e| e.at("run.steps"))?,
+        (None, Some(time)) => {
+            let time = positive(time).map_err(|e| e.at("run.time"))?;
+            let steps = (time / dt).round();
+            if steps < 1.0 {
+                return Err(SceneError::field(
+                    "run.time",
+                    format!(
+                        "must be at least one step (dt = {}), got {}",
+                        num(dt),
+                        num(time)
+                    ),
+                ));
+            }
+            if steps > u64::MAX as f64 {
+                return Err(SceneError::field(
+                    "run.time",
+                    format!(
+                        "gives too many steps of dt = {}, got {}",
+                        num(dt),
+                        num(time)
+                    ),
+                ));
+            }
+            steps as u64
+        }
+    };
+    Ok((dt, steps))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(dt: f64, steps: Option<i64>, time: Option<f64>) -> Result<(f64, u64), String> {
+        run_length(&RawRun { dt, steps, time }).map_err(|e| e.to_string())
+    }
+
+    /// A run time is rounded to whole steps; steps and time exclude each other.
+    #[test]
+    fn time_is_rounded_to_whole_steps() {
+        assert_eq!(check(0.1, None, Some(1.04)), Ok((0.1, 10)));
+        assert_eq!(check(0.1, Some(7), None), Ok((0.1, 7)));
+        assert_eq!(
+            check(0.1, Some(7), Some(1.0)),
+            Err("run: give either steps or time, not both".to_string())
+        );
+        assert_eq!(
+            check(0.1, None, Some(0.04)),
+            Err("run.time: must be at least one step (dt = 0.1), got 0.04".to_string())
+        );
+        assert_eq!(
+            check(0.0, Some(1), None),
+            Err("run.dt: must be > 0, got 0".to_string())
+        );
+    }
+}
