@@ -12,7 +12,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 /// Exit code of a scene or run error (and of a sweep that cannot start).
-const EXIT_ERROR: i32 = 2;
+pub(super) const EXIT_ERROR: i32 = 2;
 /// Exit code of a run that blew up (its outputs are written and valid).
 const EXIT_BLOW_UP: i32 = 3;
 /// Runs shorter than this many steps get no progress bar.

@@ -51,20 +51,21 @@ pub fn launch(args: &[String]) -> Result<i32, LaunchError> {
             message,
         });
     }
-    let mut command = Command::new(&python);
-    command.args(["-m", MODULE]).args(args);
-    become_or_wait(command).map_err(start_error)
+    become_or_wait(Command::new(&python).args(["-m", MODULE]).args(args)).map_err(start_error)
 }
 
 /// Replaces this process by `command` (returns only its error).
 #[cfg(unix)]
-fn become_or_wait(mut command: Command) -> std::io::Result<i32> {
+fn become_or_wait(command: &mut Command) -> std::io::Result<i32> {
     use std::os::unix::process::CommandExt;
     Err(command.exec())
 }
 
 /// Runs `command` to its end and returns its exit code.
 #[cfg(not(unix))]
-fn become_or_wait(mut command: Command) -> std::io::Result<i32> {
-    Ok(command.status()?.code().unwrap_or(super::EXIT_ERROR))
+fn become_or_wait(command: &mut Command) -> std::io::Result<i32> {
+    Ok(command
+        .status()?
+        .code()
+        .unwrap_or(super::commands::EXIT_ERROR))
 }
