@@ -1,0 +1,242 @@
+"""The note's correction experiment at production lengths (issue 15): every
+configuration of `experiments::gear_corrections` (scheme A, scheme B with
+each of its corrections) on the experiment's single rotor in a field, its
+4 x 4 x 4 multipole lattice and the built-in 1000-dipole lattice, run to
+`STEPS` steps or until it fails, at every time step of a geometric grid, as
+one `quatrot.sweep` per system on a local Dask cluster of two workers. A run
+fails when its state is non-finite or its energy error leaves
+`STABILITY_ENERGY_FRACTION` of the initial kinetic energy (the experiment's
+own criterion), checked every `CHECK_EVERY` steps; its failure step is
+recorded. Since a run that lasts `STEPS` steps contains every shorter run,
+the same runs give the largest stable step at 1e3, 1e4 and 1e5 steps, and
+the note's claims and open question are judged at each of those lengths.
+The short-run table (`gear_corrections`) is the reference these verdicts
+extend."""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import quatrot
+
+from validation.checks.base import Check, Context
+from validation.longrun import grid, survival, systems
+
+#: Run length of every run (steps); the verdicts are stated at `survival.LENGTHS`.
+STEPS = 100_000
+#: The experiment's stability criterion (`experiments::gear_corrections::STABILITY_ENERGY_FRACTION`).
+STABILITY_ENERGY_FRACTION = 0.1
+#: Blow-up checks every this many steps (the failure step is known to this resolution).
+CHECK_EVERY = 10
+#: Energy samples per run.
+SAMPLES = 10_000
+#: "Competitive": an energy drift within this factor of scheme A's (as `gear_corrections`).
+COMPETITIVE_FACTOR = 10.0
+#: |Q.Q'| at rounding level (|Q|, |Q'| ~ 1), as `gear_corrections`.
+ROUNDING = 1e-12
+
+LABEL_A = "A (renormalised)"
+LABEL_NONE = "B, no correction"
+LABEL_RENORM = "B, renormalisation only"
+LABEL_TORQUE = "B, torque only"
+LABEL_FULL = "B, torque + velocity + renormalisation"
+LABEL_HIGHER = "B, all + higher derivatives"
+
+
+@dataclass
+class System:
+    """One system of the experiment with its step grid."""
+
+    name: str
+    scene: dict
+    #: The experiment's step for the system; the grid is `dt * 2^(k/per_octave)`, k = 0..`count`-1.
+    dt: float
+    per_octave: int
+    count: int
+
+    def dts(self) -> list[float]:
+        return [self.dt * 2 ** (k / self.per_octave) for k in range(self.count)]
+
+
+def systems_for(ctx: Context) -> list[System]:
+    if ctx.quick:
+        return [System("rotor in field", systems.rotor_in_field(), 0.05, 2, 4)]
+    return [
+        System("rotor in field", systems.rotor_in_field(), 0.05, 4, 17),
+        System("4x4x4 multipole lattice", systems.multipole_lattice(ctx.seed), 0.01, 4, 13),
+        System("1000-dipole lattice", systems.dipole_lattice(), 0.005, 2, 7),
+    ]
+
+
+@contextlib.contextmanager
+def local_client():
+    """A local Dask cluster of two single-threaded worker processes."""
+    import distributed
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            yield client
+
+
+def fmt(x, spec=".3g") -> str:
+    return "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, spec)
+
+
+def lengths(steps: int) -> list[int]:
+    return [n for n in survival.LENGTHS if n <= steps] or [steps]
+
+
+def table(s: System, points: list[grid.Point], steps: int) -> str:
+    """Markdown: per configuration, the run at the experiment's step (how
+    long it lasted, drift and constraint error per length) and the largest
+    stable step per length."""
+    ls = lengths(steps)
+    base = {p.label: p for p in points if p.dt == s.dt}
+    head = (
+        ["configuration", f"run at dt = {s.dt:g}: steps lasted (of {steps})"]
+        + [f"drift / K0 per unit time, {n:.0e} steps" for n in ls]
+        + [f"max abs Q.Q', {n:.0e} steps" for n in ls]
+        + [f"largest stable dt, {n:.0e} steps" for n in ls]
+    )
+    lines = [f"### {s.name} ({len(points)} runs of {steps} steps or to failure; dt grid {fmt(s.dts()[0])} .. {fmt(s.dts()[-1])})", ""]
+    lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for label in systems.CONFIGURATIONS:
+        p = base[label]
+        lasted = f"{p.survived} (t = {p.survived * p.dt:.4g})" + ("" if p.status == "completed" else f": {p.error}")
+        windows = [survival.window(p, n) for n in ls]
+        stab = [survival.stability(points, label, n) for n in ls]
+        cells = (
+            [label, lasted]
+            + [fmt(w.drift if w else None) for w in windows]
+            + [fmt(w.max_q_dot_q if w else None) for w in windows]
+            + [("none" if st.largest is None else (">= " if st.capped else "") + fmt(st.largest)) for st in stab]
+        )
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def verdicts(s: System, points: list[grid.Point], steps: int) -> tuple[list[Check], list[str]]:
+    """The note's claims at each run length, as checks (measured at the
+    longest length) and verdict lines."""
+    base = {p.label: p for p in points if p.dt == s.dt}
+    refs = {"quatrot (scene runs through quatrot.sweep on Dask)": quatrot.__version__}
+    ls = lengths(steps)
+    lines = []
+    ratio1, ratio2, ratio3 = {}, {}, {}
+    for n in ls:
+        w = {label: survival.window(base[label], n) for label in systems.CONFIGURATIONS}
+        st = {label: survival.stability(points, label, n) for label in systems.CONFIGURATIONS}
+        a, full, torque, higher = w[LABEL_A], w[LABEL_FULL], w[LABEL_TORQUE], w[LABEL_HIGHER]
+        ratio1[n] = abs(full.drift) / abs(a.drift) if a and full else math.inf
+        uncorrected = ", ".join(
+            f"{label}: {'none stable' if st[label].largest is None else f'stable to dt {fmt(st[label].largest)}'}"
+            f" (at dt {fmt(s.dt)} lasted {base[label].survived} steps)"
+            for label in (LABEL_NONE, LABEL_RENORM)
+        )
+        lines.append(
+            f"- {n:.0e} steps, claim 1 (B competitive only with the corrections): {uncorrected}; fully corrected B drifts "
+            f"{fmt(ratio1[n])}x scheme A's ({fmt(full.drift if full else None)} vs {fmt(a.drift if a else None)} per unit time): "
+            + ("holds" if ratio1[n] <= COMPETITIVE_FACTOR and all(base[x].survived < n or st[x].largest is None for x in (LABEL_NONE, LABEL_RENORM)) else "see the numbers")
+        )
+        ratio2[n] = abs(torque.drift) / abs(full.drift) if torque and full else math.inf
+        lines.append(
+            f"- {n:.0e} steps, claim 2 (torque projection alone insufficient): torque-only "
+            + (
+                f"drifts {fmt(ratio2[n])}x the fully corrected B, |Q.Q'| up to {fmt(torque.max_q_dot_q)} (fully corrected {fmt(full.max_q_dot_q)}), "
+                f"largest stable dt {fmt(st[LABEL_TORQUE].largest)} vs {fmt(st[LABEL_FULL].largest)}: "
+                + ("holds for the energy" if ratio2[n] > COMPETITIVE_FACTOR else "does not hold for the energy; holds for Q.Q'")
+                if torque
+                else f"failed at step {base[LABEL_TORQUE].survived} ({base[LABEL_TORQUE].error}): holds"
+            )
+        )
+        ratio3[n] = abs(full.drift) / abs(higher.drift) if full and higher else math.nan
+        lines.append(
+            f"- {n:.0e} steps, open question (correct the higher derivatives too): drift {fmt(ratio3[n])}x smaller than B's with the note's corrections, "
+            f"largest stable dt {fmt(st[LABEL_HIGHER].largest)} vs {fmt(st[LABEL_FULL].largest)}"
+        )
+    longest = ls[-1]
+    full_long = survival.window(base[LABEL_FULL], longest)
+    unfinished = [p for p in points if p.status not in ("completed", "blew_up")]
+    checks = [
+        Check(
+            name=f"long runs {s.name}: every run finished or failed with its step recorded",
+            proves=f"each of the {len(points)} runs (8 configurations x {len(s.dts())} steps) ran to {steps} steps or stopped at a recorded failure step",
+            tolerance=0,
+            measured=len(unfinished),
+            references=refs,
+            details="; ".join(f"{p.label} dt {p.dt:g}: {p.status} {p.error}" for p in unfinished),
+        ),
+        Check(
+            name=f"long runs {s.name}: claim 1 at {longest:.0e} steps (B competitive with corrections)",
+            proves=f"over {longest} steps at dt = {s.dt:g}, B with torque and velocity projections and renormalisation drifts within "
+            f"{COMPETITIVE_FACTOR}x of scheme A; the details state the verdicts of all claims at each length",
+            tolerance=COMPETITIVE_FACTOR,
+            measured=ratio1[longest],
+            references=refs,
+            details="\n".join(lines),
+        ),
+        Check(
+            name=f"long runs {s.name}: velocity projection keeps Q.Q' at rounding over {longest:.0e} steps",
+            proves="the fully corrected B keeps |Q.Q'| at rounding level over the whole long run",
+            tolerance=ROUNDING,
+            measured=full_long.max_q_dot_q if full_long else math.inf,
+            references=refs,
+        ),
+    ]
+    return checks, lines
+
+
+def plot(results: list[tuple[System, list[grid.Point], int]], out_dir: Path) -> Path:
+    """Per system, the largest stable step of each configuration against run length."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(results), figsize=(5 * len(results), 4), squeeze=False)
+    for ax, (s, points, steps) in zip(axes[0], results):
+        ls = lengths(steps)
+        for label in systems.CONFIGURATIONS:
+            ys = [survival.stability(points, label, n).largest for n in ls]
+            ax.plot(ls, [math.nan if y is None else y for y in ys], marker="o", label=label)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("run length (steps)")
+        ax.set_ylabel("largest stable dt")
+        ax.set_title(f"{s.name}", fontsize=9)
+    axes[0][0].legend(fontsize=6)
+    fig.tight_layout()
+    path = out_dir / "long_runs_stability.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def run(ctx: Context) -> list[Check]:
+    steps = 2_000 if ctx.quick else STEPS
+    ctx.out_dir.mkdir(parents=True, exist_ok=True)
+    report = [f"# The correction experiment at {steps} steps\n"]
+    checks, results = [], []
+    with local_client() as client:
+        for s in systems_for(ctx):
+            ctx.progress(f"{s.name}: {len(systems.CONFIGURATIONS) * len(s.dts())} runs of {steps} steps")
+            points = grid.run(
+                s.scene,
+                grid.product(systems.CONFIGURATIONS, s.dts(), steps),
+                out=ctx.out_dir / "sweeps" / s.name.replace(" ", "_"),
+                samples=min(SAMPLES, steps),
+                threshold=STABILITY_ENERGY_FRACTION,
+                check_every=CHECK_EVERY,
+                client=client,
+            )
+            found, lines = verdicts(s, points, steps)
+            checks += found
+            report += [table(s, points, steps), "Verdicts:\n", "\n".join(lines) + "\n"]
+            results.append((s, points, steps))
+    (ctx.out_dir / "long_runs.md").write_text("\n".join(report))
+    if not ctx.quick:
+        checks[1].plots.append(plot(results, ctx.out_dir))
+    return checks
