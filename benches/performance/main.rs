@@ -1,8 +1,10 @@
-//! The Rust half of `make bench` (`cargo bench --bench performance`): every
-//! heavy loop, through the same scene -> dispatch -> runner path a user's
-//! `quatrot run` takes, written as JSON files (one per section) that
-//! `python -m validation.bench` turns into references (scipy, LAMMPS),
-//! errors, plots and tables.
+//! The Rust half of `make bench` (`cargo bench --bench performance`): the
+//! timed and counted loops (work-precision, stress at a fixed time, scaling),
+//! through the same scene -> dispatch -> runner path a user's `quatrot run`
+//! takes, written as JSON files (one per section) that `python -m
+//! validation.bench` turns into references (scipy, LAMMPS), errors, plots and
+//! tables. The scans that are grids of scene runs (largest stable step, long
+//! runs, stress at length) run as sweeps from Python (`validation/bench/scans.py`).
 //!
 //! Environment: `QUATROT_BENCH_RAW` (the output folder, default
 //! `target/bench/raw`, one `<section>.json` per section);
@@ -14,7 +16,6 @@ mod counting;
 mod measure;
 mod scaling;
 mod schemes;
-mod stability;
 mod stress;
 mod work_precision;
 
@@ -61,10 +62,8 @@ fn main() -> Result<(), Box<dyn Error>> {
         std::env::var("QUATROT_BENCH_RAW").unwrap_or_else(|_| "target/bench/raw".into()),
     );
     let only = std::env::var("QUATROT_BENCH_SECTIONS").ok();
-    let sections: [(&str, Section); 5] = [
+    let sections: [(&str, Section); 3] = [
         ("work_precision", work_precision::run),
-        ("stability", stability::run),
-        ("long_runs", stability::long_runs),
         ("stress", stress::run),
         ("scaling", scaling::run),
     ];

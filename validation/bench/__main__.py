@@ -1,7 +1,9 @@
 """`python -m validation.bench --out benchmarks [--raw target/bench/raw]`:
 the Python half of `make bench`. Reads the Rust driver's measurements
 (`cargo bench --bench performance`), adds the references (scipy DOP853 for
-single rotors; the lattices' own fine-step reference), runs LAMMPS on the
+single rotors; the lattices' own fine-step reference), runs the scans that
+are grids of scene runs (largest stable step, long runs, stress at length) as
+sweeps on a local Dask cluster of two workers (`scans`), runs LAMMPS on the
 dipole lattice side by side, and writes `<out>/results.json`, the figures and
 this benchmark's section of `<out>/RESULTS.md`."""
 
@@ -15,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from validation.bench import analysis, plots, profile, results_md
+from validation.bench import analysis, plots, profile, results_md, scans
+from validation.longrun import grid
 
 
 def _clean(x):
@@ -49,9 +52,16 @@ def main(argv=None) -> int:
     parser.add_argument("--raw", type=Path, default=Path("target/bench/raw"), help="the Rust driver's section files")
     parser.add_argument("--no-lammps", action="store_true", help="skip LAMMPS (pipeline tests)")
     parser.add_argument("--no-profile", action="store_true", help="skip the perf profile")
+    parser.add_argument("--sweeps", type=Path, default=Path("target/bench/sweeps"), help="the scans' sweep folders (resumed)")
+    parser.add_argument("--scheduler", help="a Dask scheduler's address for the scans (default: a local cluster of 2 workers)")
     args = parser.parse_args(argv)
     raw = read_sections(args.raw)
     args.out.mkdir(parents=True, exist_ok=True)
+    print("scans as sweeps (stability, long runs, stress at length) ...", flush=True)
+    with grid.connect(args.scheduler) as client:
+        raw["stability"] = scans.stability(args.sweeps, client, raw["quick"])
+        raw["long_runs"] = scans.long_runs(args.sweeps, client, raw["quick"])
+        raw["stress_at_length"] = scans.stress_at_length(raw["stress"], args.sweeps, client, raw["quick"])
 
     studies = raw["work_precision"]
     lammps, lammps_version, side_by_side = [], None, {}
@@ -101,6 +111,7 @@ def main(argv=None) -> int:
         "stability": raw["stability"],
         "long_runs": raw["long_runs"],
         "stress": [{k: v for k, v in r.items() if k != "final_orientations"} for r in raw["stress"]],
+        "stress_at_length": raw["stress_at_length"],
         "scaling": {"rows": raw["scaling"], "fit": scaling_fit},
         "profile": hot,
         "figures": {k: v.name for k, v in figures.items()},
@@ -112,7 +123,7 @@ def main(argv=None) -> int:
     return 0
 
 
-SECTIONS = ("work_precision", "stability", "long_runs", "stress", "scaling")
+SECTIONS = ("work_precision", "stress", "scaling")
 
 
 def read_sections(folder: Path) -> dict:

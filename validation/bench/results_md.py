@@ -10,6 +10,8 @@ import platform
 import subprocess
 from pathlib import Path
 
+from validation.bench import scans
+
 BEGIN = "<!-- make bench: performance section begin -->"
 END = "<!-- make bench: performance section end -->"
 
@@ -266,8 +268,10 @@ def section(results: dict) -> str:
         "### Largest stable time step",
         "",
         "Stable: |E - E0| < 0.1 KE0 (|E0| for the dipole starting at rest) at every check over the fixed time "
-        "(single rotors: t = 20 and 10, checked every step; lattices: t = 2, every 2 steps); found by doubling then "
-        "5 bisections in log dt (about 2 %); steps above time/10 are not tried.",
+        "(single rotors: t = 20 and 10, checked every step; lattices: t = 2, every 2 steps). A grid of steps, "
+        "2^(1/4) (19 %) apart from 1/8 of the scene's starting step up to time/10, every point a scene run of a "
+        "`quatrot.sweep` (`validation/bench/scans.py`); the largest stable step is the largest of the grid at which "
+        "it and every smaller step stayed stable.",
         "",
     ]
     lines += _stability(results["stability"]) + ["", "![stability](stability.png)"]
@@ -277,6 +281,7 @@ def section(results: dict) -> str:
         lines += [f"- {r['scene']}, {r['scheme']} at dt {_g(r['first_unstable_dt'])}: {r['failure']}" for r in failures]
     lines += ["", "### Long runs (scene time steps)", ""] + _long_runs(results["long_runs"])
     lines += ["", "### Stress cases (single rotors)", ""] + _stress(results["stress"])
+    lines += ["", "### Stress cases at length (sweep)", ""] + scans.lengths_table(results["stress_at_length"])
     lines += ["", "### Scaling (periodic sc dipole lattice, cutoff 3.1, NO_SQUISH)", "", "![scaling](scaling.png)", ""] + _scaling(results["scaling"])
     prof = results.get("profile")
     if prof:

@@ -32,7 +32,7 @@ STABLE_ENERGY_ERROR = 0.1
 #: Grid steps per doubling of dt in the stability scan (2^(1/4): 19 %).
 PER_OCTAVE = 4
 #: The stability grid spans `dt_start * 2^-OCTAVES_BELOW` .. the cap `time / MIN_STEPS`.
-OCTAVES_BELOW = 5
+OCTAVES_BELOW = 3
 MIN_STEPS = 10.0
 
 

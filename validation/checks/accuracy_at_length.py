@@ -18,7 +18,7 @@ from pathlib import Path
 import quatrot
 
 from validation.checks.base import Check, Context
-from validation.checks.long_runs import fmt, local_client
+from validation.checks.long_runs import fmt
 from validation.longrun import accuracy, grid, systems
 
 #: Samples of each run's energy error (and points of the curves).
@@ -158,7 +158,7 @@ def plot(outcomes: list[Outcome], out_dir: Path, name: str = "accuracy_at_length
 
 def measure_all(found: list[Study], out_dir: Path, ctx: Context) -> list[Outcome]:
     outcomes = []
-    with local_client() as client:
+    with grid.connect() as client:
         for study in found:
             ctx.progress(f"{study.name}: costs, then {len(systems.SCHEMES)} runs over {study.steps} steps of dt {study.dt0:g}")
             outcomes.append(measure(study, out_dir / "sweeps" / study.name.replace(" ", "_"), client))

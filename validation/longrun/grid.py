@@ -11,9 +11,10 @@ is its failure step.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -129,3 +130,18 @@ def run(
         )
         for s, row in zip(specs, results.rows)
     ]
+
+
+@contextlib.contextmanager
+def connect(scheduler: str | None = None) -> Iterator:
+    """A client of the scheduler at `scheduler`, or of a local cluster of two
+    single-threaded worker processes (started and stopped here)."""
+    import distributed
+
+    if scheduler:
+        with distributed.Client(scheduler) as client:
+            yield client
+        return
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            yield client
