@@ -49,7 +49,7 @@ class System:
     scene: dict
     #: The experiment's step for the system; the grid is `dt * 2^(k/per_octave)`, k = 0..`count`-1.
     dt: float
-    per_octave: int
+    per_octave: float
     count: int
     #: Blow-up checks every this many steps (the failure step is known to this resolution).
     check_every: int = 10
@@ -60,13 +60,20 @@ class System:
         return [self.dt * 2 ** (k / self.per_octave) for k in range(self.count)]
 
 
-def systems_for(ctx: Context) -> list[System]:
+def systems_for(ctx: Context, long: bool = False) -> list[System]:
+    """The systems and step grids: quick (`make test`), the report's, or
+    (`long`) `make bench`'s long-run mode, with a finer grid on the 1000-dipole lattice."""
     if ctx.quick:
         return [System("rotor in field", systems.rotor_in_field(), 0.05, 2, 4)]
+    dipoles = (
+        System("1000-dipole lattice", systems.dipole_lattice(), 0.005, 2, 5, check_every=100, samples=1_000)
+        if long
+        else System("1000-dipole lattice", systems.dipole_lattice(), 0.005, 0.5, 2, check_every=100, samples=1_000)
+    )
     return [
         System("rotor in field", systems.rotor_in_field(), 0.05, 4, 17),
         System("4x4x4 multipole lattice", systems.multipole_lattice(ctx.seed), 0.01, 2, 7),
-        System("1000-dipole lattice", systems.dipole_lattice(), 0.005, 2, 5, check_every=100, samples=1_000),
+        dipoles,
     ]
 
 
@@ -204,6 +211,19 @@ def plot(results: list[tuple[System, list[grid.Point], int]], out_dir: Path) -> 
     return path
 
 
+def run_system(s: System, steps: int, out: Path, client) -> list[grid.Point]:
+    """Every configuration at every step of `s`'s grid, `steps` steps or to failure, as one sweep."""
+    return grid.run(
+        s.scene,
+        grid.product(systems.CONFIGURATIONS, s.dts(), steps),
+        out=out / s.name.replace(" ", "_"),
+        samples=min(s.samples, steps),
+        threshold=STABILITY_ENERGY_FRACTION,
+        check_every=s.check_every,
+        client=client,
+    )
+
+
 def run(ctx: Context) -> list[Check]:
     steps = 2_000 if ctx.quick else STEPS
     ctx.out_dir.mkdir(parents=True, exist_ok=True)
@@ -212,15 +232,7 @@ def run(ctx: Context) -> list[Check]:
     with grid.connect() as client:
         for s in systems_for(ctx):
             ctx.progress(f"{s.name}: {len(systems.CONFIGURATIONS) * len(s.dts())} runs of {steps} steps")
-            points = grid.run(
-                s.scene,
-                grid.product(systems.CONFIGURATIONS, s.dts(), steps),
-                out=ctx.out_dir / "sweeps" / s.name.replace(" ", "_"),
-                samples=min(s.samples, steps),
-                threshold=STABILITY_ENERGY_FRACTION,
-                check_every=s.check_every,
-                client=client,
-            )
+            points = run_system(s, steps, ctx.out_dir / "sweeps", client)
             found, lines = verdicts(s, points, steps)
             checks += found
             report += [table(s, points, steps), "Verdicts:\n", "\n".join(lines) + "\n"]
