@@ -1,12 +1,12 @@
-"""A grid of integrator configurations and time steps on one system, run to
-a fixed number of steps as a `quatrot.sweep` (one scene run per point, a
-Dask task each), and read back: each run's table row and its energy series.
+"""A grid of points (integrator configuration, time step, run length) on one
+system, run as a `quatrot.sweep` (one scene run per point, a Dask task each)
+and read back: each run's table row and its energy series.
 
 Each run records the energy error `(E - E_0) / s` (`s`: the initial kinetic
-energy; `|E_0|` for rotors starting at rest) and `|Q.Q'|` (eq 15a) every
-`every` steps, and stops as a blow-up (non-finite state, or an energy error
-above `threshold`), checked every `check_every` steps; the step it stopped at
-is its failure step.
+energy; `|E_0|` for rotors starting at rest) and `|Q.Q'|` (eq 15a) at
+`samples` points, and stops as a blow-up (non-finite state, or an energy
+error above `threshold`), checked every `check_every` steps; the step it
+stopped at is its failure step.
 """
 
 from __future__ import annotations
