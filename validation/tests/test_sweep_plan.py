@@ -169,3 +169,15 @@ def test_without_dask_the_import_says_what_to_install():
     assert out.returncode == 1
     assert "ImportError: quatrot.sweep runs on Dask: install it with `pip install 'quatrot[sweep]'`" in out.stderr
     subprocess.run([sys.executable, "-c", "import sys; sys.modules['distributed'] = None; import quatrot"], check=True)
+
+
+def test_an_override_named_as_a_summary_column_keeps_its_own_column(tmp_path: Path):
+    """The path `integrator` (a whole table) and the summary's `integrator`
+    (the integrator's name) are two columns: neither overwrites the other."""
+    table = Table(tmp_path / "results.csv")
+    run = quatrot.sweep.expand("dipole_in_field", cases=[{"integrator": {"kind": "dlm"}}])[0]
+    table.record(run, {"status": "completed", "integrator": "dlm"})
+    table.write([run.id])
+    with (tmp_path / "results.csv").open() as f:
+        row = next(csv.DictReader(f))
+    assert row["set:integrator"] == '{"kind":"dlm"}' and row["integrator"] == "dlm"

@@ -1,5 +1,6 @@
 """The results table of a sweep, `<sweep>/results.csv`: one row per run with
-its identifier, status and error, its overrides (one column per path), the
+its identifier, status and error, its overrides (one column per path,
+`set:` before a path that names one of the table's own columns), the
 numbers of its summary and the folder of its outputs.
 
 CSV rather than Parquet: the table is small (one row per run: 10^4 runs
@@ -58,6 +59,17 @@ TAIL = (
 )
 
 NAME = "results.csv"
+
+#: The prefix of an override's column when its path is also the name of one
+#: of the table's own columns (the path `integrator`, a whole table, against
+#: the summary's `integrator`).
+OVERRIDE_PREFIX = "set:"
+
+
+def override_column(path: str) -> str:
+    """The column of the override `path`: the path itself, or with
+    `OVERRIDE_PREFIX` when that is one of the table's own columns."""
+    return OVERRIDE_PREFIX + path if path in HEAD or path in TAIL else path
 
 
 def summary_row(summary: Mapping[str, Any]) -> dict[str, Any]:
@@ -120,9 +132,9 @@ class Table:
         """Sets the row of `run` from its `outcome` (status, error and the
         `TAIL` values) and returns it as text."""
         for path in run.overrides:
-            if path not in self.override_columns:
-                self.override_columns.append(path)
-        row = {"id": run.id, **{p: _cell(v) for p, v in run.overrides.items()}}
+            if override_column(path) not in self.override_columns:
+                self.override_columns.append(override_column(path))
+        row = {"id": run.id, **{override_column(p): _cell(v) for p, v in run.overrides.items()}}
         row.update({c: _cell(outcome.get(c)) for c in ("status", "error", *TAIL)})
         self.rows[run.id] = row
         return row
