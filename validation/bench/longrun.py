@@ -33,8 +33,10 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("benchmarks"))
     parser.add_argument("--sweeps", type=Path, default=Path("target/bench/longrun"), help="the sweeps' folders (resumed)")
     parser.add_argument("--scheduler", help="a Dask scheduler's address (default: a local cluster of 2 workers)")
+    parser.add_argument("--quick", action="store_true", help="the machinery only (make test's lengths), to check the pipeline")
     args = parser.parse_args(argv)
-    ctx = Context(out_dir=args.sweeps)
+    ctx = Context(out_dir=args.sweeps, quick=args.quick)
+    steps = 2_000 if args.quick else long_runs.STEPS
     machine = results_md.machine()
     started = time.perf_counter()
     sections = ["# The correction experiment at production lengths\n"]
@@ -43,10 +45,10 @@ def main(argv=None) -> int:
         experiment = []
         for s in long_runs.systems_for(ctx, long=True):
             print(f"correction experiment, {s.name} ...", flush=True)
-            points = long_runs.run_system(s, long_runs.STEPS, args.sweeps / "experiment", client)
-            _, lines = long_runs.verdicts(s, points, long_runs.STEPS)
-            sections += [long_runs.table(s, points, long_runs.STEPS), "Verdicts:\n", "\n".join(lines) + "\n"]
-            experiment.append((s, points, long_runs.STEPS))
+            points = long_runs.run_system(s, steps, args.sweeps / "experiment", client)
+            _, lines = long_runs.verdicts(s, points, steps)
+            sections += [long_runs.table(s, points, steps), "Verdicts:\n", "\n".join(lines) + "\n"]
+            experiment.append((s, points, steps))
         figures["stability"] = long_runs.plot(experiment, args.out).name
         outcomes = []
         for study in accuracy_at_length.studies(ctx, long=True):
