@@ -15,6 +15,10 @@ use std::path::PathBuf;
 pub(super) const EXIT_ERROR: i32 = 2;
 /// Exit code of a run that blew up (its outputs are written and valid).
 const EXIT_BLOW_UP: i32 = 3;
+/// Exit code of an interrupted run (its outputs are written, flushed and
+/// valid up to the step it stopped at; 128 + SIGINT, as shells report an
+/// interrupted command).
+const EXIT_INTERRUPTED: i32 = 130;
 /// Runs shorter than this many steps get no progress bar.
 const PROGRESS_MIN_STEPS: u64 = 1000;
 /// Progress bar updates per run.
@@ -98,6 +102,7 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
     let outputs = Outputs {
         dir: Some(dir.clone()),
         keep: false,
+        control: None,
     };
     let show_progress = std::io::stderr().is_terminal() && scene.steps >= PROGRESS_MIN_STEPS;
     let mut bar = show_progress.then(|| ProgressBarObserver::new(scene.steps));
@@ -111,6 +116,7 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
             match result.stop {
                 Stop::Completed => 0,
                 Stop::BlewUp { .. } => EXIT_BLOW_UP,
+                Stop::Interrupted { .. } => EXIT_INTERRUPTED,
             }
         }
         Err(e) => fail(&e),
