@@ -8,6 +8,7 @@ use crate::run::{execute, potential, Outputs, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use crate::simulation::Stop;
 use clap::Parser;
+use std::ffi::OsString;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -26,7 +27,24 @@ const PROGRESS_UPDATES: u64 = 200;
 
 /// Runs the command line and returns the process exit code.
 pub fn main() -> i32 {
-    let cli = Cli::parse();
+    main_from(std::env::args_os())
+}
+
+/// Runs the command line `args` (the program name first), as [`main`]
+/// does the process's (`python -m quatrot` passes Python's `sys.argv`).
+pub fn main_from<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            // Usage errors, --help and --version, as clap prints them.
+            let _ = e.print();
+            return e.exit_code();
+        }
+    };
     match cli.command {
         Command::Scenes => {
             list_scenes();

@@ -14,6 +14,7 @@ mod analysis;
 mod args;
 mod arrays;
 mod baselines;
+mod cli;
 mod dynamics;
 mod gsd;
 mod potential;
@@ -41,5 +42,6 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     run::register(m)?;
     analysis::register(m)?;
     gsd::register(m)?;
+    cli::register(m)?;
     Ok(())
 }

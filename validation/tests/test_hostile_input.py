@@ -70,6 +70,7 @@ VALID = {
     "write_gsd": lambda tmp: dict(path=str(tmp / "t.gsd"), sites=_sites(), orientations=_unit((2, N)), steps=[0, 1]),
     "run": lambda tmp: dict(scene="dipole_in_field", steps=2),
     "builtin_scenes": lambda tmp: dict(),
+    "cli_main": lambda tmp: dict(argv=["quatrot", "scenes"]),
     "quaternion.product": lambda tmp: dict(p=_unit((N,)), q=_unit((N,))[::-1].copy()),
     "quaternion.conjugate": lambda tmp: dict(q=_unit((N,))),
     "quaternion.norm": lambda tmp: dict(q=_unit((N,)) * 2.0),
