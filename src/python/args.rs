@@ -8,6 +8,16 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyInt, PyString};
 use std::path::PathBuf;
 
+/// The `TypeError` for argument `name` of the wrong type: `expected` says
+/// what it must be, the message adds the type it has.
+pub(crate) fn wrong_type(obj: &Bound<'_, PyAny>, name: &str, expected: &str) -> PyErr {
+    let kind = obj
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    PyTypeError::new_err(format!("{name}: expected {expected}, got {kind}"))
+}
+
 /// The text of `obj` (argument `name`), or the error `error` builds from a
 /// message naming it.
 pub(crate) fn text_or(
@@ -15,13 +25,9 @@ pub(crate) fn text_or(
     name: &str,
     error: fn(String) -> PyErr,
 ) -> PyResult<String> {
-    let s = obj.cast::<PyString>().map_err(|_| {
-        let kind = obj
-            .get_type()
-            .name()
-            .map_or_else(|_| "?".to_string(), |n| n.to_string());
-        PyTypeError::new_err(format!("{name}: expected a str, got {kind}"))
-    })?;
+    let s = obj
+        .cast::<PyString>()
+        .map_err(|_| wrong_type(obj, name, "a str"))?;
     s.to_str()
         .map(str::to_string)
         .map_err(|_| error(format!("{name}: not valid text (a lone surrogate)")))
@@ -68,13 +74,7 @@ pub(crate) fn integer(obj: &Bound<'_, PyAny>, name: &str, min: u64, max: u64) ->
             .and_then(|i| i.cast_into::<PyInt>().ok())
     };
     let Some(index) = index else {
-        let kind = obj
-            .get_type()
-            .name()
-            .map_or_else(|_| "?".to_string(), |n| n.to_string());
-        return Err(PyTypeError::new_err(format!(
-            "{name}: expected an integer, got {kind}"
-        )));
+        return Err(wrong_type(obj, name, "an integer"));
     };
     match index.extract::<u64>() {
         Ok(n) if (min..=max).contains(&n) => Ok(n),

@@ -9,11 +9,12 @@
 //! order with their shape. Results go back through [`collect`] and
 //! [`array`], which refuse values that overflowed.
 
+use super::args::wrong_type;
 use nalgebra::{Matrix3, Vector3};
 use numpy::ndarray::{ArrayD, ArrayViewD, Axis, Dimension, IxDyn};
 use numpy::prelude::*;
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::Quat;
@@ -98,13 +99,7 @@ fn convert<'py>(
 ) -> PyResult<PyArrayLikeDyn<'py, f64, AllowTypeChange>> {
     let array = obj
         .extract::<PyArrayLikeDyn<'py, f64, AllowTypeChange>>()
-        .map_err(|_| {
-            let kind = obj
-                .get_type()
-                .name()
-                .map_or_else(|_| "?".to_string(), |n| n.to_string());
-            PyTypeError::new_err(format!("{name}: expected an array of numbers, got {kind}"))
-        })?;
+        .map_err(|_| wrong_type(obj, name, "an array of numbers"))?;
     Ok(array)
 }
 

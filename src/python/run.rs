@@ -7,7 +7,7 @@
 //! attribute. A scene dict is converted with its nesting bounded and its
 //! cycles refused.
 
-use super::args::{path_or, text_or};
+use super::args::{path_or, text_or, wrong_type};
 use crate::parallel::in_pool;
 use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
@@ -414,10 +414,7 @@ fn thread_count(threads: &Bound<'_, PyAny>) -> PyResult<NonZeroUsize> {
 /// scene checks its range).
 fn step_count(steps: &Bound<'_, PyAny>) -> PyResult<i64> {
     if !steps.is_instance_of::<PyInt>() {
-        return Err(PyTypeError::new_err(format!(
-            "steps: expected an integer, got {}",
-            steps.get_type().name()?
-        )));
+        return Err(wrong_type(steps, "steps", "an integer"));
     }
     steps.extract().map_err(|_| {
         SceneError::new_err(format!("steps: must be at most {}, got {steps}", i64::MAX))
