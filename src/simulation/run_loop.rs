@@ -31,7 +31,8 @@ pub struct RunOptions {
     /// The reference energy carried over from a checkpoint.
     pub reference: Option<EnergyReference>,
     /// Polled after every step: a stop request ends the run there
-    /// ([`Stop::Interrupted`]); the step reached is recorded in it.
+    /// ([`Stop::Interrupted`]), after the samples due at that step; the
+    /// step reached is recorded in it.
     pub control: Option<Arc<Control>>,
 }
 
@@ -160,21 +161,28 @@ impl<E> Loop<'_, '_, E> {
             if step >= self.options.end_step {
                 return Ok(());
             }
+            let control = self.options.control.as_deref();
+            if control.is_some_and(Control::stop_requested) {
+                self.report.stop = Stop::Interrupted { step };
+                return Ok(());
+            }
             let next = self.next_event(step, observers);
-            match &self.options.control {
+            match control {
                 None => {
                     for _ in step..next {
                         self.integrator.step(self.potential);
                     }
                     step = next;
                 }
+                // A stop between two events ends the run at once; one at
+                // an event step is seen above, after that step's samples.
                 Some(control) => {
                     while step < next && !control.stop_requested() {
                         self.integrator.step(self.potential);
                         step += 1;
                         control.set_step(step);
                     }
-                    if control.stop_requested() {
+                    if step < next {
                         self.report.last_step = step;
                         self.report.stop = Stop::Interrupted { step };
                         return Ok(());
