@@ -6,8 +6,8 @@
 //! row (`orientations[3]: quaternion is zero`, `dipoles[1][2]: not finite
 //! (nan)`). Two views of a converted argument: [`Items`], a batch of `n`
 //! items of a fixed shape or one item, and [`Numbers`], the values in C
-//! order with their shape. Results go back through [`collect`] and
-//! [`array`], which refuse values that overflowed.
+//! order with their shape. Results go back as arrays through [`array()`],
+//! or through [`collect`], which refuses values that overflowed.
 
 use super::args::wrong_type;
 use nalgebra::{Matrix3, Vector3};
