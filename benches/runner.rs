@@ -43,6 +43,7 @@ fn options(scene: &Scene, start: u64, end: u64, reference: Option<EnergyReferenc
             energy_error_threshold: None,
         }),
         reference,
+        control: None,
     }
 }
 

@@ -8,6 +8,7 @@ use crate::run::{execute, potential, Outputs, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use crate::simulation::Stop;
 use clap::Parser;
+use std::ffi::OsString;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -15,6 +16,10 @@ use std::path::PathBuf;
 pub(super) const EXIT_ERROR: i32 = 2;
 /// Exit code of a run that blew up (its outputs are written and valid).
 const EXIT_BLOW_UP: i32 = 3;
+/// Exit code of an interrupted run (its outputs are written, flushed and
+/// valid up to the step it stopped at; 128 + SIGINT, as shells report an
+/// interrupted command).
+const EXIT_INTERRUPTED: i32 = 130;
 /// Runs shorter than this many steps get no progress bar.
 const PROGRESS_MIN_STEPS: u64 = 1000;
 /// Progress bar updates per run.
@@ -22,7 +27,24 @@ const PROGRESS_UPDATES: u64 = 200;
 
 /// Runs the command line and returns the process exit code.
 pub fn main() -> i32 {
-    let cli = Cli::parse();
+    main_from(std::env::args_os())
+}
+
+/// Runs the command line `args` (the program name first), as [`main`]
+/// does the process's (`python -m quatrot` passes Python's `sys.argv`).
+pub fn main_from<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            // Usage errors, --help and --version, as clap prints them.
+            let _ = e.print();
+            return e.exit_code();
+        }
+    };
     match cli.command {
         Command::Scenes => {
             list_scenes();
@@ -98,6 +120,7 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
     let outputs = Outputs {
         dir: Some(dir.clone()),
         keep: false,
+        control: None,
     };
     let show_progress = std::io::stderr().is_terminal() && scene.steps >= PROGRESS_MIN_STEPS;
     let mut bar = show_progress.then(|| ProgressBarObserver::new(scene.steps));
@@ -111,6 +134,7 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
             match result.stop {
                 Stop::Completed => 0,
                 Stop::BlewUp { .. } => EXIT_BLOW_UP,
+                Stop::Interrupted { .. } => EXIT_INTERRUPTED,
             }
         }
         Err(e) => fail(&e),

@@ -8,4 +8,4 @@ mod commands;
 mod progress;
 mod sweep;
 
-pub use commands::main;
+pub use commands::{main, main_from};

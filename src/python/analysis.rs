@@ -7,6 +7,8 @@
 //! computation runs without the GIL; results are dicts of numpy arrays and
 //! floats.
 
+use super::args::{optional_integer, text};
+use super::arrays::{array, Numbers, Values};
 use crate::analysis::{
     block_average as block_average_of, dielectric_constant as dielectric_of,
     orientational_correlations as correlations_of, vector_autocorrelation, BlockAverage,
@@ -16,99 +18,11 @@ use crate::observables::order::{nematic_order, polar_order, space_axes, unit_axi
 use crate::observables::polarization;
 use crate::quaternion::Quat;
 use nalgebra::{Unit, Vector3};
-use numpy::ndarray::{ArrayD, IxDyn};
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn};
-use pyo3::exceptions::{PyRuntimeWarning, PyTypeError, PyValueError};
+use numpy::PyArrayDyn;
+use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::ffi::CString;
-
-/// A numeric argument converted once to float64, with its shape.
-pub(crate) struct Numbers {
-    name: &'static str,
-    pub(crate) shape: Vec<usize>,
-    pub(crate) values: Vec<f64>,
-}
-
-impl Numbers {
-    /// Converts `arg` (argument `name`): any array-like of numbers.
-    pub(crate) fn new(arg: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Self> {
-        let array = arg
-            .extract::<PyArrayLikeDyn<'_, f64, AllowTypeChange>>()
-            .map_err(|_| {
-                let kind = arg
-                    .get_type()
-                    .name()
-                    .map_or_else(|_| "?".to_string(), |n| n.to_string());
-                PyTypeError::new_err(format!("{name}: expected an array of numbers, got {kind}"))
-            })?;
-        let view = array.as_array();
-        Ok(Numbers {
-            name,
-            shape: view.shape().to_vec(),
-            values: view.iter().copied().collect(),
-        })
-    }
-
-    /// Items of `W` numbers (the last axis), the array having one of the
-    /// leading ranks `ranks` (shape `(..., W)`); `expected` spells the shapes
-    /// for the message. Returns the items and the leading shape.
-    pub(crate) fn items<const W: usize>(
-        &self,
-        ranks: &[usize],
-        expected: &str,
-    ) -> PyResult<(Vec<[f64; W]>, Vec<usize>)> {
-        let (last, leading) = self.shape.split_last().unwrap_or((&0, &[]));
-        if *last != W || !ranks.contains(&leading.len()) {
-            return Err(self.wrong_shape(expected));
-        }
-        let items = self
-            .values
-            .chunks_exact(W)
-            .map(|c| std::array::from_fn(|k| c[k]))
-            .collect();
-        Ok((items, leading.to_vec()))
-    }
-
-    /// The error for a shape other than `expected`, naming the argument and
-    /// the shape found as Python prints it.
-    fn wrong_shape(&self, expected: &str) -> PyErr {
-        let got: Vec<String> = self.shape.iter().map(usize::to_string).collect();
-        let got = match got.len() {
-            1 => format!("({},)", got[0]),
-            _ => format!("({})", got.join(", ")),
-        };
-        PyValueError::new_err(format!(
-            "{}: expected shape {expected}, got {got}",
-            self.name
-        ))
-    }
-
-    /// A one-dimensional array `(n,)`.
-    fn series(self) -> PyResult<Vec<f64>> {
-        if self.shape.len() == 1 {
-            Ok(self.values)
-        } else {
-            Err(self.wrong_shape("(n,)"))
-        }
-    }
-
-    /// A single value of `W` numbers.
-    fn single<const W: usize>(&self, expected: &str) -> PyResult<[f64; W]> {
-        Ok(self.items::<W>(&[0], expected)?.0[0])
-    }
-}
-
-/// A numpy array of `shape` from `values` (C order).
-pub(crate) fn array<'py>(
-    py: Python<'py>,
-    shape: &[usize],
-    values: Vec<f64>,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let a = ArrayD::from_shape_vec(IxDyn(shape), values)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    Ok(a.into_pyarray(py))
-}
 
 /// Orientations `(frames, n, 4)`, or `(frames, 4)` for one rotor, as frames.
 fn trajectory(orientations: &Numbers) -> PyResult<(Vec<Quat>, usize)> {
@@ -122,11 +36,18 @@ fn body_axes(axes: Option<&Bound<'_, PyAny>>) -> PyResult<(Vec<Vector3<f64>>, bo
     let Some(axes) = axes else {
         return Ok((vec![Vector3::x(), Vector3::y(), Vector3::z()], false));
     };
-    let (v, leading) = Numbers::new(axes, "axes")?.items::<3>(&[0, 1], "(3,) or (k, 3)")?;
+    let (v, leading) =
+        Numbers::new(axes, "axes", Values::Finite)?.items::<3>(&[0, 1], "(3,) or (k, 3)")?;
     Ok((
         v.into_iter().map(Vector3::from).collect(),
         leading.is_empty(),
     ))
+}
+
+/// The optional `max_lag` argument (frames).
+fn lag(max_lag: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    Ok(optional_integer(max_lag, "max_lag", 0, u64::MAX)?
+        .map(|m| usize::try_from(m).unwrap_or(usize::MAX)))
 }
 
 fn lag_times(dt: f64, lags: usize) -> PyResult<Vec<f64>> {
@@ -156,9 +77,14 @@ fn orientational_correlations<'py>(
     orientations: &Bound<'py, PyAny>,
     dt: f64,
     axes: Option<&Bound<'py, PyAny>>,
-    max_lag: Option<usize>,
+    max_lag: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (q, rotors) = trajectory(&Numbers::new(orientations, "orientations")?)?;
+    let max_lag = lag(max_lag)?;
+    let (q, rotors) = trajectory(&Numbers::new(
+        orientations,
+        "orientations",
+        Values::Quaternions,
+    )?)?;
     let (axes, single) = body_axes(axes)?;
     let result = py.detach(|| {
         let frames = Frames::new(&q, rotors, "orientations")?;
@@ -192,10 +118,11 @@ fn angular_velocity_correlation<'py>(
     py: Python<'py>,
     omega: &Bound<'py, PyAny>,
     dt: f64,
-    max_lag: Option<usize>,
+    max_lag: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (w, leading) =
-        Numbers::new(omega, "omega")?.items::<3>(&[1, 2], "(frames, n, 3) or (frames, 3)")?;
+    let max_lag = lag(max_lag)?;
+    let (w, leading) = Numbers::new(omega, "omega", Values::Finite)?
+        .items::<3>(&[1, 2], "(frames, n, 3) or (frames, 3)")?;
     let rotors = leading.get(1).copied().unwrap_or(1);
     let w: Vec<Vector3<f64>> = w.into_iter().map(Vector3::from).collect();
     let c = py.detach(|| vector_autocorrelation(&Frames::new(&w, rotors, "omega")?, max_lag))?;
@@ -233,16 +160,19 @@ fn order_parameters<'py>(
     axis: Option<&Bound<'py, PyAny>>,
     direction: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (q, leading) = Numbers::new(orientations, "orientations")?
+    let (q, leading) = Numbers::new(orientations, "orientations", Values::Quaternions)?
         .items::<4>(&[1, 2], "(n, 4) or (frames, n, 4)")?;
     let axis = match axis {
-        Some(a) => unit(Numbers::new(a, "axis")?.single::<3>("(3,)")?, "axis")?,
+        Some(a) => unit(
+            Numbers::new(a, "axis", Values::Finite)?.single::<3>("(3,)")?,
+            "axis",
+        )?,
         None => Vector3::z_axis(),
     };
     let direction = direction
         .map(|d| {
             unit(
-                Numbers::new(d, "direction")?.single::<3>("(3,)")?,
+                Numbers::new(d, "direction", Values::Finite)?.single::<3>("(3,)")?,
                 "direction",
             )
         })
@@ -302,11 +232,11 @@ fn total_dipole<'py>(
     orientations: &Bound<'py, PyAny>,
     dipoles_body: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let (q, leading) = Numbers::new(orientations, "orientations")?
+    let (q, leading) = Numbers::new(orientations, "orientations", Values::Quaternions)?
         .items::<4>(&[1, 2], "(n, 4) or (frames, n, 4)")?;
     let rotors = *leading.last().unwrap_or(&0);
-    let (mu, mu_leading) =
-        Numbers::new(dipoles_body, "dipoles_body")?.items::<3>(&[0, 1], "(3,) or (n, 3)")?;
+    let (mu, mu_leading) = Numbers::new(dipoles_body, "dipoles_body", Values::Finite)?
+        .items::<3>(&[0, 1], "(3,) or (n, 3)")?;
     let mu: Vec<Vector3<f64>> = match mu_leading.first() {
         None => vec![Vector3::from(mu[0]); rotors],
         Some(&n) if n == rotors => mu.into_iter().map(Vector3::from).collect(),
@@ -382,7 +312,7 @@ fn block_dict<'py>(py: Python<'py>, b: &BlockAverage) -> PyResult<Bound<'py, PyD
 /// (`RuntimeWarning`) when no level passes (`converged` False).
 #[pyfunction]
 fn block_average<'py>(py: Python<'py>, series: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
-    let x = Numbers::new(series, "series")?.series()?;
+    let x = Numbers::new(series, "series", Values::Finite)?.series()?;
     let b = py.detach(|| block_average_of(&x))?;
     warn_unconverged(py, "block_average", &b)?;
     block_dict(py, &b)
@@ -402,17 +332,21 @@ fn block_average<'py>(py: Python<'py>, series: &Bound<'py, PyAny>) -> PyResult<B
 /// is F's blocking error propagated. Warns when the blocking does not
 /// converge.
 #[pyfunction]
-#[pyo3(signature = (dipoles, volume, temperature, boundary="conducting"))]
+#[pyo3(signature = (dipoles, volume, temperature, boundary=None))]
 fn dielectric_constant<'py>(
     py: Python<'py>,
     dipoles: &Bound<'py, PyAny>,
     volume: f64,
     temperature: f64,
-    boundary: &str,
+    boundary: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (m, _) = Numbers::new(dipoles, "dipoles")?.items::<3>(&[1], "(frames, 3)")?;
+    let (m, _) =
+        Numbers::new(dipoles, "dipoles", Values::Finite)?.items::<3>(&[1], "(frames, 3)")?;
     let m: Vec<Vector3<f64>> = m.into_iter().map(Vector3::from).collect();
-    let boundary: DielectricBoundary = boundary.parse()?;
+    let boundary: DielectricBoundary = match boundary {
+        Some(b) => text(b, "boundary")?.parse()?,
+        None => DielectricBoundary::Conducting,
+    };
     let eps = py.detach(|| dielectric_of(&m, volume, temperature, boundary))?;
     warn_unconverged(py, "dielectric_constant", &eps.fluctuation)?;
     let out = PyDict::new(py);

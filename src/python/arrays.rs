@@ -1,22 +1,31 @@
-//! numpy arguments at the boundary: dtype and shape checked once, with
-//! messages naming the argument (`TypeError` for the dtype, `ValueError` for
-//! the shape); a batch of `n` items of a fixed shape, or one item.
+//! Array arguments at the boundary, converted once: any array-like of
+//! numbers (lists, tuples, scalars, float32 or integer arrays,
+//! non-contiguous or Fortran-order views) becomes a float64 array (no copy
+//! when it already is one), every value checked finite and every
+//! quaternion nonzero, with messages naming the argument and the first bad
+//! row (`orientations[3]: quaternion is zero`, `dipoles[1][2]: not finite
+//! (nan)`). Two views of a converted argument: [`Items`], a batch of `n`
+//! items of a fixed shape or one item, and [`Numbers`], the values in C
+//! order with their shape. Results go back as arrays through [`array()`],
+//! or through [`collect`], which refuses values that overflowed.
 
+use super::args::wrong_type;
 use nalgebra::{Matrix3, Vector3};
-use numpy::ndarray::{ArrayD, ArrayViewD, Axis, IxDyn};
+use numpy::ndarray::{ArrayD, ArrayViewD, Axis, Dimension, IxDyn};
 use numpy::prelude::*;
-use numpy::{PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArray};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::Quat;
 
-/// A read-only float64 argument holding `n` items of shape `item` (shape
-/// `(n, *item)`), or a single item (shape `item`).
-pub(crate) struct Items<'py> {
-    name: &'static str,
-    array: PyReadonlyArrayDyn<'py, f64>,
-    single: bool,
+/// What an argument's values must be besides finite.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Values {
+    /// Any finite numbers.
+    Finite,
+    /// Quaternions along the last axis (of length 4), none of them zero.
+    Quaternions,
 }
 
 /// Formats a shape as Python prints it: `(3,)`, `(n, 4)`.
@@ -28,25 +37,90 @@ fn shape_str<T: std::fmt::Display>(dims: &[T]) -> String {
     }
 }
 
+/// `name[i][j]...` for the multi-index `index`.
+fn indexed(name: &str, index: &[usize]) -> String {
+    index
+        .iter()
+        .fold(name.to_string(), |s, i| format!("{s}[{i}]"))
+}
+
+/// A non-finite value as numpy prints it: `nan`, `inf`, `-inf`.
+fn non_finite(x: f64) -> &'static str {
+    match x {
+        x if x.is_nan() => "nan",
+        x if x > 0.0 => "inf",
+        _ => "-inf",
+    }
+}
+
+/// The C-order multi-index of flat position `k` in `shape`.
+fn unravel(mut k: usize, shape: &[usize]) -> Vec<usize> {
+    let mut index = vec![0; shape.len()];
+    for (i, d) in index.iter_mut().zip(shape).rev() {
+        *i = k % d.max(&1);
+        k /= d.max(&1);
+    }
+    index
+}
+
+/// The first value of `view` (C order) that is not finite, or with
+/// `Values::Quaternions` the first zero quaternion, as an error naming it.
+fn check_values(view: &ArrayViewD<'_, f64>, name: &str, values: Values) -> PyResult<()> {
+    if let Some((index, x)) = view.indexed_iter().find(|(_, x)| !x.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "{}: not finite ({})",
+            indexed(name, index.slice()),
+            non_finite(*x)
+        )));
+    }
+    let quaternions = values == Values::Quaternions && view.shape().last() == Some(&4);
+    if quaternions {
+        let last = Axis(view.ndim() - 1);
+        let leading = &view.shape()[..view.ndim() - 1];
+        if let Some(k) = view
+            .lanes(last)
+            .into_iter()
+            .position(|q| q.iter().all(|x| *x == 0.0))
+        {
+            return Err(PyValueError::new_err(format!(
+                "{}: quaternion is zero",
+                indexed(name, &unravel(k, leading))
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Converts `obj` (argument `name`) once to a float64 array: a `TypeError`
+/// for what is not an array of numbers.
+fn convert<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+) -> PyResult<PyArrayLikeDyn<'py, f64, AllowTypeChange>> {
+    let array = obj
+        .extract::<PyArrayLikeDyn<'py, f64, AllowTypeChange>>()
+        .map_err(|_| wrong_type(obj, name, "an array of numbers"))?;
+    Ok(array)
+}
+
+/// A float64 argument holding `n` items of shape `item` (shape `(n,
+/// *item)`), or a single item (shape `item`).
+pub(crate) struct Items<'py> {
+    name: &'static str,
+    array: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
+    single: bool,
+}
+
 impl<'py> Items<'py> {
-    /// Checks `obj` (argument `name`) is a float64 ndarray of shape `(n, *item)` or `item`.
+    /// Converts `obj` (argument `name`) and checks its shape is `(n, *item)`
+    /// or `item`, then its values.
     pub(crate) fn new(
         obj: &Bound<'py, PyAny>,
         name: &'static str,
         item: &[usize],
+        values: Values,
     ) -> PyResult<Self> {
-        let array = match obj.cast::<PyArrayDyn<f64>>() {
-            Ok(a) => a.readonly(),
-            Err(_) => {
-                let got = match obj.cast::<PyUntypedArray>() {
-                    Ok(a) => format!("an array of dtype {}", a.dtype()),
-                    Err(_) => format!("{}", obj.get_type().name()?),
-                };
-                return Err(PyTypeError::new_err(format!(
-                    "{name}: expected a numpy array of dtype float64, got {got}"
-                )));
-            }
-        };
+        let array = convert(obj, name)?;
         let shape = array.shape();
         let single = shape == item;
         let batched = shape.len() == item.len() + 1 && shape[1..] == *item;
@@ -60,6 +134,7 @@ impl<'py> Items<'py> {
                 shape_str(shape)
             )));
         }
+        check_values(&array.as_array(), name, values)?;
         Ok(Items {
             name,
             array,
@@ -89,6 +164,12 @@ impl<'py> Items<'py> {
             *o = *x;
         }
         out
+    }
+
+    /// The number of values in one item.
+    pub(crate) fn item_len(&self) -> usize {
+        let shape = self.array.shape();
+        shape[usize::from(!self.single)..].iter().product()
     }
 
     /// Item `i` as a quaternion `(q0, q1, q2, q3)`.
@@ -141,8 +222,127 @@ pub(crate) fn common_len(args: &[&Items<'_>]) -> PyResult<(usize, bool)> {
     Ok(batch.map_or((1, true), |(n, _)| (n, false)))
 }
 
+/// An optional argument that must be a single item of shape `item` (not a batch).
+pub(crate) fn single<'py>(
+    obj: Option<&Bound<'py, PyAny>>,
+    name: &'static str,
+    item: &[usize],
+) -> PyResult<Option<Items<'py>>> {
+    let Some(obj) = obj else { return Ok(None) };
+    let items = Items::new(obj, name, item, Values::Finite)?;
+    if !common_len(&[&items])?.1 {
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected a single item of shape {}, not a batch",
+            shape_str(item)
+        )));
+    }
+    Ok(Some(items))
+}
+
+/// A converted argument's values in C order, with its shape.
+pub(crate) struct Numbers {
+    name: &'static str,
+    pub(crate) shape: Vec<usize>,
+    pub(crate) values: Vec<f64>,
+}
+
+impl Numbers {
+    /// Converts `arg` (argument `name`) and checks its values.
+    pub(crate) fn new(
+        arg: &Bound<'_, PyAny>,
+        name: &'static str,
+        values: Values,
+    ) -> PyResult<Self> {
+        let array = convert(arg, name)?;
+        let view = array.as_array();
+        check_values(&view, name, values)?;
+        Ok(Numbers {
+            name,
+            shape: view.shape().to_vec(),
+            values: view.iter().copied().collect(),
+        })
+    }
+
+    /// Items of `W` numbers (the last axis), the array having one of the
+    /// leading ranks `ranks` (shape `(..., W)`); `expected` spells the shapes
+    /// for the message. Returns the items and the leading shape.
+    pub(crate) fn items<const W: usize>(
+        &self,
+        ranks: &[usize],
+        expected: &str,
+    ) -> PyResult<(Vec<[f64; W]>, Vec<usize>)> {
+        let (last, leading) = self.shape.split_last().unwrap_or((&0, &[]));
+        if *last != W || !ranks.contains(&leading.len()) {
+            return Err(self.wrong_shape(expected));
+        }
+        let items = self
+            .values
+            .chunks_exact(W)
+            .map(|c| std::array::from_fn(|k| c[k]))
+            .collect();
+        Ok((items, leading.to_vec()))
+    }
+
+    /// The error for a shape other than `expected`, naming the argument and
+    /// the shape found as Python prints it.
+    fn wrong_shape(&self, expected: &str) -> PyErr {
+        PyValueError::new_err(format!(
+            "{}: expected shape {expected}, got {}",
+            self.name,
+            shape_str(&self.shape)
+        ))
+    }
+
+    /// A one-dimensional array `(n,)`.
+    pub(crate) fn series(self) -> PyResult<Vec<f64>> {
+        if self.shape.len() == 1 {
+            Ok(self.values)
+        } else {
+            Err(self.wrong_shape("(n,)"))
+        }
+    }
+
+    /// A single value of `W` numbers.
+    pub(crate) fn single<const W: usize>(&self, expected: &str) -> PyResult<[f64; W]> {
+        Ok(self.items::<W>(&[0], expected)?.0[0])
+    }
+}
+
+/// The error for a result that is not finite for finite arguments: the
+/// arguments overflow float64 (`what` names the result and the item).
+pub(crate) fn overflow(what: &str, x: f64) -> PyErr {
+    PyValueError::new_err(format!(
+        "{what}: not finite ({}) for finite arguments: their magnitudes overflow float64",
+        non_finite(x)
+    ))
+}
+
+/// The first non-finite value of `values` as an [`overflow`] error naming
+/// `name` and the index of the item of `width` numbers holding it.
+pub(crate) fn check_finite(name: &str, values: &[f64], width: usize) -> PyResult<()> {
+    match values.iter().position(|x| !x.is_finite()) {
+        Some(k) => Err(overflow(
+            &format!("{name}[{}]", k / width.max(1)),
+            values[k],
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A numpy array of `shape` from `values` (C order).
+pub(crate) fn array<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    values: Vec<f64>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let a = ArrayD::from_shape_vec(IxDyn(shape), values)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
 /// A new array of `n` items of shape `item` (or one item when `single`), item
-/// `i` computed by `f(i)` as `K` numbers in C order.
+/// `i` computed by `f(i)` as `K` numbers in C order; a non-finite number is
+/// an [`overflow`] error naming the item.
 pub(crate) fn collect<'py, const K: usize>(
     py: Python<'py>,
     (n, single): (usize, bool),
@@ -153,14 +353,13 @@ pub(crate) fn collect<'py, const K: usize>(
     for i in 0..n {
         data.extend_from_slice(&f(i)?);
     }
+    check_finite("result", &data, K)?;
     let shape: Vec<usize> = if single {
         item.to_vec()
     } else {
         std::iter::once(n).chain(item.iter().copied()).collect()
     };
-    let array = ArrayD::from_shape_vec(IxDyn(&shape), data)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    Ok(array.into_pyarray(py))
+    array(py, &shape, data)
 }
 
 /// A 3x3 matrix as 9 numbers in C (row-major) order.
@@ -169,21 +368,4 @@ pub(crate) fn row_major(m: &Matrix3<f64>) -> [f64; 9] {
     let mut out = [0.0; 9];
     out.copy_from_slice(t.as_slice());
     out
-}
-
-/// An optional argument that must be a single item of shape `item` (not a batch).
-pub(crate) fn single<'py>(
-    obj: Option<&Bound<'py, PyAny>>,
-    name: &'static str,
-    item: &[usize],
-) -> PyResult<Option<Items<'py>>> {
-    let Some(obj) = obj else { return Ok(None) };
-    let items = Items::new(obj, name, item)?;
-    if !common_len(&[&items])?.1 {
-        return Err(PyValueError::new_err(format!(
-            "{name}: expected a single item of shape {}, not a batch",
-            shape_str(item)
-        )));
-    }
-    Ok(Some(items))
 }

@@ -1,40 +1,19 @@
 //! `quatrot.dlm_dipoles`: quatrot's DLM on dipolar rotors with the multipole
 //! potential (open boundaries) and an optional uniform field, sampled every
-//! step, for the LAMMPS comparison (`validation/checks/lammps_dipoles.py`).
+//! step ([`crate::experiments::every_step`]), for the LAMMPS comparison
+//! (`validation/checks/lammps_dipoles.py`). Converts, checks and delegates.
 
-use crate::integrators::{Dlm, DlmOptions, Integrator, IntegratorError, RotorState, SphericalTops};
+use super::args::{check_memory, integer};
+use super::arrays::{array, common_len, single, Items, Values};
+use super::rotors::{rotors, states};
+use crate::experiments::every_step::{every_step, EveryStep};
+use crate::integrators::{DlmOptions, IntegratorSpec, SphericalTops};
 use crate::parallel::on_worker;
-use crate::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
-use crate::quaternion::Quat;
-use crate::rotor::{Inertia, Rotor};
-use crate::simulation::{self, Needs, Observer, RunOptions, Sample, Scheduled};
-use nalgebra::Vector3;
-use numpy::ndarray::{Array1, Array3};
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use crate::potential::{Boundary, ExternalFields, MultipolePotential};
+use crate::rotor::Inertia;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::convert::Infallible;
-
-fn integrator_error(e: IntegratorError) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
-
-/// Checks that `array` has shape `(n, width)`.
-fn rows(name: &str, array: &PyReadonlyArray2<'_, f64>, n: usize, width: usize) -> PyResult<()> {
-    if array.shape() != [n, width] {
-        return Err(PyValueError::new_err(format!(
-            "{name}: expected shape ({n}, {width}), got {:?}",
-            array.shape()
-        )));
-    }
-    Ok(())
-}
-
-fn vector(a: &PyReadonlyArray2<'_, f64>, i: usize) -> Vector3<f64> {
-    let v = a.as_array();
-    Vector3::new(v[(i, 0)], v[(i, 1)], v[(i, 2)])
-}
 
 /// Runs `steps` DLM steps of `dt` for spherical tops with moments `inertia`
 /// (n,) on `sites` (n, 3) carrying `dipoles_body` (n, 3), from `orientations`
@@ -48,158 +27,53 @@ fn vector(a: &PyReadonlyArray2<'_, f64>, i: usize) -> Vector3<f64> {
 #[allow(clippy::too_many_arguments)]
 fn dlm_dipoles<'py>(
     py: Python<'py>,
-    sites: PyReadonlyArray2<'py, f64>,
-    dipoles_body: PyReadonlyArray2<'py, f64>,
-    inertia: PyReadonlyArray1<'py, f64>,
-    orientations: PyReadonlyArray2<'py, f64>,
-    omega_body: PyReadonlyArray2<'py, f64>,
-    field: Option<PyReadonlyArray1<'py, f64>>,
+    sites: &Bound<'py, PyAny>,
+    dipoles_body: &Bound<'py, PyAny>,
+    inertia: &Bound<'py, PyAny>,
+    orientations: &Bound<'py, PyAny>,
+    omega_body: &Bound<'py, PyAny>,
+    field: Option<&Bound<'py, PyAny>>,
     dt: f64,
-    steps: usize,
+    steps: &Bound<'py, PyAny>,
     split: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let n = sites.shape()[0];
-    rows("sites", &sites, n, 3)?;
-    rows("dipoles_body", &dipoles_body, n, 3)?;
-    rows("orientations", &orientations, n, 4)?;
-    rows("omega_body", &omega_body, n, 3)?;
-    if inertia.shape() != [n] {
-        return Err(PyValueError::new_err(format!(
-            "inertia: expected shape ({n},), got {:?}",
-            inertia.shape()
-        )));
-    }
-    let field = match field {
-        Some(f) if f.shape() == [3] => Some(Vector3::from_iterator(f.as_array().iter().copied())),
-        Some(f) => {
-            return Err(PyValueError::new_err(format!(
-                "field: expected shape (3,), got {:?}",
-                f.shape()
-            )))
-        }
-        None => None,
-    };
-    let moments: Vec<Inertia> = inertia
-        .as_array()
-        .iter()
-        .map(|&i| Inertia::Spherical(i))
-        .collect();
-    let rotors: Vec<Rotor> = (0..n)
-        .map(|i| Rotor {
-            site: vector(&sites, i),
-            inertia: moments[i],
-            dipole_body: Some(vector(&dipoles_body, i)),
-            quadrupole_body: None,
-        })
-        .collect();
-    let q = orientations.as_array();
-    let initial: Vec<RotorState> = (0..n)
-        .map(|i| RotorState {
-            orientation: Quat([q[(i, 0)], q[(i, 1)], q[(i, 2)], q[(i, 3)]]),
-            omega_body: vector(&omega_body, i),
-        })
-        .collect();
+    let sites = Items::new(sites, "sites", &[3], Values::Finite)?;
+    let dipoles = Items::new(dipoles_body, "dipoles_body", &[3], Values::Finite)?;
+    let moments = Items::new(inertia, "inertia", &[], Values::Finite)?;
+    let q = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
+    let w = Items::new(omega_body, "omega_body", &[3], Values::Finite)?;
+    let (n, _) = common_len(&[&sites, &dipoles, &moments, &q, &w])?;
+    let steps = integer(steps, "steps", 0, u64::MAX)?;
+    check_memory("steps", EveryStep::bytes(n, steps))?;
+    let rotors = rotors(n, &sites, Some(&moments), Some(&dipoles), None);
+    let initial = states(n, &q, &w);
     let external = ExternalFields {
-        field,
+        field: single(field, "field", &[3])?.map(|f| f.vector(0)),
         field_gradient: None,
     };
-    let potential = MultipolePotential::new(&rotors, Boundary::Open, external)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let spherical = if split {
+    let potential = MultipolePotential::new(&rotors, Boundary::Open, external)?;
+    let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
+    let spherical_tops = if split {
         SphericalTops::Split
     } else {
         SphericalTops::Exact
     };
+    let mut dlm = IntegratorSpec::Dlm(DlmOptions { spherical_tops }).build();
     let samples = py
-        .detach(|| on_worker(|| run(&moments, &potential, &initial, dt, steps, spherical)))
-        .map_err(integrator_error)?;
+        .detach(|| {
+            on_worker(|| every_step(dlm.as_mut(), &inertia, &potential, &initial, dt, steps))
+        })
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let s = samples.energy.len();
     let out = PyDict::new(py);
-    out.set_item("orientations", samples.orientations.into_pyarray(py))?;
-    out.set_item("omega_body", samples.omega_body.into_pyarray(py))?;
-    out.set_item("potential", samples.energy.into_pyarray(py))?;
-    out.set_item("torques_space", samples.torques_space.into_pyarray(py))?;
+    out.set_item("orientations", array(py, &[s, n, 4], samples.orientations)?)?;
+    out.set_item("omega_body", array(py, &[s, n, 3], samples.omega_body)?)?;
+    out.set_item("potential", array(py, &[s], samples.energy)?)?;
+    out.set_item(
+        "torques_space",
+        array(py, &[s, n, 3], samples.torques_space)?,
+    )?;
     Ok(out)
-}
-
-/// Per-step samples of a run, recorded as an observer of the run loop: the
-/// orientations and angular velocities it samples, the potential energy and
-/// the torques evaluated here.
-struct Samples<'a> {
-    potential: &'a dyn Potential,
-    torques: Vec<Vector3<f64>>,
-    orientations: Array3<f64>,
-    omega_body: Array3<f64>,
-    energy: Array1<f64>,
-    torques_space: Array3<f64>,
-}
-
-impl Observer for Samples<'_> {
-    type Error = Infallible;
-
-    fn needs(&self) -> Needs {
-        Needs {
-            omega_body: true,
-            ..Needs::default()
-        }
-    }
-
-    fn observe(&mut self, sample: &Sample<'_>) -> Result<(), Infallible> {
-        let k = sample.step as usize;
-        let q = sample.orientations;
-        let omega = sample.omega_body.unwrap_or_default();
-        self.torques.fill(Vector3::zeros());
-        self.potential.accumulate_torques(q, &mut self.torques);
-        self.energy[k] = self.potential.energy(q);
-        for (i, ((q, w), t)) in q.iter().zip(omega).zip(&self.torques).enumerate() {
-            for (c, x) in q.0.iter().enumerate() {
-                self.orientations[(k, i, c)] = *x;
-            }
-            for c in 0..3 {
-                self.omega_body[(k, i, c)] = w[c];
-                self.torques_space[(k, i, c)] = t[c];
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Sets DLM up and samples every step of the run loop (no blow-up checks:
-/// the arrays are filled to the end).
-fn run<'a>(
-    inertia: &[Inertia],
-    potential: &'a dyn Potential,
-    initial: &[RotorState],
-    dt: f64,
-    steps: usize,
-    spherical: SphericalTops,
-) -> Result<Samples<'a>, IntegratorError> {
-    let n = initial.len();
-    let mut dlm = Dlm::new(DlmOptions {
-        spherical_tops: spherical,
-    });
-    dlm.setup(inertia, potential, initial, dt)?;
-    let mut samples = Samples {
-        potential,
-        torques: vec![Vector3::zeros(); n],
-        orientations: Array3::zeros((steps + 1, n, 4)),
-        omega_body: Array3::zeros((steps + 1, n, 3)),
-        energy: Array1::zeros(steps + 1),
-        torques_space: Array3::zeros((steps + 1, n, 3)),
-    };
-    let options = RunOptions {
-        dt,
-        start_step: 0,
-        end_step: steps as u64,
-        checks: None,
-        reference: None,
-    };
-    let mut observers = [Scheduled {
-        every: 1,
-        at_end: false,
-        observer: &mut samples,
-    }];
-    let Ok(_) = simulation::run(&mut dlm, potential, inertia, &mut observers, None, &options);
-    Ok(samples)
 }
 
 /// Adds the functions of this module to `m`.

@@ -2,16 +2,22 @@
 //! ([`crate::experiments::gear_corrections`]) on pinned multipolar rotors
 //! given as numpy arrays. Converts and checks the arrays, then delegates.
 
-use super::arrays::{common_len, single, Items};
+use super::args::{check_memory, optional_integer};
+use super::arrays::{common_len, single, Items, Values};
+use super::rotors::{rotors, states};
 use crate::experiments::gear_corrections::{correction_table, Settings, System};
 use crate::integrators::setup_checks::{validate_setup, Moments};
-use crate::integrators::RotorState;
 use crate::parallel::on_worker;
 use crate::potential::{ExternalFields, MultipolePotential};
-use crate::rotor::{Inertia, Rotor};
+use crate::rotor::Inertia;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+
+/// Bytes per energy sample of one run (time, kinetic and total energy, the
+/// norm diagnostics), times the experiment's configurations run at once: an
+/// upper estimate.
+const SAMPLE_BYTES: u64 = 8 * 8 * 8;
 
 /// The note's experiment: scheme A against scheme B with each correction.
 ///
@@ -27,7 +33,7 @@ use pyo3::types::PyDict;
 #[pyo3(signature = (
     sites, inertia, orientations, omega_body, *, dipoles=None, quadrupoles=None, field=None,
     box_lengths=None, cutoff=None, dt=0.02, t_energy=100.0, t_error=5.0, t_stability=20.0,
-    sample_every=1
+    sample_every=None
 ))]
 #[allow(clippy::too_many_arguments)]
 fn gear_corrections_table<'py>(
@@ -45,46 +51,36 @@ fn gear_corrections_table<'py>(
     t_energy: f64,
     t_error: f64,
     t_stability: f64,
-    sample_every: usize,
+    sample_every: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let sites = Items::new(sites, "sites", &[3])?;
-    let moments = Items::new(inertia, "inertia", &[3])?;
-    let q = Items::new(orientations, "orientations", &[4])?;
-    let w = Items::new(omega_body, "omega_body", &[3])?;
+    let sites = Items::new(sites, "sites", &[3], Values::Finite)?;
+    let moments = Items::new(inertia, "inertia", &[3], Values::Finite)?;
+    let q = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
+    let w = Items::new(omega_body, "omega_body", &[3], Values::Finite)?;
     let dipoles = dipoles
-        .map(|d| Items::new(d, "dipoles", &[3]))
+        .map(|d| Items::new(d, "dipoles", &[3], Values::Finite))
         .transpose()?;
     let quadrupoles = quadrupoles
-        .map(|t| Items::new(t, "quadrupoles", &[3, 3]))
+        .map(|t| Items::new(t, "quadrupoles", &[3, 3], Values::Finite))
         .transpose()?;
     let mut batch = vec![&sites, &moments, &q, &w];
     batch.extend(dipoles.iter().chain(quadrupoles.iter()));
     let (n, _) = common_len(&batch)?;
     let field = single(field, "field", &[3])?.map(|f| f.vector(0));
     let boundary = super::potential::boundary(box_lengths, cutoff, None, None, None)?;
-    let rotors: Vec<Rotor> = (0..n)
-        .map(|i| {
-            let m = moments.vector(i);
-            Rotor {
-                site: sites.vector(i),
-                inertia: Inertia::from_moments(m),
-                dipole_body: dipoles.as_ref().map(|d| d.vector(i)),
-                quadrupole_body: quadrupoles.as_ref().map(|t| t.matrix(i)),
-            }
-        })
-        .collect();
-    let initial: Vec<RotorState> = (0..n)
-        .map(|i| RotorState {
-            orientation: q.quat(i),
-            omega_body: w.vector(i),
-        })
-        .collect();
+    let rotors = rotors(
+        n,
+        &sites,
+        Some(&moments),
+        dipoles.as_ref(),
+        quadrupoles.as_ref(),
+    );
+    let initial = states(n, &q, &w);
     let external = ExternalFields {
         field,
         field_gradient: None,
     };
-    let potential = MultipolePotential::new(&rotors, boundary, external)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let potential = MultipolePotential::new(&rotors, boundary, external)?;
     for (name, value) in [
         ("dt", dt),
         ("t_energy", t_energy),
@@ -97,9 +93,11 @@ fn gear_corrections_table<'py>(
             )));
         }
     }
-    if sample_every == 0 {
-        return Err(PyValueError::new_err("sample_every: must be >= 1, got 0"));
-    }
+    let sample_every = optional_integer(sample_every, "sample_every", 1, u64::MAX)?.unwrap_or(1);
+    // The energy samples of the longest run, for each of the configurations.
+    let samples = (t_energy.max(t_error).max(t_stability) / dt / sample_every as f64).ceil();
+    let bytes = (samples < 1e18).then(|| samples as u64 * SAMPLE_BYTES);
+    check_memory("t_energy, dt, sample_every", bytes)?;
     // Validate the rotors and states once, so the experiment itself cannot fail.
     let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
     let _ = validate_setup(&inertia, &initial, dt, Moments::Positive)
@@ -109,7 +107,7 @@ fn gear_corrections_table<'py>(
         t_energy,
         t_error,
         t_stability,
-        sample_every: sample_every as u64,
+        sample_every,
     };
     let table = py.detach(|| {
         on_worker(|| {

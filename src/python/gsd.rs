@@ -1,13 +1,13 @@
 //! `quatrot.write_gsd`: a GSD trajectory (`crate::run::GsdWriter`) from
 //! numpy arrays, e.g. the in-memory trajectory `quatrot.run` returns.
 
-use super::analysis::Numbers;
+use super::args::{integer, path_or};
+use super::arrays::{Numbers, Values};
 use crate::quaternion::Quat;
 use crate::run::{GsdBox, GsdWriter};
 use nalgebra::Vector3;
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use std::path::PathBuf;
 
 /// write_gsd(path, sites, orientations, steps, box_lengths=None, margin=1.0)
 ///
@@ -22,20 +22,27 @@ use std::path::PathBuf;
 #[pyo3(signature = (path, sites, orientations, steps, box_lengths=None, margin=1.0))]
 fn write_gsd(
     py: Python<'_>,
-    path: PathBuf,
+    path: &Bound<'_, PyAny>,
     sites: &Bound<'_, PyAny>,
     orientations: &Bound<'_, PyAny>,
-    steps: Vec<u64>,
+    steps: &Bound<'_, PyAny>,
     box_lengths: Option<&Bound<'_, PyAny>>,
     margin: f64,
 ) -> PyResult<()> {
-    let (sites, _) = Numbers::new(sites, "sites")?.items::<3>(&[1], "(n, 3)")?;
+    let path = path_or(path, "path", PyValueError::new_err)?;
+    let steps = steps
+        .try_iter()
+        .map_err(|_| PyTypeError::new_err("steps: expected a sequence of integers"))?
+        .enumerate()
+        .map(|(k, step)| integer(&step?, &format!("steps[{k}]"), 0, u64::MAX))
+        .collect::<PyResult<Vec<u64>>>()?;
+    let (sites, _) = Numbers::new(sites, "sites", Values::Finite)?.items::<3>(&[1], "(n, 3)")?;
     let sites: Vec<Vector3<f64>> = sites.into_iter().map(Vector3::from).collect();
     if sites.is_empty() {
         return Err(PyValueError::new_err("sites: needs at least one site"));
     }
-    let (q, leading) =
-        Numbers::new(orientations, "orientations")?.items::<4>(&[2], "(frames, n, 4)")?;
+    let (q, leading) = Numbers::new(orientations, "orientations", Values::Quaternions)?
+        .items::<4>(&[2], "(frames, n, 4)")?;
     if leading[1] != sites.len() {
         return Err(PyValueError::new_err(format!(
             "orientations: {} rotors per frame, but sites has {}",
@@ -52,7 +59,8 @@ fn write_gsd(
     }
     let cell = match box_lengths {
         Some(b) => {
-            let (l, _) = Numbers::new(b, "box_lengths")?.items::<3>(&[0], "(3,)")?;
+            let (l, _) =
+                Numbers::new(b, "box_lengths", Values::Finite)?.items::<3>(&[0], "(3,)")?;
             let l = Vector3::from(l[0]);
             if !l.iter().all(|x| x.is_finite() && *x > 0.0) {
                 return Err(PyValueError::new_err(format!(

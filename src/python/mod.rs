@@ -1,20 +1,25 @@
 //! The Python extension module `quatrot._native` (cargo feature `python`),
 //! re-exported whole by the pure-Python package `quatrot`
-//! (`src/python/quatrot/__init__.py`). Each submodule converts numpy arrays
-//! at the boundary and delegates to the library; one place maps errors to
-//! Python exceptions.
+//! (`src/python/quatrot/__init__.py`). Each function is a thin wrapper: it
+//! converts its arguments once ([`arrays`] for array-likes, [`args`] for
+//! text, paths and integers), builds rotors in one place ([`rotors`]) and
+//! delegates to a plain function of the library; one place maps the
+//! library's input errors to Python exceptions.
 
 use crate::checks::InputError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 mod analysis;
+mod args;
 mod arrays;
 mod baselines;
+mod cli;
 mod dynamics;
 mod gsd;
 mod potential;
 mod quaternion;
+mod rotors;
 mod run;
 
 /// Input the library refuses (a potential's sites or multipoles, an
@@ -37,5 +42,6 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     run::register(m)?;
     analysis::register(m)?;
     gsd::register(m)?;
+    cli::register(m)?;
     Ok(())
 }

@@ -1,12 +1,13 @@
 //! `quatrot.multipole_evaluate`: the point-multipole potential from numpy arrays.
 
-use super::arrays::{collect, common_len, single, Items};
+use super::args::optional_text;
+use super::arrays::{collect, common_len, overflow, single, Items, Values};
+use super::rotors::rotors;
 use crate::potential::multipole::DEFAULT_ACCURACY;
 use crate::potential::{
     Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod, Surface,
 };
 use crate::quaternion::Quat;
-use crate::rotor::{Inertia, Rotor};
 use nalgebra::{Matrix3, Vector3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -113,7 +114,7 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 /// error estimates, for FFT sums `cells` and `basis`. Reduced units,
 /// 4 pi eps0 = 1.
 #[pyfunction]
-#[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None, sum=None, accuracy=None, surface=None, method="auto", details=false))]
+#[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None, sum=None, accuracy=None, surface=None, method=None, details=false))]
 #[allow(clippy::too_many_arguments)]
 fn multipole_evaluate<'py>(
     py: Python<'py>,
@@ -125,39 +126,43 @@ fn multipole_evaluate<'py>(
     field_gradient: Option<&Bound<'py, PyAny>>,
     box_lengths: Option<&Bound<'py, PyAny>>,
     cutoff: Option<f64>,
-    sum: Option<&str>,
+    sum: Option<&Bound<'py, PyAny>>,
     accuracy: Option<f64>,
-    surface: Option<&str>,
-    method: &str,
+    surface: Option<&Bound<'py, PyAny>>,
+    method: Option<&Bound<'py, PyAny>>,
     details: bool,
 ) -> PyResult<Bound<'py, PyTuple>> {
-    let sites = Items::new(sites, "sites", &[3])?;
-    let orientations = Items::new(orientations, "orientations", &[4])?;
+    let sites = Items::new(sites, "sites", &[3], Values::Finite)?;
+    let orientations = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
     let dipoles = dipoles_body
-        .map(|d| Items::new(d, "dipoles_body", &[3]))
+        .map(|d| Items::new(d, "dipoles_body", &[3], Values::Finite))
         .transpose()?;
     let quadrupoles = quadrupoles_body
-        .map(|t| Items::new(t, "quadrupoles_body", &[3, 3]))
+        .map(|t| Items::new(t, "quadrupoles_body", &[3, 3], Values::Finite))
         .transpose()?;
     let mut per_rotor = vec![&sites, &orientations];
     per_rotor.extend(dipoles.iter());
     per_rotor.extend(quadrupoles.iter());
     let batch = common_len(&per_rotor)?;
     let n = batch.0;
-    let rotors: Vec<Rotor> = (0..n)
-        .map(|i| Rotor {
-            site: sites.vector(i),
-            inertia: Inertia::Spherical(1.0),
-            dipole_body: dipoles.as_ref().map(|d| d.vector(i)),
-            quadrupole_body: quadrupoles.as_ref().map(|t| t.matrix(i)),
-        })
-        .collect();
+    let rotors = rotors(n, &sites, None, dipoles.as_ref(), quadrupoles.as_ref());
     let external = ExternalFields {
         field: single(field, "field", &[3])?.map(|e| e.vector(0)),
         field_gradient: single(field_gradient, "field_gradient", &[3, 3])?.map(|g| g.matrix(0)),
     };
-    let boundary = boundary(box_lengths, cutoff, sum, accuracy, surface)?;
-    let method: SumMethod = method.parse()?;
+    let sum = optional_text(sum, "sum")?;
+    let surface = optional_text(surface, "surface")?;
+    let boundary = boundary(
+        box_lengths,
+        cutoff,
+        sum.as_deref(),
+        accuracy,
+        surface.as_deref(),
+    )?;
+    let method: SumMethod = optional_text(method, "method")?
+        .as_deref()
+        .unwrap_or("auto")
+        .parse()?;
     let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
     let (energy, gradient, torques, potential) = py.detach(|| -> Result<_, PotentialError> {
         let potential = MultipolePotential::with_method(&rotors, boundary, external, method)?;
@@ -166,6 +171,16 @@ fn multipole_evaluate<'py>(
         let energy = potential.evaluate(&q, Some(&mut gradient), Some(&mut torques));
         Ok((energy, gradient, torques, potential))
     })?;
+    let values = std::iter::once(energy)
+        .chain(gradient.iter().flat_map(|g| g.0))
+        .chain(torques.iter().flat_map(|t| [t.x, t.y, t.z]));
+    if let Some(x) = values.into_iter().find(|x| !x.is_finite()) {
+        return Err(overflow(
+            "the energy, gradient or torques of sites, dipoles_body, quadrupoles_body, field \
+             and field_gradient",
+            x,
+        ));
+    }
     let gradient = collect(py, batch, &[4], |i| Ok(gradient[i].0))?;
     let torques = collect(py, batch, &[3], |i| Ok(torques[i].into()))?;
     if !details {

@@ -9,7 +9,7 @@ use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use super::arrays::{collect, common_len, row_major, Items};
+use super::arrays::{collect, common_len, row_major, Items, Values};
 use crate::Quat;
 
 /// Largest `|R^T R - I|` and `|det R - 1|` accepted by the matrix conversions:
@@ -27,7 +27,10 @@ const S: [usize; 0] = [];
 /// Hamilton product `p*q` (eq 2, corrected sign).
 #[pyfunction]
 fn product<'py>(py: Python<'py>, p: &Bound<'py, PyAny>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let (p, q) = (Items::new(p, "p", &Q)?, Items::new(q, "q", &Q)?);
+    let (p, q) = (
+        Items::new(p, "p", &Q, Values::Quaternions)?,
+        Items::new(q, "q", &Q, Values::Quaternions)?,
+    );
     collect(py, common_len(&[&p, &q])?, &Q, |i| {
         Ok((p.quat(i) * q.quat(i)).0)
     })
@@ -36,21 +39,21 @@ fn product<'py>(py: Python<'py>, p: &Bound<'py, PyAny>, q: &Bound<'py, PyAny>) -
 /// Conjugate `(q0, -q)` (eq 3).
 #[pyfunction]
 fn conjugate<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     collect(py, common_len(&[&q])?, &Q, |i| Ok(q.quat(i).conjugate().0))
 }
 
 /// Norm `|Q|` (square root of eq 5).
 #[pyfunction]
 fn norm<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     collect(py, common_len(&[&q])?, &S, |i| Ok([q.quat(i).norm()]))
 }
 
 /// `A(Q)` of eq 7, space to body (`r_b = A r_s`).
 #[pyfunction]
 fn space_to_body_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     collect(py, common_len(&[&q])?, &M, |i| {
         Ok(row_major(&q.quat(i).space_to_body_matrix()))
     })
@@ -59,7 +62,7 @@ fn space_to_body_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'p
 /// `R(Q) = A(Q)^T`, body to space (`r_s = R r_b`), the active rotation of `Q`.
 #[pyfunction]
 fn body_to_space_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     collect(py, common_len(&[&q])?, &M, |i| {
         Ok(row_major(&q.quat(i).body_to_space_matrix()))
     })
@@ -69,7 +72,7 @@ fn body_to_space_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'p
 /// for the cross-code checks.
 #[pyfunction]
 fn nalgebra_body_to_space_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     collect(py, common_len(&[&q])?, &M, |i| {
         Ok(row_major(Rotation3::from(q.quat(i)).matrix()))
     })
@@ -82,7 +85,10 @@ fn space_to_body<'py>(
     q: &Bound<'py, PyAny>,
     v_space: &Bound<'py, PyAny>,
 ) -> Array<'py> {
-    let (q, v) = (Items::new(q, "q", &Q)?, Items::new(v_space, "v_space", &V)?);
+    let (q, v) = (
+        Items::new(q, "q", &Q, Values::Quaternions)?,
+        Items::new(v_space, "v_space", &V, Values::Finite)?,
+    );
     collect(py, common_len(&[&q, &v])?, &V, |i| {
         Ok(q.quat(i).space_to_body(&v.vector(i)).into())
     })
@@ -95,7 +101,10 @@ fn body_to_space<'py>(
     q: &Bound<'py, PyAny>,
     v_body: &Bound<'py, PyAny>,
 ) -> Array<'py> {
-    let (q, v) = (Items::new(q, "q", &Q)?, Items::new(v_body, "v_body", &V)?);
+    let (q, v) = (
+        Items::new(q, "q", &Q, Values::Quaternions)?,
+        Items::new(v_body, "v_body", &V, Values::Finite)?,
+    );
     collect(py, common_len(&[&q, &v])?, &V, |i| {
         Ok(q.quat(i).body_to_space(&v.vector(i)).into())
     })
@@ -104,7 +113,7 @@ fn body_to_space<'py>(
 /// `Q` of y-convention Euler angles `(phi, theta, psi)` in radians (eq 8).
 #[pyfunction]
 fn from_euler_y<'py>(py: Python<'py>, angles: &Bound<'py, PyAny>) -> Array<'py> {
-    let a = Items::new(angles, "angles", &V)?;
+    let a = Items::new(angles, "angles", &V, Values::Finite)?;
     collect(py, common_len(&[&a])?, &Q, |i| {
         let [phi, theta, psi] = a.vector(i).into();
         Ok(Quat::from_euler_y(phi, theta, psi).0)
@@ -114,7 +123,7 @@ fn from_euler_y<'py>(py: Python<'py>, angles: &Bound<'py, PyAny>) -> Array<'py> 
 /// y-convention `(phi, theta, psi)` of unit `Q`: theta in [0, pi], phi, psi in (-pi, pi].
 #[pyfunction]
 fn to_euler_y<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     collect(py, common_len(&[&q])?, &V, |i| {
         let (phi, theta, psi) = q.quat(i).to_euler_y();
         Ok([phi, theta, psi])
@@ -129,8 +138,8 @@ fn from_axis_angle<'py>(
     angle: &Bound<'py, PyAny>,
 ) -> Array<'py> {
     let (axis, angle) = (
-        Items::new(axis, "axis", &V)?,
-        Items::new(angle, "angle", &S)?,
+        Items::new(axis, "axis", &V, Values::Finite)?,
+        Items::new(angle, "angle", &S, Values::Finite)?,
     );
     collect(py, common_len(&[&axis, &angle])?, &Q, |i| {
         let unit = Unit::try_new(axis.vector(i), 0.0)
@@ -148,7 +157,7 @@ fn from_axis_angle<'py>(
 /// `(axis, angle)` of unit `Q`, angle in [0, pi]; the axis is `(0, 0, 0)` for angle 0.
 #[pyfunction]
 fn to_axis_angle<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> ArrayPair<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     let n = common_len(&[&q])?;
     let axis = collect(py, n, &V, |i| {
         Ok(q.quat(i)
@@ -163,7 +172,7 @@ fn to_axis_angle<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> ArrayPair<'py> 
 /// `Q = exp(v)`: the rotation by `|v|` about `v`.
 #[pyfunction]
 fn exp<'py>(py: Python<'py>, rotvec: &Bound<'py, PyAny>) -> Array<'py> {
-    let v = Items::new(rotvec, "rotvec", &V)?;
+    let v = Items::new(rotvec, "rotvec", &V, Values::Finite)?;
     collect(
         py,
         common_len(&[&v])?,
@@ -175,7 +184,7 @@ fn exp<'py>(py: Python<'py>, rotvec: &Bound<'py, PyAny>) -> Array<'py> {
 /// `ln Q`: the rotation vector of unit `Q`, `|v|` in [0, pi].
 #[pyfunction]
 fn ln<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q)?;
+    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
     collect(py, common_len(&[&q])?, &V, |i| Ok(q.quat(i).ln().into()))
 }
 
@@ -187,8 +196,8 @@ fn q_dot_from_omega_body<'py>(
     omega_body: &Bound<'py, PyAny>,
 ) -> Array<'py> {
     let (q, w) = (
-        Items::new(q, "q", &Q)?,
-        Items::new(omega_body, "omega_body", &V)?,
+        Items::new(q, "q", &Q, Values::Quaternions)?,
+        Items::new(omega_body, "omega_body", &V, Values::Finite)?,
     );
     collect(py, common_len(&[&q, &w])?, &Q, |i| {
         Ok(q.quat(i).q_dot_from_omega_body(&w.vector(i)).0)
@@ -203,8 +212,8 @@ fn q_dot_from_omega_space<'py>(
     omega_space: &Bound<'py, PyAny>,
 ) -> Array<'py> {
     let (q, w) = (
-        Items::new(q, "q", &Q)?,
-        Items::new(omega_space, "omega_space", &V)?,
+        Items::new(q, "q", &Q, Values::Quaternions)?,
+        Items::new(omega_space, "omega_space", &V, Values::Finite)?,
     );
     collect(py, common_len(&[&q, &w])?, &Q, |i| {
         Ok(q.quat(i).q_dot_from_omega_space(&w.vector(i)).0)
@@ -218,7 +227,10 @@ fn omega_body_from_q_dot<'py>(
     q: &Bound<'py, PyAny>,
     q_dot: &Bound<'py, PyAny>,
 ) -> Array<'py> {
-    let (q, d) = (Items::new(q, "q", &Q)?, Items::new(q_dot, "q_dot", &Q)?);
+    let (q, d) = (
+        Items::new(q, "q", &Q, Values::Quaternions)?,
+        Items::new(q_dot, "q_dot", &Q, Values::Finite)?,
+    );
     collect(py, common_len(&[&q, &d])?, &V, |i| {
         Ok(q.quat(i).omega_body_from_q_dot(&d.quat(i)).into())
     })
@@ -231,7 +243,10 @@ fn omega_space_from_q_dot<'py>(
     q: &Bound<'py, PyAny>,
     q_dot: &Bound<'py, PyAny>,
 ) -> Array<'py> {
-    let (q, d) = (Items::new(q, "q", &Q)?, Items::new(q_dot, "q_dot", &Q)?);
+    let (q, d) = (
+        Items::new(q, "q", &Q, Values::Quaternions)?,
+        Items::new(q_dot, "q_dot", &Q, Values::Finite)?,
+    );
     collect(py, common_len(&[&q, &d])?, &V, |i| {
         Ok(q.quat(i).omega_space_from_q_dot(&d.quat(i)).into())
     })
@@ -240,7 +255,7 @@ fn omega_space_from_q_dot<'py>(
 /// Unit `Q` (q0 >= 0) of a body-to-space rotation matrix `R`.
 #[pyfunction]
 fn from_body_to_space_matrix<'py>(py: Python<'py>, r: &Bound<'py, PyAny>) -> Array<'py> {
-    let r = Items::new(r, "r", &M)?;
+    let r = Items::new(r, "r", &M, Values::Finite)?;
     collect(py, common_len(&[&r])?, &Q, |i| {
         Ok(checked_rotation(&r, i, false)?.0)
     })
@@ -249,7 +264,7 @@ fn from_body_to_space_matrix<'py>(py: Python<'py>, r: &Bound<'py, PyAny>) -> Arr
 /// Unit `Q` (q0 >= 0) of a space-to-body matrix `A` (eq 7).
 #[pyfunction]
 fn from_space_to_body_matrix<'py>(py: Python<'py>, a: &Bound<'py, PyAny>) -> Array<'py> {
-    let a = Items::new(a, "a", &M)?;
+    let a = Items::new(a, "a", &M, Values::Finite)?;
     collect(py, common_len(&[&a])?, &Q, |i| {
         Ok(checked_rotation(&a, i, true)?.0)
     })

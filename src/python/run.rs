@@ -2,21 +2,25 @@
 //! A scene arrives as TOML text, a built-in name, a path or a dict; the run
 //! happens without the GIL; results come back as numpy arrays and a summary
 //! dict. Scene errors raise `quatrot.SceneError` (a `ValueError`) naming the
-//! field; a blow-up raises `quatrot.BlowUpError` carrying the partial
-//! results in its `result` attribute.
+//! field; a blow-up raises `quatrot.BlowUpError`, and Ctrl-C
+//! `KeyboardInterrupt`, carrying the partial results in their `result`
+//! attribute. A scene dict is converted with its nesting bounded and its
+//! cycles refused.
 
+use super::args::{path_or, text_or, wrong_type};
 use crate::parallel::in_pool;
 use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
 use crate::scene::{load, load_table, load_text, Overrides, Scene, BUILTINS};
-use crate::simulation::Stop;
+use crate::simulation::{Control, Stop};
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::num::NonZeroUsize;
-use std::path::PathBuf;
+use std::sync::{mpsc, Arc};
+use std::time::Duration;
 
 create_exception!(
     quatrot,
@@ -43,80 +47,131 @@ fn run_error(e: RunError) -> PyErr {
     }
 }
 
-/// Converts a Python value of a scene dict to TOML, naming the path on error.
-fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
-    let here = |p: &str| {
-        if p.is_empty() {
-            "(top level)".to_string()
-        } else {
-            p.to_string()
+/// The deepest nesting of dicts and lists a scene dict may have (a scene
+/// needs 5: a table of arrays of vectors in a table of the top level).
+pub(crate) const MAX_DEPTH: usize = 32;
+
+/// How a path of a scene dict is named in a message.
+fn here(path: &str) -> &str {
+    if path.is_empty() {
+        "(top level)"
+    } else {
+        path
+    }
+}
+
+/// The conversion of a scene dict to TOML: the containers being converted
+/// (by identity, with their paths) guard against cycles, their number
+/// against nesting deeper than [`MAX_DEPTH`].
+#[derive(Default)]
+struct ToToml {
+    open: Vec<(usize, String)>,
+}
+
+impl ToToml {
+    /// Converts `value`, found at `path`, naming the path on error.
+    fn value(&mut self, value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
+        if value.is_none() {
+            return Err(SceneError::new_err(format!(
+                "{}: None is not allowed (leave the key out)",
+                here(path)
+            )));
         }
-    };
-    if value.is_none() {
-        return Err(SceneError::new_err(format!(
-            "{}: None is not allowed (leave the key out)",
-            here(path)
-        )));
-    }
-    if let Ok(b) = value.cast::<PyBool>() {
-        return Ok(toml::Value::Boolean(b.is_true()));
-    }
-    if let Ok(i) = value.cast::<PyInt>() {
-        return i.extract::<i64>().map(toml::Value::Integer).map_err(|_| {
-            SceneError::new_err(format!("{}: integer out of range, got {i}", here(path)))
-        });
-    }
-    if let Ok(f) = value.cast::<PyFloat>() {
-        return Ok(toml::Value::Float(f.value()));
-    }
-    if let Ok(s) = value.cast::<PyString>() {
-        return Ok(toml::Value::String(s.to_str()?.to_string()));
-    }
-    if let Ok(d) = value.cast::<PyDict>() {
-        let mut table = toml::Table::new();
-        for (k, v) in d.iter() {
-            let key = k.cast::<PyString>().map_err(|_| {
-                SceneError::new_err(format!("{}: keys must be strings, got {k}", here(path)))
-            })?;
-            let key = key.to_str()?.to_string();
-            let sub = if path.is_empty() {
-                key.clone()
-            } else {
-                format!("{path}.{key}")
-            };
-            let _ = table.insert(key, to_toml(&v, &sub)?);
+        if let Ok(b) = value.cast::<PyBool>() {
+            return Ok(toml::Value::Boolean(b.is_true()));
         }
-        return Ok(toml::Value::Table(table));
+        if let Ok(i) = value.cast::<PyInt>() {
+            return i.extract::<i64>().map(toml::Value::Integer).map_err(|_| {
+                SceneError::new_err(format!("{}: integer out of range, got {i}", here(path)))
+            });
+        }
+        if let Ok(f) = value.cast::<PyFloat>() {
+            return Ok(toml::Value::Float(f.value()));
+        }
+        if value.is_instance_of::<PyString>() {
+            return text_or(value, here(path), SceneError::new_err).map(toml::Value::String);
+        }
+        let container = value.is_instance_of::<PyDict>()
+            || value.is_instance_of::<PyList>()
+            || value.is_instance_of::<PyTuple>();
+        if container {
+            self.enter(value, path)?;
+            let converted = self.container(value, path);
+            let _ = self.open.pop();
+            return converted;
+        }
+        if value.hasattr("tolist")? {
+            // numpy arrays and scalars.
+            return self.value(&value.call_method0("tolist")?, path);
+        }
+        Err(SceneError::new_err(format!(
+            "{}: unsupported value of type {}",
+            here(path),
+            value.get_type().name()?
+        )))
     }
-    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+
+    /// Opens the container `value` at `path`: refused if it is one of the
+    /// containers it is inside of, or nested too deep.
+    fn enter(&mut self, value: &Bound<'_, PyAny>, path: &str) -> PyResult<()> {
+        let id = value.as_ptr() as usize;
+        if let Some((_, outer)) = self.open.iter().find(|(o, _)| *o == id) {
+            return Err(SceneError::new_err(format!(
+                "{}: refers to itself (it is {})",
+                here(path),
+                here(outer)
+            )));
+        }
+        if self.open.len() >= MAX_DEPTH {
+            return Err(SceneError::new_err(format!(
+                "{}: nested deeper than {MAX_DEPTH} levels",
+                here(path)
+            )));
+        }
+        self.open.push((id, path.to_string()));
+        Ok(())
+    }
+
+    /// Converts a dict, list or tuple.
+    fn container(&mut self, value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
+        if let Ok(d) = value.cast::<PyDict>() {
+            let mut table = toml::Table::new();
+            for (k, v) in d.iter() {
+                if !k.is_instance_of::<PyString>() {
+                    return Err(SceneError::new_err(format!(
+                        "{}: keys must be strings, got {k}",
+                        here(path)
+                    )));
+                }
+                let key = text_or(&k, &format!("{}: a key", here(path)), SceneError::new_err)?;
+                let sub = if path.is_empty() {
+                    key.clone()
+                } else {
+                    format!("{path}.{key}")
+                };
+                let _ = table.insert(key, self.value(&v, &sub)?);
+            }
+            return Ok(toml::Value::Table(table));
+        }
         let items = value
             .try_iter()?
             .enumerate()
-            .map(|(k, item)| to_toml(&item?, &format!("{path}[{k}]")))
+            .map(|(k, item)| self.value(&item?, &format!("{path}[{k}]")))
             .collect::<PyResult<Vec<_>>>()?;
-        return Ok(toml::Value::Array(items));
+        Ok(toml::Value::Array(items))
     }
-    if value.hasattr("tolist")? {
-        // numpy arrays and scalars.
-        return to_toml(&value.call_method0("tolist")?, path);
-    }
-    Err(SceneError::new_err(format!(
-        "{}: unsupported value of type {}",
-        here(path),
-        value.get_type().name()?
-    )))
 }
 
 /// TOML text if it has a newline or `=`, otherwise a built-in name or a path.
 fn load_scene(scene: &Bound<'_, PyAny>, overrides: &Overrides) -> PyResult<(RawScene, Scene)> {
     if let Ok(d) = scene.cast::<PyDict>() {
-        let toml::Value::Table(table) = to_toml(d.as_any(), "")? else {
+        let toml::Value::Table(table) = ToToml::default().value(d.as_any(), "")? else {
             return Err(SceneError::new_err("(top level): expected a table"));
         };
         return load_table(table, overrides).map_err(|e| scene_error(&e));
     }
-    if let Ok(s) = scene.cast::<PyString>() {
-        let text = s.to_str()?;
+    if scene.is_instance_of::<PyString>() {
+        let text = &text_or(scene, "scene", SceneError::new_err)?;
         let loaded = if text.contains('\n') || text.contains('=') {
             load_text(text, overrides)
         } else {
@@ -124,8 +179,12 @@ fn load_scene(scene: &Bound<'_, PyAny>, overrides: &Overrides) -> PyResult<(RawS
         };
         return loaded.map_err(|e| scene_error(&e));
     }
-    let path: PathBuf = scene.extract().map_err(|_| {
-        SceneError::new_err("scene: expected TOML text, a built-in name, a path or a dict")
+    let path = path_or(scene, "scene", SceneError::new_err).map_err(|e| {
+        if e.is_instance_of::<PyTypeError>(scene.py()) {
+            SceneError::new_err("scene: expected TOML text, a built-in name, a path or a dict")
+        } else {
+            e
+        }
     })?;
     let name = path.to_string_lossy().to_string();
     let name = if name.contains(['/', '\\']) || name.ends_with(".toml") {
@@ -201,67 +260,165 @@ fn result_dict<'py>(
     Ok(out)
 }
 
-/// run(scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None)
+/// How often a run started from Python looks at its progress and at
+/// Ctrl-C (Python's pending signals).
+const POLL: Duration = Duration::from_millis(20);
+
+/// run(scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None, progress=False, on_progress=None)
 ///
 /// Runs a scene given as TOML text, a built-in name, a path or a dict.
 /// `out_dir` (optional) receives the CSV, DCD + PDB, checkpoint and summary
 /// files; `dt`, `steps` and `integrator` override the scene's; `restart` is a
 /// checkpoint file to continue from; `threads` (>= 1) runs on a pool of that
 /// many threads of its own (default: the shared pool, one thread per core;
-/// the periodic pair loop's last bits depend on the count). Returns a dict with `summary` (dict),
+/// the periodic pair loop's last bits depend on the count). `progress=True`
+/// shows a progress bar (tqdm if installed, else a line on stderr);
+/// `on_progress(step, total)` is called with the step reached (about every
+/// 20 ms, and at the end; an exception it raises stops the run and is
+/// raised). Returns a dict with `summary` (dict),
 /// `series` ({name: {column: ndarray}}), `trajectory` (None, or `step`,
 /// `time`, `orientations` (frames, n, 4), `omega_body` (frames, n, 3)),
 /// `sites` (n, 3), `initial_orientations` (n, 4), `initial_omega_body` (n, 3).
-/// The GIL is released while the run goes on.
+/// The GIL is released while the run goes on. Ctrl-C stops the run at the
+/// end of the step in progress, with its output files flushed and closed
+/// (summary status `"interrupted"`), and raises `KeyboardInterrupt` whose
+/// `result` attribute holds the dict of what the run recorded.
 #[pyfunction]
-#[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None))]
+#[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None, progress=false, on_progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
-    out_dir: Option<PathBuf>,
+    out_dir: Option<&Bound<'py, PyAny>>,
     dt: Option<f64>,
-    steps: Option<i64>,
-    integrator: Option<String>,
-    restart: Option<PathBuf>,
-    threads: Option<i64>,
+    steps: Option<&Bound<'py, PyAny>>,
+    integrator: Option<&Bound<'py, PyAny>>,
+    restart: Option<&Bound<'py, PyAny>>,
+    threads: Option<&Bound<'py, PyAny>>,
+    progress: bool,
+    on_progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let threads = threads
-        .map(|n| {
-            usize::try_from(n)
-                .ok()
-                .and_then(NonZeroUsize::new)
-                .ok_or_else(|| PyValueError::new_err(format!("threads: must be >= 1, got {n}")))
-        })
-        .transpose()?;
+    let threads = threads.map(thread_count).transpose()?;
+    let path = |p: &Bound<'py, PyAny>, name| path_or(p, name, SceneError::new_err);
+    let out_dir = out_dir.map(|p| path(p, "out_dir")).transpose()?;
+    let restart = restart.map(|p| path(p, "restart")).transpose()?;
     let overrides = Overrides {
         dt,
-        steps,
-        integrator,
+        steps: steps.map(step_count).transpose()?,
+        integrator: integrator
+            .map(|i| text_or(i, "integrator", SceneError::new_err))
+            .transpose()?,
     };
     let (raw, scene) = load_scene(scene, &overrides)?;
     let definition = raw.definition();
+    let control = Arc::new(Control::new());
     let outputs = Outputs {
         dir: out_dir,
         keep: true,
+        control: Some(Arc::clone(&control)),
     };
+    let mut reporters: Vec<Bound<'py, PyAny>> = on_progress.into_iter().cloned().collect();
+    if progress {
+        reporters.push(
+            py.import("quatrot._progress")?
+                .call_method1("bar", (scene.steps,))?,
+        );
+    }
     let go = || execute(&scene, definition, &outputs, restart.as_deref(), None);
-    let result = py
-        .detach(|| match threads {
-            None => Ok(go()),
-            Some(n) => in_pool(n, go),
-        })
+    let (finished, stopped_by) = std::thread::scope(|s| {
+        let (send, receive) = mpsc::channel();
+        let _ = s.spawn(move || {
+            let result = match threads {
+                None => Ok(go()),
+                Some(n) => in_pool(n, go),
+            };
+            let _ = send.send(result);
+        });
+        watch(py, receive, &control, scene.steps, &reporters)
+    });
+    for r in reporters
+        .iter()
+        .filter(|r| r.hasattr("close").unwrap_or(false))
+    {
+        let _ = r.call_method0("close")?;
+    }
+    let result = finished
+        .ok_or_else(|| PyRuntimeError::new_err("the run ended without a result"))?
         .map_err(|e| PyRuntimeError::new_err(format!("threads: {e}")))?
         .map_err(run_error)?;
     let message = result.stop.message();
-    let blew_up = matches!(result.stop, Stop::BlewUp { .. });
+    let stop = result.stop.clone();
     let dict = result_dict(py, &scene, result)?;
-    if blew_up {
-        let err = BlowUpError::new_err(message.unwrap_or_default());
-        err.value(py).setattr("result", dict)?;
-        return Err(err);
+    let err = match (stopped_by, stop) {
+        (Some(err), _) => err,
+        (None, Stop::BlewUp { .. }) => BlowUpError::new_err(message.unwrap_or_default()),
+        (None, _) => return Ok(dict),
+    };
+    err.value(py).setattr("result", dict)?;
+    Err(err)
+}
+
+/// Waits for the run sending its result on `receive` (`None` if it ended
+/// without one), without the GIL but for a look every [`POLL`]: reports the step reached to `reporters` and,
+/// on Ctrl-C (a pending `KeyboardInterrupt`) or an exception of a reporter,
+/// asks the run to stop and keeps that exception to raise.
+fn watch<T: Send>(
+    py: Python<'_>,
+    mut receive: mpsc::Receiver<T>,
+    control: &Control,
+    total: u64,
+    reporters: &[Bound<'_, PyAny>],
+) -> (Option<T>, Option<PyErr>) {
+    let mut stopped_by: Option<PyErr> = None;
+    let mut reported = None;
+    loop {
+        let (r, waited) = py.detach(move || {
+            let waited = receive.recv_timeout(POLL);
+            (receive, waited)
+        });
+        receive = r;
+        let step = control.step();
+        if reported != Some(step) && stopped_by.is_none() {
+            reported = Some(step);
+            if let Some(e) = reporters.iter().find_map(|r| r.call1((step, total)).err()) {
+                control.request_stop();
+                stopped_by = Some(e);
+            }
+        }
+        match waited {
+            Ok(finished) => return (Some(finished), stopped_by),
+            Err(mpsc::RecvTimeoutError::Disconnected) => return (None, stopped_by),
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+        }
+        if stopped_by.is_none() {
+            if let Err(e) = py.check_signals() {
+                control.request_stop();
+                stopped_by = Some(e);
+            }
+        }
     }
-    Ok(dict)
+}
+
+/// The `threads` argument: an integer >= 1.
+fn thread_count(threads: &Bound<'_, PyAny>) -> PyResult<NonZeroUsize> {
+    let n: i64 = threads
+        .extract()
+        .map_err(|_| PyValueError::new_err(format!("threads: must be >= 1, got {threads}")))?;
+    usize::try_from(n)
+        .ok()
+        .and_then(NonZeroUsize::new)
+        .ok_or_else(|| PyValueError::new_err(format!("threads: must be >= 1, got {n}")))
+}
+
+/// The `steps` argument: an integer the scene's `run.steps` can hold (the
+/// scene checks its range).
+fn step_count(steps: &Bound<'_, PyAny>) -> PyResult<i64> {
+    if !steps.is_instance_of::<PyInt>() {
+        return Err(wrong_type(steps, "steps", "an integer"));
+    }
+    steps.extract().map_err(|_| {
+        SceneError::new_err(format!("steps: must be at most {}, got {steps}", i64::MAX))
+    })
 }
 
 /// builtin_scenes() -> dict[str, str]: the built-in scenes' TOML texts by name.

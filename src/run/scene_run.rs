@@ -11,9 +11,10 @@ use crate::integrators::Integrator;
 use crate::potential::Potential;
 use crate::scene::Scene;
 use crate::simulation::{
-    run, BlowUpChecks, Checkpoints, EnergyReference, Observer, RunOptions, Scheduled, Stop,
+    run, BlowUpChecks, Checkpoints, Control, EnergyReference, Observer, RunOptions, Scheduled, Stop,
 };
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Name of the summary file in the output directory.
 pub const SUMMARY_FILE: &str = "summary.json";
@@ -32,6 +33,9 @@ pub struct Outputs {
     pub dir: Option<PathBuf>,
     /// Keep the series and trajectory in memory (for Python).
     pub keep: bool,
+    /// Stops the run from another thread (Ctrl-C in Python) at the end of
+    /// a step.
+    pub control: Option<Arc<Control>>,
 }
 
 impl Outputs {
@@ -97,6 +101,7 @@ pub fn run_scene(
             energy_error_threshold: scene.record.energy_error_threshold,
         }),
         reference,
+        control: outputs.control.clone(),
     };
     let mut scheduled = scheduled(scene, &mut series, &mut trajectory, progress);
     let checkpoints = checkpoints.as_mut().map(|(every, sink)| Checkpoints {

@@ -65,7 +65,7 @@ pub struct Summary {
     pub start_step: u64,
     /// The step the run ended at.
     pub last_step: u64,
-    /// "completed" or "blew_up".
+    /// "completed", "blew_up" or "interrupted".
     pub status: &'static str,
     /// The blow-up message (step and rotor), if any.
     pub message: Option<String>,
@@ -129,6 +129,7 @@ impl Summary {
             status: match report.stop {
                 Stop::Completed => "completed",
                 Stop::BlewUp { .. } => "blew_up",
+                Stop::Interrupted { .. } => "interrupted",
             },
             message: report.stop.message(),
             wall_seconds: report.wall_seconds,

@@ -4,6 +4,7 @@
 //! it computes only what is due then: the observers' [`Needs`], the blow-up
 //! checks, a checkpoint.
 
+use super::control::Control;
 use super::energy::{EnergyHistory, EnergyReference};
 use super::observer::{Checkpoints, Energies, Needs, Sample, Scheduled};
 use super::stop::{blow_up, BlowUpChecks, Stop};
@@ -13,6 +14,7 @@ use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// How long to run and what to guard.
@@ -28,6 +30,10 @@ pub struct RunOptions {
     pub checks: Option<BlowUpChecks>,
     /// The reference energy carried over from a checkpoint.
     pub reference: Option<EnergyReference>,
+    /// Polled after every step: a stop request ends the run there
+    /// ([`Stop::Interrupted`]), after the samples due at that step; the
+    /// step reached is recorded in it.
+    pub control: Option<Arc<Control>>,
 }
 
 /// What the run did.
@@ -155,11 +161,34 @@ impl<E> Loop<'_, '_, E> {
             if step >= self.options.end_step {
                 return Ok(());
             }
-            let next = self.next_event(step, observers);
-            for _ in step..next {
-                self.integrator.step(self.potential);
+            let control = self.options.control.as_deref();
+            if control.is_some_and(Control::stop_requested) {
+                self.report.stop = Stop::Interrupted { step };
+                return Ok(());
             }
-            step = next;
+            let next = self.next_event(step, observers);
+            match control {
+                None => {
+                    for _ in step..next {
+                        self.integrator.step(self.potential);
+                    }
+                    step = next;
+                }
+                // A stop between two events ends the run at once; one at
+                // an event step is seen above, after that step's samples.
+                Some(control) => {
+                    while step < next && !control.stop_requested() {
+                        self.integrator.step(self.potential);
+                        step += 1;
+                        control.set_step(step);
+                    }
+                    if step < next {
+                        self.report.last_step = step;
+                        self.report.stop = Stop::Interrupted { step };
+                        return Ok(());
+                    }
+                }
+            }
         }
     }
 

@@ -24,10 +24,13 @@ def test_head_to_tail_dipoles_closed_form():
 @pytest.mark.parametrize(
     "kwargs, error, message",
     [
-        ({"orientations": np.zeros((3, 4))}, ValueError, "orientations: 3 items, but sites has 2"),
+        ({"orientations": np.tile([1.0, 0, 0, 0], (3, 1))}, ValueError, "orientations: 3 items, but sites has 2"),
         ({"dipoles_body": np.zeros((2, 4))}, ValueError, "dipoles_body: expected shape (n, 3) or (3,), got (2, 4)"),
         ({"quadrupoles_body": np.zeros((2, 3))}, ValueError, "quadrupoles_body: expected shape (n, 3, 3) or (3, 3), got (2, 3)"),
-        ({"dipoles_body": np.zeros((2, 3), dtype=np.float32)}, TypeError, "dipoles_body: expected a numpy array of dtype float64"),
+        ({"dipoles_body": [[0.0, 0.0, "z"]] * 2}, TypeError, "dipoles_body: expected an array of numbers, got list"),
+        ({"dipoles_body": np.array([[0.0, 0, 1], [0, 0, np.nan]])}, ValueError, "dipoles_body[1][2]: not finite (nan)"),
+        ({"orientations": np.array([[1.0, 0, 0, 0], [0, 0, 0, 0]])}, ValueError, "orientations[1]: quaternion is zero"),
+        ({"dipoles_body": np.full((2, 3), 1e300)}, ValueError, "the energy, gradient or torques of sites, dipoles_body, quadrupoles_body, field and field_gradient: not finite"),
         ({"field": np.zeros((2, 3))}, ValueError, "field: expected a single item of shape (3,), not a batch"),
         ({"cutoff": 1.0}, ValueError, "box_lengths, cutoff: give both"),
         ({"box_lengths": np.array([4.0, 4, 4]), "cutoff": 1e4}, ValueError, "cutoff: 10000 gives about 1.31e11 interacting pairs (periodic images included) for 2 rotors, more than the limit 100000000"),

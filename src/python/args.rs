@@ -1,0 +1,126 @@
+//! Scalar arguments at the boundary: text (lone surrogates refused with the
+//! argument's name, not a `UnicodeEncodeError`), paths, integers in a range
+//! (no wrap, no panic, no `OverflowError`) and the memory a result would
+//! take, estimated before it is allocated.
+
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyInt, PyString};
+use std::path::PathBuf;
+
+/// The `TypeError` for argument `name` of the wrong type: `expected` says
+/// what it must be, the message adds the type it has.
+pub(crate) fn wrong_type(obj: &Bound<'_, PyAny>, name: &str, expected: &str) -> PyErr {
+    let kind = obj
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    PyTypeError::new_err(format!("{name}: expected {expected}, got {kind}"))
+}
+
+/// The text of `obj` (argument `name`), or the error `error` builds from a
+/// message naming it.
+pub(crate) fn text_or(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    error: fn(String) -> PyErr,
+) -> PyResult<String> {
+    let s = obj
+        .cast::<PyString>()
+        .map_err(|_| wrong_type(obj, name, "a str"))?;
+    s.to_str()
+        .map(str::to_string)
+        .map_err(|_| error(format!("{name}: not valid text (a lone surrogate)")))
+}
+
+/// The text of `obj` (argument `name`); bad text is a `ValueError`.
+pub(crate) fn text(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<String> {
+    text_or(obj, name, PyValueError::new_err)
+}
+
+/// The optional text argument `obj`.
+pub(crate) fn optional_text(
+    obj: Option<&Bound<'_, PyAny>>,
+    name: &str,
+) -> PyResult<Option<String>> {
+    obj.map(|o| text(o, name)).transpose()
+}
+
+/// A file-system path (str or `os.PathLike`) for argument `name`; names
+/// that cannot be encoded are the error `error` builds.
+pub(crate) fn path_or(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    error: fn(String) -> PyErr,
+) -> PyResult<PathBuf> {
+    obj.extract::<PathBuf>().map_err(|e| {
+        if e.is_instance_of::<PyTypeError>(obj.py()) {
+            PyTypeError::new_err(format!("{name}: expected a path (str or os.PathLike)"))
+        } else {
+            error(format!("{name}: not a valid file name (a lone surrogate)"))
+        }
+    })
+}
+
+/// An integer argument in `[min, max]` (a Python or numpy integer): a
+/// `TypeError` for anything else (bool and float included), a `ValueError`
+/// naming the range for an integer outside it.
+pub(crate) fn integer(obj: &Bound<'_, PyAny>, name: &str, min: u64, max: u64) -> PyResult<u64> {
+    let index = if obj.is_instance_of::<PyBool>() || !obj.hasattr("__index__")? {
+        None
+    } else {
+        obj.call_method0("__index__")
+            .ok()
+            .and_then(|i| i.cast_into::<PyInt>().ok())
+    };
+    let Some(index) = index else {
+        return Err(wrong_type(obj, name, "an integer"));
+    };
+    match index.extract::<u64>() {
+        Ok(n) if (min..=max).contains(&n) => Ok(n),
+        _ => Err(PyValueError::new_err(format!(
+            "{name}: must be between {min} and {max}, got {index}"
+        ))),
+    }
+}
+
+/// The optional integer argument `obj` in `[min, max]`.
+pub(crate) fn optional_integer(
+    obj: Option<&Bound<'_, PyAny>>,
+    name: &str,
+    min: u64,
+    max: u64,
+) -> PyResult<Option<u64>> {
+    obj.map(|o| integer(o, name, min, max)).transpose()
+}
+
+/// The largest allocation a binding makes for a result: half the physical
+/// memory (`MemTotal` of /proc/meminfo), or 4 GiB where that cannot be read.
+fn memory_limit() -> u64 {
+    const FALLBACK: u64 = 4 << 30;
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+            let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            Some(kib.saturating_mul(1024) / 2)
+        })
+        .unwrap_or(FALLBACK)
+}
+
+/// Refuses a result of `bytes` (`None`: the count overflowed) larger than
+/// the memory limit, naming the argument `name` that sets its size.
+pub(crate) fn check_memory(name: &str, bytes: Option<u64>) -> PyResult<()> {
+    let limit = memory_limit();
+    match bytes {
+        Some(b) if b <= limit => Ok(()),
+        Some(b) => Err(PyValueError::new_err(format!(
+            "{name}: the result would take {:.3e} bytes, more than the limit of {:.3e} \
+             (half the physical memory)",
+            b as f64, limit as f64
+        ))),
+        None => Err(PyValueError::new_err(format!(
+            "{name}: the result would take more than 2^64 bytes"
+        ))),
+    }
+}
