@@ -8,7 +8,7 @@ use quatrot::integrators::{Dlm, Integrator, IntegratorError, RotorState};
 use quatrot::potential::{Free, Potential};
 use quatrot::quaternion::Quat;
 use quatrot::rotor::Inertia;
-use quatrot::run::{execute, run_scene, Outputs, CHECKPOINT_FILE, SUMMARY_FILE};
+use quatrot::run::{execute, run_scene, Outputs, ScenePotential, CHECKPOINT_FILE, SUMMARY_FILE};
 use quatrot::scene::{load, parse_toml, validate, Overrides, BUILTINS};
 use quatrot::simulation::Stop;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -106,7 +106,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         &scene,
         definition(),
         &mut Dlm::default(),
-        &counting,
+        ScenePotential::plain(&counting),
         &in_memory(),
         None,
         None,
@@ -123,7 +123,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         &scene,
         definition(),
         &mut Dlm::default(),
-        &counting,
+        ScenePotential::plain(&counting),
         &in_memory(),
         None,
         None,
@@ -212,7 +212,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
         &scene,
         definition(),
         &mut integrator,
-        &Free,
+        ScenePotential::plain(&Free),
         &outputs,
         None,
         None,

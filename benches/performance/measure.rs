@@ -4,7 +4,7 @@
 
 use crate::counting::Counting;
 use quatrot::potential::{Free, Potential};
-use quatrot::run::{execute, potential, run_scene, Outputs, RunResult};
+use quatrot::run::{execute, potential, run_scene, Outputs, RunResult, ScenePotential};
 use quatrot::scene::{Record, Scene, Series, TrajectorySpec};
 use quatrot::simulation::{Quantity, Stop};
 use quatrot::stats::line_fit;
@@ -124,7 +124,7 @@ fn counted<P: Potential>(
         scene,
         serde_json::Value::Null,
         scene.integrator.build().as_mut(),
-        &counting,
+        ScenePotential::plain(&counting),
         &outputs,
         None,
         None,

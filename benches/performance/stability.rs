@@ -50,7 +50,7 @@ fn cases(effort: Effort) -> Vec<Case> {
             check_every: 1,
         },
         Case {
-            scene: "dipole_lattice_sc",
+            scene: "dipole_lattice_sc_cutoff",
             time: effort.pick(2.0, 0.02),
             dt_start: 0.004,
             check_every: 2,
@@ -144,7 +144,7 @@ pub fn long_runs(effort: Effort) -> Res<Value> {
     let runs: [(&str, u64, u64); 2] = [
         ("free_asymmetric_top", effort.pick(1_000_000, 2_000), 1000),
         (
-            "dipole_lattice_sc",
+            "dipole_lattice_sc_cutoff",
             effort.pick(LATTICE_LONG_STEPS, 20),
             100,
         ),

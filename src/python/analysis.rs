@@ -12,6 +12,7 @@ use crate::analysis::{
     orientational_correlations as correlations_of, vector_autocorrelation, BlockAverage,
     DielectricBoundary, Frames,
 };
+use crate::checks::from_name;
 use crate::observables::order::{nematic_order, polar_order, space_axes, unit_axis};
 use crate::observables::polarization;
 use crate::quaternion::Quat;
@@ -412,7 +413,7 @@ fn dielectric_constant<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let (m, _) = Numbers::new(dipoles, "dipoles")?.items::<3>(&[1], "(frames, 3)")?;
     let m: Vec<Vector3<f64>> = m.into_iter().map(Vector3::from).collect();
-    let boundary: DielectricBoundary = boundary.parse()?;
+    let boundary: DielectricBoundary = from_name("boundary", boundary)?;
     let eps = py.detach(|| dielectric_of(&m, volume, temperature, boundary))?;
     warn_unconverged(py, "dielectric_constant", &eps.fluctuation)?;
     let out = PyDict::new(py);

@@ -1,6 +1,7 @@
 //! `quatrot.multipole_evaluate`: the point-multipole potential from numpy arrays.
 
 use super::arrays::{collect, common_len, single, Items};
+use crate::checks::from_name;
 use crate::potential::multipole::DEFAULT_ACCURACY;
 use crate::potential::{
     Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod, Surface,
@@ -57,7 +58,7 @@ pub(crate) fn boundary(
             box_lengths,
             sum: PeriodicSum::Ewald {
                 accuracy: accuracy.unwrap_or(DEFAULT_ACCURACY),
-                surface: surface.map_or(Ok(Surface::Conducting), str::parse)?,
+                surface: surface.map_or(Ok(Surface::Conducting), |s| from_name("surface", s))?,
             },
         }),
         ("ewald", Some(_)) => Err(PyValueError::new_err(
@@ -157,7 +158,7 @@ fn multipole_evaluate<'py>(
         field_gradient: single(field_gradient, "field_gradient", &[3, 3])?.map(|g| g.matrix(0)),
     };
     let boundary = boundary(box_lengths, cutoff, sum, accuracy, surface)?;
-    let method: SumMethod = method.parse()?;
+    let method: SumMethod = from_name("method", method)?;
     let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
     let (energy, gradient, torques, potential) = py.detach(|| -> Result<_, PotentialError> {
         let potential = MultipolePotential::with_method(&rotors, boundary, external, method)?;

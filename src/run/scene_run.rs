@@ -5,7 +5,7 @@
 use super::checkpoint::{Checkpoint, CheckpointWriter};
 use super::error::RunError;
 use super::series::{SeriesObserver, SeriesTable};
-use super::summary::Summary;
+use super::summary::{InteractionsSummary, Summary};
 use super::trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
 use crate::integrators::Integrator;
 use crate::potential::Potential;
@@ -49,6 +49,27 @@ pub struct Progress<'a> {
     pub observer: &'a mut (dyn Observer<Error = RunError> + Send),
 }
 
+/// The potential a scene runs with, and how it sums the pair interactions
+/// (for the summary).
+#[derive(Clone, Copy)]
+pub struct ScenePotential<'a> {
+    /// The potential.
+    pub potential: &'a dyn Potential,
+    /// How it sums the pair interactions (`None`: none, or not recorded).
+    pub interactions: Option<&'a InteractionsSummary>,
+}
+
+impl<'a> ScenePotential<'a> {
+    /// A potential with nothing to record about its sums (free rotors, a
+    /// wrapped potential in a test).
+    pub fn plain(potential: &'a dyn Potential) -> Self {
+        ScenePotential {
+            potential,
+            interactions: None,
+        }
+    }
+}
+
 /// Everything a run produced.
 #[derive(Clone, Debug)]
 pub struct RunResult {
@@ -69,11 +90,15 @@ pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,
     integrator: &mut dyn Integrator,
-    potential: &dyn Potential,
+    potential: ScenePotential<'_>,
     outputs: &Outputs,
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
+    let ScenePotential {
+        potential,
+        interactions,
+    } = potential;
     let inertia = scene.inertia();
     integrator.setup(&inertia, potential, &scene.initial, scene.dt)?;
     let (start_step, reference) = match restart {
@@ -112,7 +137,13 @@ pub fn run_scene(
         &options,
     )?;
     drop(scheduled);
-    let summary = Summary::new(scene, definition, &report, start_step);
+    let summary = Summary::new(
+        scene,
+        definition,
+        interactions.cloned(),
+        &report,
+        start_step,
+    );
     if let Some(path) = outputs.file(SUMMARY_FILE) {
         let text = serde_json::to_string_pretty(&summary).map_err(|e| RunError::io(&path, e))?;
         std::fs::write(&path, text + "\n").map_err(|e| RunError::io(&path, e))?;
