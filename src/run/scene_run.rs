@@ -203,7 +203,7 @@ impl Recorders {
             .iter()
             .map(|s| {
                 let path = outputs.file(&format!("{}.csv", s.name));
-                SeriesObserver::new(s, path.as_deref(), outputs.keep)
+                SeriesObserver::new(s, &scene.rotors, path.as_deref(), outputs.keep)
             })
             .collect::<Result<Vec<_>, _>>()?;
         let (dcd, pdb) = (outputs.file(DCD_FILE), outputs.file(PDB_FILE));

@@ -2,8 +2,9 @@
 //! (a header, one row per sample) and/or kept in memory for Python.
 
 use super::error::RunError;
-use crate::scene::Series;
-use crate::simulation::{Needs, Observer, Sample};
+use crate::rotor::Rotor;
+use crate::scene::{SceneError, Series};
+use crate::simulation::{MultipoleInputs, Needs, Observer, Sample};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -13,7 +14,7 @@ use std::path::{Path, PathBuf};
 pub struct SeriesTable {
     /// The series' name.
     pub name: String,
-    /// `step`, `time`, then the quantities' names.
+    /// `step`, `time`, then the quantities' columns.
     pub columns: Vec<String>,
     /// Row-major values, `columns.len()` per row.
     pub values: Vec<f64>,
@@ -22,20 +23,28 @@ pub struct SeriesTable {
 /// Records a [`Series`].
 pub struct SeriesObserver {
     spec: Series,
+    multipoles: MultipoleInputs,
     csv: Option<(PathBuf, BufWriter<File>)>,
     table: Option<SeriesTable>,
     row: Vec<f64>,
 }
 
 impl SeriesObserver {
-    /// A series written to `csv_path` (if given; the header is written now)
-    /// and kept in memory if `keep`.
-    pub fn new(spec: &Series, csv_path: Option<&Path>, keep: bool) -> Result<Self, RunError> {
-        let columns: Vec<String> = ["step", "time"]
+    /// A series of `rotors` written to `csv_path` (if given; the header is
+    /// written now) and kept in memory if `keep`.
+    pub fn new(
+        spec: &Series,
+        rotors: &[Rotor],
+        csv_path: Option<&Path>,
+        keep: bool,
+    ) -> Result<Self, RunError> {
+        let multipoles = MultipoleInputs::new(rotors, &spec.quantities)
+            .map_err(|e| SceneError::from(e.at(&format!("series `{}`", spec.name))))?;
+        let columns: Vec<String> = ["step".to_string(), "time".to_string()]
             .into_iter()
-            .chain(spec.quantities.iter().map(|q| q.name()))
-            .map(str::to_string)
+            .chain(spec.quantities.iter().flat_map(|q| q.columns()))
             .collect();
+        let columns_len = columns.len();
         let csv = csv_path
             .map(|path| {
                 let file = File::create(path).map_err(|e| RunError::io(path, e))?;
@@ -46,13 +55,14 @@ impl SeriesObserver {
             .transpose()?;
         Ok(SeriesObserver {
             spec: spec.clone(),
+            multipoles,
             csv,
             table: keep.then(|| SeriesTable {
                 name: spec.name.clone(),
                 columns,
                 values: Vec::new(),
             }),
-            row: Vec::with_capacity(spec.quantities.len()),
+            row: Vec::with_capacity(columns_len),
         })
     }
 
@@ -74,8 +84,9 @@ impl Observer for SeriesObserver {
 
     fn observe(&mut self, sample: &Sample<'_>) -> Result<(), RunError> {
         self.row.clear();
-        self.row
-            .extend(self.spec.quantities.iter().map(|q| q.value(sample)));
+        for q in &self.spec.quantities {
+            q.write(sample, &mut self.multipoles, &mut self.row);
+        }
         if let Some((path, writer)) = &mut self.csv {
             // `{:e}` is the shortest representation that reads back exactly.
             let mut line = format!("{},{:e}", sample.step, sample.time);

@@ -4,7 +4,8 @@
 use super::error::SceneError;
 use crate::checks::{at_least_one, positive};
 use crate::integrators::IntegratorSpec;
-use crate::simulation::Quantity;
+use crate::rotor::Rotor;
+use crate::simulation::{MultipoleInputs, Quantity};
 use serde::{Deserialize, Serialize};
 
 /// Default interval of the blow-up checks, in steps.
@@ -103,12 +104,13 @@ fn quantity(path: &str, name: &str) -> Result<Quantity, SceneError> {
 }
 
 /// One series: its name (default `observables`, `observables1`, ...),
-/// interval and quantities.
+/// interval and quantities (each one the integrator and the rotors can give).
 fn series(
     s: usize,
     raw: &RawSeries,
     others: &[Series],
     integrator: &IntegratorSpec,
+    rotors: &[Rotor],
 ) -> Result<Series, SceneError> {
     let path = format!("record.series[{s}]");
     let name = raw.name.clone().unwrap_or_else(|| match s {
@@ -154,6 +156,7 @@ fn series(
                 ),
             ));
         }
+        let _ = MultipoleInputs::new(rotors, &[q]).map_err(|e| e.at(&qpath))?;
         quantities.push(q);
     }
     Ok(Series {
@@ -163,11 +166,15 @@ fn series(
     })
 }
 
-/// Validates the section for a run with `integrator`.
-pub(super) fn record(raw: &RawRecord, integrator: &IntegratorSpec) -> Result<Record, SceneError> {
+/// Validates the section for a run of `rotors` with `integrator`.
+pub(super) fn record(
+    raw: &RawRecord,
+    integrator: &IntegratorSpec,
+    rotors: &[Rotor],
+) -> Result<Record, SceneError> {
     let mut all: Vec<Series> = Vec::with_capacity(raw.series.len());
     for (s, rs) in raw.series.iter().enumerate() {
-        let one = series(s, rs, &all, integrator)?;
+        let one = series(s, rs, &all, integrator, rotors)?;
         all.push(one);
     }
     let trajectory = raw
@@ -210,7 +217,7 @@ mod tests {
 
     fn check(table: &str, integrator: IntegratorSpec) -> Result<Record, String> {
         let raw: RawRecord = toml::from_str(table).expect("valid table");
-        record(&raw, &integrator).map_err(|e| e.to_string())
+        record(&raw, &integrator, &[]).map_err(|e| e.to_string())
     }
 
     /// Defaults: names `observables`, `observables1`; checks every 100 steps;
