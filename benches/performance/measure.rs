@@ -5,7 +5,7 @@
 use crate::counting::Counting;
 use quatrot::potential::{Free, Potential};
 use quatrot::run::{execute, potential, run_scene, Outputs, RunResult, ScenePotential};
-use quatrot::scene::{Record, Scene, Series, TrajectorySpec};
+use quatrot::scene::{Record, Scene, Series, TrajectoryFormat, TrajectorySpec};
 use quatrot::simulation::{Quantity, Stop};
 use quatrot::stats::line_fit;
 use serde::Serialize;
@@ -96,6 +96,7 @@ pub fn observed(
         }],
         trajectory: Some(TrajectorySpec {
             every: s.steps,
+            format: TrajectoryFormat::Dcd,
             marker_length: 0.3,
         }),
         checkpoint_every: None,

@@ -20,11 +20,11 @@ pub use execute::{execute, potential};
 pub use gsd::{GsdBox, GsdWriter};
 pub use pdb::ROTOR_ATOMS;
 pub use scene_run::{
-    run_scene, Outputs, Progress, RunResult, ScenePotential, CHECKPOINT_FILE, DCD_FILE, PDB_FILE,
-    SUMMARY_FILE,
+    run_scene, Outputs, Progress, RunResult, ScenePotential, CHECKPOINT_FILE, DCD_FILE, GSD_FILE,
+    PDB_FILE, SUMMARY_FILE,
 };
 pub use series::{SeriesObserver, SeriesTable};
 pub use summary::{
     Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary, Summary, Versions,
 };
-pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
+pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver, GSD_OPEN_MARGIN};

@@ -23,6 +23,8 @@ pub const CHECKPOINT_FILE: &str = "checkpoint.json";
 pub const DCD_FILE: &str = "trajectory.dcd";
 /// Name of the trajectory's topology file in the output directory.
 pub const PDB_FILE: &str = "topology.pdb";
+/// Name of the GSD trajectory file in the output directory.
+pub const GSD_FILE: &str = "trajectory.gsd";
 
 /// Where a run's outputs go.
 #[derive(Clone, Debug, Default)]
@@ -206,23 +208,27 @@ impl Recorders {
                 SeriesObserver::new(s, &scene.rotors, path.as_deref(), outputs.keep)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let (dcd, pdb) = (outputs.file(DCD_FILE), outputs.file(PDB_FILE));
+        let (dcd, pdb, gsd) = (
+            outputs.file(DCD_FILE),
+            outputs.file(PDB_FILE),
+            outputs.file(GSD_FILE),
+        );
         let box_lengths = scene.box_lengths();
         let trajectory = record
             .trajectory
             .as_ref()
             .map(|spec| {
-                let files = dcd
-                    .as_deref()
-                    .zip(pdb.as_deref())
-                    .map(|(dcd, pdb)| TrajectoryFiles {
+                let files = dcd.as_deref().zip(pdb.as_deref()).zip(gsd.as_deref()).map(
+                    |((dcd, pdb), gsd)| TrajectoryFiles {
                         dcd,
                         pdb,
+                        gsd,
                         box_lengths: box_lengths.as_ref(),
                         first_step: start_step,
                         dt: scene.dt,
                         title: &scene.name,
-                    });
+                    },
+                );
                 let now = integrator.orientations();
                 TrajectoryObserver::new(spec, &scene.rotors, now, files, outputs.keep)
             })

@@ -2,7 +2,7 @@
 //! a trajectory, checkpoints) and its blow-up guard. Nothing by default.
 
 use super::error::SceneError;
-use crate::checks::{at_least_one, positive};
+use crate::checks::{at_least_one, named_choices, positive};
 use crate::integrators::IntegratorSpec;
 use crate::rotor::Rotor;
 use crate::simulation::{MultipoleInputs, Quantity};
@@ -42,22 +42,44 @@ pub struct RawSeries {
     pub quantities: Vec<String>,
 }
 
-/// Frames of rotor centres and body-axis markers.
+/// Trajectory frames: DCD (rotor centres and body-axis markers) or GSD
+/// (sites, quaternions, box).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawTrajectory {
     /// Frame interval in steps.
     pub every: i64,
-    /// Distance of the markers from the centre.
+    /// The file format (default DCD).
+    pub format: Option<TrajectoryFormat>,
+    /// Distance of the markers from the centre (DCD only).
     pub marker_length: Option<f64>,
 }
+
+/// The format of the trajectory file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrajectoryFormat {
+    /// `trajectory.dcd` + `topology.pdb`: each rotor as a centre and three
+    /// markers along its body axes (the default; mdtraj, VMD).
+    #[default]
+    Dcd,
+    /// `trajectory.gsd`: HOOMD-blue's format, the sites, the orientation
+    /// quaternions, the box and the step of each frame
+    /// ([`crate::run::GsdWriter`]; the `gsd` package, HOOMD-blue, OVITO,
+    /// freud).
+    Gsd,
+}
+
+named_choices!(TrajectoryFormat {
+    "dcd" => TrajectoryFormat::Dcd,
+    "gsd" => TrajectoryFormat::Gsd,
+});
 
 /// Everything the scene asks to record.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Record {
     /// Tables of scalar observables (CSV).
     pub series: Vec<Series>,
-    /// Trajectory frames (DCD + PDB).
+    /// Trajectory frames (DCD + PDB, or GSD).
     pub trajectory: Option<TrajectorySpec>,
     /// Checkpoint interval in steps, if any.
     pub checkpoint_every: Option<u64>,
@@ -78,12 +100,16 @@ pub struct Series {
     pub quantities: Vec<Quantity>,
 }
 
-/// Trajectory frames: rotor centres and markers along the body axes.
+/// Trajectory frames: rotor centres and markers along the body axes (DCD),
+/// or sites and orientation quaternions (GSD).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrajectorySpec {
     /// Frame interval in steps (>= 1).
     pub every: u64,
-    /// Distance of the body-axis markers from the centre (length units, > 0).
+    /// The file format.
+    pub format: TrajectoryFormat,
+    /// Distance of the body-axis markers from the centre (length units, > 0;
+    /// DCD only).
     pub marker_length: f64,
 }
 
@@ -181,8 +207,16 @@ pub(super) fn record(
         .trajectory
         .as_ref()
         .map(|t| {
+            let format = t.format.unwrap_or_default();
+            if format == TrajectoryFormat::Gsd && t.marker_length.is_some() {
+                return Err(SceneError::field(
+                    "record.trajectory.marker_length",
+                    "only for format = \"dcd\" (GSD stores the orientations as quaternions)",
+                ));
+            }
             Ok::<_, SceneError>(TrajectorySpec {
                 every: at_least_one(t.every).map_err(|e| e.at("record.trajectory.every"))?,
+                format,
                 marker_length: positive(t.marker_length.unwrap_or(DEFAULT_MARKER_LENGTH))
                     .map_err(|e| e.at("record.trajectory.marker_length"))?,
             })
@@ -237,6 +271,7 @@ mod tests {
             r.trajectory,
             Some(TrajectorySpec {
                 every: 5,
+                format: TrajectoryFormat::Dcd,
                 marker_length: DEFAULT_MARKER_LENGTH
             })
         );
