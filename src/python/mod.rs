@@ -14,6 +14,7 @@ mod gsd;
 mod potential;
 mod quaternion;
 mod run;
+mod run_analysis;
 
 /// Input the library refuses (a potential's sites or multipoles, an
 /// analysis' arrays) is a `ValueError` naming the argument.
@@ -34,5 +35,6 @@ fn quatrot(m: &Bound<'_, PyModule>) -> PyResult<()> {
     run::register(m)?;
     analysis::register(m)?;
     gsd::register(m)?;
+    run_analysis::register(m)?;
     Ok(())
 }

@@ -1,9 +1,11 @@
 //! Running a scene: its outputs (CSV series, DCD + PDB or GSD trajectory,
 //! JSON summary, checkpoints) as observers of the one run loop of
-//! [`crate::simulation`], and the run of a scene from its physics objects.
+//! [`crate::simulation`], the run of a scene from its physics objects, and
+//! what is computed from a run's recorded outputs (its dielectric constant).
 
 mod checkpoint;
 mod dcd;
+mod dielectric;
 mod error;
 mod execute;
 mod gsd;
@@ -15,6 +17,7 @@ mod trajectory;
 
 pub use checkpoint::{Checkpoint, CheckpointWriter};
 pub use dcd::DcdWriter;
+pub use dielectric::{dielectric_of_run, dipole_series, read_run};
 pub use error::RunError;
 pub use execute::{execute, potential};
 pub use gsd::{GsdBox, GsdWriter};

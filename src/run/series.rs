@@ -20,6 +20,48 @@ pub struct SeriesTable {
     pub values: Vec<f64>,
 }
 
+impl SeriesTable {
+    /// The table of a CSV file the run wrote (named after the file's stem).
+    pub fn read_csv(path: &Path) -> Result<SeriesTable, RunError> {
+        let text = std::fs::read_to_string(path).map_err(|e| RunError::io(path, e))?;
+        let mut lines = text.lines();
+        let columns: Vec<String> = lines
+            .next()
+            .unwrap_or_default()
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        let mut values = Vec::new();
+        for (k, line) in lines.enumerate() {
+            let row = line
+                .split(',')
+                .map(str::parse::<f64>)
+                .collect::<Result<Vec<f64>, _>>()
+                .map_err(|e| RunError::io(path, format!("row {}: {e}", k + 1)))?;
+            if row.len() != columns.len() {
+                return Err(RunError::io(
+                    path,
+                    format!(
+                        "row {}: {} values for {} columns",
+                        k + 1,
+                        row.len(),
+                        columns.len()
+                    ),
+                ));
+            }
+            values.extend(row);
+        }
+        let name = path
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        Ok(SeriesTable {
+            name,
+            columns,
+            values,
+        })
+    }
+}
+
 /// Records a [`Series`].
 pub struct SeriesObserver {
     spec: Series,
