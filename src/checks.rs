@@ -224,7 +224,7 @@ pub fn deserialize_named<'de, D: Deserializer<'de>, T: Copy>(
     )))
 }
 
-/// The value of a [`named_choices!`] enum called `name`, given outside a
+/// The value of an enum of `named_choices!` called `name`, given outside a
 /// scene (a Python keyword argument `path`), with the scene's message.
 pub fn from_name<T: DeserializeOwned>(path: &str, name: &str) -> Result<T, InputError> {
     T::deserialize(IntoDeserializer::<serde::de::value::Error>::into_deserializer(name))
