@@ -19,7 +19,7 @@ use quatrot::rotor::Inertia;
 use quatrot::run::{RunError, SeriesObserver};
 use quatrot::scene::{load, validate, Overrides, Scene, Series};
 use quatrot::simulation::{
-    run, BlowUpChecks, EnergyReference, Observer, Quantity, RunOptions, Scheduled,
+    run, BlowUpChecks, EnergyReference, MultipoleInputs, Observer, Quantity, RunOptions, Scheduled,
 };
 use std::hint::black_box;
 use std::time::Instant;
@@ -56,17 +56,23 @@ fn every_quantity(every: u64, quantities: Vec<Quantity>) -> Series {
 }
 
 /// The observables of the "everything every step" case: every quantity the
-/// integrator can give (`q_dot_n` needs scheme B).
-fn all_quantities(integrator_name: &str) -> Vec<Quantity> {
+/// integrator and the rotors can give (`q_dot_n` needs scheme B, the
+/// multipole quantities rotors that carry the multipole).
+fn all_quantities(integrator_name: &str, scene: &Scene) -> Vec<Quantity> {
     Quantity::ALL
         .into_iter()
         .filter(|&q| q != Quantity::NormForce || integrator_name == "gear_b")
+        .filter(|&q| MultipoleInputs::new(&scene.rotors, &[q]).is_ok())
         .collect()
 }
 
 /// The runner cases: a name and the series recorded (none for the first);
 /// energies are recorded every `energies_every` steps.
-fn cases(integrator_name: &str, energies_every: u64) -> [(String, Option<Series>); 3] {
+fn cases(
+    integrator_name: &str,
+    scene: &Scene,
+    energies_every: u64,
+) -> [(String, Option<Series>); 3] {
     let energies = vec![
         Quantity::KineticEnergy,
         Quantity::PotentialEnergy,
@@ -80,7 +86,7 @@ fn cases(integrator_name: &str, energies_every: u64) -> [(String, Option<Series>
         ),
         (
             "everything_every_step".to_string(),
-            Some(every_quantity(1, all_quantities(integrator_name))),
+            Some(every_quantity(1, all_quantities(integrator_name, scene))),
         ),
     ]
 }
@@ -95,10 +101,15 @@ fn bare<I: Integrator + Send, P: Potential>(mut integrator: I, potential: &P, st
     });
 }
 
-/// The observer of `series`, writing CSV to `csv` (created outside the
-/// timed region: opening a file is a per-run cost, not a per-step one).
-fn observer(series: Option<&Series>, csv: &std::path::Path) -> Option<SeriesObserver> {
-    series.map(|s| SeriesObserver::new(s, Some(csv), false).expect("csv"))
+/// The observer of `series` of `scene`, writing CSV to `csv` (created
+/// outside the timed region: opening a file is a per-run cost, not a
+/// per-step one).
+fn observer(
+    series: Option<&Series>,
+    scene: &Scene,
+    csv: &std::path::Path,
+) -> Option<SeriesObserver> {
+    series.map(|s| SeriesObserver::new(s, &scene.rotors, Some(csv), false).expect("csv"))
 }
 
 /// The runner from `options.start_step` to `options.end_step`, feeding
@@ -156,11 +167,11 @@ fn bench_system<I: Integrator + Clone + Send, P: Potential>(
             BatchSize::LargeInput,
         )
     });
-    for (name, series) in cases(integrator.name(), 100) {
+    for (name, series) in cases(integrator.name(), scene, 100) {
         group.bench_function(name, |b| {
             let every = series.as_ref().map_or(1, |s| s.every);
             b.iter_batched(
-                || (integrator.clone(), observer(series.as_ref(), &csv)),
+                || (integrator.clone(), observer(series.as_ref(), scene, &csv)),
                 |(i, o)| {
                     let opts = options(scene, 0, STEPS, None);
                     through_runner(i, o, every, potential, &opts, &inertia)
@@ -186,7 +197,7 @@ fn interleaved<I: Integrator + Clone + Send, P: Potential>(
     // Rounds run steps 1..=INTERLEAVED_STEPS with the energy reference given,
     // so "energies every INTERLEAVED_STEPS" evaluates the energy exactly once
     // per round, as a long run would.
-    let cases = cases(integrator.name(), INTERLEAVED_STEPS);
+    let cases = cases(integrator.name(), scene, INTERLEAVED_STEPS);
     let reference = Some(EnergyReference::initial(1.0, 1.0));
     let opts = options(scene, 1, 1 + INTERLEAVED_STEPS, reference);
     let mut best = [f64::INFINITY; 4];
@@ -198,7 +209,7 @@ fn interleaved<I: Integrator + Clone + Send, P: Potential>(
         for (k, (_, series)) in cases.iter().enumerate() {
             let i = integrator.clone();
             let every = series.as_ref().map_or(1, |s| s.every);
-            let o = observer(series.as_ref(), csv);
+            let o = observer(series.as_ref(), scene, csv);
             let start = Instant::now();
             through_runner(i, o, every, potential, &opts, inertia);
             best[k + 1] = best[k + 1].min(start.elapsed().as_secs_f64());

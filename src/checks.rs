@@ -7,7 +7,7 @@
 
 use crate::quaternion::Quat;
 use nalgebra::Matrix3;
-use serde::de::{Deserialize, Deserializer, Error as _};
+use serde::de::{Deserialize, DeserializeOwned, Deserializer, Error as _, IntoDeserializer};
 use std::num::NonZeroU32;
 
 /// Relative tolerance of the symmetry and tracelessness of tensors (body
@@ -172,12 +172,23 @@ pub fn deserialize_at_least_one<'de, D: Deserializer<'de>>(
         .ok_or_else(|| D::Error::custom(format!("must be <= {}, got {n}", u32::MAX)))
 }
 
-/// Implements `Deserialize` and `Serialize` for a field-less enum by names:
+/// Implements `Deserialize` and `Serialize` for a field-less enum by names,
+/// and `as_str` giving a value's name:
 /// `named_choices!(Startup { "consistent" => Startup::Consistent, ... })`
 /// reads and writes `"consistent"` for `Startup::Consistent` and refuses any
-/// other string ([`deserialize_named`]).
+/// other string ([`deserialize_named`]); [`from_name`] reads a name given
+/// outside a scene (a Python keyword).
 macro_rules! named_choices {
     ($enum:ty { $($name:literal => $value:path),+ $(,)? }) => {
+        impl $enum {
+            /// The name of the value in scenes, summaries and Python.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $($value => $name),+
+                }
+            }
+        }
+
         impl<'de> serde::Deserialize<'de> for $enum {
             fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
                 $crate::checks::deserialize_named(deserializer, &[$(($name, $value)),+])
@@ -186,9 +197,7 @@ macro_rules! named_choices {
 
         impl serde::Serialize for $enum {
             fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-                serializer.serialize_str(match self {
-                    $($value => $name),+
-                })
+                serializer.serialize_str(self.as_str())
             }
         }
     };
@@ -196,7 +205,7 @@ macro_rules! named_choices {
 pub(crate) use named_choices;
 
 /// Deserialises a string naming one of `choices`, refusing any other with
-/// `must be "a" or "b", got "c"`.
+/// `must be "a" or "b", got "c"` (`"a", "b" or "c"` for three).
 pub fn deserialize_named<'de, D: Deserializer<'de>, T: Copy>(
     deserializer: D,
     choices: &[(&str, T)],
@@ -207,12 +216,19 @@ pub fn deserialize_named<'de, D: Deserializer<'de>, T: Copy>(
     }
     let quoted: Vec<String> = choices.iter().map(|(n, _)| format!("\"{n}\"")).collect();
     let expected = match quoted.split_last() {
-        Some((last, [first])) => format!("{first} or {last}"),
-        _ => format!("one of {}", quoted.join(", ")),
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => quoted.join(""),
     };
     Err(D::Error::custom(format!(
         "must be {expected}, got \"{name}\""
     )))
+}
+
+/// The value of an enum of `named_choices!` called `name`, given outside a
+/// scene (a Python keyword argument `path`), with the scene's message.
+pub fn from_name<T: DeserializeOwned>(path: &str, name: &str) -> Result<T, InputError> {
+    T::deserialize(IntoDeserializer::<serde::de::value::Error>::into_deserializer(name))
+        .map_err(|e| InputError::new(path, e.to_string()))
 }
 
 #[cfg(test)]

@@ -1,8 +1,10 @@
 //! Observables of a rotor system as pure functions of its state (the
 //! sampling runner calls them; potential and total energy use
 //! [`Potential::energy`]). The orientational order and the total dipole are
-//! in [`order`] and [`polarization`].
+//! in [`order`] and [`polarization`]; the body axes along which rotors carry
+//! their multipoles, whose order is measured, in [`multipole_axes`].
 
+pub mod multipole_axes;
 pub mod order;
 pub mod polarization;
 

@@ -10,6 +10,7 @@ mod multipole_support;
 
 use multipole_support::*;
 use nalgebra::{Matrix3, Vector3};
+use quatrot::checks::from_name;
 use quatrot::lattice::{Lattice, LatticeKind};
 use quatrot::potential::multipole::MAX_FFT_BYTES;
 use quatrot::potential::{
@@ -464,12 +465,17 @@ fn bad_ewald_input_names_the_field() {
         assert_eq!(e.path, "accuracy", "{e}");
         assert!(e.message.contains("must be in (0, 1)"), "{e}");
     }
-    let e = "metal".parse::<Surface>().unwrap_err();
+    let e = from_name::<Surface>("surface", "metal").unwrap_err();
     assert_eq!(
         e.to_string(),
         "surface: must be \"conducting\" or \"vacuum\", got \"metal\""
     );
-    assert_eq!("vacuum".parse::<Surface>().unwrap(), Surface::Vacuum);
+    assert_eq!(from_name("surface", "vacuum"), Ok(Surface::Vacuum));
+    let e = from_name::<SumMethod>("method", "fast").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "method: must be \"auto\", \"direct\" or \"lattice_fft\", got \"fast\""
+    );
     let e = build(
         &rotors,
         ewald(Vector3::new(3.0, -3.0, 3.0), 1e-6, Surface::Conducting),

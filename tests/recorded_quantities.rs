@@ -14,6 +14,14 @@ use quatrot::Quat;
 /// round-off relative to the largest term (energies of O(1) with terms of
 /// O(1); measured below 1e-15).
 const ROUND_OFF: f64 = 1e-13;
+/// The order parameters recorded (nalgebra's iterative eigensolver) and
+/// recomputed (the trigonometric closed form): eigenvalues of O(1) agree to
+/// a few 1e-16 (measured).
+const ORDER_ROUND_OFF: f64 = 1e-12;
+/// The director recorded and recomputed (the closed form's eigenvector by a
+/// cross product): its error is the eigenvalues' round-off over their gap,
+/// O(0.1) here.
+const DIRECTOR_ROUND_OFF: f64 = 1e-11;
 /// `| |Q| - 1 |` recorded and recomputed: the same four squares, square root
 /// and subtraction, a few ulps apart at most.
 const NORM_ROUND_OFF: f64 = 4.0 * f64::EPSILON;
@@ -125,6 +133,89 @@ impl State {
     }
 }
 
+/// `R(Q/|Q|)`, body to space, written out from the note's `A(Q)` (eq 7)
+/// transposed.
+fn body_to_space(q: &Quat) -> Matrix3<f64> {
+    let n = q.0.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let [a, b, c, d] = q.0.map(|x| x / n);
+    Matrix3::new(
+        a * a + b * b - c * c - d * d,
+        2.0 * (b * c - a * d),
+        2.0 * (b * d + a * c),
+        2.0 * (b * c + a * d),
+        a * a - b * b + c * c - d * d,
+        2.0 * (c * d - a * b),
+        2.0 * (b * d - a * c),
+        2.0 * (c * d + a * b),
+        a * a - b * b - c * c + d * d,
+    )
+}
+
+/// The eigenvalues of a symmetric 3x3 matrix in decreasing order, by the
+/// trigonometric closed form (Smith, Commun. ACM 4, 168 (1961)).
+fn eigenvalues(m: &Matrix3<f64>) -> [f64; 3] {
+    let mean = m.trace() / 3.0;
+    let off = m.m12 * m.m12 + m.m13 * m.m13 + m.m23 * m.m23;
+    let p =
+        (((m.m11 - mean).powi(2) + (m.m22 - mean).powi(2) + (m.m33 - mean).powi(2) + 2.0 * off)
+            / 6.0)
+            .sqrt();
+    let r = ((m - Matrix3::identity() * mean) / p).determinant() / 2.0;
+    let phi = r.clamp(-1.0, 1.0).acos() / 3.0;
+    let largest = mean + 2.0 * p * phi.cos();
+    let smallest = mean + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+    [largest, 3.0 * mean - largest - smallest, smallest]
+}
+
+/// The unit eigenvector of `m` for its simple eigenvalue `lambda`: the
+/// longest cross product of two rows of `m - lambda I`.
+fn eigenvector(m: &Matrix3<f64>, lambda: f64) -> Vector3<f64> {
+    let a = m - Matrix3::identity() * lambda;
+    let rows = [
+        a.row(0).transpose(),
+        a.row(1).transpose(),
+        a.row(2).transpose(),
+    ];
+    let v = [(0, 1), (0, 2), (1, 2)]
+        .map(|(i, j)| rows[i].cross(&rows[j]))
+        .into_iter()
+        .max_by(|x, y| x.norm().total_cmp(&y.norm()))
+        .expect("three products");
+    v.normalize()
+}
+
+/// `[P1, P2, director]` of unit axes `u` (docs/scenes.md): the largest
+/// eigenvalue of `<3/2 u u - 1/2 I>`, its eigenvector signed along `<u>`.
+fn order(u: &[Vector3<f64>]) -> [f64; 5] {
+    let n = u.len() as f64;
+    let q = u
+        .iter()
+        .map(|u| u * u.transpose() * 1.5)
+        .sum::<Matrix3<f64>>()
+        / n
+        - Matrix3::identity() * 0.5;
+    let p2 = eigenvalues(&q)[0];
+    let mean = u.iter().sum::<Vector3<f64>>() / n;
+    let mut d = eigenvector(&q, p2);
+    if d.dot(&mean) < 0.0 {
+        d = -d;
+    }
+    [mean.dot(&d), p2, d.x, d.y, d.z]
+}
+
+/// The axis of the body quadrupole (docs/scenes.md): the eigenvector of the
+/// eigenvalue largest in magnitude, its first nonzero component positive.
+fn quadrupole_axis() -> Vector3<f64> {
+    let theta = Matrix3::from_fn(|i, j| QUADRUPOLE[i][j]);
+    let lambda = eigenvalues(&theta)
+        .into_iter()
+        .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+        .expect("three eigenvalues");
+    let e = eigenvector(&theta, lambda);
+    let first = e.iter().copied().find(|x| *x != 0.0).unwrap_or(1.0);
+    e * first.signum()
+}
+
 /// Checks every recorded column of `result` against the definitions.
 fn check(integrator: &str, result: &RunResult, quantities: &[&str]) {
     let frames = result.trajectory.as_ref().expect("trajectory kept");
@@ -148,6 +239,20 @@ fn check(integrator: &str, result: &RunResult, quantities: &[&str]) {
         start.kinetic(),
         start.kinetic() + potential.energy(&start.orientations),
     );
+    let listed: Vec<String> = quantities
+        .iter()
+        .flat_map(|q| match *q {
+            "M" => vec!["M_x".to_string(), "M_y".to_string(), "M_z".to_string()],
+            "P2_dipole" | "P2_quadrupole" => {
+                let m = &q[3..];
+                std::iter::once(q.to_string())
+                    .chain(["x", "y", "z"].map(|c| format!("director_{m}_{c}")))
+                    .collect()
+            }
+            other => vec![other.to_string()],
+        })
+        .collect();
+    assert_eq!(table.columns[2..], listed, "{integrator}: columns");
     for (k, row) in table.values.chunks(table.columns.len()).enumerate() {
         assert_eq!(
             row[0], frames.steps[k] as f64,
@@ -155,8 +260,19 @@ fn check(integrator: &str, result: &RunResult, quantities: &[&str]) {
         );
         let s = state(k);
         let (kinetic, v) = (s.kinetic(), potential.energy(&s.orientations));
-        for (name, recorded) in quantities.iter().zip(&row[2..]) {
-            let (expected, scale) = match *name {
+        let rotations: Vec<Matrix3<f64>> = s.orientations.iter().map(body_to_space).collect();
+        let dipole = Vector3::from(DIPOLE);
+        let m: Vector3<f64> = rotations.iter().map(|r| r * dipole).sum();
+        let dipole_order = order(
+            &rotations
+                .iter()
+                .map(|r| r * dipole.normalize())
+                .collect::<Vec<_>>(),
+        );
+        let axis = quadrupole_axis();
+        let quadrupole_order = order(&rotations.iter().map(|r| r * axis).collect::<Vec<_>>());
+        for (name, recorded) in table.columns[2..].iter().zip(&row[2..]) {
+            let (expected, scale) = match name.as_str() {
                 "kinetic_energy" => (kinetic, kinetic.max(1.0)),
                 "potential_energy" => (v, v.abs().max(1.0)),
                 "total_energy" => (kinetic + v, (kinetic + v.abs()).max(1.0)),
@@ -167,6 +283,19 @@ fn check(integrator: &str, result: &RunResult, quantities: &[&str]) {
                 // five schemes keep them at round-off (scheme B by its
                 // projections, the others by eq 10).
                 "q_dot_q" | "q_dot_n" => (0.0, 1.0),
+                "M_x" => (m.x, 1.0),
+                "M_y" => (m.y, 1.0),
+                "M_z" => (m.z, 1.0),
+                "M2" => (m.norm_squared(), 1.0),
+                "P1_dipole" => (dipole_order[0], ORDER_ROUND_OFF / ROUND_OFF),
+                "P2_dipole" => (dipole_order[1], ORDER_ROUND_OFF / ROUND_OFF),
+                "director_dipole_x" => (dipole_order[2], DIRECTOR_ROUND_OFF / ROUND_OFF),
+                "director_dipole_y" => (dipole_order[3], DIRECTOR_ROUND_OFF / ROUND_OFF),
+                "director_dipole_z" => (dipole_order[4], DIRECTOR_ROUND_OFF / ROUND_OFF),
+                "P2_quadrupole" => (quadrupole_order[1], ORDER_ROUND_OFF / ROUND_OFF),
+                "director_quadrupole_x" => (quadrupole_order[2], DIRECTOR_ROUND_OFF / ROUND_OFF),
+                "director_quadrupole_y" => (quadrupole_order[3], DIRECTOR_ROUND_OFF / ROUND_OFF),
+                "director_quadrupole_z" => (quadrupole_order[4], DIRECTOR_ROUND_OFF / ROUND_OFF),
                 other => panic!("no definition for {other}"),
             };
             assert!(
@@ -182,7 +311,7 @@ fn check(integrator: &str, result: &RunResult, quantities: &[&str]) {
 /// renormalisation, so that `norm_error` is not zero).
 #[test]
 fn recorded_quantities_follow_their_definitions_for_every_integrator() {
-    const QUANTITIES: [&str; 7] = [
+    const QUANTITIES: [&str; 12] = [
         "kinetic_energy",
         "potential_energy",
         "total_energy",
@@ -190,6 +319,11 @@ fn recorded_quantities_follow_their_definitions_for_every_integrator() {
         "temperature",
         "norm_error",
         "q_dot_q",
+        "M",
+        "M2",
+        "P1_dipole",
+        "P2_dipole",
+        "P2_quadrupole",
     ];
     for integrator in [
         "kind = \"gear_a\"",

@@ -8,7 +8,10 @@ use quatrot::integrators::{Dlm, Integrator, IntegratorError, RotorState};
 use quatrot::potential::{Free, Potential};
 use quatrot::quaternion::Quat;
 use quatrot::rotor::Inertia;
-use quatrot::run::{execute, run_scene, Outputs, CHECKPOINT_FILE, SUMMARY_FILE};
+use quatrot::run::{
+    execute, run_scene, Outputs, ScenePotential, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE,
+    SUMMARY_FILE,
+};
 use quatrot::scene::{load, parse_toml, validate, Overrides, BUILTINS};
 use quatrot::simulation::Stop;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -107,7 +110,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         &scene,
         definition(),
         &mut Dlm::default(),
-        &counting,
+        ScenePotential::plain(&counting),
         &in_memory(),
         None,
         None,
@@ -124,7 +127,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         &scene,
         definition(),
         &mut Dlm::default(),
-        &counting,
+        ScenePotential::plain(&counting),
         &in_memory(),
         None,
         None,
@@ -214,7 +217,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
         &scene,
         definition(),
         &mut integrator,
-        &Free,
+        ScenePotential::plain(&Free),
         &outputs,
         None,
         None,
@@ -395,4 +398,32 @@ fn same_seed_same_output() {
     assert_eq!(a, b);
     assert_ne!(a.0, c.0);
     assert_eq!(a.2, Some(7));
+}
+
+/// `format = "gsd"` writes `trajectory.gsd` (and no DCD or PDB), one frame
+/// per sample: the file grows by one frame's chunks (step, N x 4 float32
+/// orientations) per sample after the first, which also holds the box and
+/// the positions. Its content is read back with the `gsd` package in the
+/// validation suite.
+#[test]
+fn gsd_format_writes_the_gsd_file_only() {
+    let frames_of = |every: u64| {
+        let text =
+            format!("{TWO_ROTORS}\n[record.trajectory]\nevery = {every}\nformat = \"gsd\"\n");
+        let scene = validate(&parse_toml(&text).expect("valid")).expect("valid");
+        let dir = tempfile::tempdir().expect("dir");
+        let outputs = Outputs {
+            dir: Some(dir.path().to_path_buf()),
+            keep: false,
+        };
+        execute(&scene, definition(), &outputs, None, None).expect("runs");
+        assert!(!dir.path().join(DCD_FILE).exists() && !dir.path().join(PDB_FILE).exists());
+        std::fs::metadata(dir.path().join(GSD_FILE))
+            .expect("trajectory.gsd written")
+            .len()
+    };
+    // 30 steps: frames at 0, 10, 20, 30 and at 0, 15, 30.
+    let (four, three) = (frames_of(10), frames_of(15));
+    let per_frame = 8 + 2 * 4 * 4;
+    assert_eq!(four - three, per_frame);
 }

@@ -4,8 +4,8 @@
 
 use crate::counting::Counting;
 use quatrot::potential::{Free, Potential};
-use quatrot::run::{execute, potential, run_scene, Outputs, RunResult};
-use quatrot::scene::{Record, Scene, Series, TrajectorySpec};
+use quatrot::run::{execute, potential, run_scene, Outputs, RunResult, ScenePotential};
+use quatrot::scene::{Record, Scene, Series, TrajectoryFormat, TrajectorySpec};
 use quatrot::simulation::{Quantity, Stop};
 use quatrot::stats::line_fit;
 use serde::Serialize;
@@ -96,6 +96,7 @@ pub fn observed(
         }],
         trajectory: Some(TrajectorySpec {
             every: s.steps,
+            format: TrajectoryFormat::Dcd,
             marker_length: 0.3,
         }),
         checkpoint_every: None,
@@ -125,7 +126,7 @@ fn counted<P: Potential>(
         scene,
         serde_json::Value::Null,
         scene.integrator.build().as_mut(),
-        &counting,
+        ScenePotential::plain(&counting),
         &outputs,
         None,
         None,

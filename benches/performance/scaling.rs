@@ -32,7 +32,7 @@ pub fn run(effort: Effort) -> Res<Value> {
     let cells: &[i64] = effort.pick(&[2, 3, 5, 7, 10, 14, 20, 30, 47][..], &[2, 3][..]);
     let mut out = Vec::new();
     for &n in cells {
-        let mut raw = load_raw("dipole_lattice_sc")?;
+        let mut raw = load_raw("dipole_lattice_sc_cutoff")?;
         if let RawRotors::Lattice(l) = &mut raw.rotors {
             l.cells = n;
         }

@@ -47,7 +47,7 @@ fn studies(effort: Effort) -> Vec<Study> {
             reference_dts: &[],
         },
         Study {
-            scene: "dipole_lattice_sc",
+            scene: "dipole_lattice_sc_cutoff",
             time: effort.pick(0.4, 0.004),
             dt_max: 0.016,
             dt_count: effort.pick(5, 2),

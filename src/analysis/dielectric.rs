@@ -40,9 +40,9 @@
 
 use super::block_average::{block_average, BlockAverage};
 use super::error::{positive, AnalysisError};
+use crate::checks::named_choices;
 use nalgebra::Vector3;
 use std::fmt;
-use std::str::FromStr;
 
 /// The boundary of the simulated system, which decides the formula.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,41 +58,16 @@ pub enum DielectricBoundary {
     Cutoff,
 }
 
-impl DielectricBoundary {
-    /// The name used in Python: `"conducting"`, `"vacuum"`, `"open"`, `"cutoff"`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            DielectricBoundary::Conducting => "conducting",
-            DielectricBoundary::Vacuum => "vacuum",
-            DielectricBoundary::Open => "open",
-            DielectricBoundary::Cutoff => "cutoff",
-        }
-    }
-}
+named_choices!(DielectricBoundary {
+    "conducting" => DielectricBoundary::Conducting,
+    "vacuum" => DielectricBoundary::Vacuum,
+    "open" => DielectricBoundary::Open,
+    "cutoff" => DielectricBoundary::Cutoff,
+});
 
 impl fmt::Display for DielectricBoundary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.as_str())
-    }
-}
-
-impl FromStr for DielectricBoundary {
-    type Err = AnalysisError;
-    fn from_str(s: &str) -> Result<Self, AnalysisError> {
-        [
-            DielectricBoundary::Conducting,
-            DielectricBoundary::Vacuum,
-            DielectricBoundary::Open,
-            DielectricBoundary::Cutoff,
-        ]
-        .into_iter()
-        .find(|b| b.as_str() == s)
-        .ok_or_else(|| {
-            AnalysisError::new(
-                "boundary",
-                format!("must be \"conducting\", \"vacuum\", \"open\" or \"cutoff\", got \"{s}\""),
-            )
-        })
     }
 }
 
@@ -192,6 +167,7 @@ pub fn dielectric_constant(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::checks::from_name;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha20Rng;
     use rand_distr::StandardNormal;
@@ -272,9 +248,14 @@ mod tests {
         assert_eq!(err.to_string(), "volume: must be finite and > 0, got 0");
         let err = dielectric_constant(&m, 1.0, 1.0, DielectricBoundary::Vacuum).unwrap_err();
         assert!(err.message.contains(">= 1 with vacuum"));
-        assert!("tin foil".parse::<DielectricBoundary>().is_err());
         assert_eq!(
-            "vacuum".parse::<DielectricBoundary>(),
+            from_name::<DielectricBoundary>("boundary", "tin foil")
+                .unwrap_err()
+                .to_string(),
+            "boundary: must be \"conducting\", \"vacuum\", \"open\" or \"cutoff\", got \"tin foil\""
+        );
+        assert_eq!(
+            from_name("boundary", "vacuum"),
             Ok(DielectricBoundary::Vacuum)
         );
     }

@@ -12,8 +12,9 @@ use super::arrays::{array, Numbers, Values};
 use crate::analysis::{
     block_average as block_average_of, dielectric_constant as dielectric_of,
     orientational_correlations as correlations_of, vector_autocorrelation, BlockAverage,
-    DielectricBoundary, Frames,
+    DielectricBoundary, DielectricConstant, Frames,
 };
+use crate::checks::from_name;
 use crate::observables::order::{nematic_order, polar_order, space_axes, unit_axis};
 use crate::observables::polarization;
 use crate::quaternion::Quat;
@@ -344,11 +345,21 @@ fn dielectric_constant<'py>(
         Numbers::new(dipoles, "dipoles", Values::Finite)?.items::<3>(&[1], "(frames, 3)")?;
     let m: Vec<Vector3<f64>> = m.into_iter().map(Vector3::from).collect();
     let boundary: DielectricBoundary = match boundary {
-        Some(b) => text(b, "boundary")?.parse()?,
+        Some(b) => from_name("boundary", &text(b, "boundary")?)?,
         None => DielectricBoundary::Conducting,
     };
     let eps = py.detach(|| dielectric_of(&m, volume, temperature, boundary))?;
-    warn_unconverged(py, "dielectric_constant", &eps.fluctuation)?;
+    dielectric_dict(py, "dielectric_constant", &eps)
+}
+
+/// The dict of a dielectric constant (see `dielectric_constant`), warning
+/// in the name of `function` when the blocking does not converge.
+pub(crate) fn dielectric_dict<'py>(
+    py: Python<'py>,
+    function: &str,
+    eps: &DielectricConstant,
+) -> PyResult<Bound<'py, PyDict>> {
+    warn_unconverged(py, function, &eps.fluctuation)?;
     let out = PyDict::new(py);
     out.set_item("epsilon", eps.epsilon)?;
     out.set_item("error", eps.error)?;

@@ -21,6 +21,7 @@ mod potential;
 mod quaternion;
 mod rotors;
 mod run;
+mod run_analysis;
 
 /// Input the library refuses (a potential's sites or multipoles, an
 /// analysis' arrays) is a `ValueError` naming the argument.
@@ -43,5 +44,6 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     analysis::register(m)?;
     gsd::register(m)?;
     cli::register(m)?;
+    run_analysis::register(m)?;
     Ok(())
 }

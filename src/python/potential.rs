@@ -3,6 +3,7 @@
 use super::args::optional_text;
 use super::arrays::{collect, common_len, overflow, single, Items, Values};
 use super::rotors::rotors;
+use crate::checks::from_name;
 use crate::potential::multipole::DEFAULT_ACCURACY;
 use crate::potential::{
     Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod, Surface,
@@ -58,7 +59,7 @@ pub(crate) fn boundary(
             box_lengths,
             sum: PeriodicSum::Ewald {
                 accuracy: accuracy.unwrap_or(DEFAULT_ACCURACY),
-                surface: surface.map_or(Ok(Surface::Conducting), str::parse)?,
+                surface: surface.map_or(Ok(Surface::Conducting), |s| from_name("surface", s))?,
             },
         }),
         ("ewald", Some(_)) => Err(PyValueError::new_err(
@@ -159,10 +160,10 @@ fn multipole_evaluate<'py>(
         accuracy,
         surface.as_deref(),
     )?;
-    let method: SumMethod = optional_text(method, "method")?
-        .as_deref()
-        .unwrap_or("auto")
-        .parse()?;
+    let method: SumMethod = match optional_text(method, "method")? {
+        Some(m) => from_name("method", &m)?,
+        None => SumMethod::Auto,
+    };
     let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
     let (energy, gradient, torques, potential) = py.detach(|| -> Result<_, PotentialError> {
         let potential = MultipolePotential::with_method(&rotors, boundary, external, method)?;

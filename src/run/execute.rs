@@ -2,23 +2,32 @@
 //! integrator its [`crate::integrators::IntegratorSpec`] builds.
 
 use super::error::RunError;
-use super::scene_run::{run_scene, Outputs, Progress, RunResult};
+use super::scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
+use super::summary::InteractionsSummary;
 use crate::parallel::on_worker;
-use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
-use crate::scene::Scene;
+use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
+use crate::scene::{boundary_error, Interactions, Scene};
 use std::path::Path;
 
 /// The potential of a scene: `None` for rotors without interactions or
 /// fields (they run with [`Free`]), otherwise the [`MultipolePotential`]
-/// (which checks what scene validation cannot cheaply, such as coincident sites).
+/// (which checks what scene validation cannot cheaply, such as coincident
+/// sites, the size of the sums, a lattice for `method = "lattice_fft"`;
+/// errors about the boundary name the scene's field).
 pub fn potential(scene: &Scene) -> Result<Option<MultipolePotential>, RunError> {
     if scene.interactions.is_none() && scene.fields == ExternalFields::NONE {
         return Ok(None);
     }
-    let boundary = scene.interactions.unwrap_or(Boundary::Open);
-    MultipolePotential::new(&scene.rotors, boundary, scene.fields)
+    let Interactions { boundary, method } = scene.interactions.unwrap_or(Interactions {
+        boundary: Boundary::Open,
+        method: SumMethod::Auto,
+    });
+    MultipolePotential::with_method(&scene.rotors, boundary, scene.fields, method)
         .map(Some)
-        .map_err(|e| RunError::Potential(e.to_string()))
+        .map_err(|e| match boundary_error(&e) {
+            Some(scene_error) => RunError::Scene(scene_error),
+            None => RunError::Potential(e.to_string()),
+        })
 }
 
 /// Runs a validated scene (`definition` is its raw form, for the summary)
@@ -32,9 +41,17 @@ pub fn execute(
 ) -> Result<RunResult, RunError> {
     on_worker(|| {
         let built = potential(scene)?;
-        let potential: &dyn Potential = match &built {
-            Some(p) => p,
-            None => &Free,
+        let interactions = scene
+            .interactions
+            .as_ref()
+            .zip(built.as_ref())
+            .map(|(i, p)| InteractionsSummary::new(i, p));
+        let potential = match &built {
+            Some(p) => ScenePotential {
+                potential: p,
+                interactions: interactions.as_ref(),
+            },
+            None => ScenePotential::plain(&Free),
         };
         let mut integrator = scene.integrator.build();
         run_scene(

@@ -1,9 +1,11 @@
 //! Running a scene: its outputs (CSV series, DCD + PDB or GSD trajectory,
 //! JSON summary, checkpoints) as observers of the one run loop of
-//! [`crate::simulation`], and the run of a scene from its physics objects.
+//! [`crate::simulation`], the run of a scene from its physics objects, and
+//! what is computed from a run's recorded outputs (its dielectric constant).
 
 mod checkpoint;
 mod dcd;
+mod dielectric;
 mod error;
 mod execute;
 mod gsd;
@@ -15,13 +17,17 @@ mod trajectory;
 
 pub use checkpoint::{Checkpoint, CheckpointWriter};
 pub use dcd::DcdWriter;
+pub use dielectric::{dielectric_of_run, dipole_series, read_run};
 pub use error::RunError;
 pub use execute::{execute, potential};
 pub use gsd::{GsdBox, GsdWriter};
 pub use pdb::ROTOR_ATOMS;
 pub use scene_run::{
-    run_scene, Outputs, Progress, RunResult, CHECKPOINT_FILE, DCD_FILE, PDB_FILE, SUMMARY_FILE,
+    run_scene, Outputs, Progress, RunResult, ScenePotential, CHECKPOINT_FILE, DCD_FILE, GSD_FILE,
+    PDB_FILE, SUMMARY_FILE,
 };
 pub use series::{SeriesObserver, SeriesTable};
-pub use summary::{Drift, FinalEnergies, Summary, Versions};
-pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
+pub use summary::{
+    Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary, Summary, Versions,
+};
+pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver, GSD_OPEN_MARGIN};

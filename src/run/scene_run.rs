@@ -5,7 +5,7 @@
 use super::checkpoint::{Checkpoint, CheckpointWriter};
 use super::error::RunError;
 use super::series::{SeriesObserver, SeriesTable};
-use super::summary::Summary;
+use super::summary::{InteractionsSummary, Summary};
 use super::trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
 use crate::integrators::Integrator;
 use crate::potential::Potential;
@@ -24,6 +24,8 @@ pub const CHECKPOINT_FILE: &str = "checkpoint.json";
 pub const DCD_FILE: &str = "trajectory.dcd";
 /// Name of the trajectory's topology file in the output directory.
 pub const PDB_FILE: &str = "topology.pdb";
+/// Name of the GSD trajectory file in the output directory.
+pub const GSD_FILE: &str = "trajectory.gsd";
 
 /// Where a run's outputs go.
 #[derive(Clone, Debug, Default)]
@@ -53,6 +55,27 @@ pub struct Progress<'a> {
     pub observer: &'a mut (dyn Observer<Error = RunError> + Send),
 }
 
+/// The potential a scene runs with, and how it sums the pair interactions
+/// (for the summary).
+#[derive(Clone, Copy)]
+pub struct ScenePotential<'a> {
+    /// The potential.
+    pub potential: &'a dyn Potential,
+    /// How it sums the pair interactions (`None`: none, or not recorded).
+    pub interactions: Option<&'a InteractionsSummary>,
+}
+
+impl<'a> ScenePotential<'a> {
+    /// A potential with nothing to record about its sums (free rotors, a
+    /// wrapped potential in a test).
+    pub fn plain(potential: &'a dyn Potential) -> Self {
+        ScenePotential {
+            potential,
+            interactions: None,
+        }
+    }
+}
+
 /// Everything a run produced.
 #[derive(Clone, Debug)]
 pub struct RunResult {
@@ -73,11 +96,15 @@ pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,
     integrator: &mut dyn Integrator,
-    potential: &dyn Potential,
+    potential: ScenePotential<'_>,
     outputs: &Outputs,
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
+    let ScenePotential {
+        potential,
+        interactions,
+    } = potential;
     let inertia = scene.inertia();
     integrator.setup(&inertia, potential, &scene.initial, scene.dt)?;
     let (start_step, reference) = match restart {
@@ -117,7 +144,13 @@ pub fn run_scene(
         &options,
     )?;
     drop(scheduled);
-    let summary = Summary::new(scene, definition, &report, start_step);
+    let summary = Summary::new(
+        scene,
+        definition,
+        interactions.cloned(),
+        &report,
+        start_step,
+    );
     if let Some(path) = outputs.file(SUMMARY_FILE) {
         let text = serde_json::to_string_pretty(&summary).map_err(|e| RunError::io(&path, e))?;
         std::fs::write(&path, text + "\n").map_err(|e| RunError::io(&path, e))?;
@@ -177,26 +210,30 @@ impl Recorders {
             .iter()
             .map(|s| {
                 let path = outputs.file(&format!("{}.csv", s.name));
-                SeriesObserver::new(s, path.as_deref(), outputs.keep)
+                SeriesObserver::new(s, &scene.rotors, path.as_deref(), outputs.keep)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let (dcd, pdb) = (outputs.file(DCD_FILE), outputs.file(PDB_FILE));
+        let (dcd, pdb, gsd) = (
+            outputs.file(DCD_FILE),
+            outputs.file(PDB_FILE),
+            outputs.file(GSD_FILE),
+        );
         let box_lengths = scene.box_lengths();
         let trajectory = record
             .trajectory
             .as_ref()
             .map(|spec| {
-                let files = dcd
-                    .as_deref()
-                    .zip(pdb.as_deref())
-                    .map(|(dcd, pdb)| TrajectoryFiles {
+                let files = dcd.as_deref().zip(pdb.as_deref()).zip(gsd.as_deref()).map(
+                    |((dcd, pdb), gsd)| TrajectoryFiles {
                         dcd,
                         pdb,
+                        gsd,
                         box_lengths: box_lengths.as_ref(),
                         first_step: start_step,
                         dt: scene.dt,
                         title: &scene.name,
-                    });
+                    },
+                );
                 let now = integrator.orientations();
                 TrajectoryObserver::new(spec, &scene.rotors, now, files, outputs.keep)
             })

@@ -2,8 +2,9 @@
 //! (a header, one row per sample) and/or kept in memory for Python.
 
 use super::error::RunError;
-use crate::scene::Series;
-use crate::simulation::{Needs, Observer, Sample};
+use crate::rotor::Rotor;
+use crate::scene::{SceneError, Series};
+use crate::simulation::{MultipoleInputs, Needs, Observer, Sample};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -13,29 +14,79 @@ use std::path::{Path, PathBuf};
 pub struct SeriesTable {
     /// The series' name.
     pub name: String,
-    /// `step`, `time`, then the quantities' names.
+    /// `step`, `time`, then the quantities' columns.
     pub columns: Vec<String>,
     /// Row-major values, `columns.len()` per row.
     pub values: Vec<f64>,
 }
 
+impl SeriesTable {
+    /// The table of a CSV file the run wrote (named after the file's stem).
+    pub fn read_csv(path: &Path) -> Result<SeriesTable, RunError> {
+        let text = std::fs::read_to_string(path).map_err(|e| RunError::io(path, e))?;
+        let mut lines = text.lines();
+        let columns: Vec<String> = lines
+            .next()
+            .unwrap_or_default()
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        let mut values = Vec::new();
+        for (k, line) in lines.enumerate() {
+            let row = line
+                .split(',')
+                .map(str::parse::<f64>)
+                .collect::<Result<Vec<f64>, _>>()
+                .map_err(|e| RunError::io(path, format!("row {}: {e}", k + 1)))?;
+            if row.len() != columns.len() {
+                return Err(RunError::io(
+                    path,
+                    format!(
+                        "row {}: {} values for {} columns",
+                        k + 1,
+                        row.len(),
+                        columns.len()
+                    ),
+                ));
+            }
+            values.extend(row);
+        }
+        let name = path
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        Ok(SeriesTable {
+            name,
+            columns,
+            values,
+        })
+    }
+}
+
 /// Records a [`Series`].
 pub struct SeriesObserver {
     spec: Series,
+    multipoles: MultipoleInputs,
     csv: Option<(PathBuf, BufWriter<File>)>,
     table: Option<SeriesTable>,
     row: Vec<f64>,
 }
 
 impl SeriesObserver {
-    /// A series written to `csv_path` (if given; the header is written now)
-    /// and kept in memory if `keep`.
-    pub fn new(spec: &Series, csv_path: Option<&Path>, keep: bool) -> Result<Self, RunError> {
-        let columns: Vec<String> = ["step", "time"]
+    /// A series of `rotors` written to `csv_path` (if given; the header is
+    /// written now) and kept in memory if `keep`.
+    pub fn new(
+        spec: &Series,
+        rotors: &[Rotor],
+        csv_path: Option<&Path>,
+        keep: bool,
+    ) -> Result<Self, RunError> {
+        let multipoles = MultipoleInputs::new(rotors, &spec.quantities)
+            .map_err(|e| SceneError::from(e.at(&format!("series `{}`", spec.name))))?;
+        let columns: Vec<String> = ["step".to_string(), "time".to_string()]
             .into_iter()
-            .chain(spec.quantities.iter().map(|q| q.name()))
-            .map(str::to_string)
+            .chain(spec.quantities.iter().flat_map(|q| q.columns()))
             .collect();
+        let columns_len = columns.len();
         let csv = csv_path
             .map(|path| {
                 let file = File::create(path).map_err(|e| RunError::io(path, e))?;
@@ -46,13 +97,14 @@ impl SeriesObserver {
             .transpose()?;
         Ok(SeriesObserver {
             spec: spec.clone(),
+            multipoles,
             csv,
             table: keep.then(|| SeriesTable {
                 name: spec.name.clone(),
                 columns,
                 values: Vec::new(),
             }),
-            row: Vec::with_capacity(spec.quantities.len()),
+            row: Vec::with_capacity(columns_len),
         })
     }
 
@@ -74,8 +126,9 @@ impl Observer for SeriesObserver {
 
     fn observe(&mut self, sample: &Sample<'_>) -> Result<(), RunError> {
         self.row.clear();
-        self.row
-            .extend(self.spec.quantities.iter().map(|q| q.value(sample)));
+        for q in &self.spec.quantities {
+            q.write(sample, &mut self.multipoles, &mut self.row);
+        }
         if let Some((path, writer)) = &mut self.csv {
             // `{:e}` is the shortest representation that reads back exactly.
             let mut line = format!("{},{:e}", sample.step, sample.time);

@@ -1,9 +1,13 @@
-//! The JSON summary of a run: the scene, the seed, the versions, the time
-//! taken, the final energies and the drift.
+//! The JSON summary of a run: the scene, the seed, the versions, how the
+//! pair interactions were summed, the time taken, the final energies and
+//! the drift.
 
-use crate::scene::{Scene, SCENE_VERSION};
+use crate::potential::multipole::EwaldParameters;
+use crate::potential::{Boundary, MultipolePotential, PeriodicSum, Surface};
+use crate::scene::raw::SumKind;
+use crate::scene::{Interactions, Scene, SCENE_VERSION};
 use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Versions of what produced the outputs.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -42,6 +46,109 @@ pub struct Drift {
     pub samples: usize,
 }
 
+/// How a run summed its pair interactions: the boundary as run (defaults
+/// filled in), the path the potential took ([`crate::potential::SumPath`])
+/// and, for an Ewald sum, the parameters chosen for the accuracy.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct InteractionsSummary {
+    /// `"open"` or `"periodic"`.
+    pub boundary: String,
+    /// The box edges (periodic).
+    #[serde(rename = "box")]
+    pub box_lengths: Option<[f64; 3]>,
+    /// `"ewald"` or `"cutoff"` (periodic).
+    pub sum: Option<SumKind>,
+    /// The spherical cutoff (`sum = "cutoff"`).
+    pub cutoff: Option<f64>,
+    /// The requested relative accuracy (`sum = "ewald"`).
+    pub accuracy: Option<f64>,
+    /// The surroundings (`sum = "ewald"`).
+    pub surface: Option<Surface>,
+    /// The path taken: `"open_pairs"`, `"cutoff_pairs"`,
+    /// `"cutoff_lattice_fft"`, `"ewald_direct"` or `"ewald_lattice_fft"`.
+    pub path: String,
+    /// The Ewald parameters chosen (`sum = "ewald"`).
+    pub ewald: Option<EwaldSummary>,
+    /// The cells and the sites per cell of the lattice an FFT path runs on.
+    pub lattice: Option<LatticeSummary>,
+}
+
+/// The splitting and the cutoffs an Ewald sum chose for its accuracy
+/// ([`EwaldParameters`]), with the error estimates they meet.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct EwaldSummary {
+    /// The splitting parameter `alpha` (inverse length).
+    pub alpha: f64,
+    /// The real-space cutoff (length).
+    pub real_cutoff: f64,
+    /// The reciprocal-space cutoff (inverse length).
+    pub reciprocal_cutoff: f64,
+    /// The estimated relative error of the real-space truncation.
+    pub real_estimate: f64,
+    /// The estimated relative error of the reciprocal-space truncation.
+    pub reciprocal_estimate: f64,
+    /// Their sum: the estimated relative error of the sum.
+    pub estimated_error: f64,
+}
+
+/// The lattice of the box an FFT lattice sum runs on.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct LatticeSummary {
+    /// Cells along x, y, z.
+    pub cells: [usize; 3],
+    /// Sites per cell.
+    pub basis: usize,
+}
+
+impl From<EwaldParameters> for EwaldSummary {
+    fn from(p: EwaldParameters) -> Self {
+        EwaldSummary {
+            alpha: p.alpha,
+            real_cutoff: p.real_cutoff,
+            reciprocal_cutoff: p.reciprocal_cutoff,
+            real_estimate: p.real_estimate,
+            reciprocal_estimate: p.reciprocal_estimate,
+            estimated_error: p.real_estimate + p.reciprocal_estimate,
+        }
+    }
+}
+
+impl InteractionsSummary {
+    /// The record of `interactions` summed by `potential` (built from them).
+    pub fn new(interactions: &Interactions, potential: &MultipolePotential) -> Self {
+        let mut out = InteractionsSummary {
+            boundary: "open".to_string(),
+            box_lengths: None,
+            sum: None,
+            cutoff: None,
+            accuracy: None,
+            surface: None,
+            path: potential.sum_path().as_str().to_string(),
+            ewald: potential.ewald_parameters().map(EwaldSummary::from),
+            lattice: potential.lattice().map(|grid| LatticeSummary {
+                cells: grid.cells,
+                basis: grid.basis.len(),
+            }),
+        };
+        if let Boundary::Periodic { box_lengths, sum } = interactions.boundary {
+            out.boundary = "periodic".to_string();
+            out.box_lengths = Some(box_lengths.into());
+            match sum {
+                PeriodicSum::Cutoff { cutoff } => {
+                    out.sum = Some(SumKind::Cutoff);
+                    out.cutoff = Some(cutoff);
+                }
+                PeriodicSum::Ewald { accuracy, surface } => {
+                    out.sum = Some(SumKind::Ewald);
+                    out.accuracy = Some(accuracy);
+                    out.surface = Some(surface);
+                }
+            }
+        }
+        out
+    }
+}
+
 /// The summary written to `summary.json` and returned to Python.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Summary {
@@ -59,6 +166,8 @@ pub struct Summary {
     pub integrator: String,
     /// The number of rotors.
     pub rotors: usize,
+    /// How the pair interactions were summed (`None` without interactions).
+    pub interactions: Option<InteractionsSummary>,
     /// The time step.
     pub dt: f64,
     /// The first step of this run (0, or the checkpoint's).
@@ -96,10 +205,12 @@ fn drift(report: &RunReport) -> Option<Drift> {
 }
 
 impl Summary {
-    /// The summary of `report` for `scene` (whose raw form is `definition`).
+    /// The summary of `report` for `scene` (whose raw form is `definition`),
+    /// whose pair interactions were summed as `interactions` says.
     pub fn new(
         scene: &Scene,
         definition: serde_json::Value,
+        interactions: Option<InteractionsSummary>,
         report: &RunReport,
         start_step: u64,
     ) -> Self {
@@ -123,6 +234,7 @@ impl Summary {
             },
             integrator: scene.integrator.name().to_string(),
             rotors: scene.rotors.len(),
+            interactions,
             dt: scene.dt,
             start_step,
             last_step: report.last_step,

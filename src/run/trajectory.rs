@@ -1,14 +1,16 @@
-//! Trajectory frames: for each rotor its centre and three markers at
-//! `marker_length` along its body axes (`r_s = R(Q) e_a`, the columns of
-//! `A^T`), written as DCD with a PDB topology, and/or the orientations and
+//! Trajectory frames, written as DCD with a PDB topology (for each rotor
+//! its centre and three markers at `marker_length` along its body axes,
+//! `r_s = R(Q) e_a`, the columns of `A^T`) or as GSD (the sites, the
+//! orientation quaternions, the box, the step), and/or the orientations and
 //! body angular velocities kept in memory for Python.
 
 use super::dcd::DcdWriter;
 use super::error::RunError;
+use super::gsd::{GsdBox, GsdWriter};
 use super::pdb::write_topology;
 use crate::quaternion::Quat;
 use crate::rotor::Rotor;
-use crate::scene::TrajectorySpec;
+use crate::scene::{TrajectoryFormat, TrajectorySpec};
 use crate::simulation::{Needs, Observer, Sample};
 use nalgebra::Vector3;
 use std::path::{Path, PathBuf};
@@ -26,22 +28,32 @@ pub struct TrajectoryFrames {
     pub omega_body: Vec<f64>,
 }
 
+/// Margin around the sites of an open cluster in its GSD box (length
+/// units; GSD files always carry a box, [`GsdBox::enclosing`]).
+pub const GSD_OPEN_MARGIN: f64 = 1.0;
+
 /// Records trajectory frames.
 pub struct TrajectoryObserver {
     sites: Vec<Vector3<f64>>,
     marker_length: f64,
     dcd: Option<(PathBuf, DcdWriter)>,
+    gsd: Option<(PathBuf, GsdWriter)>,
     frames: Option<TrajectoryFrames>,
     positions: Vec<[f32; 3]>,
 }
 
-/// Where the files of a trajectory go.
+/// Where the files of a trajectory go (the DCD and PDB files, or the GSD
+/// file, as the format says).
 pub struct TrajectoryFiles<'a> {
     /// The DCD file of the frames.
     pub dcd: &'a Path,
     /// The PDB file of the topology.
     pub pdb: &'a Path,
-    /// The periodic box, if any (the PDB's CRYST1 record).
+    /// The GSD file of the frames.
+    pub gsd: &'a Path,
+    /// The periodic box, if any (the PDB's CRYST1 record, the DCD's unit
+    /// cell, the GSD box; an open cluster's GSD box encloses its sites with
+    /// [`GSD_OPEN_MARGIN`]).
     pub box_lengths: Option<&'a Vector3<f64>>,
     /// The step of the first frame.
     pub first_step: u64,
@@ -65,26 +77,50 @@ impl TrajectoryObserver {
             sites: rotors.iter().map(|r| r.site).collect(),
             marker_length: spec.marker_length,
             dcd: None,
+            gsd: None,
             frames: keep.then(TrajectoryFrames::default),
-            positions: vec![[0.0; 3]; 4 * rotors.len()],
+            positions: Vec::new(),
         };
-        if let Some(f) = files {
-            observer.fill_positions(initial);
-            write_topology(f.pdb, &observer.positions, f.box_lengths, f.title)
-                .map_err(|e| RunError::io(f.pdb, e))?;
-            let dcd = DcdWriter::create(
-                f.dcd,
-                observer.positions.len(),
-                f.first_step,
-                spec.every,
-                f.dt,
-                f.title,
-                f.box_lengths,
-            )
-            .map_err(|e| RunError::io(f.dcd, e))?;
-            observer.dcd = Some((f.dcd.to_path_buf(), dcd));
+        match (files, spec.format) {
+            (None, _) => {}
+            (Some(f), TrajectoryFormat::Gsd) => {
+                let cell = match f.box_lengths {
+                    Some(l) => GsdBox::periodic(*l),
+                    None => GsdBox::enclosing(&observer.sites, GSD_OPEN_MARGIN),
+                };
+                let gsd = GsdWriter::create(f.gsd, &observer.sites, &cell)
+                    .map_err(|e| RunError::io(f.gsd, e))?;
+                observer.gsd = Some((f.gsd.to_path_buf(), gsd));
+            }
+            (Some(f), TrajectoryFormat::Dcd) => observer.open_dcd(spec, initial, &f)?,
         }
         Ok(observer)
+    }
+
+    /// Writes the PDB topology (with the `initial` orientations) and opens
+    /// the DCD file.
+    fn open_dcd(
+        &mut self,
+        spec: &TrajectorySpec,
+        initial: &[Quat],
+        f: &TrajectoryFiles<'_>,
+    ) -> Result<(), RunError> {
+        self.positions = vec![[0.0; 3]; 4 * self.sites.len()];
+        self.fill_positions(initial);
+        write_topology(f.pdb, &self.positions, f.box_lengths, f.title)
+            .map_err(|e| RunError::io(f.pdb, e))?;
+        let dcd = DcdWriter::create(
+            f.dcd,
+            self.positions.len(),
+            f.first_step,
+            spec.every,
+            f.dt,
+            f.title,
+            f.box_lengths,
+        )
+        .map_err(|e| RunError::io(f.dcd, e))?;
+        self.dcd = Some((f.dcd.to_path_buf(), dcd));
+        Ok(())
     }
 
     /// The frames kept in memory (none unless `keep` was set).
@@ -131,6 +167,10 @@ impl Observer for TrajectoryObserver {
             dcd.write_frame(&self.positions)
                 .map_err(|e| RunError::io(path, e))?;
         }
+        if let Some((path, gsd)) = &mut self.gsd {
+            gsd.write_frame(sample.step, sample.orientations)
+                .map_err(|e| RunError::io(path, e))?;
+        }
         if let Some(frames) = &mut self.frames {
             frames.steps.push(sample.step);
             frames.times.push(sample.time);
@@ -152,6 +192,9 @@ impl Observer for TrajectoryObserver {
     fn finish(&mut self) -> Result<(), RunError> {
         if let Some((path, dcd)) = &mut self.dcd {
             dcd.flush().map_err(|e| RunError::io(path, e))?;
+        }
+        if let Some((path, gsd)) = &mut self.gsd {
+            gsd.flush().map_err(|e| RunError::io(path, e))?;
         }
         Ok(())
     }

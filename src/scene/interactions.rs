@@ -1,13 +1,17 @@
 //! The `[interactions]` section: pair interactions between the rotors'
 //! multipoles and their boundary, built into the physics [`Boundary`] (which
-//! checks the box and the cutoff, [`Boundary::validate`]; this file adds the
-//! field paths). The pair terms follow from the multipoles the rotors carry;
-//! the optional `terms` list must name exactly those.
+//! checks the box, the cutoff and the accuracy, [`Boundary::validate`]; this
+//! file adds the field paths and the rules of the keys) and the way a
+//! periodic sum is taken ([`SumMethod`]). The pair terms follow from the
+//! multipoles the rotors carry; the optional `terms` list must name exactly
+//! those.
 
 use super::error::SceneError;
+use super::model::Interactions;
 use super::tagged::tagged;
-use crate::checks::num;
-use crate::potential::Boundary;
+use crate::checks::{named_choices, num, InputError};
+use crate::potential::multipole::DEFAULT_ACCURACY;
+use crate::potential::{Boundary, PeriodicSum, SumMethod, Surface};
 use crate::rotor::Rotor;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -22,13 +26,14 @@ pub struct RawInteractions {
     pub boundary: RawBoundary,
 }
 
-/// Open (all pairs) or periodic (every image inside a spherical cutoff).
+/// Open (all pairs) or periodic (the Ewald sum, or every image inside a
+/// spherical cutoff).
 #[derive(Debug, Clone, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum RawBoundary {
     /// All pairs, no cutoff.
     Open(RawOpen),
-    /// A periodic box and a cutoff.
+    /// A periodic box and its sum.
     Periodic(RawPeriodic),
 }
 
@@ -39,13 +44,39 @@ tagged!(RawBoundary { "open" => Open(RawOpen), "periodic" => Periodic(RawPeriodi
 #[serde(deny_unknown_fields)]
 pub struct RawOpen {}
 
+/// How the images of a periodic box are summed (the scene's `sum`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SumKind {
+    /// [`PeriodicSum::Ewald`].
+    Ewald,
+    /// [`PeriodicSum::Cutoff`].
+    Cutoff,
+}
+
+named_choices!(SumKind {
+    "ewald" => SumKind::Ewald,
+    "cutoff" => SumKind::Cutoff,
+});
+
 /// Periodic boundaries: [`Boundary::Periodic`], whose box defaults to the
-/// lattice's.
+/// lattice's, summed by Ewald (`sum = "ewald"`, the default, with `accuracy`
+/// and `surface`) or with a spherical cutoff (`sum = "cutoff"` and
+/// `cutoff`; a `cutoff` without `sum` means `sum = "cutoff"`, the form of
+/// scene files written before the Ewald sum, which run unchanged); `method`
+/// chooses the way of summing ([`SumMethod`]).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPeriodic {
-    /// The spherical cutoff.
-    pub cutoff: f64,
+    /// The sum: "ewald" (default) or "cutoff" (default when `cutoff` is given).
+    pub sum: Option<SumKind>,
+    /// The spherical cutoff of `sum = "cutoff"`.
+    pub cutoff: Option<f64>,
+    /// The relative accuracy of `sum = "ewald"` (default 1e-12).
+    pub accuracy: Option<f64>,
+    /// The surroundings of `sum = "ewald"` (default conducting).
+    pub surface: Option<Surface>,
+    /// The way of summing (default "auto").
+    pub method: Option<SumMethod>,
     /// The box (default: the lattice's).
     #[serde(rename = "box")]
     pub box_lengths: Option<[f64; 3]>,
@@ -58,15 +89,36 @@ const TERM_NAMES: [&str; 3] = [
     "quadrupole_quadrupole",
 ];
 
+/// The scene paths of the physics' boundary errors ([`Boundary::validate`]
+/// and the sums built from it).
+const BOUNDARY_PATHS: [(&str, &str); 4] = [
+    ("box_lengths", "interactions.boundary.box"),
+    ("cutoff", "interactions.boundary.cutoff"),
+    ("accuracy", "interactions.boundary.accuracy"),
+    ("method", "interactions.boundary.method"),
+];
+
+/// The error of building a scene's potential at the scene's path when it
+/// concerns the boundary (`accuracy` becomes `interactions.boundary.accuracy`);
+/// `None` for the others (which concern the rotors).
+pub fn boundary_error(e: &InputError) -> Option<SceneError> {
+    let concerns_boundary = BOUNDARY_PATHS.iter().any(|(physics, _)| {
+        e.path
+            .strip_prefix(physics)
+            .is_some_and(|rest| rest.is_empty() || rest.starts_with(['[', '.']))
+    });
+    concerns_boundary.then(|| SceneError::renamed(e.clone(), &BOUNDARY_PATHS))
+}
+
 /// Validates the section for `rotors` (listed explicitly when `explicit_sites`;
 /// on a lattice whose box is `lattice_box` otherwise): the boundary of the
-/// pair interactions.
+/// pair interactions and the way of summing.
 pub(super) fn interactions(
     raw: &RawInteractions,
     rotors: &[Rotor],
     explicit_sites: bool,
     lattice_box: Option<Vector3<f64>>,
-) -> Result<Boundary, SceneError> {
+) -> Result<Interactions, SceneError> {
     let any_dipole = rotors.iter().any(|r| r.dipole_body.is_some());
     let any_quadrupole = rotors.iter().any(|r| r.quadrupole_body.is_some());
     // The pair terms follow from the multipoles the rotors carry.
@@ -80,35 +132,76 @@ pub(super) fn interactions(
     if let Some(listed) = &raw.terms {
         check_terms(listed, implied)?;
     }
-    match &raw.boundary {
-        RawBoundary::Open(_) => Ok(Boundary::Open),
-        RawBoundary::Periodic(p) => {
-            let box_lengths = match (p.box_lengths, lattice_box) {
-                (Some(b), _) => Vector3::from(b),
-                (None, Some(b)) => b,
-                (None, None) => {
-                    return Err(SceneError::field(
-                        "interactions.boundary.box",
-                        "required for a periodic boundary with explicit sites",
-                    ))
-                }
+    let RawBoundary::Periodic(p) = &raw.boundary else {
+        return Ok(Interactions {
+            boundary: Boundary::Open,
+            method: SumMethod::Auto,
+        });
+    };
+    let box_lengths = match (p.box_lengths, lattice_box) {
+        (Some(b), _) => Vector3::from(b),
+        (None, Some(b)) => b,
+        (None, None) => {
+            return Err(SceneError::field(
+                "interactions.boundary.box",
+                "required for a periodic boundary with explicit sites",
+            ))
+        }
+    };
+    let boundary = Boundary::Periodic {
+        box_lengths,
+        sum: periodic_sum(p)?,
+    };
+    boundary
+        .validate(rotors.len())
+        .map_err(|e| SceneError::renamed(e, &BOUNDARY_PATHS))?;
+    if explicit_sites {
+        check_inside_box(rotors, &box_lengths)?;
+    }
+    Ok(Interactions {
+        boundary,
+        method: p.method.unwrap_or_default(),
+    })
+}
+
+/// The periodic sum of the table: its `sum` (or the one implied: `cutoff`
+/// given means a truncated sum), with only the keys of that sum.
+fn periodic_sum(p: &RawPeriodic) -> Result<PeriodicSum, SceneError> {
+    let path = |key: &str| format!("interactions.boundary.{key}");
+    let kind = p.sum.unwrap_or(match p.cutoff {
+        Some(_) => SumKind::Cutoff,
+        None => SumKind::Ewald,
+    });
+    match kind {
+        SumKind::Cutoff => {
+            let why = if p.sum.is_some() {
+                "only for sum = \"ewald\", not with sum = \"cutoff\""
+            } else {
+                "only for sum = \"ewald\" (a cutoff without sum means sum = \"cutoff\")"
             };
-            // Any cutoff is a lattice sum over the images inside it; only its
-            // size is limited.
-            let boundary = Boundary::periodic_cutoff(box_lengths, p.cutoff);
-            boundary.validate(rotors.len()).map_err(|e| {
-                SceneError::renamed(
-                    e,
-                    &[
-                        ("box_lengths", "interactions.boundary.box"),
-                        ("cutoff", "interactions.boundary.cutoff"),
-                    ],
-                )
-            })?;
-            if explicit_sites {
-                check_inside_box(rotors, &box_lengths)?;
+            if p.accuracy.is_some() {
+                return Err(SceneError::field(path("accuracy"), why));
             }
-            Ok(boundary)
+            if p.surface.is_some() {
+                return Err(SceneError::field(path("surface"), why));
+            }
+            let cutoff = p.cutoff.ok_or_else(|| {
+                SceneError::field(path("cutoff"), "required with sum = \"cutoff\"")
+            })?;
+            Ok(PeriodicSum::Cutoff { cutoff })
+        }
+        SumKind::Ewald => {
+            if p.cutoff.is_some() {
+                return Err(SceneError::field(
+                    path("cutoff"),
+                    "not with sum = \"ewald\" (its real- and reciprocal-space cutoffs \
+                     follow from accuracy)",
+                ));
+            }
+            Ok(PeriodicSum::Ewald {
+                accuracy: p.accuracy.unwrap_or(DEFAULT_ACCURACY),
+                surface: p.surface.unwrap_or_default(),
+            })
         }
     }
 }
@@ -189,7 +282,9 @@ mod tests {
         lattice_box: Option<Vector3<f64>>,
     ) -> Result<Boundary, String> {
         let raw: RawInteractions = toml::from_str(table).expect("valid table");
-        interactions(&raw, rotors, lattice_box.is_none(), lattice_box).map_err(|e| e.to_string())
+        interactions(&raw, rotors, lattice_box.is_none(), lattice_box)
+            .map(|i| i.boundary)
+            .map_err(|e| e.to_string())
     }
 
     /// The box defaults to the lattice's; the physics' box and cutoff checks
@@ -225,6 +320,47 @@ mod tests {
         assert_eq!(
             check("boundary = { kind = 'open' }", &rotors, None),
             Ok(Boundary::Open)
+        );
+    }
+
+    /// A periodic boundary without `sum` is the Ewald sum (default accuracy,
+    /// conducting surroundings, the automatic path); a `cutoff` without
+    /// `sum` is the truncated sum of older scene files; `surface` and
+    /// `method` are read by name.
+    #[test]
+    fn periodic_sum_defaults_to_ewald() {
+        let rotors = [dipole_at(0.0), dipole_at(1.0)];
+        let l = Vector3::repeat(2.0);
+        let read = |table: &str| {
+            let raw: RawInteractions = toml::from_str(table).expect("valid table");
+            interactions(&raw, &rotors, false, Some(l)).expect("valid")
+        };
+        assert_eq!(
+            read("boundary = { kind = 'periodic' }"),
+            Interactions {
+                boundary: Boundary::periodic_ewald(l),
+                method: SumMethod::Auto
+            }
+        );
+        assert_eq!(
+            read("boundary = { kind = 'periodic', cutoff = 0.9 }").boundary,
+            read("boundary = { kind = 'periodic', sum = 'cutoff', cutoff = 0.9 }").boundary,
+        );
+        let vacuum = read(
+            "boundary = { kind = 'periodic', sum = 'ewald', accuracy = 1e-6, surface = 'vacuum', method = 'direct' }",
+        );
+        assert_eq!(
+            vacuum,
+            Interactions {
+                boundary: Boundary::Periodic {
+                    box_lengths: l,
+                    sum: PeriodicSum::Ewald {
+                        accuracy: 1e-6,
+                        surface: Surface::Vacuum
+                    }
+                },
+                method: SumMethod::Direct
+            }
         );
     }
 

@@ -26,8 +26,11 @@ mod validate;
 pub use builtin::{builtin, Builtin, BUILTINS};
 pub use error::SceneError;
 pub use initial::random_states;
+pub use interactions::boundary_error;
 pub use load::{load, load_raw, load_table, load_text, Overrides};
-pub use model::Scene;
+pub use model::{Interactions, Scene};
 pub use parse::{parse_table, parse_toml};
-pub use record::{Record, Series, TrajectorySpec, DEFAULT_CHECK_EVERY, DEFAULT_MARKER_LENGTH};
+pub use record::{
+    Record, Series, TrajectoryFormat, TrajectorySpec, DEFAULT_CHECK_EVERY, DEFAULT_MARKER_LENGTH,
+};
 pub use validate::{validate, SCENE_VERSION};

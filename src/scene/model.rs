@@ -3,9 +3,19 @@
 
 use super::record::Record;
 use crate::integrators::{IntegratorSpec, RotorState};
-use crate::potential::{Boundary, ExternalFields};
+use crate::potential::{Boundary, ExternalFields, SumMethod};
 use crate::rotor::{Inertia, Rotor};
 use nalgebra::Vector3;
+
+/// The pair interactions of a scene: their boundary and the way a periodic
+/// sum is taken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interactions {
+    /// Open, or a periodic box and its sum.
+    pub boundary: Boundary,
+    /// The way of summing (the scene's `method`, default automatic).
+    pub method: SumMethod,
+}
 
 /// A complete, validated scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -16,9 +26,9 @@ pub struct Scene {
     pub description: String,
     /// The rotors, one per site, in the order of the sites.
     pub rotors: Vec<Rotor>,
-    /// The boundary of the pair interactions between the rotors'
-    /// multipoles; `None` when they do not interact.
-    pub interactions: Option<Boundary>,
+    /// The pair interactions between the rotors' multipoles; `None` when
+    /// they do not interact.
+    pub interactions: Option<Interactions>,
     /// External fields (both absent means none).
     pub fields: ExternalFields,
     /// Initial orientations and body angular velocities, one per rotor.
@@ -38,7 +48,7 @@ pub struct Scene {
 impl Scene {
     /// Side lengths of the periodic box, when the boundary is periodic.
     pub fn box_lengths(&self) -> Option<Vector3<f64>> {
-        match self.interactions {
+        match self.interactions.map(|i| i.boundary) {
             Some(Boundary::Periodic { box_lengths, .. }) => Some(box_lengths),
             _ => None,
         }

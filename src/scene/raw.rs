@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 pub use super::fields::RawFields;
 pub use super::initial::{RawExplicitInitial, RawInitial, RawRandomInitial, RawUniformInitial};
 pub use super::integrator::RawIntegrator;
-pub use super::interactions::{RawBoundary, RawInteractions, RawOpen, RawPeriodic};
+pub use super::interactions::{RawBoundary, RawInteractions, RawOpen, RawPeriodic, SumKind};
 pub use super::record::{RawRecord, RawSeries, RawTrajectory};
 pub use super::rotors::{
     RawInertia, RawLattice, RawOverride, RawRotorProps, RawRotors, RawSite, RawSites,

@@ -2,9 +2,10 @@
 //! a trajectory, checkpoints) and its blow-up guard. Nothing by default.
 
 use super::error::SceneError;
-use crate::checks::{at_least_one, positive};
+use crate::checks::{at_least_one, named_choices, positive};
 use crate::integrators::IntegratorSpec;
-use crate::simulation::Quantity;
+use crate::rotor::Rotor;
+use crate::simulation::{MultipoleInputs, Quantity};
 use serde::{Deserialize, Serialize};
 
 /// Default interval of the blow-up checks, in steps.
@@ -41,22 +42,44 @@ pub struct RawSeries {
     pub quantities: Vec<String>,
 }
 
-/// Frames of rotor centres and body-axis markers.
+/// Trajectory frames: DCD (rotor centres and body-axis markers) or GSD
+/// (sites, quaternions, box).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawTrajectory {
     /// Frame interval in steps.
     pub every: i64,
-    /// Distance of the markers from the centre.
+    /// The file format (default DCD).
+    pub format: Option<TrajectoryFormat>,
+    /// Distance of the markers from the centre (DCD only).
     pub marker_length: Option<f64>,
 }
+
+/// The format of the trajectory file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrajectoryFormat {
+    /// `trajectory.dcd` + `topology.pdb`: each rotor as a centre and three
+    /// markers along its body axes (the default; mdtraj, VMD).
+    #[default]
+    Dcd,
+    /// `trajectory.gsd`: HOOMD-blue's format, the sites, the orientation
+    /// quaternions, the box and the step of each frame
+    /// ([`crate::run::GsdWriter`]; the `gsd` package, HOOMD-blue, OVITO,
+    /// freud).
+    Gsd,
+}
+
+named_choices!(TrajectoryFormat {
+    "dcd" => TrajectoryFormat::Dcd,
+    "gsd" => TrajectoryFormat::Gsd,
+});
 
 /// Everything the scene asks to record.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Record {
     /// Tables of scalar observables (CSV).
     pub series: Vec<Series>,
-    /// Trajectory frames (DCD + PDB).
+    /// Trajectory frames (DCD + PDB, or GSD).
     pub trajectory: Option<TrajectorySpec>,
     /// Checkpoint interval in steps, if any.
     pub checkpoint_every: Option<u64>,
@@ -77,12 +100,16 @@ pub struct Series {
     pub quantities: Vec<Quantity>,
 }
 
-/// Trajectory frames: rotor centres and markers along the body axes.
+/// Trajectory frames: rotor centres and markers along the body axes (DCD),
+/// or sites and orientation quaternions (GSD).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrajectorySpec {
     /// Frame interval in steps (>= 1).
     pub every: u64,
-    /// Distance of the body-axis markers from the centre (length units, > 0).
+    /// The file format.
+    pub format: TrajectoryFormat,
+    /// Distance of the body-axis markers from the centre (length units, > 0;
+    /// DCD only).
     pub marker_length: f64,
 }
 
@@ -103,12 +130,13 @@ fn quantity(path: &str, name: &str) -> Result<Quantity, SceneError> {
 }
 
 /// One series: its name (default `observables`, `observables1`, ...),
-/// interval and quantities.
+/// interval and quantities (each one the integrator and the rotors can give).
 fn series(
     s: usize,
     raw: &RawSeries,
     others: &[Series],
     integrator: &IntegratorSpec,
+    rotors: &[Rotor],
 ) -> Result<Series, SceneError> {
     let path = format!("record.series[{s}]");
     let name = raw.name.clone().unwrap_or_else(|| match s {
@@ -154,6 +182,7 @@ fn series(
                 ),
             ));
         }
+        let _ = MultipoleInputs::new(rotors, &[q]).map_err(|e| e.at(&qpath))?;
         quantities.push(q);
     }
     Ok(Series {
@@ -163,19 +192,31 @@ fn series(
     })
 }
 
-/// Validates the section for a run with `integrator`.
-pub(super) fn record(raw: &RawRecord, integrator: &IntegratorSpec) -> Result<Record, SceneError> {
+/// Validates the section for a run of `rotors` with `integrator`.
+pub(super) fn record(
+    raw: &RawRecord,
+    integrator: &IntegratorSpec,
+    rotors: &[Rotor],
+) -> Result<Record, SceneError> {
     let mut all: Vec<Series> = Vec::with_capacity(raw.series.len());
     for (s, rs) in raw.series.iter().enumerate() {
-        let one = series(s, rs, &all, integrator)?;
+        let one = series(s, rs, &all, integrator, rotors)?;
         all.push(one);
     }
     let trajectory = raw
         .trajectory
         .as_ref()
         .map(|t| {
+            let format = t.format.unwrap_or_default();
+            if format == TrajectoryFormat::Gsd && t.marker_length.is_some() {
+                return Err(SceneError::field(
+                    "record.trajectory.marker_length",
+                    "only for format = \"dcd\" (GSD stores the orientations as quaternions)",
+                ));
+            }
             Ok::<_, SceneError>(TrajectorySpec {
                 every: at_least_one(t.every).map_err(|e| e.at("record.trajectory.every"))?,
+                format,
                 marker_length: positive(t.marker_length.unwrap_or(DEFAULT_MARKER_LENGTH))
                     .map_err(|e| e.at("record.trajectory.marker_length"))?,
             })
@@ -210,7 +251,7 @@ mod tests {
 
     fn check(table: &str, integrator: IntegratorSpec) -> Result<Record, String> {
         let raw: RawRecord = toml::from_str(table).expect("valid table");
-        record(&raw, &integrator).map_err(|e| e.to_string())
+        record(&raw, &integrator, &[]).map_err(|e| e.to_string())
     }
 
     /// Defaults: names `observables`, `observables1`; checks every 100 steps;
@@ -230,6 +271,7 @@ mod tests {
             r.trajectory,
             Some(TrajectorySpec {
                 every: 5,
+                format: TrajectoryFormat::Dcd,
                 marker_length: DEFAULT_MARKER_LENGTH
             })
         );

@@ -47,6 +47,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
     let record = record(
         raw.record.as_ref().unwrap_or(&RawRecord::default()),
         &integrator,
+        &rotors,
     )?;
     Ok(Scene {
         name: raw.name.clone().unwrap_or_else(|| "scene".to_string()),

@@ -14,6 +14,6 @@ mod stop;
 pub use control::Control;
 pub use energy::{EnergyHistory, EnergyReference};
 pub use observer::{CheckpointSink, Checkpoints, Energies, Needs, Observer, Sample, Scheduled};
-pub use quantity::Quantity;
+pub use quantity::{MultipoleInputs, Quantity};
 pub use run_loop::{run, RunOptions, RunReport};
 pub use stop::{BlowUpChecks, Stop};

@@ -19,6 +19,7 @@ import numpy as np
 
 from validation.bench import analysis, plots, profile, results_md, scans
 from validation.longrun import grid
+from validation.bench.analysis import LATTICE_SCENE
 
 
 def _clean(x):
@@ -70,13 +71,13 @@ def main(argv=None) -> int:
         study["reference"] = analysis.add_errors(study)
         study["orders"] = {s: analysis.observed_order(rs) for s, rs in analysis.by_scheme(study["runs"]).items()}
         study["throughput"] = analysis.throughput(study)
-        if study["scene"] == "dipole_lattice_sc" and not args.no_lammps:
+        if study["scene"] == LATTICE_SCENE and not args.no_lammps:
             print("LAMMPS on the dipole lattice ...", flush=True)
             lammps, lammps_version = lammps_runs(study)
             from validation.bench import lammps_runs as lr
 
             side_by_side = lr.side_by_side(study, cutoff=3.1)
-        study["targets"] = analysis.target_table(study, lammps if study["scene"] == "dipole_lattice_sc" else [])
+        study["targets"] = analysis.target_table(study, lammps if study["scene"] == LATTICE_SCENE else [])
     analysis.stress_errors(raw["stress"])
     scaling_fit = analysis.scaling_fit(raw["scaling"])
     figures = {

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from validation.bench.analysis import LATTICE_SCENE
 from validation.bench.reference import axis_angle, body_z_in_space
 from validation.lammps_dipoles import DipoleSystem, lammps_version, run_lammps, time_lammps
 
@@ -71,7 +72,7 @@ def runs(study: dict, reference_axes: np.ndarray, cutoff: float) -> tuple[list[d
     return out, lammps_version()
 
 
-SCENE = Path("scenes/dipole_lattice_sc.toml")
+SCENE = Path(f"scenes/{LATTICE_SCENE}.toml")
 CLI = Path("target/release/quatrot")
 THROUGHPUT_STEPS = 2000
 CLI_SCHEMES = ("no_squish", "gear_b")

@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from validation.bench.analysis import TARGETS, by_scheme  # noqa: E402
+from validation.bench.analysis import LATTICE_SCENE, TARGETS, by_scheme  # noqa: E402
 
 MARKERS = "osD^v<>ph*xX"
 
@@ -29,7 +29,7 @@ def work_precision(studies: list[dict], lammps: list[dict], out: Path) -> Path:
     for ax, study in zip(axes.flat, studies):
         for k, (scheme, runs) in enumerate(by_scheme(study["runs"]).items()):
             _series(ax, runs, "wall_median", scheme, MARKERS[k % len(MARKERS)])
-        if study["scene"] == "dipole_lattice_sc":
+        if study["scene"] == LATTICE_SCENE:
             for k, (scheme, runs) in enumerate(by_scheme(lammps).items()):
                 _series(ax, runs, "wall_median", scheme, "X+"[k % 2], style="--")
         for t in TARGETS:

@@ -24,7 +24,7 @@ def hot_functions() -> dict | None:
         return None
     with tempfile.TemporaryDirectory() as tmp:
         data = Path(tmp) / "perf.data"
-        command = [str(BINARY), "run", "dipole_lattice_sc", "--integrator", "no_squish", "--steps", str(STEPS), "--out", tmp]
+        command = [str(BINARY), "run", "dipole_lattice_sc_cutoff", "--integrator", "no_squish", "--steps", str(STEPS), "--out", tmp]
         env = {**os.environ, "RAYON_NUM_THREADS": "1"}
         record = subprocess.run(["perf", "record", "-q", "-o", str(data), "--", *command], env=env, capture_output=True, text=True)
         if record.returncode != 0:

@@ -11,6 +11,7 @@ import subprocess
 from pathlib import Path
 
 from validation.bench import scans
+from validation.bench.analysis import LATTICE_SCENE
 
 BEGIN = "<!-- make bench: performance section begin -->"
 END = "<!-- make bench: performance section end -->"
@@ -55,7 +56,7 @@ def _run_cell(b) -> str:
 
 
 def _throughput(results) -> list[str]:
-    lattice = next(s for s in results["studies"] if s["scene"] == "dipole_lattice_sc")
+    lattice = next(s for s in results["studies"] if s["scene"] == LATTICE_SCENE)
     lammps = results["lammps"]["throughput"]
     dlm = lammps.get("LAMMPS dipole/dlm")
     lines = [
@@ -94,7 +95,7 @@ def _side_by_side(results) -> list[str]:
 
 
 def _targets(study) -> list[str]:
-    lattice = study["scene"] == "dipole_lattice_sc"
+    lattice = study["scene"] == LATTICE_SCENE
     head = "| target error | fastest quatrot run |"
     rule = "|---|---|"
     if lattice:

@@ -50,7 +50,7 @@ def stability_cases(quick: bool) -> list[StabilityCase]:
     return [
         StabilityCase("free_asymmetric_top", pick(20.0, 1.0), 0.05, 1),
         StabilityCase("dipole_in_field", pick(10.0, 1.0), 0.02, 1),
-        StabilityCase("dipole_lattice_sc", pick(2.0, 0.02), 0.004, 2),
+        StabilityCase("dipole_lattice_sc_cutoff", pick(2.0, 0.02), 0.004, 2),
         StabilityCase("quadrupole_lattice_fcc", pick(2.0, 0.02), 0.004, 2),
     ]
 
@@ -107,7 +107,7 @@ def _stable(points: list[grid.Point]) -> dict:
 
 
 #: Long runs: scene, steps (full, quick), energy samples.
-LONG_RUNS = (("free_asymmetric_top", 1_000_000, 2_000, 1000), ("dipole_lattice_sc", 100_000, 20, 100))
+LONG_RUNS = (("free_asymmetric_top", 1_000_000, 2_000, 1000), ("dipole_lattice_sc_cutoff", 100_000, 20, 100))
 
 
 def long_runs(out: Path, client, quick: bool = False) -> list[dict]:

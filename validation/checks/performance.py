@@ -15,6 +15,7 @@ import math
 import shutil
 from pathlib import Path
 
+from validation.bench.analysis import LATTICE_SCENE
 from validation.checks.base import Check, Context
 
 RESULTS = Path(__file__).resolve().parents[2] / "benchmarks" / "results.json"
@@ -112,7 +113,7 @@ def _throughput_targets(results: dict, versions: dict) -> list[Check]:
     error reached by quatrot in under 1/THROUGHPUT_RATIO of LAMMPS dipole/dlm's
     time (measured, or extrapolated along LAMMPS's own error-cost line)."""
     rates = (results["lammps"].get("side_by_side") or {}).get("rotor_steps_per_second", {})
-    lattice = next((s for s in results["studies"] if s["scene"] == "dipole_lattice_sc"), None)
+    lattice = next((s for s in results["studies"] if s["scene"] == LATTICE_SCENE), None)
     if not rates or lattice is None or "LAMMPS dipole/dlm" not in rates:
         return []
     dlm = rates["LAMMPS dipole/dlm"]
@@ -139,7 +140,7 @@ def _throughput_targets(results: dict, versions: dict) -> list[Check]:
 
 
 def _summary(results: dict) -> str:
-    lattice = next((s for s in results["studies"] if s["scene"] == "dipole_lattice_sc"), None)
+    lattice = next((s for s in results["studies"] if s["scene"] == LATTICE_SCENE), None)
     lines = [f"Measured {results['machine']['date']} on {results['machine']['cpu']} (quick mode: {results['quick']})."]
     if lattice:
         lam = results["lammps"]["throughput"]

@@ -90,7 +90,7 @@ def multipole_lattice(seed: int) -> dict[str, Any]:
 
 def dipole_lattice() -> dict[str, Any]:
     """The built-in 1000-dipole simple-cubic lattice (cutoff 3.1, T = 1, dt 0.002), without its outputs."""
-    scene = tomllib.loads(quatrot.builtin_scenes()["dipole_lattice_sc"])
+    scene = tomllib.loads(quatrot.builtin_scenes()["dipole_lattice_sc_cutoff"])
     scene.pop("record", None)
     return scene
 

@@ -2,10 +2,8 @@
 //! spherical cutoff or the Ewald sum), and the limits on the size of the sums.
 
 use super::PotentialError;
-use crate::checks::{each, positive};
+use crate::checks::{each, named_choices, positive};
 use nalgebra::Vector3;
-use std::fmt;
-use std::str::FromStr;
 
 /// The most interacting pairs (periodic images included) a pair list may
 /// hold: about 0.8 GB of pair indices, and it bounds the build time. The
@@ -72,35 +70,10 @@ pub enum Surface {
     Vacuum,
 }
 
-impl Surface {
-    /// The name used in scenes and in Python: `"conducting"` or `"vacuum"`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Surface::Conducting => "conducting",
-            Surface::Vacuum => "vacuum",
-        }
-    }
-}
-
-impl fmt::Display for Surface {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-impl FromStr for Surface {
-    type Err = PotentialError;
-    fn from_str(s: &str) -> Result<Self, PotentialError> {
-        match s {
-            "conducting" => Ok(Surface::Conducting),
-            "vacuum" => Ok(Surface::Vacuum),
-            _ => Err(PotentialError::new(
-                "surface",
-                format!("must be \"conducting\" or \"vacuum\", got \"{s}\""),
-            )),
-        }
-    }
-}
+named_choices!(Surface {
+    "conducting" => Surface::Conducting,
+    "vacuum" => Surface::Vacuum,
+});
 
 impl Boundary {
     /// A periodic box summed with a spherical cutoff.

@@ -11,6 +11,7 @@ use super::lattice_grid::{self, LatticeGrid};
 use super::pairs::PairTable;
 use super::row_quads::RowQuads;
 use super::{Boundary, EwaldParameters, ExternalFields, PeriodicSum, PotentialError};
+use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Rotor;
@@ -115,21 +116,11 @@ pub enum SumMethod {
     LatticeFft,
 }
 
-impl std::str::FromStr for SumMethod {
-    type Err = PotentialError;
-    /// `"auto"`, `"direct"` or `"lattice_fft"`.
-    fn from_str(s: &str) -> Result<Self, PotentialError> {
-        match s {
-            "auto" => Ok(SumMethod::Auto),
-            "direct" => Ok(SumMethod::Direct),
-            "lattice_fft" => Ok(SumMethod::LatticeFft),
-            _ => Err(PotentialError::new(
-                "method",
-                format!("must be \"auto\", \"direct\" or \"lattice_fft\", got \"{s}\""),
-            )),
-        }
-    }
-}
+named_choices!(SumMethod {
+    "auto" => SumMethod::Auto,
+    "direct" => SumMethod::Direct,
+    "lattice_fft" => SumMethod::LatticeFft,
+});
 
 /// The way a potential sums its pair fields (see [`MultipolePotential::sum_path`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

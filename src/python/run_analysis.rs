@@ -1,0 +1,112 @@
+//! `quatrot.run_dielectric_constant`: the dielectric constant of a run
+//! (`crate::run::dielectric_of_run`), from the dict `quatrot.run` returns or
+//! from a run's output directory.
+
+use super::analysis::dielectric_dict;
+use crate::run::{dielectric_of_run, dipole_series, read_run, InteractionsSummary, SeriesTable};
+use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use std::path::PathBuf;
+
+/// The `interactions` of a run's summary dict and its series, from the dict
+/// `quatrot.run` returns.
+fn from_result(
+    py: Python<'_>,
+    result: &Bound<'_, PyDict>,
+) -> PyResult<(Option<InteractionsSummary>, Vec<SeriesTable>)> {
+    let missing = |key: &str| PyValueError::new_err(format!("run: no \"{key}\" in the dict"));
+    let summary = result
+        .get_item("summary")?
+        .ok_or_else(|| missing("summary"))?;
+    let interactions = summary
+        .cast::<PyDict>()
+        .map_err(|_| PyTypeError::new_err("run[\"summary\"]: expected a dict"))?
+        .get_item("interactions")?;
+    let text: String = py
+        .import("json")?
+        .call_method1("dumps", (interactions,))?
+        .extract()?;
+    let interactions: Option<InteractionsSummary> = serde_json::from_str(&text)
+        .map_err(|e| PyValueError::new_err(format!("run[\"summary\"][\"interactions\"]: {e}")))?;
+    let series = result
+        .get_item("series")?
+        .ok_or_else(|| missing("series"))?;
+    let series = series
+        .cast::<PyDict>()
+        .map_err(|_| PyTypeError::new_err("run[\"series\"]: expected a dict"))?;
+    let mut tables = Vec::new();
+    for (name, columns) in series.iter() {
+        let name: String = name.extract()?;
+        let columns = columns.cast::<PyDict>().map_err(|_| {
+            PyTypeError::new_err(format!("run[\"series\"][\"{name}\"]: expected a dict"))
+        })?;
+        let mut names = Vec::new();
+        let mut data: Vec<Vec<f64>> = Vec::new();
+        for (column, values) in columns.iter() {
+            names.push(column.extract::<String>()?);
+            data.push(values.extract::<Vec<f64>>().map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "run[\"series\"][\"{name}\"][\"{}\"]: expected numbers",
+                    names[names.len() - 1]
+                ))
+            })?);
+        }
+        let rows = data.first().map_or(0, Vec::len);
+        if data.iter().any(|d| d.len() != rows) {
+            return Err(PyValueError::new_err(format!(
+                "run[\"series\"][\"{name}\"]: columns of different lengths"
+            )));
+        }
+        let values = (0..rows)
+            .flat_map(|r| data.iter().map(move |d| d[r]))
+            .collect();
+        tables.push(SeriesTable {
+            name,
+            columns: names,
+            values,
+        });
+    }
+    Ok((interactions, tables))
+}
+
+/// run_dielectric_constant(run, *, series=None, temperature=None) -> dict
+///
+/// The static dielectric constant of a run from the fluctuation of its
+/// total dipole, by the formula of its boundary (`summary["interactions"]`:
+/// an Ewald sum with conducting surroundings, `eps = 1 + 4 pi F / (3 V T)`,
+/// or vacuum surroundings, `(eps - 1)/(eps + 2) = 4 pi F / (9 V T)`, with
+/// `F = <|M|^2> - |<M>|^2` and `V` the box; a truncated sum, an open
+/// cluster or a run without interactions are refused). `run`: the dict
+/// `quatrot.run` returns, or the output directory of a run (its
+/// `summary.json` and CSV files). `series`: the series recording `"M"`
+/// (default: the only one that does). `temperature`: default the mean of
+/// the `"temperature"` column of that series. Returns the dict of
+/// `dielectric_constant` (`epsilon`, `error` by blocking, ...).
+#[pyfunction]
+#[pyo3(signature = (run, *, series=None, temperature=None))]
+fn run_dielectric_constant<'py>(
+    py: Python<'py>,
+    run: &Bound<'py, PyAny>,
+    series: Option<&str>,
+    temperature: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (interactions, tables) = if let Ok(result) = run.cast::<PyDict>() {
+        from_result(py, result)?
+    } else if run.is_instance_of::<PyString>() || run.hasattr("__fspath__")? {
+        let dir: PathBuf = run.extract()?;
+        read_run(&dir).map_err(|e| PyOSError::new_err(e.to_string()))?
+    } else {
+        return Err(PyTypeError::new_err(
+            "run: expected the dict quatrot.run returns or a run's output directory",
+        ));
+    };
+    let table = dipole_series(&tables, series)?;
+    let eps = py.detach(|| dielectric_of_run(interactions.as_ref(), table, temperature))?;
+    dielectric_dict(py, "run_dielectric_constant", &eps)
+}
+
+/// Adds `run_dielectric_constant` to the module.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(run_dielectric_constant, m)?)
+}
