@@ -208,6 +208,7 @@ fn a_run_from_its_files_and_from_memory() {
     let outputs = Outputs {
         dir: Some(dir.path().to_path_buf()),
         keep: true,
+        control: None,
     };
     let result = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
     let in_memory = dielectric_of_run(

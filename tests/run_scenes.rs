@@ -415,6 +415,7 @@ fn gsd_format_writes_the_gsd_file_only() {
         let outputs = Outputs {
             dir: Some(dir.path().to_path_buf()),
             keep: false,
+            control: None,
         };
         execute(&scene, definition(), &outputs, None, None).expect("runs");
         assert!(!dir.path().join(DCD_FILE).exists() && !dir.path().join(PDB_FILE).exists());

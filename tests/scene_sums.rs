@@ -23,6 +23,7 @@ fn in_memory() -> Outputs {
     Outputs {
         dir: None,
         keep: true,
+        control: None,
     }
 }
 
@@ -176,6 +177,7 @@ fn the_summary_records_the_sum_path_and_the_ewald_parameters() {
         let outputs = Outputs {
             dir: Some(dir.path().to_path_buf()),
             keep: false,
+            control: None,
         };
         let result = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
         let summary: serde_json::Value = serde_json::from_str(
