@@ -25,9 +25,11 @@ use super::spec::IntegratorOptions;
 use super::startup::{start, GearStart, Startup};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
+use crate::checks::InputError;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
+use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -54,8 +56,19 @@ impl Default for GearAOptions {
 impl IntegratorOptions for GearAOptions {
     const NAME: &'static str = "gear_a";
 
-    fn build(&self) -> Box<dyn Integrator> {
-        Box::new(GearA::new(*self))
+    /// Refuses the stochastic thermostats: a predictor-corrector needs a
+    /// smooth trajectory.
+    fn build(
+        &self,
+        thermostat: Option<&ThermostatSpec>,
+    ) -> Result<Box<dyn Integrator>, InputError> {
+        match thermostat {
+            None => Ok(Box::new(GearA::new(*self))),
+            Some(t) => Err(t.refused(
+                Self::NAME,
+                "a predictor-corrector needs a smooth trajectory",
+            )),
+        }
     }
 }
 

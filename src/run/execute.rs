@@ -5,7 +5,7 @@ use super::error::RunError;
 use super::scene_run::{run_scene, Outputs, Progress, RunResult};
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneError};
 use std::path::Path;
 
 /// The potential of a scene: `None` for rotors without interactions or
@@ -36,7 +36,10 @@ pub fn execute(
             Some(p) => p,
             None => &Free,
         };
-        let mut integrator = scene.integrator.build();
+        let mut integrator = scene
+            .integrator
+            .build(scene.thermostat.as_ref())
+            .map_err(|e| SceneError::from(e.at("thermostat")))?;
         run_scene(
             scene,
             definition,

@@ -5,6 +5,7 @@ use super::record::Record;
 use crate::integrators::{IntegratorSpec, RotorState};
 use crate::potential::{Boundary, ExternalFields};
 use crate::rotor::{Inertia, Rotor};
+use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 
 /// A complete, validated scene.
@@ -27,6 +28,8 @@ pub struct Scene {
     pub seed: Option<u64>,
     /// The integrator and its options.
     pub integrator: IntegratorSpec,
+    /// The thermostat (`None`: constant energy), with its seed resolved.
+    pub thermostat: Option<ThermostatSpec>,
     /// Time step (reduced time units, > 0).
     pub dt: f64,
     /// Number of steps (>= 1).
