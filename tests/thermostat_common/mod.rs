@@ -46,7 +46,11 @@ impl System {
     }
 
     /// One dipole `dipole_body` of inertia `inertia` in the uniform field `field`.
-    pub fn dipole_in_field(inertia: Inertia, dipole_body: Vector3<f64>, field: Vector3<f64>) -> Self {
+    pub fn dipole_in_field(
+        inertia: Inertia,
+        dipole_body: Vector3<f64>,
+        field: Vector3<f64>,
+    ) -> Self {
         System {
             rotors: vec![Rotor {
                 site: Vector3::zeros(),
@@ -62,7 +66,8 @@ impl System {
     }
 
     fn potential(&self) -> Option<MultipolePotential> {
-        let interacting = self.rotors.len() > 1 && self.rotors.iter().any(|r| r.dipole_body.is_some());
+        let interacting =
+            self.rotors.len() > 1 && self.rotors.iter().any(|r| r.dipole_body.is_some());
         (self.fields != ExternalFields::NONE || interacting).then(|| {
             MultipolePotential::new(&self.rotors, Boundary::Open, self.fields)
                 .expect("a valid test system")
