@@ -279,7 +279,7 @@ impl Integrator for GearB {
             moments,
             spherical,
             derivatives,
-        } = start(self.options.startup, inertia, potential, initial, dt)?;
+        } = start(self.options.startup, inertia, potential, initial, None, dt)?;
         self.dt = dt;
         self.q = derivatives.q;
         self.gradient = vec![Quat::ZERO; self.q.len()];

@@ -128,24 +128,26 @@ impl NoseHooverChain {
         self.masses.is_empty()
     }
 
-    /// `p_1 / Q_1`, the friction on the angular momenta.
-    pub fn friction(&self) -> f64 {
-        self.momenta[0] / self.masses[0]
+    /// `p_1 / Q_1`, the friction on the angular momenta, for the chain
+    /// momenta `momenta`.
+    pub fn friction(&self, momenta: &[f64]) -> f64 {
+        momenta[0] / self.masses[0]
     }
 
-    /// The force on `p_j` from the rest of the chain's neighbours below it:
-    /// `2 K - N_f T` for the first, `p_{j-1}^2 / Q_{j-1} - T` for the others.
-    fn force(&self, j: usize, kinetic: f64) -> f64 {
+    /// The force on `p_j` from below it in the chain, for the chain momenta
+    /// `momenta`: `2 K - N_f T` for the first, `p_{j-1}^2 / Q_{j-1} - T` for
+    /// the others.
+    fn force(&self, momenta: &[f64], j: usize, kinetic: f64) -> f64 {
         if j == 0 {
             2.0 * kinetic - self.dof * self.temperature
         } else {
-            self.momenta[j - 1] * self.momenta[j - 1] / self.masses[j - 1] - self.temperature
+            momenta[j - 1] * momenta[j - 1] / self.masses[j - 1] - self.temperature
         }
     }
 
     /// `p_j` over `h/2` in the Trotter sandwich of its upper neighbour.
     fn kick_momentum(&mut self, j: usize, kinetic: f64, h: f64) {
-        let force = self.force(j, kinetic);
+        let force = self.force(&self.momenta, j, kinetic);
         if j + 1 < self.len() {
             let damping = (-0.25 * h * self.momenta[j + 1] / self.masses[j + 1]).exp();
             self.momenta[j] = (self.momenta[j] * damping + 0.5 * h * force) * damping;
@@ -169,7 +171,7 @@ impl NoseHooverChain {
         {
             *eta += h * p / q;
         }
-        let scale = (-h * self.friction()).exp();
+        let scale = (-h * self.friction(&self.momenta)).exp();
         let kinetic = kinetic * scale * scale;
         for j in 0..self.len() {
             self.kick_momentum(j, kinetic, h);
@@ -189,19 +191,25 @@ impl NoseHooverChain {
         kinetic + self.dof * self.temperature * self.positions[0] + potential
     }
 
-    /// The time derivatives of the chain (module doc) with the rotors'
-    /// kinetic energy `kinetic`: `eta_j'` into `positions_dot`, `p_j'` into
-    /// `momenta_dot`.
-    pub fn rates(&self, kinetic: f64, positions_dot: &mut [f64], momenta_dot: &mut [f64]) {
+    /// The time derivatives of the chain (module doc) at the chain momenta
+    /// `momenta` and the rotors' kinetic energy `kinetic`: `eta_j'` into
+    /// `positions_dot`, `p_j'` into `momenta_dot`.
+    pub fn rates(
+        &self,
+        momenta: &[f64],
+        kinetic: f64,
+        positions_dot: &mut [f64],
+        momenta_dot: &mut [f64],
+    ) {
         let m = self.len();
         for j in 0..m {
-            positions_dot[j] = self.momenta[j] / self.masses[j];
+            positions_dot[j] = momenta[j] / self.masses[j];
             let upper = if j + 1 < m {
-                self.momenta[j] * self.momenta[j + 1] / self.masses[j + 1]
+                momenta[j] * momenta[j + 1] / self.masses[j + 1]
             } else {
                 0.0
             };
-            momenta_dot[j] = self.force(j, kinetic) - upper;
+            momenta_dot[j] = self.force(momenta, j, kinetic) - upper;
         }
     }
 
