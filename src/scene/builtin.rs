@@ -24,6 +24,7 @@ pub const BUILTINS: &[Builtin] = &[
     builtin!("free_asymmetric_top"),
     builtin!("dipole_in_field"),
     builtin!("dipole_lattice_sc"),
+    builtin!("dipole_lattice_sc_langevin"),
     builtin!("quadrupole_lattice_fcc"),
     builtin!("multipole_tops_bcc"),
 ];

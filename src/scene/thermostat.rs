@@ -2,8 +2,8 @@
 //! the physics [`ThermostatSpec`], whose option structs carry every option,
 //! its default, its check and its documentation. The scene adds what only it
 //! knows: the seed of a stochastic thermostat when the table gives none (the
-//! seed of a random `[initial]` section, or one drawn from the operating
-//! system; recorded in the run summary), and the integrator, which may refuse
+//! seed of a random `[initial]` section, or 63 bits drawn from the
+//! operating system; recorded in the run summary), and the integrator, which may refuse
 //! the thermostat (`thermostat.kind`).
 
 use super::error::SceneError;
@@ -72,7 +72,11 @@ pub(super) fn thermostat(
         return Ok(None);
     };
     let spec = match (raw.spec.is_stochastic(), raw.spec.seed()) {
-        (true, None) => raw.spec.seeded(initial_seed.unwrap_or_else(rand::random)),
+        // A drawn seed has 63 bits, so that it can be written back into a
+        // scene (TOML integers are signed 64-bit).
+        (true, None) => raw
+            .spec
+            .seeded(initial_seed.unwrap_or_else(|| rand::random::<u64>() >> 1)),
         _ => raw.spec,
     };
     // The integrator refuses what it cannot carry (building is cheap: nothing
