@@ -55,9 +55,9 @@ pub trait Splitting: IntegratorOptions + Clone + Debug + Send + Sync + 'static {
 /// of [`crate::thermostats`].
 pub trait KickThermostat: Clone + Debug + Send + 'static {
     /// Sizes what the thermostat keeps per rotor (principal moments
-    /// `moments`, zero moments allowed) for steps of `dt`, and resets its
-    /// state.
-    fn setup(&mut self, moments: &[Vector3<f64>], dt: f64);
+    /// `moments`, zero moments allowed, in `potential`) for steps of `dt`,
+    /// and resets its state.
+    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, dt: f64);
 
     /// One whole step of `state.dt`.
     fn step<S: Splitting>(
@@ -87,7 +87,7 @@ pub trait KickThermostat: Clone + Debug + Send + 'static {
 pub struct Nve;
 
 impl KickThermostat for Nve {
-    fn setup(&mut self, _: &[Vector3<f64>], _: f64) {}
+    fn setup(&mut self, _: &[Vector3<f64>], _: &dyn Potential, _: f64) {}
 
     fn step<S: Splitting>(
         &mut self,
@@ -166,7 +166,7 @@ impl<S: Splitting, T: KickThermostat> Integrator for Kicked<S, T> {
         dt: f64,
     ) -> Result<(), IntegratorError> {
         self.state = KickState::new(inertia, potential, initial, dt, S::momentum)?;
-        self.thermostat.setup(&self.state.inertia, dt);
+        self.thermostat.setup(&self.state.inertia, potential, dt);
         Ok(())
     }
 

@@ -22,14 +22,16 @@ use super::gear::{Nordsieck, FIRST_ORDER_5};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
-use super::startup::{kinetic_energy, start, GearStart, Startup};
+use super::startup::{start, GearStart, StartChain, Startup};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
 use crate::checks::InputError;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostats::{degrees_of_freedom, NoseHooverChain, NoseHooverOptions, ThermostatSpec};
+use crate::thermostats::{
+    CoupledDegrees, NoseHooverChain, NoseHooverOptions, Spin, ThermostatSpec,
+};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -88,11 +90,14 @@ pub struct GearA {
     torque_space: Vec<Vector3<f64>>,
     /// The Nose-Hoover chain integrated with the rotors, if any.
     thermostat: Option<GearChain>,
+    /// Per rotor, the spin the chain leaves out (all `None` without one).
+    spins: Vec<Option<Spin>>,
 }
 
 /// A Nose-Hoover chain in scheme A: the extended equations of
 /// [`crate::thermostats::NoseHooverChain`] (friction `-p_1/Q_1 w_b` in
-/// Euler's equations, the chain's own equations) integrated by the same
+/// Euler's equations on the thermostatted components, a conserved spin of
+/// [`CoupledDegrees`] left out; the chain's own equations) integrated by the same
 /// 5-value first-order Gear predictor-corrector, the chain's right-hand sides
 /// evaluated at the predicted values (the kinetic energy from the predicted
 /// `w_b`), as the rotors' are.
@@ -102,6 +107,9 @@ struct GearChain {
     /// The chain's masses, and its current positions and momenta (copied
     /// from `positions.r[0]`, `momenta.r[0]` after each step).
     chain: NoseHooverChain,
+    /// The degrees of freedom it acts on, and the principal moments.
+    coupled: CoupledDegrees,
+    principal: Vec<Vector3<f64>>,
     positions: Nordsieck<f64, 5>,
     momenta: Nordsieck<f64, 5>,
     /// Scratch: the chain's rates.
@@ -110,10 +118,11 @@ struct GearChain {
 }
 
 impl GearChain {
-    /// Predicts, evaluates the rates at the predicted values (kinetic
-    /// energy `kinetic` from the predicted `w_b`) and corrects; returns the
-    /// predicted friction `p_1/Q_1` on the rotors.
-    fn step(&mut self, kinetic: f64, h: f64) -> f64 {
+    /// Predicts, evaluates the rates at the predicted values (the
+    /// thermostatted kinetic energy from the predicted `omega_body`) and
+    /// corrects; returns the predicted friction `p_1/Q_1` on the rotors.
+    fn step(&mut self, omega_body: &[Vector3<f64>], h: f64) -> f64 {
+        let kinetic = self.coupled.kinetic_energy_of(&self.principal, omega_body);
         self.positions.predict();
         self.momenta.predict();
         let predicted = &self.momenta.r[0];
@@ -153,6 +162,7 @@ impl GearA {
             omega_body: Nordsieck::zeros(0),
             torque_space: Vec::new(),
             thermostat: None,
+            spins: Vec::new(),
         }
     }
 
@@ -168,6 +178,8 @@ impl GearA {
         gear.thermostat = Some(GearChain {
             options: chain,
             chain: NoseHooverChain::new(&chain, 0),
+            coupled: CoupledDegrees::default(),
+            principal: Vec::new(),
             positions: Nordsieck::zeros(0),
             momenta: Nordsieck::zeros(0),
             positions_dot: Vec::new(),
@@ -198,36 +210,47 @@ impl GearA {
         let friction = self
             .thermostat
             .as_mut()
-            .map(|t| t.step(kinetic_energy(&self.moments, &self.omega_body.r[0]), h));
+            .map(|t| t.step(&self.omega_body.r[0], h));
         let rotors = (
             self.q.as_chunk(),
             self.omega_body.as_chunk(),
             &self.torque_space[..],
             &self.moments[..],
+            &self.spins[..],
         );
-        for_each_rotor_chunk(rotors, |(mut q, mut omega_body, torque_space, moments)| {
-            for i in 0..moments.len() {
-                let q_i = q.r[0][i];
-                // (d): correct w_b with Euler's equations at the predicted values.
-                let n_b = torque_body(&q_i, &torque_space[i]);
-                let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
-                let w_dot = match friction {
-                    Some(f) => w_dot - omega_body.r[0][i] * f,
-                    None => w_dot,
-                };
-                let delta_w = w_dot * h - omega_body.r[1][i];
-                omega_body.correct(i, &FIRST_ORDER_5, delta_w);
-                // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
-                let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
-                let delta_q = q_dot * h - q.r[1][i];
-                q.correct(i, &FIRST_ORDER_5, delta_q);
-            }
-            if renormalise {
-                for q in q.r[0].iter_mut() {
-                    *q = *q * (1.0 / q.norm());
+        for_each_rotor_chunk(
+            rotors,
+            |(mut q, mut omega_body, torque_space, moments, spins)| {
+                for i in 0..moments.len() {
+                    let q_i = q.r[0][i];
+                    // (d): correct w_b with Euler's equations at the predicted values.
+                    let n_b = torque_body(&q_i, &torque_space[i]);
+                    let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
+                    let w_dot = match friction {
+                        Some(f) => {
+                            let w = omega_body.r[0][i];
+                            let coupled = match &spins[i] {
+                                Some(s) => w - s.axis * s.axis.dot(&w),
+                                None => w,
+                            };
+                            w_dot - coupled * f
+                        }
+                        None => w_dot,
+                    };
+                    let delta_w = w_dot * h - omega_body.r[1][i];
+                    omega_body.correct(i, &FIRST_ORDER_5, delta_w);
+                    // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
+                    let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
+                    let delta_q = q_dot * h - q.r[1][i];
+                    q.correct(i, &FIRST_ORDER_5, delta_q);
                 }
-            }
-        });
+                if renormalise {
+                    for q in q.r[0].iter_mut() {
+                        *q = *q * (1.0 / q.norm());
+                    }
+                }
+            },
+        );
     }
 }
 
@@ -250,10 +273,14 @@ impl Integrator for GearA {
         dt: f64,
     ) -> Result<(), IntegratorError> {
         if let Some(t) = &mut self.thermostat {
-            let moments: Vec<Vector3<f64>> = inertia.iter().map(Inertia::principal).collect();
-            t.chain = NoseHooverChain::new(&t.options, degrees_of_freedom(&moments));
+            t.principal = inertia.iter().map(Inertia::principal).collect();
+            t.coupled = CoupledDegrees::new(&t.principal, potential);
+            t.chain = NoseHooverChain::new(&t.options, t.coupled.dof);
         }
-        let chain = self.thermostat.as_ref().map(|t| &t.chain);
+        let chain = self.thermostat.as_ref().map(|t| StartChain {
+            chain: &t.chain,
+            coupled: &t.coupled,
+        });
         let GearStart {
             moments,
             spherical,
@@ -265,6 +292,10 @@ impl Integrator for GearA {
         self.torque_space = vec![Vector3::zeros(); derivatives.q.len()];
         self.moments = moments;
         self.spherical = spherical;
+        self.spins = match &self.thermostat {
+            Some(t) => t.coupled.spins.clone(),
+            None => vec![None; initial.len()],
+        };
         if let Some(t) = &mut self.thermostat {
             t.positions = derivatives.chain_positions.truncated();
             t.momenta = derivatives.chain_momenta.truncated();

@@ -65,7 +65,7 @@ use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostats::NoseHooverChain;
+use crate::thermostats::{CoupledDegrees, NoseHooverChain};
 use nalgebra::{SMatrix, Vector3};
 
 /// RK4 substeps per Gear step in the start-up integration (module doc: the
@@ -150,7 +150,7 @@ impl State {
 struct Rk4<'a, K> {
     moments: &'a [PrincipalMoments],
     potential: &'a dyn Potential,
-    chain: Option<&'a NoseHooverChain>,
+    chain: Option<StartChain<'a>>,
     torque_space: Vec<Vector3<f64>>,
     _kind: std::marker::PhantomData<K>,
 }
@@ -167,12 +167,13 @@ impl<K: TopKind> Rk4<'_, K> {
             let n_b = torque_body(&y.q[i], &self.torque_space[i]);
             rate.omega_body[i] = K::omega_dot_body(&self.moments[i], &y.omega_body[i], &n_b);
         }
-        if let Some(chain) = self.chain {
+        if let Some(StartChain { chain, coupled }) = self.chain {
             let friction = chain.friction(&y.p);
-            for (w_dot, w) in rate.omega_body.iter_mut().zip(&y.omega_body) {
-                *w_dot -= w * friction;
+            for (i, (w_dot, w)) in rate.omega_body.iter_mut().zip(&y.omega_body).enumerate() {
+                *w_dot -= coupled.coupled(i, w) * friction;
             }
-            let kinetic = kinetic_energy(self.moments, &y.omega_body);
+            let principal: Vec<Vector3<f64>> = self.moments.iter().map(|m| m.moments).collect();
+            let kinetic = coupled.kinetic_energy_of(&principal, &y.omega_body);
             chain.rates(&y.p, kinetic, &mut rate.eta, &mut rate.p);
         }
         rate
@@ -219,14 +220,14 @@ fn fit_into<T: GearValue>(
     }
 }
 
-/// The total kinetic energy `sum_i 1/2 w_b . I w_b` of the rotors, in
-/// rotor order.
-pub fn kinetic_energy(moments: &[PrincipalMoments], omega_body: &[Vector3<f64>]) -> f64 {
-    moments
-        .iter()
-        .zip(omega_body)
-        .map(|(m, w)| 0.5 * w.dot(&m.moments.component_mul(w)))
-        .sum()
+/// A Nose-Hoover chain integrated with the rotors: its masses and state,
+/// and the degrees of freedom it acts on.
+#[derive(Clone, Copy, Debug)]
+pub struct StartChain<'a> {
+    /// The chain (its state at t = 0).
+    pub chain: &'a NoseHooverChain,
+    /// The thermostatted degrees of freedom.
+    pub coupled: &'a CoupledDegrees,
 }
 
 /// The scaled derivatives at t = 0 for steps of `dt` (module doc), with the
@@ -238,15 +239,15 @@ pub fn initial_derivatives<K: TopKind>(
     moments: &[PrincipalMoments],
     potential: &dyn Potential,
     initial: &[RotorState],
-    chain: Option<&NoseHooverChain>,
+    chain: Option<StartChain<'_>>,
     dt: f64,
 ) -> InitialDerivatives {
     let n = initial.len();
     let y0 = State {
         q: initial.iter().map(|s| s.orientation).collect(),
         omega_body: initial.iter().map(|s| s.omega_body).collect(),
-        eta: chain.map(|c| c.positions.clone()).unwrap_or_default(),
-        p: chain.map(|c| c.momenta.clone()).unwrap_or_default(),
+        eta: chain.map(|c| c.chain.positions.clone()).unwrap_or_default(),
+        p: chain.map(|c| c.chain.momenta.clone()).unwrap_or_default(),
     };
     let m = y0.p.len();
     let mut rk = Rk4::<K> {
@@ -329,7 +330,7 @@ pub fn start(
     inertia: &[Inertia],
     potential: &dyn Potential,
     initial: &[RotorState],
-    chain: Option<&NoseHooverChain>,
+    chain: Option<StartChain<'_>>,
     dt: f64,
 ) -> Result<GearStart, IntegratorError> {
     let valid = validate_setup(inertia, initial, dt, Moments::Positive)?;

@@ -3,14 +3,15 @@
 //! `kind = "bussi"`).
 //!
 //! The total kinetic energy `K` of the `N_f` rotational degrees of freedom
-//! (one per positive principal moment) follows
+//! (one per positive principal moment, less the conserved spins of
+//! [`super::CoupledDegrees`], which are left alone) follows
 //!
 //! ```text
 //! dK = (K_bar - K) dt / tau + 2 sqrt(K K_bar / N_f) dW / sqrt(tau),   K_bar = N_f T / 2,
 //! ```
 //!
 //! whose stationary density is the canonical `K^(N_f/2 - 1) exp(-K/T)`;
-//! every angular momentum is scaled by the same factor `alpha`, so the
+//! every (thermostatted) angular momentum is scaled by the same factor `alpha`, so the
 //! direction of the momenta is left to the dynamics. The step applies the
 //! exact solution of this equation over `h = dt/2` before and after the
 //! splitting's step (half kick, rotation over `dt`, torques, half kick),
@@ -30,6 +31,7 @@
 //! conserved up to the splitting error. The numbers come from [`Noise`]
 //! (reproducible from the seed; a checkpoint stores the position).
 
+use super::coupled::CoupledDegrees;
 use super::noise::{finite_heat, required_seed, Noise};
 use crate::checks::{non_negative, positive, InputError};
 use crate::integrators::{IntegratorError, KickState, KickThermostat, Splitting};
@@ -63,23 +65,14 @@ impl BussiOptions {
     }
 }
 
-/// The number of rotational degrees of freedom: one per positive principal
-/// moment (3 for a top, 2 for a linear rotor).
-pub fn degrees_of_freedom(moments: &[Vector3<f64>]) -> usize {
-    moments
-        .iter()
-        .map(|m| m.iter().filter(|i| **i > 0.0).count())
-        .sum()
-}
-
 /// The Bussi thermostat in a kick-based step (module doc).
 #[derive(Clone, Debug)]
 pub struct Bussi {
     options: BussiOptions,
     seed: u64,
     noise: Noise,
-    /// `N_f`.
-    dof: usize,
+    /// The degrees of freedom it acts on (`N_f` and the spins left out).
+    coupled: CoupledDegrees,
     /// `c = exp(-dt / (2 tau))`.
     decay: f64,
     /// Chi-square of `N_f - 1` degrees of freedom (none for `N_f = 1`).
@@ -97,7 +90,7 @@ impl Bussi {
             options,
             seed,
             noise: Noise::new(seed),
-            dof: 0,
+            coupled: CoupledDegrees::default(),
             decay: 1.0,
             chi_square: None,
             heat: 0.0,
@@ -106,11 +99,11 @@ impl Bussi {
 
     /// The exact rescaling over `dt/2` (module doc).
     fn rescale<S: Splitting>(&mut self, state: &mut KickState<S::Momentum>) {
-        let kinetic = state.kinetic_energy::<S>();
+        let kinetic = self.coupled.kinetic_energy::<S>(state);
         if kinetic <= 0.0 {
             return;
         }
-        let n = self.dof as f64;
+        let n = self.coupled.dof as f64;
         let target = 0.5 * n * self.options.temperature;
         let c = self.decay;
         let r = self.noise.normal();
@@ -120,18 +113,20 @@ impl Bussi {
         };
         let a = c.sqrt() + r * ((1.0 - c) * target / (n * kinetic)).sqrt();
         let rescaled = kinetic * a * a + (1.0 - c) * target * s / n;
-        state.scale_momenta((rescaled / kinetic).sqrt().copysign(a));
+        self.coupled
+            .scale::<S>(state, (rescaled / kinetic).sqrt().copysign(a));
         self.heat += rescaled - kinetic;
     }
 }
 
 impl KickThermostat for Bussi {
-    fn setup(&mut self, moments: &[Vector3<f64>], dt: f64) {
-        self.dof = degrees_of_freedom(moments);
+    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, dt: f64) {
+        self.coupled = CoupledDegrees::new(moments, potential);
+        let dof = self.coupled.dof;
         self.decay = (-0.5 * dt / self.options.tau).exp();
         // Shape (N_f - 1)/2 > 0 and scale 2 are valid: `new` cannot fail.
-        self.chi_square = (self.dof > 1)
-            .then(|| Gamma::new(0.5 * (self.dof - 1) as f64, 2.0).ok())
+        self.chi_square = (dof > 1)
+            .then(|| Gamma::new(0.5 * (dof - 1) as f64, 2.0).ok())
             .flatten();
         self.heat = 0.0;
         self.noise = Noise::new(self.seed);

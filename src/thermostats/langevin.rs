@@ -111,7 +111,7 @@ impl Langevin {
 }
 
 impl KickThermostat for Langevin {
-    fn setup(&mut self, moments: &[Vector3<f64>], dt: f64) {
+    fn setup(&mut self, moments: &[Vector3<f64>], _: &dyn Potential, dt: f64) {
         let LangevinOptions {
             temperature,
             friction,

@@ -13,6 +13,9 @@
 //!   splitting; scheme A integrates the same chain ([`NoseHooverChain`]) with
 //!   its predictor-corrector.
 //!
+//! Bussi and Nose-Hoover act on the degrees of freedom of [`CoupledDegrees`]:
+//! a spin the dynamics conserves is left out.
+//!
 //! Each records the thermostat's share of a conserved energy
 //! ([`crate::integrators::Integrator::thermostat_energy`]): the chain's energy,
 //! or minus the heat the stochastic ones put into the rotors. [`ThermostatSpec`]
@@ -22,12 +25,14 @@
 //! checkpointed random numbers.
 
 mod bussi;
+mod coupled;
 mod langevin;
 pub mod noise;
 mod nose_hoover;
 mod spec;
 
-pub use bussi::{degrees_of_freedom, Bussi, BussiOptions};
+pub use bussi::{Bussi, BussiOptions};
+pub use coupled::{CoupledDegrees, Spin};
 pub use langevin::{Langevin, LangevinOptions};
 pub use nose_hoover::{NoseHoover, NoseHooverChain, NoseHooverOptions, MAX_CHAIN};
 pub use spec::{build_kicked, ThermostatSpec};

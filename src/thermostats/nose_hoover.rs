@@ -3,7 +3,9 @@
 //! `kind = "nose_hoover"`).
 //!
 //! The extended equations, for `N_f` rotational degrees of freedom (one per
-//! positive principal moment), kinetic energy `K`, and a chain of `M`
+//! positive principal moment, less the conserved spins of
+//! [`super::CoupledDegrees`], whose momenta are left out of `K` and of the
+//! friction), kinetic energy `K`, and a chain of `M`
 //! thermostats with positions `eta_j`, momenta `p_j` and masses
 //! `Q_1 = N_f T tau^2`, `Q_j = T tau^2` (`j >= 2`):
 //!
@@ -31,7 +33,7 @@
 //! NVE drift). Scheme A integrates the same equations with its
 //! predictor-corrector ([`NoseHooverChain::rates`]).
 
-use super::bussi::degrees_of_freedom;
+use super::coupled::CoupledDegrees;
 use crate::checks::{positive, InputError};
 use crate::integrators::{IntegratorError, KickState, KickThermostat, Splitting};
 use crate::potential::Potential;
@@ -246,6 +248,7 @@ impl NoseHooverChain {
 pub struct NoseHoover {
     options: NoseHooverOptions,
     chain: NoseHooverChain,
+    coupled: CoupledDegrees,
 }
 
 impl NoseHoover {
@@ -255,20 +258,22 @@ impl NoseHoover {
         Ok(NoseHoover {
             options,
             chain: NoseHooverChain::new(&options, 0),
+            coupled: CoupledDegrees::default(),
         })
     }
 
     /// The chain over `dt/2`, and the angular momenta scaled.
     fn half_step<S: Splitting>(&mut self, state: &mut KickState<S::Momentum>) {
-        let kinetic = state.kinetic_energy::<S>();
+        let kinetic = self.coupled.kinetic_energy::<S>(state);
         let scale = self.chain.half_step(kinetic, 0.5 * state.dt);
-        state.scale_momenta(scale);
+        self.coupled.scale::<S>(state, scale);
     }
 }
 
 impl KickThermostat for NoseHoover {
-    fn setup(&mut self, moments: &[Vector3<f64>], _dt: f64) {
-        self.chain = NoseHooverChain::new(&self.options, degrees_of_freedom(moments));
+    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, _dt: f64) {
+        self.coupled = CoupledDegrees::new(moments, potential);
+        self.chain = NoseHooverChain::new(&self.options, self.coupled.dof);
     }
 
     /// The chain over `dt/2`, the splitting's step, the chain over `dt/2`.
