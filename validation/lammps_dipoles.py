@@ -69,6 +69,10 @@ class DipoleSystem:
     # (temperature, damp, seed) of ``fix langevin T T damp seed omega yes``
     # (its drag torque is -(10/3) I omega / damp: friction 10/(3 damp)).
     langevin: tuple[float, float, int] | None = None
+    # (temperature, tdamp) of ``fix nvt/sphere`` (Nose-Hoover chain) instead
+    # of ``fix nve/sphere``, its temperature the rotational one
+    # (``compute temp/sphere dof rotate``, no degree of freedom removed).
+    nvt: tuple[float, float] | None = None
 
     @property
     def inertia(self) -> float:
@@ -165,8 +169,17 @@ def _setup(lmp, system: DipoleSystem, dt: float, update: str) -> None:
         *([] if system.kspace is None else [f"kspace_style {system.kspace[0]} {system.kspace[1]:.17g}"]),
         "neighbor 1.0 bin",
         "neigh_modify every 1 delay 0 check yes",
-        f"fix integrate all nve/sphere update {update}",
     ]
+    if system.nvt is None:
+        cmds.append(f"fix integrate all nve/sphere update {update}")
+    else:
+        temperature, tdamp = system.nvt
+        cmds += [
+            "compute rotational all temp/sphere dof rotate",
+            "compute_modify rotational extra/dof 0",
+            f"fix integrate all nvt/sphere temp {temperature:.17g} {temperature:.17g} {tdamp:.17g} update {update}",
+            "fix_modify integrate temp rotational",
+        ]
     if system.field is not None:
         ex, ey, ez = system.field
         cmds += [f"fix field all efield {ex:.17g} {ey:.17g} {ez:.17g}", "fix_modify field energy yes"]
