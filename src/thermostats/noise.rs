@@ -48,7 +48,7 @@ impl Noise {
     }
 
     /// Appends the position in the stream (in 32-bit words) as two exact
-    /// integers: the bits above [`LOW_BITS`], then the low ones.
+    /// integers: the bits above the lowest 52, then those 52.
     pub fn write_checkpoint(&self, out: &mut Vec<f64>) {
         let position = self.rng.get_word_pos();
         out.push((position >> LOW_BITS) as f64);
