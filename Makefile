@@ -56,6 +56,7 @@ bench: develop
 	$(PY) -m validation.bench.ewald --out benchmarks
 	$(PY) -m validation.bench.sweep --out benchmarks
 	$(PY) -m validation.bench.longrun --out benchmarks
+	$(PY) -m validation.bench.thermostats --out benchmarks
 
 # Mutation testing of the physics modules (scope and exclusions in
 # .cargo/mutants.toml; hours for the full set, so not part of `make test`).

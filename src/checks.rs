@@ -85,6 +85,15 @@ pub fn positive(x: f64) -> Result<f64, InputError> {
     }
 }
 
+/// `x` if it is finite and `>= 0`.
+pub fn non_negative(x: f64) -> Result<f64, InputError> {
+    if finite(x)? >= 0.0 {
+        Ok(x)
+    } else {
+        Err(InputError::new("", format!("must be >= 0, got {}", num(x))))
+    }
+}
+
 /// `v` as a count if it is `>= 1`.
 pub fn at_least_one(v: i64) -> Result<u64, InputError> {
     u64::try_from(v)
@@ -267,6 +276,11 @@ mod tests {
             "must be >= 1, got -3"
         );
         assert_eq!(at_least_one(2), Ok(2));
+        assert_eq!(
+            non_negative(-0.5).unwrap_err().message,
+            "must be >= 0, got -0.5"
+        );
+        assert_eq!(non_negative(0.0), Ok(0.0));
         let e = each(&[1.0, f64::INFINITY], finite).unwrap_err();
         assert_eq!(e.to_string(), "[1]: must be finite, got inf");
     }

@@ -12,6 +12,8 @@
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, [`integrators::IntegratorSpec`]
 //!   (the one dispatch), Allen's schemes A and B, the baselines.
+//! * [`thermostats`]: Langevin, Bussi and Nose-Hoover chains on the
+//!   rotational degrees of freedom, inside the integrators' steps.
 //! * [`observables`]: energies, norm errors and angular velocities of a state;
 //!   the total dipole and the orientational order of a configuration.
 //! * [`analysis`]: post-processing of recorded series and trajectories
@@ -52,6 +54,7 @@ pub mod run;
 pub mod scene;
 pub mod simulation;
 pub mod stats;
+pub mod thermostats;
 
 #[cfg(feature = "python")]
 mod python;

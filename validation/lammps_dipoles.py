@@ -66,6 +66,13 @@ class DipoleSystem:
     # ("pppm/dipole", 1e-6): pair lj/cut/dipole/long with that kspace_style
     # (tin-foil boundary, as quatrot's conducting surface); periodic only.
     kspace: tuple[str, float] | None = None
+    # (temperature, damp, seed) of ``fix langevin T T damp seed omega yes``
+    # (its drag torque is -(10/3) I omega / damp: friction 10/(3 damp)).
+    langevin: tuple[float, float, int] | None = None
+    # (temperature, tdamp) of ``fix nvt/sphere`` (Nose-Hoover chain) instead
+    # of ``fix nve/sphere``, its temperature the rotational one
+    # (``compute temp/sphere dof rotate``, no degree of freedom removed).
+    nvt: tuple[float, float] | None = None
 
     @property
     def inertia(self) -> float:
@@ -85,12 +92,13 @@ class LammpsTrajectory:
     torque: np.ndarray  # (steps+1, n, 3) space frame
 
 
-def run_lammps(system: DipoleSystem, dt: float, steps: int, update: str = "dipole/dlm") -> LammpsTrajectory:
+def run_lammps(system: DipoleSystem, dt: float, steps: int, update: str = "dipole/dlm", every: int = 1) -> LammpsTrajectory:
     """Runs ``steps`` steps of ``fix nve/sphere update <update>`` and samples
-    every step (each ``run 1`` continues the previous one without re-setup)."""
+    every ``every`` steps (each ``run every`` continues the previous one
+    without re-setup); ``steps`` is a multiple of ``every``."""
     lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
     try:
-        return _run(lmp, system, dt, steps, update)
+        return _run(lmp, system, dt, steps, update, every)
     finally:
         lmp.close()
 
@@ -161,11 +169,24 @@ def _setup(lmp, system: DipoleSystem, dt: float, update: str) -> None:
         *([] if system.kspace is None else [f"kspace_style {system.kspace[0]} {system.kspace[1]:.17g}"]),
         "neighbor 1.0 bin",
         "neigh_modify every 1 delay 0 check yes",
-        f"fix integrate all nve/sphere update {update}",
     ]
+    if system.nvt is None:
+        cmds.append(f"fix integrate all nve/sphere update {update}")
+    else:
+        temperature, tdamp = system.nvt
+        cmds += [
+            "compute rotational all temp/sphere dof rotate",
+            "compute_modify rotational extra/dof 0",
+            f"fix integrate all nvt/sphere temp {temperature:.17g} {temperature:.17g} {tdamp:.17g} update {update}",
+            "fix_modify integrate temp rotational",
+        ]
     if system.field is not None:
         ex, ey, ez = system.field
         cmds += [f"fix field all efield {ex:.17g} {ey:.17g} {ez:.17g}", "fix_modify field energy yes"]
+    if system.langevin is not None:
+        # Before setforce, which then zeroes its translational force.
+        temperature, damp, seed = system.langevin
+        cmds.append(f"fix thermostat all langevin {temperature:.17g} {temperature:.17g} {damp:.17g} {seed} omega yes")
     cmds += [
         "fix pin all setforce 0.0 0.0 0.0",
         "compute rke all erotate/sphere",
@@ -185,20 +206,21 @@ def _setup(lmp, system: DipoleSystem, dt: float, update: str) -> None:
     lmp.command("run 0 post no")
 
 
-def _run(lmp, system: DipoleSystem, dt: float, steps: int, update: str) -> LammpsTrajectory:
+def _run(lmp, system: DipoleSystem, dt: float, steps: int, update: str, every: int = 1) -> LammpsTrajectory:
     n = len(system.sites)
     _setup(lmp, system, dt, update)
-    time = np.zeros(steps + 1)
-    potential = np.zeros(steps + 1)
-    kinetic = np.zeros(steps + 1)
-    dipoles = np.zeros((steps + 1, n, 3))
-    omegas = np.zeros((steps + 1, n, 3))
-    torques = np.zeros((steps + 1, n, 3))
+    samples = steps // every + 1
+    time = np.zeros(samples)
+    potential = np.zeros(samples)
+    kinetic = np.zeros(samples)
+    dipoles = np.zeros((samples, n, 3))
+    omegas = np.zeros((samples, n, 3))
+    torques = np.zeros((samples, n, 3))
 
     def sample(k):
         ids = lmp.numpy.extract_atom("id")[:n]
         order = np.argsort(ids)
-        time[k] = k * dt
+        time[k] = k * every * dt
         potential[k] = lmp.extract_variable("pe")
         kinetic[k] = lmp.extract_variable("rke")
         dipoles[k] = lmp.numpy.extract_atom("mu")[:n, :3][order]
@@ -206,8 +228,8 @@ def _run(lmp, system: DipoleSystem, dt: float, steps: int, update: str) -> Lammp
         torques[k] = lmp.numpy.extract_atom("torque")[:n][order]
 
     sample(0)
-    for k in range(1, steps + 1):
-        lmp.command("run 1 pre no post no")
+    for k in range(1, samples):
+        lmp.command(f"run {every} pre no post no")
         sample(k)
     return LammpsTrajectory(time, potential, kinetic, dipoles, omegas, torques)
 

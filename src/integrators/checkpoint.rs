@@ -29,6 +29,16 @@ impl Components for Quat {
     }
 }
 
+impl Components for f64 {
+    const LEN: usize = 1;
+    fn components(&self) -> &[f64] {
+        std::slice::from_ref(self)
+    }
+    fn components_mut(&mut self) -> &mut [f64] {
+        std::slice::from_mut(self)
+    }
+}
+
 impl Components for Vector3<f64> {
     const LEN: usize = 3;
     fn components(&self) -> &[f64] {

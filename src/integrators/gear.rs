@@ -46,6 +46,11 @@ impl GearValue for Quat {
     const ZERO: Self = Quat::ZERO;
 }
 
+/// A scalar (the variables of a Nose-Hoover chain).
+impl GearValue for f64 {
+    const ZERO: Self = 0.0;
+}
+
 impl GearValue for Vector3<f64> {
     const ZERO: Self = Vector3::new(0.0, 0.0, 0.0);
 }

@@ -79,6 +79,14 @@ pub trait Integrator: Send {
         }
     }
 
+    /// The thermostat's share of the conserved energy: the energy of the
+    /// Nose-Hoover chain, or minus the heat a stochastic thermostat has put
+    /// into the rotors; 0 without a thermostat (the conserved energy is then
+    /// the total energy).
+    fn thermostat_energy(&self) -> f64 {
+        0.0
+    }
+
     /// Writes `Q.N` per rotor ([`crate::observables::norm_force`], the
     /// zeroth component of eq 15b up to a factor 1/2) for schemes that store
     /// the quaternion force `N`, and returns true; schemes working with body

@@ -10,6 +10,11 @@
 //! The per-rotor passes run over chunks of rotors split across the rayon
 //! pool (`rotor_chunks`); each rotor's update reads only its own state, so
 //! results do not depend on the number of threads.
+//!
+//! A [`KickThermostat`] arranges the step: [`Nve`] is the plain step above;
+//! the thermostats of [`crate::thermostats`] add their operators around it
+//! or between two half rotations, each as its own type, so the step stays
+//! monomorphised.
 
 use super::checkpoint::{check_length, read_values, write_values, Components};
 use super::rotor_chunks::for_each_rotor_chunk;
@@ -45,21 +50,94 @@ pub trait Splitting: IntegratorOptions + Clone + Debug + Send + Sync + 'static {
     fn omega_body(momentum: &Self::Momentum, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64>;
 }
 
+/// How a step of a kick-based baseline is arranged, and the state that
+/// arrangement carries besides the rotors': no thermostat ([`Nve`]) or one
+/// of [`crate::thermostats`].
+pub trait KickThermostat: Clone + Debug + Send + 'static {
+    /// Sizes what the thermostat keeps per rotor (principal moments
+    /// `moments`, zero moments allowed, in `potential`) for steps of `dt`,
+    /// and resets its state.
+    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, dt: f64);
+
+    /// One whole step of `state.dt`.
+    fn step<S: Splitting>(
+        &mut self,
+        splitting: &S,
+        state: &mut KickState<S::Momentum>,
+        potential: &dyn Potential,
+    );
+
+    /// The thermostat's share of the conserved energy
+    /// ([`Integrator::thermostat_energy`]).
+    fn energy(&self) -> f64;
+
+    /// The number of values [`KickThermostat::write_checkpoint`] appends.
+    fn checkpoint_len(&self) -> usize;
+
+    /// Appends the thermostat's state.
+    fn write_checkpoint(&self, out: &mut Vec<f64>);
+
+    /// Reads back the thermostat's state (`data` holds exactly
+    /// [`KickThermostat::checkpoint_len`] values).
+    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError>;
+}
+
+/// No thermostat: the step of the module doc, at constant energy.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Nve;
+
+impl KickThermostat for Nve {
+    fn setup(&mut self, _: &[Vector3<f64>], _: &dyn Potential, _: f64) {}
+
+    fn step<S: Splitting>(
+        &mut self,
+        splitting: &S,
+        state: &mut KickState<S::Momentum>,
+        potential: &dyn Potential,
+    ) {
+        state.kick_rotate_kick(splitting, potential);
+    }
+
+    fn energy(&self) -> f64 {
+        0.0
+    }
+
+    fn checkpoint_len(&self) -> usize {
+        0
+    }
+
+    fn write_checkpoint(&self, _: &mut Vec<f64>) {}
+
+    fn read_checkpoint(&mut self, _: &[f64]) -> Result<(), IntegratorError> {
+        Ok(())
+    }
+}
+
 /// A kick-based baseline: half kick, [`Splitting::rotate`], torques, half
-/// kick. Stores per rotor `Q` (4), the momentum variable and the space-fixed
-/// torque at `Q` (3, reused by the next step's first kick), plus the
-/// principal moments (3). One potential evaluation per step.
+/// kick, with the operators of the thermostat `T` (none by default). Stores
+/// per rotor `Q` (4), the momentum variable and the space-fixed torque at
+/// `Q` (3, reused by the next step's first kick), plus the principal moments
+/// (3), and the thermostat's state. One potential evaluation per step.
 #[derive(Clone, Debug, Default)]
-pub struct Kicked<S: Splitting> {
+pub struct Kicked<S: Splitting, T: KickThermostat = Nve> {
     splitting: S,
+    thermostat: T,
     state: KickState<S::Momentum>,
 }
 
 impl<S: Splitting> Kicked<S> {
     /// The baseline with these options (set up before stepping).
     pub fn new(options: S) -> Self {
+        Kicked::with_thermostat(options, Nve)
+    }
+}
+
+impl<S: Splitting, T: KickThermostat> Kicked<S, T> {
+    /// The baseline with these options and the thermostat `thermostat`.
+    pub fn with_thermostat(options: S, thermostat: T) -> Self {
         Kicked {
             splitting: options,
+            thermostat,
             state: KickState::default(),
         }
     }
@@ -68,9 +146,14 @@ impl<S: Splitting> Kicked<S> {
     pub fn options(&self) -> &S {
         &self.splitting
     }
+
+    /// The thermostat.
+    pub fn thermostat(&self) -> &T {
+        &self.thermostat
+    }
 }
 
-impl<S: Splitting> Integrator for Kicked<S> {
+impl<S: Splitting, T: KickThermostat> Integrator for Kicked<S, T> {
     fn name(&self) -> &'static str {
         S::NAME
     }
@@ -83,15 +166,13 @@ impl<S: Splitting> Integrator for Kicked<S> {
         dt: f64,
     ) -> Result<(), IntegratorError> {
         self.state = KickState::new(inertia, potential, initial, dt, S::momentum)?;
+        self.thermostat.setup(&self.state.inertia, potential, dt);
         Ok(())
     }
 
     fn step(&mut self, potential: &dyn Potential) {
-        let (splitting, dt) = (&self.splitting, self.state.dt);
-        self.state.half_kick(S::kick);
-        self.state.update(|q, p, i| splitting.rotate(q, p, i, dt));
-        self.state.evaluate_torques(potential);
-        self.state.half_kick(S::kick);
+        self.thermostat
+            .step(&self.splitting, &mut self.state, potential);
     }
 
     fn orientations(&self) -> &[Quat] {
@@ -103,13 +184,31 @@ impl<S: Splitting> Integrator for Kicked<S> {
     }
 
     /// Layout: every `Q` (4 values each), then every momentum (4 for `P`,
-    /// 3 for `L`), then every space-fixed torque (3 each).
+    /// 3 for `L`), then every space-fixed torque (3 each), then the
+    /// thermostat's state (none without one).
     fn checkpoint(&self) -> Vec<f64> {
-        self.state.checkpoint()
+        let mut out = self.state.checkpoint();
+        self.thermostat.write_checkpoint(&mut out);
+        out
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        self.state.restore(state)
+        let rotors = self.state.checkpoint_len().min(state.len());
+        let (rotors, thermostat) = state.split_at(rotors);
+        if thermostat.len() != self.thermostat.checkpoint_len() {
+            return Err(IntegratorError::BadCheckpoint(format!(
+                "expected {} thermostat values after the rotors' {}, got {}",
+                self.thermostat.checkpoint_len(),
+                rotors.len(),
+                thermostat.len()
+            )));
+        }
+        self.state.restore(rotors)?;
+        self.thermostat.read_checkpoint(thermostat)
+    }
+
+    fn thermostat_energy(&self) -> f64 {
+        self.thermostat.energy()
     }
 }
 
@@ -172,6 +271,68 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
         Ok(state)
     }
 
+    /// The step without a thermostat: half kick, the splitting's rotation
+    /// over `dt`, torques at the new orientations, half kick.
+    pub fn kick_rotate_kick<S: Splitting<Momentum = M>>(
+        &mut self,
+        splitting: &S,
+        potential: &dyn Potential,
+    ) {
+        self.half_kick(S::kick);
+        self.rotate(splitting, self.dt);
+        self.evaluate_torques(potential);
+        self.half_kick(S::kick);
+    }
+
+    /// The splitting's orientation update over `duration` for every rotor.
+    pub fn rotate<S: Splitting<Momentum = M>>(&mut self, splitting: &S, duration: f64) {
+        self.update(|q, p, i| splitting.rotate(q, p, i, duration));
+    }
+
+    /// The total kinetic energy `sum_i 1/2 w_b . I w_b`, summed in rotor
+    /// order (one thread, so the sum does not depend on the thread count).
+    pub fn kinetic_energy<S: Splitting<Momentum = M>>(&self) -> f64 {
+        self.momentum
+            .iter()
+            .zip(&self.orientation)
+            .zip(&self.inertia)
+            .map(|((p, q), i)| {
+                let w = S::omega_body(p, q, i);
+                0.5 * w.dot(&i.component_mul(&w))
+            })
+            .sum()
+    }
+
+    /// Multiplies every momentum by `factor` (every angular momentum, in
+    /// either frame, and the conjugate `P` alike).
+    pub fn scale_momenta(&mut self, factor: f64) {
+        for p in &mut self.momentum {
+            for c in p.components_mut() {
+                *c *= factor;
+            }
+        }
+    }
+
+    /// Calls `f(rotor, w_b, moments)` for every rotor in order (one thread)
+    /// and sets its momentum from the body angular velocity `f` leaves
+    /// (`L_b = I w_b`; nothing about axes with zero moment).
+    pub fn update_omega_body<S: Splitting<Momentum = M>>(
+        &mut self,
+        mut f: impl FnMut(usize, &mut Vector3<f64>, &Vector3<f64>),
+    ) {
+        for (rotor, ((p, q), i)) in self
+            .momentum
+            .iter_mut()
+            .zip(&self.orientation)
+            .zip(&self.inertia)
+            .enumerate()
+        {
+            let mut w = S::omega_body(p, q, i);
+            f(rotor, &mut w, i);
+            *p = S::momentum(q, &w.component_mul(i));
+        }
+    }
+
     /// Half kick: `kick(momentum, Q, n_s, dt/2)` for every rotor.
     pub fn half_kick(&mut self, kick: impl Fn(&mut M, &Quat, &Vector3<f64>, f64) + Sync) {
         let half = 0.5 * self.dt;
@@ -225,10 +386,15 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
         }
     }
 
+    /// The length of [`KickState::checkpoint`]'s output.
+    pub fn checkpoint_len(&self) -> usize {
+        self.orientation.len() * (Quat::LEN + M::LEN + 3)
+    }
+
     /// Layout: all `Q` (4 each), then all momenta (`P`: 4 each, `L`: 3 each),
     /// then all space-fixed torques (3 each).
     pub fn checkpoint(&self) -> Vec<f64> {
-        let mut out = Vec::with_capacity(self.orientation.len() * (Quat::LEN + M::LEN + 3));
+        let mut out = Vec::with_capacity(self.checkpoint_len());
         write_values(&self.orientation, &mut out);
         write_values(&self.momentum, &mut out);
         write_values(&self.torque_space, &mut out);

@@ -12,7 +12,8 @@
 //! * Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
 //!   [`Richardson`], one [`Kicked`] integrator each over its [`Splitting`]
 //!   (`kick`: per-rotor state, kick, checkpoint and every method of the
-//!   trait), with the free-rotation flows of [`free_rotation`].
+//!   trait), with the free-rotation flows of [`free_rotation`]; NO_SQUISH
+//!   and DLM with a thermostat of [`crate::thermostats`] ([`KickThermostat`]).
 //! * The note's Gear schemes: [`GearA`] (`scheme_a`) and [`GearB`]
 //!   (`scheme_b`), built on the Nordsieck machinery of [`gear`], the Euler
 //!   equations and eq 12 of [`rigid_body`] and the start-up of [`startup`].
@@ -41,7 +42,7 @@ mod torque;
 pub use dlm::{Dlm, DlmOptions};
 pub use free_rotation::SphericalTops;
 pub use integrator::{Integrator, IntegratorError, RotorState};
-pub use kick::{Kicked, Splitting};
+pub use kick::{KickState, KickThermostat, Kicked, Nve, Splitting};
 pub use no_squish::{NoSquish, NoSquishOptions};
 pub use richardson::{Richardson, RichardsonOptions};
 pub use scheme_a::{GearA, GearAOptions};

@@ -61,6 +61,7 @@ macro_rules! tuple_rotor_chunk {
 tuple_rotor_chunk!(A a 0, B b 1);
 tuple_rotor_chunk!(A a 0, B b 1, C c 2);
 tuple_rotor_chunk!(A a 0, B b 1, C c 2, D d 3);
+tuple_rotor_chunk!(A a 0, B b 1, C c 2, D d 3, E e 4);
 
 /// Calls `pass` once per chunk of [`ROTORS_PER_TASK`] consecutive rotors of
 /// `data` (the last chunk may be shorter; empty `data` is one empty chunk),

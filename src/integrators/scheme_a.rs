@@ -22,12 +22,16 @@ use super::gear::{Nordsieck, FIRST_ORDER_5};
 use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
-use super::startup::{start, GearStart, Startup};
+use super::startup::{start, GearStart, StartChain, Startup};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
+use crate::checks::InputError;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
+use crate::thermostats::{
+    CoupledDegrees, NoseHooverChain, NoseHooverOptions, Spin, ThermostatSpec,
+};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -54,8 +58,23 @@ impl Default for GearAOptions {
 impl IntegratorOptions for GearAOptions {
     const NAME: &'static str = "gear_a";
 
-    fn build(&self) -> Box<dyn Integrator> {
-        Box::new(GearA::new(*self))
+    /// Scheme A alone, or with a Nose-Hoover chain ([`GearA::with_nose_hoover`]);
+    /// refuses the stochastic thermostats: a predictor-corrector needs a
+    /// smooth trajectory.
+    fn build(
+        &self,
+        thermostat: Option<&ThermostatSpec>,
+    ) -> Result<Box<dyn Integrator>, InputError> {
+        match thermostat {
+            None => Ok(Box::new(GearA::new(*self))),
+            Some(ThermostatSpec::NoseHoover(chain)) => {
+                Ok(Box::new(GearA::with_nose_hoover(*self, *chain)?))
+            }
+            Some(t) => Err(t.refused(
+                Self::NAME,
+                "a predictor-corrector needs a smooth trajectory",
+            )),
+        }
     }
 }
 
@@ -69,6 +88,66 @@ pub struct GearA {
     q: Nordsieck<Quat, 5>,
     omega_body: Nordsieck<Vector3<f64>, 5>,
     torque_space: Vec<Vector3<f64>>,
+    /// The Nose-Hoover chain integrated with the rotors, if any.
+    thermostat: Option<GearChain>,
+    /// Per rotor, the spin the chain leaves out (all `None` without one).
+    spins: Vec<Option<Spin>>,
+}
+
+/// A Nose-Hoover chain in scheme A: the extended equations of
+/// [`crate::thermostats::NoseHooverChain`] (friction `-p_1/Q_1 w_b` in
+/// Euler's equations on the thermostatted components, a conserved spin of
+/// [`CoupledDegrees`] left out; the chain's own equations) integrated by the same
+/// 5-value first-order Gear predictor-corrector, the chain's right-hand sides
+/// evaluated at the predicted values (the kinetic energy from the predicted
+/// `w_b`), as the rotors' are.
+#[derive(Clone, Debug)]
+struct GearChain {
+    options: NoseHooverOptions,
+    /// The chain's masses, and its current positions and momenta (copied
+    /// from `positions.r[0]`, `momenta.r[0]` after each step).
+    chain: NoseHooverChain,
+    /// The degrees of freedom it acts on, and the principal moments.
+    coupled: CoupledDegrees,
+    principal: Vec<Vector3<f64>>,
+    positions: Nordsieck<f64, 5>,
+    momenta: Nordsieck<f64, 5>,
+    /// Scratch: the chain's rates.
+    positions_dot: Vec<f64>,
+    momenta_dot: Vec<f64>,
+}
+
+impl GearChain {
+    /// Predicts, evaluates the rates at the predicted values (the
+    /// thermostatted kinetic energy from the predicted `omega_body`) and
+    /// corrects; returns the predicted friction `p_1/Q_1` on the rotors.
+    fn step(&mut self, omega_body: &[Vector3<f64>], h: f64) -> f64 {
+        let kinetic = self.coupled.kinetic_energy_of(&self.principal, omega_body);
+        self.positions.predict();
+        self.momenta.predict();
+        let predicted = &self.momenta.r[0];
+        let friction = self.chain.friction(predicted);
+        self.chain.rates(
+            predicted,
+            kinetic,
+            &mut self.positions_dot,
+            &mut self.momenta_dot,
+        );
+        for j in 0..self.chain.len() {
+            let delta = self.positions_dot[j] * h - self.positions.r[1][j];
+            self.positions.correct(j, &FIRST_ORDER_5, delta);
+            let delta = self.momenta_dot[j] * h - self.momenta.r[1][j];
+            self.momenta.correct(j, &FIRST_ORDER_5, delta);
+        }
+        self.sync();
+        friction
+    }
+
+    /// The chain's current values from the Nordsieck vectors.
+    fn sync(&mut self) {
+        self.chain.positions.copy_from_slice(&self.positions.r[0]);
+        self.chain.momenta.copy_from_slice(&self.momenta.r[0]);
+    }
 }
 
 impl GearA {
@@ -82,7 +161,31 @@ impl GearA {
             q: Nordsieck::zeros(0),
             omega_body: Nordsieck::zeros(0),
             torque_space: Vec::new(),
+            thermostat: None,
+            spins: Vec::new(),
         }
+    }
+
+    /// Scheme A with a Nose-Hoover chain of checked options `chain`: the
+    /// extended equations by the same predictor-corrector (and the same
+    /// start-up, which integrates the chain too).
+    pub fn with_nose_hoover(
+        options: GearAOptions,
+        chain: NoseHooverOptions,
+    ) -> Result<Self, InputError> {
+        chain.check()?;
+        let mut gear = GearA::new(options);
+        gear.thermostat = Some(GearChain {
+            options: chain,
+            chain: NoseHooverChain::new(&chain, 0),
+            coupled: CoupledDegrees::default(),
+            principal: Vec::new(),
+            positions: Nordsieck::zeros(0),
+            momenta: Nordsieck::zeros(0),
+            positions_dot: Vec::new(),
+            momenta_dot: Vec::new(),
+        });
+        Ok(gear)
     }
 
     /// The options.
@@ -101,33 +204,53 @@ impl GearA {
             q.predict();
             omega_body.predict();
         });
-        // (c): torque at the predicted Q.
+        // (c): torque at the predicted Q; the chain, corrected with the
+        // kinetic energy of the predicted w_b, gives the predicted friction.
         evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
+        let friction = self
+            .thermostat
+            .as_mut()
+            .map(|t| t.step(&self.omega_body.r[0], h));
         let rotors = (
             self.q.as_chunk(),
             self.omega_body.as_chunk(),
             &self.torque_space[..],
             &self.moments[..],
+            &self.spins[..],
         );
-        for_each_rotor_chunk(rotors, |(mut q, mut omega_body, torque_space, moments)| {
-            for i in 0..moments.len() {
-                let q_i = q.r[0][i];
-                // (d): correct w_b with Euler's equations at the predicted values.
-                let n_b = torque_body(&q_i, &torque_space[i]);
-                let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
-                let delta_w = w_dot * h - omega_body.r[1][i];
-                omega_body.correct(i, &FIRST_ORDER_5, delta_w);
-                // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
-                let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
-                let delta_q = q_dot * h - q.r[1][i];
-                q.correct(i, &FIRST_ORDER_5, delta_q);
-            }
-            if renormalise {
-                for q in q.r[0].iter_mut() {
-                    *q = *q * (1.0 / q.norm());
+        for_each_rotor_chunk(
+            rotors,
+            |(mut q, mut omega_body, torque_space, moments, spins)| {
+                for i in 0..moments.len() {
+                    let q_i = q.r[0][i];
+                    // (d): correct w_b with Euler's equations at the predicted values.
+                    let n_b = torque_body(&q_i, &torque_space[i]);
+                    let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
+                    let w_dot = match friction {
+                        Some(f) => {
+                            let w = omega_body.r[0][i];
+                            let coupled = match &spins[i] {
+                                Some(s) => w - s.axis * s.axis.dot(&w),
+                                None => w,
+                            };
+                            w_dot - coupled * f
+                        }
+                        None => w_dot,
+                    };
+                    let delta_w = w_dot * h - omega_body.r[1][i];
+                    omega_body.correct(i, &FIRST_ORDER_5, delta_w);
+                    // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
+                    let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
+                    let delta_q = q_dot * h - q.r[1][i];
+                    q.correct(i, &FIRST_ORDER_5, delta_q);
                 }
-            }
-        });
+                if renormalise {
+                    for q in q.r[0].iter_mut() {
+                        *q = *q * (1.0 / q.norm());
+                    }
+                }
+            },
+        );
     }
 }
 
@@ -149,17 +272,37 @@ impl Integrator for GearA {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
+        if let Some(t) = &mut self.thermostat {
+            t.principal = inertia.iter().map(Inertia::principal).collect();
+            t.coupled = CoupledDegrees::new(&t.principal, potential);
+            t.chain = NoseHooverChain::new(&t.options, t.coupled.dof);
+        }
+        let chain = self.thermostat.as_ref().map(|t| StartChain {
+            chain: &t.chain,
+            coupled: &t.coupled,
+        });
         let GearStart {
             moments,
             spherical,
             derivatives,
-        } = start(self.options.startup, inertia, potential, initial, dt)?;
+        } = start(self.options.startup, inertia, potential, initial, chain, dt)?;
         self.dt = dt;
         self.q = derivatives.q.truncated();
         self.omega_body = derivatives.omega_body.truncated();
         self.torque_space = vec![Vector3::zeros(); derivatives.q.len()];
         self.moments = moments;
         self.spherical = spherical;
+        self.spins = match &self.thermostat {
+            Some(t) => t.coupled.spins.clone(),
+            None => vec![None; initial.len()],
+        };
+        if let Some(t) = &mut self.thermostat {
+            t.positions = derivatives.chain_positions.truncated();
+            t.momenta = derivatives.chain_momenta.truncated();
+            t.positions_dot = vec![0.0; t.chain.len()];
+            t.momenta_dot = vec![0.0; t.chain.len()];
+            t.sync();
+        }
         Ok(())
     }
 
@@ -179,18 +322,38 @@ impl Integrator for GearA {
         out.copy_from_slice(&self.omega_body.r[0]);
     }
 
+    /// Layout: `[dt, Q..., w_b...]` (Nordsieck vectors), then the chain's
+    /// positions and momenta (Nordsieck vectors) when there is one.
     fn checkpoint(&self) -> Vec<f64> {
         let mut out = vec![self.dt];
         self.q.write_flat(&mut out);
         self.omega_body.write_flat(&mut out);
+        if let Some(t) = &self.thermostat {
+            t.positions.write_flat(&mut out);
+            t.momenta.write_flat(&mut out);
+        }
         out
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
-        let len = self.q.flat_len() + self.omega_body.flat_len();
+        let chain_len = self
+            .thermostat
+            .as_ref()
+            .map_or(0, |t| t.positions.flat_len() + t.momenta.flat_len());
+        let len = self.q.flat_len() + self.omega_body.flat_len() + chain_len;
         let data = checkpoint_data(state, self.dt, len)?;
         let rest = self.q.read_flat(data);
-        let _ = self.omega_body.read_flat(rest);
+        let rest = self.omega_body.read_flat(rest);
+        if let Some(t) = &mut self.thermostat {
+            let rest = t.positions.read_flat(rest);
+            let _ = t.momenta.read_flat(rest);
+            t.sync();
+        }
         Ok(())
+    }
+
+    /// The chain's energy (0 without one).
+    fn thermostat_energy(&self) -> f64 {
+        self.thermostat.as_ref().map_or(0.0, |t| t.chain.energy())
     }
 }

@@ -41,11 +41,12 @@ use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
 use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
-use crate::checks::named_choices;
+use crate::checks::{named_choices, InputError};
 use crate::observables::norm_force;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
+use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -112,8 +113,16 @@ impl Default for GearBOptions {
 impl IntegratorOptions for GearBOptions {
     const NAME: &'static str = "gear_b";
 
-    fn build(&self) -> Box<dyn Integrator> {
-        Box::new(GearB::new(*self))
+    /// Refuses every thermostat: scheme B integrates eq 12 in `Q` alone and
+    /// has no angular momenta for a thermostat to act on.
+    fn build(
+        &self,
+        thermostat: Option<&ThermostatSpec>,
+    ) -> Result<Box<dyn Integrator>, InputError> {
+        match thermostat {
+            None => Ok(Box::new(GearB::new(*self))),
+            Some(t) => Err(t.refused(Self::NAME, "scheme B has no angular momenta to thermostat")),
+        }
     }
 }
 
@@ -270,7 +279,7 @@ impl Integrator for GearB {
             moments,
             spherical,
             derivatives,
-        } = start(self.options.startup, inertia, potential, initial, dt)?;
+        } = start(self.options.startup, inertia, potential, initial, None, dt)?;
         self.dt = dt;
         self.q = derivatives.q;
         self.gradient = vec![Quat::ZERO; self.q.len()];

@@ -65,6 +65,7 @@ use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
+use crate::thermostats::{CoupledDegrees, NoseHooverChain};
 use nalgebra::{SMatrix, Vector3};
 
 /// RK4 substeps per Gear step in the start-up integration (module doc: the
@@ -94,84 +95,87 @@ named_choices!(Startup {
 });
 
 /// Scaled derivatives at t = 0, orders 0..=5, of the orientation and of the
-/// body angular velocity of every rotor.
+/// body angular velocity of every rotor, and of the variables of a
+/// Nose-Hoover chain integrated with them (none without one).
 pub struct InitialDerivatives {
     /// `h^k/k! Q^(k)(0)`.
     pub q: Nordsieck<Quat, 6>,
     /// `h^k/k! w_b^(k)(0)`.
     pub omega_body: Nordsieck<Vector3<f64>, 6>,
+    /// `h^k/k! eta_j^(k)(0)` of the chain's positions (no entries without a chain).
+    pub chain_positions: Nordsieck<f64, 6>,
+    /// `h^k/k! p_j^(k)(0)` of the chain's momenta (no entries without a chain).
+    pub chain_momenta: Nordsieck<f64, 6>,
 }
 
-/// The time derivatives of the first-order system (eqs 10 and 11 / Euler):
-/// writes `Q'` and `w_b'` for every rotor. `torque_space` is scratch.
-fn rates<K: TopKind>(
-    moments: &[PrincipalMoments],
-    potential: &dyn Potential,
-    q: &[Quat],
-    omega_body: &[Vector3<f64>],
-    torque_space: &mut [Vector3<f64>],
-    q_dot: &mut [Quat],
-    omega_dot_body: &mut [Vector3<f64>],
-) {
-    evaluate_torques(potential, q, torque_space);
-    for i in 0..q.len() {
-        q_dot[i] = q[i].q_dot_from_omega_body(&omega_body[i]);
-        let n_b = torque_body(&q[i], &torque_space[i]);
-        omega_dot_body[i] = K::omega_dot_body(&moments[i], &omega_body[i], &n_b);
-    }
-}
-
-/// The state of all rotors in the start-up integration.
+/// The state of all rotors (and of the chain, if any) in the start-up
+/// integration, or its rate of change.
 #[derive(Clone)]
 struct State {
     q: Vec<Quat>,
     omega_body: Vec<Vector3<f64>>,
+    /// Chain positions `eta_j` (empty without a chain).
+    eta: Vec<f64>,
+    /// Chain momenta `p_j` (empty without a chain).
+    p: Vec<f64>,
 }
 
 impl State {
+    /// All zeros, shaped as `like`.
+    fn zeros_like(like: &State) -> State {
+        State {
+            q: vec![Quat::ZERO; like.q.len()],
+            omega_body: vec![Vector3::zeros(); like.q.len()],
+            eta: vec![0.0; like.eta.len()],
+            p: vec![0.0; like.p.len()],
+        }
+    }
+
     /// `self + s * rate`.
     fn advanced(&self, rate: &State, s: f64) -> State {
+        fn axpy<T: GearValue>(a: &[T], b: &[T], s: f64) -> Vec<T> {
+            a.iter().zip(b).map(|(a, b)| *a + *b * s).collect()
+        }
         State {
-            q: self
-                .q
-                .iter()
-                .zip(&rate.q)
-                .map(|(a, b)| *a + *b * s)
-                .collect(),
-            omega_body: self
-                .omega_body
-                .iter()
-                .zip(&rate.omega_body)
-                .map(|(a, b)| a + b * s)
-                .collect(),
+            q: axpy(&self.q, &rate.q, s),
+            omega_body: axpy(&self.omega_body, &rate.omega_body, s),
+            eta: axpy(&self.eta, &rate.eta, s),
+            p: axpy(&self.p, &rate.p, s),
         }
     }
 }
 
-/// Classical RK4 integration of eqs 10 and Euler's equations (start-up only).
+/// Classical RK4 integration of eqs 10 and Euler's equations, with the
+/// chain's friction and equations when there is one (start-up only).
 struct Rk4<'a, K> {
     moments: &'a [PrincipalMoments],
     potential: &'a dyn Potential,
+    chain: Option<StartChain<'a>>,
     torque_space: Vec<Vector3<f64>>,
     _kind: std::marker::PhantomData<K>,
 }
 
 impl<K: TopKind> Rk4<'_, K> {
+    /// The time derivatives of the first-order system (eqs 10 and 11 /
+    /// Euler, minus the chain's friction `p_1/Q_1 w_b`, and the chain's
+    /// equations).
     fn rate(&mut self, y: &State) -> State {
-        let n = y.q.len();
-        let mut rate = State {
-            q: vec![Quat::ZERO; n],
-            omega_body: vec![Vector3::zeros(); n],
-        };
-        rates::<K>(
-            self.moments,
-            self.potential,
-            &y.q,
-            &y.omega_body,
-            &mut self.torque_space,
-            &mut rate.q,
-            &mut rate.omega_body,
-        );
+        let mut rate = State::zeros_like(y);
+        evaluate_torques(self.potential, &y.q, &mut self.torque_space);
+        for i in 0..y.q.len() {
+            rate.q[i] = y.q[i].q_dot_from_omega_body(&y.omega_body[i]);
+            let n_b = torque_body(&y.q[i], &self.torque_space[i]);
+            rate.omega_body[i] = K::omega_dot_body(&self.moments[i], &y.omega_body[i], &n_b);
+        }
+        if let Some(StartChain { chain, coupled }) = self.chain {
+            let friction = chain.friction(&y.p);
+            for (i, (w_dot, w)) in rate.omega_body.iter_mut().zip(&y.omega_body).enumerate() {
+                *w_dot -= coupled.coupled(i, w) * friction;
+            }
+            let principal: Vec<Vector3<f64>> = self.moments.iter().map(|m| m.moments).collect();
+            let kinetic = coupled.kinetic_energy_of(&principal, &y.omega_body);
+            chain.rates(&y.p, kinetic, &mut rate.eta, &mut rate.p);
+        }
         rate
     }
 
@@ -216,23 +220,40 @@ fn fit_into<T: GearValue>(
     }
 }
 
-/// The scaled derivatives at t = 0 for steps of `dt` (module doc). The
-/// initial orientations are used as given (the caller normalises them).
+/// A Nose-Hoover chain integrated with the rotors: its masses and state,
+/// and the degrees of freedom it acts on.
+#[derive(Clone, Copy, Debug)]
+pub struct StartChain<'a> {
+    /// The chain (its state at t = 0).
+    pub chain: &'a NoseHooverChain,
+    /// The thermostatted degrees of freedom.
+    pub coupled: &'a CoupledDegrees,
+}
+
+/// The scaled derivatives at t = 0 for steps of `dt` (module doc), with the
+/// Nose-Hoover chain `chain` (its masses, and its state at t = 0) integrated
+/// with the rotors if given. The initial orientations are used as given (the
+/// caller normalises them).
 pub fn initial_derivatives<K: TopKind>(
     startup: Startup,
     moments: &[PrincipalMoments],
     potential: &dyn Potential,
     initial: &[RotorState],
+    chain: Option<StartChain<'_>>,
     dt: f64,
 ) -> InitialDerivatives {
     let n = initial.len();
     let y0 = State {
         q: initial.iter().map(|s| s.orientation).collect(),
         omega_body: initial.iter().map(|s| s.omega_body).collect(),
+        eta: chain.map(|c| c.chain.positions.clone()).unwrap_or_default(),
+        p: chain.map(|c| c.chain.momenta.clone()).unwrap_or_default(),
     };
+    let m = y0.p.len();
     let mut rk = Rk4::<K> {
         moments,
         potential,
+        chain,
         torque_space: vec![Vector3::zeros(); n],
         _kind: std::marker::PhantomData,
     };
@@ -240,6 +261,8 @@ pub fn initial_derivatives<K: TopKind>(
     let mut out = InitialDerivatives {
         q: Nordsieck::zeros(n),
         omega_body: Nordsieck::zeros(n),
+        chain_positions: Nordsieck::zeros(m),
+        chain_momenta: Nordsieck::zeros(m),
     };
     if startup == Startup::Consistent {
         let mut samples = vec![y0.clone(); SAMPLES];
@@ -264,6 +287,10 @@ pub fn initial_derivatives<K: TopKind>(
             samples.iter().map(|s| s.omega_body.clone()).collect();
         fit_into(&fit, &q_samples, 3, &mut out.q);
         fit_into(&fit, &w_samples, 2, &mut out.omega_body);
+        let eta_samples: Vec<Vec<f64>> = samples.iter().map(|s| s.eta.clone()).collect();
+        let p_samples: Vec<Vec<f64>> = samples.iter().map(|s| s.p.clone()).collect();
+        fit_into(&fit, &eta_samples, 2, &mut out.chain_positions);
+        fit_into(&fit, &p_samples, 2, &mut out.chain_momenta);
     }
     // The orders given directly by the equations of motion, exactly.
     for i in 0..n {
@@ -274,6 +301,12 @@ pub fn initial_derivatives<K: TopKind>(
         out.q.r[2][i] = acceleration * (0.5 * dt * dt);
         out.omega_body.r[0][i] = y0.omega_body[i];
         out.omega_body.r[1][i] = rate0.omega_body[i] * dt;
+    }
+    for j in 0..m {
+        out.chain_positions.r[0][j] = y0.eta[j];
+        out.chain_positions.r[1][j] = rate0.eta[j] * dt;
+        out.chain_momenta.r[0][j] = y0.p[j];
+        out.chain_momenta.r[1][j] = rate0.p[j] * dt;
     }
     out
 }
@@ -291,12 +324,13 @@ pub struct GearStart {
 
 /// The shared setup of the Gear schemes: validates the arguments (every moment
 /// must be > 0, since the schemes divide by each) and computes the scaled
-/// derivatives at t = 0 for steps of `dt`.
+/// derivatives at t = 0 for steps of `dt`, with the chain `chain` if given.
 pub fn start(
     startup: Startup,
     inertia: &[Inertia],
     potential: &dyn Potential,
     initial: &[RotorState],
+    chain: Option<StartChain<'_>>,
     dt: f64,
 ) -> Result<GearStart, IntegratorError> {
     let valid = validate_setup(inertia, initial, dt, Moments::Positive)?;
@@ -307,9 +341,9 @@ pub fn start(
         .collect();
     let spherical = inertia.iter().all(Inertia::is_spherical);
     let derivatives = if spherical {
-        initial_derivatives::<Spherical>(startup, &moments, potential, &valid.initial, dt)
+        initial_derivatives::<Spherical>(startup, &moments, potential, &valid.initial, chain, dt)
     } else {
-        initial_derivatives::<General>(startup, &moments, potential, &valid.initial, dt)
+        initial_derivatives::<General>(startup, &moments, potential, &valid.initial, chain, dt)
     };
     Ok(GearStart {
         moments,
@@ -357,10 +391,16 @@ mod tests {
         for k in 1..6 {
             exact[k] = exact[k - 1] * half_w * (1.0 / k as f64);
         }
-        let consistent =
-            initial_derivatives::<Spherical>(Startup::Consistent, &moments, &Free, &initial, h);
+        let consistent = initial_derivatives::<Spherical>(
+            Startup::Consistent,
+            &moments,
+            &Free,
+            &initial,
+            None,
+            h,
+        );
         let general =
-            initial_derivatives::<General>(Startup::Consistent, &moments, &Free, &initial, h);
+            initial_derivatives::<General>(Startup::Consistent, &moments, &Free, &initial, None, h);
         for d in [&consistent, &general] {
             for (k, e) in exact.iter().enumerate() {
                 assert!((d.q.r[k][0] - *e).norm() < FIT_TOLERANCE, "Q order {k}");
@@ -370,7 +410,8 @@ mod tests {
                 assert!(d.omega_body.r[k][0].norm() < FIT_TOLERANCE, "w order {k}");
             }
         }
-        let zeros = initial_derivatives::<Spherical>(Startup::Zeros, &moments, &Free, &initial, h);
+        let zeros =
+            initial_derivatives::<Spherical>(Startup::Zeros, &moments, &Free, &initial, None, h);
         for (k, e) in exact.iter().enumerate() {
             let expected = if k <= 2 { *e } else { Quat::ZERO };
             assert!(
@@ -428,7 +469,8 @@ mod tests {
             orientation: q0,
             omega_body: w,
         }];
-        let d = initial_derivatives::<General>(Startup::Consistent, &moments, &Free, &initial, h);
+        let d =
+            initial_derivatives::<General>(Startup::Consistent, &moments, &Free, &initial, None, h);
         let w_q = a.norm() / h + b.norm() / h;
         let mut perpendicular = Vector3::new(w.x, w.y, 0.0);
         for k in 0..6 {

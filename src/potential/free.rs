@@ -1,6 +1,6 @@
 //! The potential of free rotors.
 
-use super::Potential;
+use super::{Potential, TorqueAxes};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
@@ -14,4 +14,7 @@ impl Potential for Free {
     }
     fn accumulate_gradient(&self, _: &[Quat], _: &mut [Quat]) {}
     fn accumulate_torques(&self, _: &[Quat], _: &mut [Vector3<f64>]) {}
+    fn torque_axes(&self, _: usize) -> TorqueAxes {
+        TorqueAxes::Never
+    }
 }

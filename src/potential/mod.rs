@@ -8,6 +8,7 @@
 mod free;
 pub mod multipole;
 mod term;
+mod torque_axes;
 
 pub use free::Free;
 pub use multipole::{
@@ -15,3 +16,4 @@ pub use multipole::{
     Surface,
 };
 pub use term::Potential;
+pub use torque_axes::{multipole_torque_axes, symmetric_about, TorqueAxes};

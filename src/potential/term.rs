@@ -1,6 +1,7 @@
 //! The potential-energy trait: energy, the unconstrained quaternion gradient
 //! of eq 14 and the space-fixed torques.
 
+use super::TorqueAxes;
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
@@ -18,6 +19,12 @@ pub trait Potential: Sync {
 
     /// Adds the space-fixed torque on each rotor into `torques_space`.
     fn accumulate_torques(&self, orientations: &[Quat], torques_space: &mut [Vector3<f64>]);
+
+    /// The directions of the torques on rotor `rotor`, whatever the
+    /// orientations ([`TorqueAxes`]; the default knows nothing: any).
+    fn torque_axes(&self, _rotor: usize) -> TorqueAxes {
+        TorqueAxes::Any
+    }
 
     /// The energy, and `dV/dq_k` added into `gradient`, in one pass where the
     /// implementor can share the work (the default calls the two methods).

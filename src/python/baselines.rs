@@ -58,7 +58,7 @@ fn dlm_dipoles<'py>(
     } else {
         SphericalTops::Exact
     };
-    let mut dlm = IntegratorSpec::Dlm(DlmOptions { spherical_tops }).build();
+    let mut dlm = IntegratorSpec::Dlm(DlmOptions { spherical_tops }).build(None)?;
     let samples = py
         .detach(|| {
             on_worker(|| every_step(dlm.as_mut(), &inertia, &potential, &initial, dt, steps))

@@ -21,6 +21,10 @@ pub struct Checkpoint {
     pub scene: String,
     /// The integrator's name.
     pub integrator: String,
+    /// The thermostat's kind, if the run has one (its state is part of
+    /// `state_bits`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thermostat: Option<String>,
     /// The number of rotors.
     pub rotors: usize,
     /// `dt.to_bits()`: a restart must use the same time step exactly.
@@ -52,11 +56,12 @@ impl Checkpoint {
     }
 
     /// Checks that the checkpoint fits a run of `rotors` rotors with this
-    /// integrator and time step.
+    /// integrator, thermostat and time step.
     pub fn check(
         &self,
         path: &Path,
         integrator: &str,
+        thermostat: Option<&str>,
         rotors: usize,
         dt: f64,
     ) -> Result<(), RunError> {
@@ -69,6 +74,14 @@ impl Checkpoint {
                 "the integrator",
                 integrator.to_string(),
                 self.integrator.clone(),
+            ));
+        }
+        if self.thermostat.as_deref() != thermostat {
+            let name = |t: Option<&str>| t.unwrap_or("none").to_string();
+            return Err(mismatch(
+                "the thermostat",
+                name(thermostat),
+                name(self.thermostat.as_deref()),
             ));
         }
         if self.rotors != rotors {
@@ -111,6 +124,8 @@ pub struct CheckpointWriter {
     pub scene: String,
     /// The integrator's name.
     pub integrator: String,
+    /// The thermostat's kind, if any.
+    pub thermostat: Option<String>,
     /// The number of rotors.
     pub rotors: usize,
     /// The time step.
@@ -131,6 +146,7 @@ impl CheckpointSink for CheckpointWriter {
             format: FORMAT.to_string(),
             scene: self.scene.clone(),
             integrator: self.integrator.clone(),
+            thermostat: self.thermostat.clone(),
             rotors: self.rotors,
             dt_bits: self.dt.to_bits(),
             step,

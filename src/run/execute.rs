@@ -6,7 +6,7 @@ use super::scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
-use crate::scene::{boundary_error, Interactions, Scene};
+use crate::scene::{boundary_error, Interactions, Scene, SceneError};
 use std::path::Path;
 
 /// The potential of a scene: `None` for rotors without interactions or
@@ -53,7 +53,10 @@ pub fn execute(
             },
             None => ScenePotential::plain(&Free),
         };
-        let mut integrator = scene.integrator.build();
+        let mut integrator = scene
+            .integrator
+            .build(scene.thermostat.as_ref())
+            .map_err(|e| SceneError::from(e.at("thermostat")))?;
         run_scene(
             scene,
             definition,

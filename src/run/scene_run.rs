@@ -174,7 +174,13 @@ fn restore(
     path: &Path,
 ) -> Result<(u64, Option<EnergyReference>), RunError> {
     let checkpoint = Checkpoint::read(path)?;
-    checkpoint.check(path, integrator.name(), scene.rotors.len(), scene.dt)?;
+    checkpoint.check(
+        path,
+        integrator.name(),
+        scene.thermostat.as_ref().map(|t| t.name()),
+        scene.rotors.len(),
+        scene.dt,
+    )?;
     if checkpoint.step > scene.steps {
         return Err(RunError::Checkpoint {
             path: path.display().to_string(),
@@ -246,6 +252,7 @@ impl Recorders {
                     path,
                     scene: scene.name.clone(),
                     integrator: integrator.name().to_string(),
+                    thermostat: scene.thermostat.as_ref().map(|t| t.name().to_string()),
                     rotors: scene.rotors.len(),
                     dt: scene.dt,
                 };

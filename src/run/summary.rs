@@ -29,16 +29,20 @@ pub struct FinalEnergies {
     pub potential: f64,
     /// `K + V`.
     pub total: f64,
-    /// The relative energy error.
+    /// The conserved energy (runs with a thermostat only; `K + V` otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub conserved: Option<f64>,
+    /// The relative error of the conserved energy.
     pub error: f64,
 }
 
 /// Energy drift over the run.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Drift {
-    /// Least-squares slope of the total energy against time, divided by the
-    /// mean kinetic energy over the samples (or by the reference scale when
-    /// that vanishes): relative drift per unit time.
+    /// Least-squares slope of the conserved energy (the total energy without
+    /// a thermostat) against time, divided by the mean kinetic energy over
+    /// the samples (or by the reference scale when that vanishes): relative
+    /// drift per unit time.
     pub relative_per_time: f64,
     /// `(E_last - E_0) / scale`.
     pub final_error: f64,
@@ -160,6 +164,9 @@ pub struct Summary {
     pub definition: serde_json::Value,
     /// The seed of the random initial state, if any.
     pub seed: Option<u64>,
+    /// The seed of a stochastic thermostat (runs with one only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub thermostat_seed: Option<u64>,
     /// What produced the outputs.
     pub versions: Versions,
     /// The integrator's name.
@@ -188,8 +195,9 @@ pub struct Summary {
     pub drift: Option<Drift>,
 }
 
-/// The drift of the run's total energy, relative to the mean kinetic
-/// energy over the samples (or to the reference scale when that vanishes).
+/// The drift of the run's conserved energy (the total energy without a
+/// thermostat), relative to the mean kinetic energy over the samples (or to
+/// the reference scale when that vanishes).
 fn drift(report: &RunReport) -> Option<Drift> {
     let reference = report.reference?;
     let (_, last) = report.last_energies?;
@@ -221,6 +229,7 @@ impl Summary {
                 kinetic: e.kinetic,
                 potential: e.potential,
                 total: e.total,
+                conserved: scene.thermostat.is_some().then_some(e.conserved),
                 error: e.error,
             });
         Summary {
@@ -228,6 +237,7 @@ impl Summary {
             description: scene.description.clone(),
             definition,
             seed: scene.seed,
+            thermostat_seed: scene.thermostat.as_ref().and_then(|t| t.seed()),
             versions: Versions {
                 quatrot: env!("CARGO_PKG_VERSION"),
                 scene_format: SCENE_VERSION,

@@ -25,6 +25,7 @@ pub const BUILTINS: &[Builtin] = &[
     builtin!("dipole_in_field"),
     builtin!("dipole_lattice_sc"),
     builtin!("dipole_lattice_sc_cutoff"),
+    builtin!("dipole_lattice_sc_langevin"),
     builtin!("quadrupole_lattice_fcc"),
     builtin!("multipole_tops_bcc"),
 ];

@@ -21,6 +21,7 @@ mod record;
 mod rotors;
 mod run_length;
 mod tagged;
+mod thermostat;
 mod validate;
 
 pub use builtin::{builtin, Builtin, BUILTINS};

@@ -5,6 +5,7 @@ use super::record::Record;
 use crate::integrators::{IntegratorSpec, RotorState};
 use crate::potential::{Boundary, ExternalFields, SumMethod};
 use crate::rotor::{Inertia, Rotor};
+use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 
 /// The pair interactions of a scene: their boundary and the way a periodic
@@ -37,6 +38,8 @@ pub struct Scene {
     pub seed: Option<u64>,
     /// The integrator and its options.
     pub integrator: IntegratorSpec,
+    /// The thermostat (`None`: constant energy), with its seed resolved.
+    pub thermostat: Option<ThermostatSpec>,
     /// Time step (reduced time units, > 0).
     pub dt: f64,
     /// Number of steps (>= 1).

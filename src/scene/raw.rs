@@ -15,6 +15,7 @@ pub use super::rotors::{
     RawInertia, RawLattice, RawOverride, RawRotorProps, RawRotors, RawSite, RawSites,
 };
 pub use super::run_length::RawRun;
+pub use super::thermostat::RawThermostat;
 
 /// A whole scene file.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -36,6 +37,8 @@ pub struct RawScene {
     pub initial: RawInitial,
     /// `[integrator]`.
     pub integrator: RawIntegrator,
+    /// `[thermostat]` (absent: constant energy).
+    pub thermostat: Option<RawThermostat>,
     /// `[run]`.
     pub run: RawRun,
     /// `[record]`.

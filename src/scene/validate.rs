@@ -11,6 +11,7 @@ use super::raw::{RawRecord, RawRotors, RawScene};
 use super::record::record;
 use super::rotors::{rotors, Rotors};
 use super::run_length::run_length;
+use super::thermostat::thermostat;
 use crate::potential::ExternalFields;
 
 /// The only scene format version this build reads.
@@ -43,6 +44,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
     };
     let (initial, seed) = initial(&raw.initial, &rotors)?;
     let integrator = raw.integrator.spec;
+    let thermostat = thermostat(raw.thermostat.as_ref(), &integrator, seed)?;
     let (dt, steps) = run_length(&raw.run)?;
     let record = record(
         raw.record.as_ref().unwrap_or(&RawRecord::default()),
@@ -58,6 +60,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         initial,
         seed,
         integrator,
+        thermostat,
         dt,
         steps,
         record,

@@ -3,7 +3,8 @@
 use crate::stats::{energy_drift, EnergyDrift};
 use serde::{Deserialize, Serialize};
 
-/// The energy the error is measured from: `error = (E - total) / scale`.
+/// The energy the error is measured from: `error = (E - total) / scale`,
+/// `E` the conserved energy (the total energy without a thermostat).
 /// `scale` is the initial kinetic energy, or `|E_0|` when the rotors start at
 /// rest, or 1 when both vanish.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -40,7 +41,7 @@ pub struct EnergyHistory {
     pub times: Vec<f64>,
     /// The kinetic energies.
     pub kinetic: Vec<f64>,
-    /// The total energies.
+    /// The conserved energies (the total energies without a thermostat).
     pub total: Vec<f64>,
 }
 
@@ -62,7 +63,7 @@ impl EnergyHistory {
         self.times.is_empty()
     }
 
-    /// The drift and fluctuation of the total energy relative to the mean
+    /// The drift and fluctuation of the conserved energy relative to the mean
     /// kinetic energy, or to `fallback_scale` when that vanishes
     /// ([`energy_drift`]).
     pub fn drift(&self, fallback_scale: f64) -> EnergyDrift {

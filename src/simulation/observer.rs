@@ -42,7 +42,11 @@ pub struct Energies {
     pub potential: f64,
     /// `K + V`.
     pub total: f64,
-    /// `(E - E_0) / s` (see [`EnergyReference`]).
+    /// The conserved energy: `K + V` plus the thermostat's share
+    /// ([`crate::integrators::Integrator::thermostat_energy`]; `K + V`
+    /// without a thermostat).
+    pub conserved: f64,
+    /// `(C - C_0) / s` of the conserved energy `C` (see [`EnergyReference`]).
     pub error: f64,
 }
 

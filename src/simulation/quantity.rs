@@ -27,8 +27,11 @@ pub enum Quantity {
     PotentialEnergy,
     /// `K + V`.
     TotalEnergy,
-    /// `(E - E_0) / s` with the scale `s` of the run's
-    /// [`super::EnergyReference`].
+    /// `K + V` plus the thermostat's share (the chain's energy, or minus the
+    /// heat a stochastic thermostat put in); `K + V` without a thermostat.
+    ConservedEnergy,
+    /// `(C - C_0) / s` of the conserved energy `C`, with the scale `s` of
+    /// the run's [`super::EnergyReference`].
     EnergyError,
     /// Rotational temperature `2 K / (3 n)`.
     Temperature,
@@ -72,10 +75,11 @@ fn max_abs(values: impl Iterator<Item = f64>) -> f64 {
 
 impl Quantity {
     /// Every quantity, in the order of [`Quantity::name`]'s documentation.
-    pub const ALL: [Quantity; 13] = [
+    pub const ALL: [Quantity; 14] = [
         Quantity::KineticEnergy,
         Quantity::PotentialEnergy,
         Quantity::TotalEnergy,
+        Quantity::ConservedEnergy,
         Quantity::EnergyError,
         Quantity::Temperature,
         Quantity::NormError,
@@ -95,6 +99,7 @@ impl Quantity {
             Quantity::KineticEnergy => "kinetic_energy",
             Quantity::PotentialEnergy => "potential_energy",
             Quantity::TotalEnergy => "total_energy",
+            Quantity::ConservedEnergy => "conserved_energy",
             Quantity::EnergyError => "energy_error",
             Quantity::Temperature => "temperature",
             Quantity::NormError => "norm_error",
@@ -143,6 +148,7 @@ impl Quantity {
             Quantity::KineticEnergy
             | Quantity::PotentialEnergy
             | Quantity::TotalEnergy
+            | Quantity::ConservedEnergy
             | Quantity::EnergyError
             | Quantity::Temperature => Needs {
                 energies: true,
@@ -175,6 +181,7 @@ impl Quantity {
             Quantity::KineticEnergy => energy(|e| e.kinetic),
             Quantity::PotentialEnergy => energy(|e| e.potential),
             Quantity::TotalEnergy => energy(|e| e.total),
+            Quantity::ConservedEnergy => energy(|e| e.conserved),
             Quantity::EnergyError => energy(|e| e.error),
             // Three rotational degrees of freedom per rotor, k_B = 1.
             Quantity::Temperature => {

@@ -118,16 +118,24 @@ fn next_multiple(step: u64, every: u64) -> u64 {
     (step / every + 1).saturating_mul(every)
 }
 
-/// The energies from the kinetic and potential energy, the error measured
+/// The energies from the kinetic and potential energy and the thermostat's
+/// share of the conserved energy, the error of the conserved energy measured
 /// from `reference` (set from these energies if there is none yet).
-fn energies(kinetic: f64, potential: f64, reference: &mut Option<EnergyReference>) -> Energies {
+fn energies(
+    kinetic: f64,
+    potential: f64,
+    thermostat: f64,
+    reference: &mut Option<EnergyReference>,
+) -> Energies {
     let total = kinetic + potential;
-    let reference = *reference.get_or_insert_with(|| EnergyReference::initial(kinetic, total));
+    let conserved = total + thermostat;
+    let reference = *reference.get_or_insert_with(|| EnergyReference::initial(kinetic, conserved));
     Energies {
         kinetic,
         potential: total - kinetic,
         total,
-        error: reference.error(total),
+        conserved,
+        error: reference.error(conserved),
     }
 }
 
@@ -241,13 +249,16 @@ impl<E> Loop<'_, '_, E> {
             energies(
                 kinetic,
                 self.potential.energy(orientations),
+                self.integrator.thermostat_energy(),
                 &mut self.report.reference,
             )
         });
         let time = step as f64 * options.dt;
         if let Some(e) = energies {
             self.report.last_energies = Some((step, e));
-            self.report.energy_history.push(time, e.kinetic, e.total);
+            self.report
+                .energy_history
+                .push(time, e.kinetic, e.conserved);
         }
         let sample = Sample {
             step,

@@ -12,7 +12,7 @@ use super::pairs::PairTable;
 use super::row_quads::RowQuads;
 use super::{Boundary, EwaldParameters, ExternalFields, PeriodicSum, PotentialError};
 use crate::checks::named_choices;
-use crate::potential::Potential;
+use crate::potential::{multipole_torque_axes, Potential, TorqueAxes};
 use crate::quaternion::Quat;
 use crate::rotor::Rotor;
 use nalgebra::{Matrix3, Vector3};
@@ -570,6 +570,16 @@ impl Potential for MultipolePotential {
 
     fn energy_and_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) -> f64 {
         self.evaluate(orientations, Some(gradient), None)
+    }
+
+    /// From the rotor's body multipoles ([`multipole_torque_axes`]): pair
+    /// terms and uniform fields alike exert no torque about an axis of
+    /// symmetry of all its multipoles.
+    fn torque_axes(&self, rotor: usize) -> TorqueAxes {
+        multipole_torque_axes(
+            self.dipoles_body.get(rotor),
+            self.quadrupoles_body.get(rotor),
+        )
     }
 }
 

@@ -1,0 +1,161 @@
+//! The `[thermostat]` section (absent: constant energy): read straight into
+//! the physics [`ThermostatSpec`], whose option structs carry every option,
+//! its default, its check and its documentation. The scene adds what only it
+//! knows: the seed of a stochastic thermostat when the table gives none (the
+//! seed of a random `[initial]` section, or 63 bits drawn from the
+//! operating system; recorded in the run summary), and the integrator, which may refuse
+//! the thermostat (`thermostat.kind`).
+
+use super::error::SceneError;
+use super::tagged::{take_kind, variant_with, with_inner_path};
+use crate::integrators::IntegratorSpec;
+use crate::thermostats::ThermostatSpec;
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// `kind = "..."` and the options of that thermostat, checked, with errors
+/// naming the option's path inside the table.
+impl<'de> Deserialize<'de> for ThermostatSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let mut table = toml::Table::deserialize(deserializer)?;
+        let kind = take_kind::<D::Error>(&mut table)?;
+        if !ThermostatSpec::KINDS.contains(&kind.as_str()) {
+            let e = D::Error::unknown_variant(&kind, ThermostatSpec::KINDS);
+            return Err(with_inner_path("kind", &e.to_string()));
+        }
+        let spec: ThermostatSpec = variant_with(table, |options| {
+            ThermostatSpec::deserialize_kind(&kind, options)
+        })?;
+        spec.check()
+            .map_err(|e| with_inner_path(&e.path, &e.message))?;
+        Ok(spec)
+    }
+}
+
+/// The `[thermostat]` table: the [`ThermostatSpec`] it describes, and the
+/// table as written (what the run summary records as the scene's
+/// definition, keeping out the options it leaves out).
+#[derive(Debug, Clone)]
+pub struct RawThermostat {
+    /// The thermostat and its options, as written (seed not yet resolved).
+    pub spec: ThermostatSpec,
+    written: toml::Table,
+}
+
+impl<'de> Deserialize<'de> for RawThermostat {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let table = toml::Table::deserialize(deserializer)?;
+        let spec = super::tagged::variant::<ThermostatSpec, toml::de::Error>(table.clone())
+            .map_err(|e| D::Error::custom(e.message()))?;
+        Ok(RawThermostat {
+            spec,
+            written: table,
+        })
+    }
+}
+
+impl Serialize for RawThermostat {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.written.serialize(serializer)
+    }
+}
+
+/// Validates the section for a run with `integrator` whose random initial
+/// state (if any) was drawn with `initial_seed`: the thermostat with its
+/// seed resolved.
+pub(super) fn thermostat(
+    raw: Option<&RawThermostat>,
+    integrator: &IntegratorSpec,
+    initial_seed: Option<u64>,
+) -> Result<Option<ThermostatSpec>, SceneError> {
+    let Some(raw) = raw else {
+        return Ok(None);
+    };
+    let spec = match (raw.spec.is_stochastic(), raw.spec.seed()) {
+        // A drawn seed has 63 bits, so that it can be written back into a
+        // scene (TOML integers are signed 64-bit).
+        (true, None) => raw
+            .spec
+            .seeded(initial_seed.unwrap_or_else(|| rand::random::<u64>() >> 1)),
+        _ => raw.spec,
+    };
+    // The integrator refuses what it cannot carry (building is cheap: nothing
+    // is allocated before setup).
+    let _ = integrator
+        .build(Some(&spec))
+        .map_err(|e| SceneError::from(e.at("thermostat")))?;
+    Ok(Some(spec))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrators::{DlmOptions, GearBOptions};
+    use crate::thermostats::{LangevinOptions, NoseHooverOptions};
+
+    fn read(text: &str) -> Result<ThermostatSpec, String> {
+        crate::scene::parse::parse_value::<RawThermostat>(toml::from_str(text).expect("valid"))
+            .map(|r| r.spec)
+            .map_err(|e| e.to_string())
+    }
+
+    /// Tables become the physics options; the chain length defaults to 3.
+    #[test]
+    fn tables_become_the_physics_options() {
+        assert_eq!(
+            read("kind = 'langevin'\ntemperature = 1.5\nfriction = 2.0\nseed = 4"),
+            Ok(ThermostatSpec::Langevin(LangevinOptions {
+                temperature: 1.5,
+                friction: 2.0,
+                seed: Some(4)
+            }))
+        );
+        assert_eq!(
+            read("kind = 'nose_hoover'\ntemperature = 1.0\ntau = 0.5"),
+            Ok(ThermostatSpec::NoseHoover(NoseHooverOptions {
+                temperature: 1.0,
+                tau: 0.5,
+                chain: NoseHooverOptions::DEFAULT_CHAIN,
+            }))
+        );
+    }
+
+    /// Errors name the option inside the table and the value.
+    #[test]
+    fn bad_options_name_the_option() {
+        assert_eq!(
+            read("kind = 'bussi'\ntemperature = 1.0\ntau = 0.0"),
+            Err("tau: must be > 0, got 0".to_string())
+        );
+        assert_eq!(
+            read("kind = 'langevin'\ntemperature = -1.0\nfriction = 1.0"),
+            Err("temperature: must be >= 0, got -1".to_string())
+        );
+        assert_eq!(
+            read("kind = 'nose_hoover'\ntemperature = 1.0\ntau = 1.0\nchain = 0"),
+            Err("chain: must be >= 1, got 0".to_string())
+        );
+    }
+
+    /// A stochastic thermostat without a seed takes the initial state's;
+    /// an integrator that cannot carry the thermostat refuses it.
+    #[test]
+    fn seed_is_resolved_and_the_integrator_may_refuse() {
+        let raw = RawThermostat {
+            spec: ThermostatSpec::Langevin(LangevinOptions {
+                temperature: 1.0,
+                friction: 1.0,
+                seed: None,
+            }),
+            written: toml::Table::new(),
+        };
+        let dlm = IntegratorSpec::Dlm(DlmOptions::default());
+        let spec = thermostat(Some(&raw), &dlm, Some(17)).expect("valid");
+        assert_eq!(spec.and_then(|s| s.seed()), Some(17));
+        let gear_b = IntegratorSpec::GearB(GearBOptions::default());
+        assert_eq!(
+            thermostat(Some(&raw), &gear_b, Some(17)).map_err(|e| e.to_string()),
+            Err("thermostat.kind: \"langevin\" cannot run with integrator gear_b (scheme B has no angular momenta to thermostat); use no_squish or dlm".to_string())
+        );
+    }
+}

@@ -1,0 +1,166 @@
+//! Langevin dynamics on the body angular momenta, per principal axis
+//! (scene `kind = "langevin"`).
+//!
+//! The equations (reduced units, `k_B = 1`): Euler's equations with a
+//! friction and a random torque on each principal axis `k`,
+//!
+//! ```text
+//! dL_k = (n_k + (L_b x w_b)_k) dt - gamma L_k dt + sqrt(2 gamma I_k T) dW_k
+//! ```
+//!
+//! (`L_b = I w_b`, `n_b` the body torque of eq 6), whose stationary density
+//! is `exp(-(K + V)/T)` over orientations (uniform measure on rotations) and
+//! body angular momenta: the friction and the noise balance on each axis
+//! (fluctuation-dissipation), and the Hamiltonian part preserves the density.
+//!
+//! Integration: BAOAB (Leimkuhler and Matthews, Appl. Math. Res. Express
+//! 2013, 34), with the splitting's own pieces: half kick (B), the splitting's
+//! free rotation over `dt/2` (A), the exact Ornstein-Uhlenbeck step over `dt`
+//! (O), free rotation over `dt/2` (A), torques, half kick (B). The O step
+//! solves `dL_k = -gamma L_k dt + sqrt(2 gamma I_k T) dW_k` exactly at fixed
+//! `Q`: `w_k <- c w_k + sqrt((1 - c^2) T / I_k) xi_k`, `c = exp(-gamma dt)`,
+//! `xi_k` standard normal, so it leaves the Maxwell density `exp(-K/T)`
+//! exactly invariant whatever `dt`; axes with zero moment carry nothing and
+//! draw nothing. The noise is drawn rotor by rotor, axis by axis, from
+//! [`Noise`] (reproducible from the seed; a checkpoint stores the position).
+//!
+//! Heat: the O step's change of the kinetic energy is summed over the run;
+//! `K + V - heat` is conserved up to the splitting error (its drift is
+//! measured like the NVE drift). Properties: the distribution of the
+//! orientations has a bias of order `dt^2` (that of the splitting); for a
+//! free spherical top with the exact free flow the body angular velocity is
+//! sampled exactly (the A and B steps do not change it).
+
+use super::noise::{finite_heat, required_seed, Noise};
+use crate::checks::{non_negative, positive, InputError};
+use crate::integrators::{IntegratorError, KickState, KickThermostat, Splitting};
+use crate::potential::Potential;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Options of [`Langevin`] (the scene's `[thermostat]` table with
+/// `kind = "langevin"`).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LangevinOptions {
+    /// The temperature `T` (energy units, `k_B = 1`), finite and `>= 0`.
+    pub temperature: f64,
+    /// The friction `gamma` (1/time), finite and `> 0`: each body angular
+    /// velocity component forgets itself as `exp(-gamma t)`.
+    pub friction: f64,
+    /// The seed of the noise; a scene without one takes the seed of its
+    /// random initial state, or draws one (recorded in the run summary).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+}
+
+impl LangevinOptions {
+    /// Checks the temperature and the friction (paths `temperature`,
+    /// `friction`).
+    pub fn check(&self) -> Result<(), InputError> {
+        let _ = non_negative(self.temperature).map_err(|e| e.at("temperature"))?;
+        let _ = positive(self.friction).map_err(|e| e.at("friction"))?;
+        Ok(())
+    }
+}
+
+/// The Langevin thermostat in a kick-based step (module doc).
+#[derive(Clone, Debug)]
+pub struct Langevin {
+    options: LangevinOptions,
+    seed: u64,
+    noise: Noise,
+    /// `c = exp(-gamma dt)`.
+    decay: f64,
+    /// Per rotor and axis `sqrt((1 - c^2) T / I_k)`, 0 for a zero moment.
+    spread: Vec<Vector3<f64>>,
+    /// Kinetic energy the O steps have put into the rotors.
+    heat: f64,
+}
+
+impl Langevin {
+    /// The thermostat with checked `options` and a seed.
+    pub fn new(options: LangevinOptions) -> Result<Self, InputError> {
+        options.check()?;
+        let seed = required_seed(options.seed)?;
+        Ok(Langevin {
+            options,
+            seed,
+            noise: Noise::new(seed),
+            decay: 1.0,
+            spread: Vec::new(),
+            heat: 0.0,
+        })
+    }
+
+    /// The exact Ornstein-Uhlenbeck step over `dt` on every rotor, in order.
+    fn ornstein_uhlenbeck<S: Splitting>(&mut self, state: &mut KickState<S::Momentum>) {
+        let (c, spread, noise) = (self.decay, &self.spread, &mut self.noise);
+        let mut heat = 0.0;
+        state.update_omega_body::<S>(|rotor, w, moments| {
+            for k in 0..3 {
+                if moments[k] > 0.0 {
+                    let before = w[k];
+                    w[k] = c * before + spread[rotor][k] * noise.normal();
+                    heat += 0.5 * moments[k] * (w[k] * w[k] - before * before);
+                }
+            }
+        });
+        self.heat += heat;
+    }
+}
+
+impl KickThermostat for Langevin {
+    fn setup(&mut self, moments: &[Vector3<f64>], _: &dyn Potential, dt: f64) {
+        let LangevinOptions {
+            temperature,
+            friction,
+            ..
+        } = self.options;
+        self.decay = (-friction * dt).exp();
+        let variance = -(-2.0 * friction * dt).exp_m1() * temperature;
+        self.spread = moments
+            .iter()
+            .map(|m| m.map(|i| if i > 0.0 { (variance / i).sqrt() } else { 0.0 }))
+            .collect();
+        self.heat = 0.0;
+        self.noise = Noise::new(self.seed);
+    }
+
+    /// B, A(dt/2), O(dt), A(dt/2), torques, B.
+    fn step<S: Splitting>(
+        &mut self,
+        splitting: &S,
+        state: &mut KickState<S::Momentum>,
+        potential: &dyn Potential,
+    ) {
+        let half = 0.5 * state.dt;
+        state.half_kick(S::kick);
+        state.rotate(splitting, half);
+        self.ornstein_uhlenbeck::<S>(state);
+        state.rotate(splitting, half);
+        state.evaluate_torques(potential);
+        state.half_kick(S::kick);
+    }
+
+    /// Minus the heat put into the rotors.
+    fn energy(&self) -> f64 {
+        -self.heat
+    }
+
+    fn checkpoint_len(&self) -> usize {
+        1 + Noise::CHECKPOINT_LEN
+    }
+
+    /// The heat, then the noise position.
+    fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        out.push(self.heat);
+        self.noise.write_checkpoint(out);
+    }
+
+    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError> {
+        let (heat, noise) = data.split_at(1);
+        self.heat = finite_heat(heat[0])?;
+        self.noise.read_checkpoint(noise)
+    }
+}

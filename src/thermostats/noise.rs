@@ -1,0 +1,138 @@
+//! The random numbers of the stochastic thermostats: ChaCha20 seeded from a
+//! `u64` on its own stream, [`THERMOSTAT_STREAM`] (a scene's random initial
+//! state draws from stream 0 of the same seed, so the two never share
+//! numbers), drawn in a fixed order (rotor by rotor, axis by axis, one thread)
+//! so that a run is reproducible from its seed whatever the number of
+//! threads. A checkpoint stores the position in the stream, so a restart
+//! continues with the same numbers.
+
+use crate::checks::InputError;
+use crate::integrators::IntegratorError;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha20Rng;
+use rand_distr::{Distribution, StandardNormal};
+
+/// The ChaCha20 stream of the thermostats' numbers.
+pub const THERMOSTAT_STREAM: u64 = 1;
+
+/// Bits of the stream position stored in the low checkpoint value (an exact
+/// integer in an `f64`); the position has 68 bits, so the high value holds
+/// at most 16.
+const LOW_BITS: u32 = 52;
+
+/// A seeded stream of random numbers whose position can be saved.
+#[derive(Clone, Debug)]
+pub struct Noise {
+    rng: ChaCha20Rng,
+}
+
+impl Noise {
+    /// The number of values [`Noise::write_checkpoint`] appends.
+    pub const CHECKPOINT_LEN: usize = 2;
+
+    /// The stream of `seed`, at its start.
+    pub fn new(seed: u64) -> Self {
+        let mut rng = ChaCha20Rng::seed_from_u64(seed);
+        rng.set_stream(THERMOSTAT_STREAM);
+        Noise { rng }
+    }
+
+    /// A standard normal number.
+    pub fn normal(&mut self) -> f64 {
+        self.rng.sample(StandardNormal)
+    }
+
+    /// A number from `distribution`.
+    pub fn sample(&mut self, distribution: &impl Distribution<f64>) -> f64 {
+        distribution.sample(&mut self.rng)
+    }
+
+    /// Appends the position in the stream (in 32-bit words) as two exact
+    /// integers: the bits above the lowest 52, then those 52.
+    pub fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        let position = self.rng.get_word_pos();
+        out.push((position >> LOW_BITS) as f64);
+        out.push((position & ((1u128 << LOW_BITS) - 1)) as f64);
+    }
+
+    /// Moves to the position written by [`Noise::write_checkpoint`]
+    /// (`data` holds exactly [`Noise::CHECKPOINT_LEN`] values).
+    pub fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError> {
+        let word = |x: f64, bits: u32| {
+            (x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x < (1u64 << bits) as f64)
+                .then_some(x as u128)
+        };
+        match data {
+            [high, low] => match (word(*high, 68 - LOW_BITS), word(*low, LOW_BITS)) {
+                (Some(high), Some(low)) => {
+                    self.rng.set_word_pos((high << LOW_BITS) | low);
+                    Ok(())
+                }
+                _ => Err(IntegratorError::BadCheckpoint(format!(
+                    "thermostat noise position must be two integers, got {high} and {low}"
+                ))),
+            },
+            _ => Err(IntegratorError::BadCheckpoint(format!(
+                "thermostat noise position must be 2 values, got {}",
+                data.len()
+            ))),
+        }
+    }
+}
+
+/// The seed of a stochastic thermostat, which must be set (a scene sets it
+/// before building the integrator).
+pub fn required_seed(seed: Option<u64>) -> Result<u64, InputError> {
+    seed.ok_or_else(|| {
+        InputError::new(
+            "seed",
+            "must be set (a scene takes the seed of [initial] or draws one)",
+        )
+    })
+}
+
+/// A heat read back from a checkpoint, if finite.
+pub fn finite_heat(heat: f64) -> Result<f64, IntegratorError> {
+    if heat.is_finite() {
+        Ok(heat)
+    } else {
+        Err(IntegratorError::BadCheckpoint(format!(
+            "thermostat heat must be finite, got {heat}"
+        )))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A restored stream continues with exactly the numbers the original
+    /// draws next; another seed draws others.
+    #[test]
+    fn restored_stream_continues_bit_for_bit() {
+        let mut a = Noise::new(7);
+        for _ in 0..13 {
+            let _ = a.normal();
+        }
+        let mut saved = Vec::new();
+        a.write_checkpoint(&mut saved);
+        let mut b = Noise::new(7);
+        b.read_checkpoint(&saved).expect("valid position");
+        let next: Vec<u64> = (0..50).map(|_| a.normal().to_bits()).collect();
+        let restored: Vec<u64> = (0..50).map(|_| b.normal().to_bits()).collect();
+        assert_eq!(next, restored);
+        let mut other = Noise::new(8);
+        assert_ne!(other.normal().to_bits(), Noise::new(7).normal().to_bits());
+        assert!(b.read_checkpoint(&[0.5, 1.0]).is_err());
+        assert!(b.read_checkpoint(&[1.0]).is_err());
+    }
+
+    /// The thermostat's stream is not the initial state's (stream 0 of the
+    /// same seed).
+    #[test]
+    fn thermostat_stream_differs_from_stream_zero() {
+        let mut zero = ChaCha20Rng::seed_from_u64(3);
+        let first: f64 = zero.sample(StandardNormal);
+        assert_ne!(first.to_bits(), Noise::new(3).normal().to_bits());
+    }
+}
