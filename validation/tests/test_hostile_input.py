@@ -48,6 +48,16 @@ def _sites():
 # One valid call of each public function (a factory of keyword arguments,
 # given a temporary folder). A function missing here fails
 # `test_every_public_function_has_a_valid_call`.
+def _dielectric_run():
+    """A short run of a small Ewald lattice recording M and T (what
+    `run_dielectric_constant` reads)."""
+    scene = tomllib.loads(quatrot.builtin_scenes()["dipole_lattice_sc"])
+    scene["rotors"]["cells"] = 2
+    scene["run"]["steps"] = 40
+    scene["record"] = {"series": [{"name": "m", "every": 1, "quantities": ["M", "temperature"]}]}
+    return quatrot.run(scene)
+
+
 VALID = {
     "multipole_evaluate": lambda tmp: dict(
         sites=_sites(), orientations=_unit((N,)), dipoles_body=_vectors(), quadrupoles_body=_quadrupoles(),
@@ -67,6 +77,7 @@ VALID = {
     "total_dipole": lambda tmp: dict(orientations=_unit((N,)), dipoles_body=_vectors()),
     "block_average": lambda tmp: dict(series=_rng().normal(size=64)),
     "dielectric_constant": lambda tmp: dict(dipoles=_vectors((64,)), volume=10.0, temperature=1.0),
+    "run_dielectric_constant": lambda tmp: dict(run=_dielectric_run()),
     "write_gsd": lambda tmp: dict(path=str(tmp / "t.gsd"), sites=_sites(), orientations=_unit((2, N)), steps=[0, 1]),
     "run": lambda tmp: dict(scene="dipole_in_field", steps=2),
     "builtin_scenes": lambda tmp: dict(),
