@@ -2,10 +2,15 @@
 kspace_style ewald/dipole and pppm/dipole, tin-foil boundary, units lj so
 qqrd2e = 1 = 1 / (4 pi eps0) as in quatrot) against quatrot's converged Ewald
 sum (accuracy 1e-14; itself checked against the numpy sum and the closed
-forms in the ewald_numpy module) on the 1000-dipole simple-cubic lattice of
-scenes/dipole_lattice_sc.toml (10^3, spacing 1, |mu| = 1, real-space cutoff
-3.1 for LAMMPS): energies, torques and a short NVE trajectory, with each
-code's error at each requested accuracy.
+forms in the ewald_numpy module) on a 1000-dipole simple-cubic lattice
+(10^3, spacing 1, box 10, |mu| = 1, I = 0.1: the lattice of the built-in
+scene dipole_lattice_sc, whose own sum is the Ewald sum, with random
+orientations and T = 1 angular velocities from the check's seed; LAMMPS's
+real-space cutoff is 3.1): energies, torques and a short NVE trajectory,
+with each code's error at each requested accuracy. The two codes' truncated
+sums (LAMMPS lj/cut/dipole/cut, quatrot's cutoff sum of
+dipole_lattice_sc_cutoff, both cut at 3.1) are compared first, to round-off,
+to check the mapping and units the long-range comparisons rely on.
 
 LAMMPS's `accuracy` is a relative RMS force error, relative to the force
 between two unit charges at unit distance (1 in lj units), so an absolute
