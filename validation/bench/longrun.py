@@ -22,10 +22,12 @@ import quatrot
 from validation.bench import results_md
 from validation.checks import accuracy_at_length, long_runs
 from validation.checks.base import Context
-from validation.longrun import grid
+from validation.longrun import accuracy, grid, orientation, systems
 
 BEGIN = "<!-- make bench: long-run section begin -->"
 END = "<!-- make bench: long-run section end -->"
+BEGIN_ORIENTATION = "<!-- make bench: orientation section begin -->"
+END_ORIENTATION = "<!-- make bench: orientation section end -->"
 
 
 def main(argv=None) -> int:
@@ -34,7 +36,14 @@ def main(argv=None) -> int:
     parser.add_argument("--sweeps", type=Path, default=Path("target/bench/longrun"), help="the sweeps' folders (resumed)")
     parser.add_argument("--scheduler", help="a Dask scheduler's address (default: a local cluster of 2 workers)")
     parser.add_argument("--quick", action="store_true", help="the machinery only (make test's lengths), to check the pipeline")
+    parser.add_argument(
+        "--orientation-only",
+        action="store_true",
+        help="only the orientation error against run length (costs measured again, no energy grids): its own section",
+    )
     args = parser.parse_args(argv)
+    if args.orientation_only:
+        return orientation_only(args)
     ctx = Context(out_dir=args.sweeps, quick=args.quick)
     steps = 2_000 if args.quick else long_runs.STEPS
     machine = results_md.machine()
@@ -66,7 +75,8 @@ def main(argv=None) -> int:
         ],
         "accuracy": [
             {"study": o.study.name, "dt0": o.study.dt0, "steps": o.study.steps, "cost_per_step": o.cost, "dts": o.dts,
-             "crossovers": {f"{a} vs {b}": t for (a, b), t in o.crossovers.items()}}
+             "crossovers": {f"{a} vs {b}": t for (a, b), t in o.crossovers.items()},
+             "orientation": None if o.orientation is None else _orientation_json(o)}
             for o in outcomes
         ],
         "figures": figures,
@@ -85,14 +95,76 @@ def main(argv=None) -> int:
         "",
         "### Accuracy per second against run length",
         "",
-        "\n".join(accuracy_at_length.table(o).replace("### ", "#### ") for o in outcomes),
-        f"![energy error against run length at equal cost]({figures['accuracy']})",
+        "\n".join(accuracy_at_length.table(o).replace("### ", "#### ") + "\n" + accuracy_at_length.orientation_table(o) for o in outcomes),
+        f"![energy error (top) and orientation error (bottom) against run length at equal cost]({figures['accuracy']})",
         END,
         "",
     ]
     results_md.replace_section(args.out / "RESULTS.md", BEGIN, END, "\n".join(body))
     print(f"wrote the long-run section of {args.out / 'RESULTS.md'} ({seconds / 60:.1f} min)")
     return 0
+
+
+def orientation_only(args) -> int:
+    """The orientation comparison of `make bench`'s long-run mode alone: each
+    study's costs (a sweep), then its orientation chains, in a section of its own."""
+    ctx = Context(out_dir=args.sweeps, quick=args.quick)
+    machine = results_md.machine()
+    started = time.perf_counter()
+    outcomes = []
+    with grid.connect(args.scheduler) as client:
+        for study in accuracy_at_length.studies(ctx, long=True):
+            print(f"orientation at length, {study.name}: {study.orientation_steps} steps ...", flush=True)
+            folder = args.sweeps / "accuracy" / study.name.replace(" ", "_") / "costs"
+            cost = accuracy.costs(study.scene, systems.SCHEMES, study.dt0, study.cost_steps, out=folder, client=client)
+            dts = accuracy.equal_cost_dts(cost, study.dt0)
+            found = accuracy_at_length.Outcome(study, cost, dts, [], {}, {})
+            found.orientation = accuracy_at_length.measure_orientation(study, dts, client)
+            curves = found.orientation.curves
+            found.orientation_crossovers = {
+                (a, b): orientation.crossover(curves[a], curves[b])
+                for a in accuracy_at_length.ORIENTATION_SYMPLECTIC
+                for b in accuracy_at_length.ORIENTATION_GEAR
+            }
+            outcomes.append(found)
+    seconds = time.perf_counter() - started
+    figure = accuracy_at_length.orientation_plot(outcomes, args.out).name
+    results_md.update_json(
+        args.out / "results.json",
+        {"orientation_at_length": {"machine": machine, "seconds": seconds, "studies": [_orientation_json(o) for o in outcomes]}},
+    )
+    body = [
+        BEGIN_ORIENTATION,
+        "## Orientation error against run length (issue 15, `python -m validation.bench.longrun --orientation-only`)",
+        "",
+        f"- Machine: {machine['cpu']}, {machine['cpus']} CPUs; load average {machine['load_average']:.1f} when it started (shared machine; "
+        f"the costs behind the equal-cost steps were measured side by side in one sweep). Date: {machine['date']}. quatrot {quatrot.__version__}. "
+        f"Wall time {seconds / 60:.1f} min.",
+        "- Each scheme at its equal-cost step (CPU per step measured as in the long-run section), orientations at log-spaced "
+        "times from restart chains (`validation/longrun/orientation.py`), one Dask task per chain on a local cluster of 2 workers.",
+        "",
+        "\n".join(accuracy_at_length.orientation_table(o) for o in outcomes),
+        f"![orientation error against run length at equal cost]({figure})",
+        END_ORIENTATION,
+        "",
+    ]
+    results_md.replace_section(args.out / "RESULTS.md", BEGIN_ORIENTATION, END_ORIENTATION, "\n".join(body))
+    print(f"wrote the orientation section of {args.out / 'RESULTS.md'} ({seconds / 60:.1f} min)")
+    return 0
+
+
+def _orientation_json(o) -> dict:
+    r = o.orientation
+    return {
+        "study": o.study.name, "dt0": o.study.dt0, "steps": o.study.orientation_steps, "cost_per_step": o.cost, "dts": o.dts,
+        "reference_step": r.unit, "reference_cpu_seconds": r.reference_cpu_seconds,
+        "lyapunov_time": r.lyapunov_time, "meaningless_after": r.meaningless_after, "dop853": r.dop853,
+        "curves": {k: {"dt": c.dt, "times": c.times.tolist(), "error": c.error.tolist(), "cpu_seconds": c.cpu_seconds}
+                   for k, c in r.curves.items()},
+        "reference_error_estimate": {"times": r.pair_times.tolist(), "step_pair": r.pair_separation.tolist(),
+                                     "alternate": r.alternate_separation.tolist()},
+        "crossovers": {f"{a} vs {b}": t for (a, b), t in o.orientation_crossovers.items()},
+    }
 
 
 if __name__ == "__main__":

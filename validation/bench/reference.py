@@ -25,6 +25,12 @@ def hamilton(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 def single_rotor_final(inertia, dipole_body, field, q0, omega_body0, time: float) -> np.ndarray:
     """The orientation at ``time`` of one rotor (principal moments ``inertia``,
     body dipole ``dipole_body`` or None, uniform field ``field`` or None)."""
+    return single_rotor_path(inertia, dipole_body, field, q0, omega_body0, [time])[-1]
+
+
+def single_rotor_path(inertia, dipole_body, field, q0, omega_body0, times, rtol: float = RTOL, atol: float = ATOL) -> np.ndarray:
+    """The orientations (unit, one row per time) of the rotor of
+    `single_rotor_final` at the increasing ``times`` (> 0)."""
     inertia = np.asarray(inertia, float)
     mu_b = None if dipole_body is None else np.asarray(dipole_body, float)
     e = None if field is None else np.asarray(field, float)
@@ -40,9 +46,10 @@ def single_rotor_final(inertia, dipole_body, field, q0, omega_body0, time: float
         return np.concatenate([q_dot, w_dot])
 
     y0 = np.concatenate([np.asarray(q0, float), np.asarray(omega_body0, float)])
-    sol = solve_ivp(rhs, (0.0, time), y0, method="DOP853", rtol=RTOL, atol=ATOL)
-    q = sol.y[:4, -1]
-    return q / np.linalg.norm(q)
+    times = np.asarray(times, float)
+    sol = solve_ivp(rhs, (0.0, float(times[-1])), y0, method="DOP853", rtol=rtol, atol=atol, t_eval=times)
+    q = sol.y[:4].T
+    return q / np.linalg.norm(q, axis=1)[:, None]
 
 
 def rotation_angle(q: np.ndarray, q_ref: np.ndarray) -> float:

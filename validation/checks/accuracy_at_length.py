@@ -6,20 +6,30 @@ its 64-rotor multipole lattice, each a `quatrot.sweep` on a local Dask
 cluster of two workers. The energy error up to each time is plotted against
 run length; the crossover time after which each symplectic scheme is more
 accurate in energy than each Gear scheme at equal cost is reported. The
-orientation error against run length is not measured here (see the README).
+orientation error against run length (`validation.longrun.orientation`:
+A, B, B +higher, NO_SQUISH and DLM at the same steps, rounded to a multiple
+of dt0/8, against scheme B +higher at dt0/8 (A for B +higher itself) whose
+own error is estimated at dt0/16, and against scipy's DOP853 on the rotor) is measured over a span of
+its own (`Study.orientation_steps`), plotted beside the energy error, with its
+crossovers and, on the chaotic lattice, the Lyapunov time of the reference
+pair and the time from which orientation errors are meaningless.
 `make bench` runs the same study longer (`python -m validation.bench.longrun`)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import quatrot
 
 from validation.checks.base import Check, Context
 from validation.checks.long_runs import fmt
-from validation.longrun import accuracy, grid, systems
+from validation.bench import reference
+from validation.checks import gear_corrections
+from validation.longrun import accuracy, grid, orientation, systems
 
 #: Samples of each run's energy error (and points of the curves).
 SAMPLES = 2_000
@@ -27,6 +37,14 @@ SAMPLES = 2_000
 #: its error up to a tenth of it stays below this (bounded, no secular drift;
 #: 2 allows the bounded oscillation to reach a new extreme late in the run).
 BOUNDED_RATIO = 2.0
+#: The schemes whose orientations are compared (issue 15: A, B, B +higher, NO_SQUISH, DLM).
+ORIENTATION_SCHEMES = {k: systems.SCHEMES[k] for k in ("A", "B", "B +higher", "NO_SQUISH", "DLM")}
+#: scipy's DOP853 tolerance for the rotor's independent check of the reference.
+DOP853_RTOL = 1e-13
+#: The reference is good enough where its distance from DOP853 is below this
+#: fraction of the smallest scheme error it is used to measure (the errors
+#: shown are then right to 10 %).
+REFERENCE_FRACTION = 0.1
 
 
 @dataclass
@@ -39,6 +57,11 @@ class Study:
     steps: int
     #: Steps of the cost runs (`n` and `2n`).
     cost_steps: int
+    #: Steps of the cheapest scheme over which orientations are compared (the
+    #: references cost 32 times a scheme's run: steps dt0/8, dt0/16 and the alternate).
+    orientation_steps: int = 0
+    #: The span (time) over which scipy's DOP853 checks the reference (rotor only).
+    dop853_span: float = 0.0
 
 
 def studies(ctx: Context, long: bool = False) -> list[Study]:
@@ -46,11 +69,24 @@ def studies(ctx: Context, long: bool = False) -> list[Study]:
     `make bench`'s long-run mode (1e7 steps of the rotor, 1e6 of the lattice)."""
     rotor = systems.rotor_in_field()
     if ctx.quick:
-        return [Study("rotor in field", rotor, 0.02, 20_000, 20_000)]
+        return [Study("rotor in field", rotor, 0.02, 20_000, 20_000, orientation_steps=2_000, dop853_span=10.0)]
     lattice = systems.multipole_lattice(ctx.seed)
     if long:
-        return [Study("rotor in field", rotor, 0.02, 10_000_000, 200_000), Study("64-rotor multipole lattice", lattice, 0.01, 1_000_000, 4_000)]
-    return [Study("rotor in field", rotor, 0.02, 10_000_000, 200_000), Study("64-rotor multipole lattice", lattice, 0.01, 200_000, 4_000)]
+        return [
+            Study("rotor in field", rotor, 0.02, 10_000_000, 200_000, orientation_steps=ORIENTATION_STEPS_LONG["rotor"], dop853_span=1_000.0),
+            Study("64-rotor multipole lattice", lattice, 0.01, 1_000_000, 4_000, orientation_steps=ORIENTATION_STEPS_LONG["lattice"]),
+        ]
+    return [
+        Study("rotor in field", rotor, 0.02, 10_000_000, 200_000, orientation_steps=ORIENTATION_STEPS["rotor"], dop853_span=200.0),
+        Study("64-rotor multipole lattice", lattice, 0.01, 200_000, 4_000, orientation_steps=ORIENTATION_STEPS["lattice"]),
+    ]
+
+
+#: Orientation spans (steps of dt0) of the validation report and of `make
+#: bench`'s long-run mode. The lattice's orientation errors saturate within
+#: a few Lyapunov times (a few hundred time units at most), so its spans are shorter.
+ORIENTATION_STEPS = {"rotor": 1_000_000, "lattice": 10_000}
+ORIENTATION_STEPS_LONG = {"rotor": 10_000_000, "lattice": 50_000}
 
 
 @dataclass
@@ -61,6 +97,9 @@ class Outcome:
     points: list[grid.Point]
     curves: dict[str, accuracy.Curve]
     crossovers: dict[tuple[str, str], float | None]
+    orientation: orientation.Outcome | None = None
+    #: Symplectic x Gear crossover times in orientation error.
+    orientation_crossovers: dict[tuple[str, str], float | None] = dataclasses.field(default_factory=dict)
 
 
 def measure(study: Study, out: Path, client) -> Outcome:
@@ -72,7 +111,45 @@ def measure(study: Study, out: Path, client) -> Outcome:
     points = grid.run(study.scene, specs, out=out / "runs", samples=SAMPLES, client=client)
     found = accuracy.curves(points, span, SAMPLES)
     crossovers = {(s, g): accuracy.crossover(found[s], found[g]) for s in systems.SYMPLECTIC for g in systems.GEAR}
-    return Outcome(study, cost, dts, points, found, crossovers)
+    outcome = Outcome(study, cost, dts, points, found, crossovers)
+    if study.orientation_steps:
+        outcome.orientation = measure_orientation(study, dts, client)
+        curves = outcome.orientation.curves
+        outcome.orientation_crossovers = {
+            (s, g): orientation.crossover(curves[s], curves[g]) for s in ORIENTATION_SYMPLECTIC for g in ORIENTATION_GEAR
+        }
+    return outcome
+
+
+ORIENTATION_SYMPLECTIC = tuple(k for k in ORIENTATION_SCHEMES if k in systems.SYMPLECTIC)
+ORIENTATION_GEAR = tuple(k for k in ORIENTATION_SCHEMES if k in systems.GEAR)
+
+
+def measure_orientation(study: Study, dts: dict[str, float], client) -> orientation.Outcome:
+    """The orientation comparison of `study` at the energy comparison's equal-cost steps;
+    on the rotor, the reference checked against scipy's DOP853 over `study.dop853_span`."""
+    found = orientation.measure(
+        study.name, study.scene, ORIENTATION_SCHEMES, dts, study.dt0, study.dt0 * study.orientation_steps, client
+    )
+    if study.dop853_span:
+        arrays, options = gear_corrections.rotor_in_field(quick=True)
+        keep = found.pair_times <= study.dop853_span
+        times = found.pair_times[keep]
+        exact = reference.single_rotor_path(
+            arrays["inertia"][0], options["dipoles"][0], options["field"], arrays["orientations"][0], arrays["omega_body"][0],
+            times, rtol=DOP853_RTOL, atol=1e-15,
+        )
+        distance = orientation.angles(found.reference_q[keep][:, 0, :], exact)
+        smallest = np.min([np.interp(times, c.times, c.error) for c in found.curves.values()], axis=0)
+        found.dop853 = {
+            "span": study.dop853_span,
+            "rtol": DOP853_RTOL,
+            "samples": int(len(times)),
+            "max_distance": float(np.max(distance)),
+            "max_fraction": float(np.max(distance / smallest)),
+            "pair_max": float(np.max(found.pair_separation[keep])),
+        }
+    return found
 
 
 def table(o: Outcome) -> str:
@@ -98,6 +175,119 @@ def table(o: Outcome) -> str:
             cells.append("not within the run" if t is None else f"t = {t:.4g} ({t / o.dts[s]:.3g} of its steps)")
         lines.append(f"| {s} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
+
+
+def _at(c: orientation.Curve, t: float) -> float:
+    """A curve's error at its last sample at or before `t` (NaN before its first)."""
+    k = np.searchsorted(c.times, t * (1 + 1e-9), side="right") - 1
+    return float(c.error[k]) if k >= 0 else math.nan
+
+
+def orientation_table(o: Outcome) -> str:
+    """Markdown: the orientation errors of each scheme at four run lengths,
+    the reference's error estimates there, the crossovers, the Lyapunov time."""
+    r = o.orientation
+    if r is None:
+        return ""
+    span = r.span
+    marks = [span / 1000, span / 100, span / 10, span]
+    lines = [
+        f"#### {o.study.name}: orientation error, time span {span:g} ({o.study.orientation_steps:.0e} steps of dt {o.study.dt0:g})",
+        "",
+        f"RMS over the rotors of the rotation angle `2 acos|Q.Q_ref|` (rad). Reference: scheme {orientation.REFERENCE} at "
+        f"u = dt0/{orientation.REFINE} = {r.unit:g} ({orientation.ALTERNATE} at u for {orientation.REFERENCE} itself); its own error "
+        f"estimated by {orientation.REFERENCE} at u/2; each scheme's equal-cost dt rounded to a multiple of u. "
+        f"Reference CPU time {r.reference_cpu_seconds:.0f} s.",
+        "",
+        "| scheme | dt (equal-cost dt) | CPU s | error at t = " + ", ".join(f"{t:.4g}" for t in marks) + " |",
+        "|---|---|---|---|",
+    ]
+    for label, c in r.curves.items():
+        errors = ", ".join(fmt(_at(c, t)) for t in marks)
+        note = f" (blew up: {c.blew_up})" if c.blew_up else ""
+        lines.append(f"| {label} | {c.dt:.4g} ({o.dts[label]:.4g}) | {c.cpu_seconds:.1f} | {errors}{note} |")
+    pair = orientation.Curve("pair", r.unit, r.pair_times, r.pair_separation, r.pair_separation, 0.0)
+    alt = orientation.Curve("alt", r.unit, r.pair_times, r.alternate_separation, r.alternate_separation, 0.0)
+    lines.append(f"| reference error estimate (u vs u/2) | - | - | {', '.join(fmt(_at(pair, t)) for t in marks)} |")
+    lines.append(f"| reference vs {orientation.ALTERNATE} at u | - | - | {', '.join(fmt(_at(alt, t)) for t in marks)} |")
+    lines.append("")
+    if r.dop853:
+        d = r.dop853
+        lines.append(
+            f"scipy DOP853 (rtol {d['rtol']:g}) against the reference over t <= {d['span']:g} ({d['samples']} samples): "
+            f"largest angle {d['max_distance']:.2e} rad, at most {d['max_fraction']:.2e} of the smallest scheme error there."
+        )
+    lines.append(
+        "Lyapunov time of the reference pair (exponential separation between 1e-9 and 1e-2 rad): "
+        + ("none found (no exponential separation over the span)" if r.lyapunov_time is None else f"{r.lyapunov_time:.3g}")
+        + ". Orientation errors are "
+        + (
+            "meaningful over the whole span (the reference's error estimate stays below a tenth of every scheme's error)."
+            if r.meaningless_after is None
+            else f"meaningless from t = {r.meaningless_after:.4g} ({r.meaningless_after / o.study.dt0:.3g} steps of dt {o.study.dt0:g}) on: "
+            "the reference's own error estimate exceeds a tenth of the smallest scheme error from then on."
+        )
+    )
+    lines += ["", "Crossover times in orientation error (symplectic scheme more accurate from then on, at equal cost):", ""]
+    lines += ["| symplectic \\ Gear | " + " | ".join(ORIENTATION_GEAR) + " |", "|---|" + "---|" * len(ORIENTATION_GEAR)]
+    for sy in ORIENTATION_SYMPLECTIC:
+        cells = []
+        for g in ORIENTATION_GEAR:
+            t = o.orientation_crossovers[(sy, g)]
+            cells.append("not within the span" if t is None else f"t = {t:.4g}")
+        lines.append(f"| {sy} | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def orientation_checks(o: Outcome) -> list[Check]:
+    """The reference's independent check (rotor: DOP853) and its step-pair estimate."""
+    r = o.orientation
+    if r is None:
+        return []
+    refs = {"quatrot": quatrot.__version__}
+    checks = []
+    if r.dop853:
+        import scipy
+
+        d = r.dop853
+        checks.append(
+            Check(
+                name=f"orientation at length {o.study.name}: reference vs scipy DOP853",
+                proves=f"the orientation reference ({orientation.REFERENCE} at dt0/{orientation.REFINE}) agrees with scipy's DOP853 "
+                f"(rtol {d['rtol']:g}, nothing from quatrot) over t <= {d['span']:g} to within {REFERENCE_FRACTION} of the smallest "
+                "scheme error it measures there: measured = the largest such fraction",
+                tolerance=REFERENCE_FRACTION,
+                measured=d["max_fraction"],
+                references={**refs, "scipy": scipy.__version__},
+                details=f"largest angle {d['max_distance']:.3e} rad over {d['samples']} samples; step pair u vs u/2: {d['pair_max']:.3e}",
+            )
+        )
+    first = r.meaningless_after if r.meaningless_after is not None else r.span
+    keep = r.pair_times < first
+    est = float(np.max(np.maximum(r.pair_separation, r.alternate_separation)[keep])) if keep.any() else math.nan
+    checks.append(
+        Check(
+            name=f"orientation at length {o.study.name}: every chain ran and the reference resolves the errors at the start",
+            proves="every scheme's orientation chain ran to the end of the span (or stopped at a recorded blow-up), and the "
+            "reference's own error estimate is below a tenth of every scheme's error at least until the first sample after "
+            "10 steps: measured = the estimate's fraction of the smallest error at the first sample",
+            tolerance=REFERENCE_FRACTION,
+            measured=_first_fraction(r),
+            references=refs,
+            details=f"largest reference error estimate before t = {first:.4g}: {est:.3e} rad; Lyapunov time "
+            f"{'none' if r.lyapunov_time is None else format(r.lyapunov_time, '.3g')}",
+        )
+    )
+    return checks
+
+
+def _first_fraction(r: orientation.Outcome) -> float:
+    estimate = np.maximum(r.pair_separation, r.alternate_separation)
+    fractions = []
+    for c in r.curves.values():
+        k = int(np.searchsorted(r.pair_times, c.times[0]))
+        fractions.append(estimate[k] / c.error[0] if c.error[0] > 0 else math.inf)
+    return float(max(fractions))
 
 
 def checks_for(o: Outcome) -> list[Check]:
@@ -132,13 +322,18 @@ def checks_for(o: Outcome) -> list[Check]:
 
 
 def plot(outcomes: list[Outcome], out_dir: Path, name: str = "accuracy_at_length.png") -> Path:
-    """Energy error (running maximum) against run length, per study."""
+    """Energy error (running maximum, top row) and orientation error (bottom
+    row, with the reference's error estimate) against run length, per study."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(outcomes), figsize=(6 * len(outcomes), 4.5), squeeze=False)
+    rows = 2 if any(o.orientation for o in outcomes) else 1
+    fig, axes = plt.subplots(rows, len(outcomes), figsize=(6 * len(outcomes), 4.5 * rows), squeeze=False)
+    for ax, o in zip(axes[-1], outcomes):
+        if rows == 2:
+            _plot_orientation(ax, o)
     for ax, o in zip(axes[0], outcomes):
         for label, c in o.curves.items():
             style = "-" if label in systems.SYMPLECTIC else ("--" if label in systems.GEAR else ":")
@@ -147,13 +342,53 @@ def plot(outcomes: list[Outcome], out_dir: Path, name: str = "accuracy_at_length
         ax.set_yscale("log")
         ax.set_xlabel(f"run length (steps of dt = {o.study.dt0:g}; equal cost for every scheme)")
         ax.set_ylabel("max |E - E0| / K0 up to then")
-        ax.set_title(o.study.name, fontsize=9)
+        ax.set_title(f"{o.study.name}: energy error, {o.study.steps:.0e} steps of dt {o.study.dt0:g}", fontsize=9)
         ax.legend(fontsize=6)
     fig.tight_layout()
     path = out_dir / name
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def orientation_plot(outcomes: list[Outcome], out_dir: Path, name: str = "orientation_at_length.png") -> Path:
+    """Orientation error against run length alone, per study."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(outcomes), figsize=(6 * len(outcomes), 4.5), squeeze=False)
+    for ax, o in zip(axes[0], outcomes):
+        _plot_orientation(ax, o)
+    fig.tight_layout()
+    path = out_dir / name
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _plot_orientation(ax, o: Outcome) -> None:
+    """Orientation error against run length, the reference's error estimate
+    and (if any) the time from which the errors mean nothing."""
+    r = o.orientation
+    if r is None:
+        ax.set_visible(False)
+        return
+    for label, c in r.curves.items():
+        style = "-" if label in systems.SYMPLECTIC else "--"
+        ax.plot(c.times / o.study.dt0, c.error, style, marker=".", label=f"{label} (dt {c.dt:.3g})")
+    estimate = np.maximum(r.pair_separation, r.alternate_separation)
+    ax.plot(r.pair_times / o.study.dt0, estimate, ":", color="gray", label="reference's error estimate")
+    if r.meaningless_after is not None:
+        ax.axvline(r.meaningless_after / o.study.dt0, color="red", lw=0.8, label="errors meaningless from here")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(f"run length (steps of dt = {o.study.dt0:g}; equal cost for every scheme)")
+    ax.set_ylabel("orientation error, RMS 2 acos|Q.Q_ref| (rad)")
+    lyap = "" if r.lyapunov_time is None else f"; Lyapunov time {r.lyapunov_time:.3g}"
+    ax.set_title(f"{o.study.name}: orientation error, {o.study.orientation_steps:.0e} steps of dt {o.study.dt0:g}{lyap}", fontsize=9)
+    ax.legend(fontsize=6)
 
 
 def measure_all(found: list[Study], out_dir: Path, ctx: Context) -> list[Outcome]:
@@ -168,12 +403,14 @@ def measure_all(found: list[Study], out_dir: Path, ctx: Context) -> list[Outcome
 def run(ctx: Context) -> list[Check]:
     ctx.out_dir.mkdir(parents=True, exist_ok=True)
     outcomes = measure_all(studies(ctx), ctx.out_dir, ctx)
-    (ctx.out_dir / "accuracy_at_length.md").write_text("# Accuracy per second against run length\n\n" + "\n".join(table(o) for o in outcomes))
+    (ctx.out_dir / "accuracy_at_length.md").write_text(
+        "# Accuracy per second against run length\n\n" + "\n".join(table(o) + "\n" + orientation_table(o) for o in outcomes)
+    )
     checks = []
     for o in outcomes:
         found = checks_for(o)
-        found[0].details = (found[0].details + "\n\n" if found[0].details else "") + table(o)
-        checks += found
+        found[0].details = (found[0].details + "\n\n" if found[0].details else "") + table(o) + "\n" + orientation_table(o)
+        checks += found + orientation_checks(o)
     if not ctx.quick:
         checks[0].plots.append(plot(outcomes, ctx.out_dir))
     return checks

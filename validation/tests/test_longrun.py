@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import quatrot
+import quatrot.sweep
 
 from validation.checks import gear_corrections
 from validation.longrun import accuracy, grid, survival, systems
@@ -88,3 +89,49 @@ def test_equal_cost_steps_spend_the_same_per_unit_time():
     dts = accuracy.equal_cost_dts({"a": 1.0, "b": 3.0}, 0.01)
     assert dts == {"a": 0.01, "b": pytest.approx(0.03)}
     assert math.isclose(1.0 / dts["a"], 3.0 / dts["b"])
+
+
+def test_orientation_angle_is_the_rotation_angle_sign_blind_and_precise_when_small():
+    """`orientation.angles` gives the angle of the rotation between two
+    orientations (scipy's magnitude of R_ref^-1 R), for Q and -Q alike, and
+    keeps full relative precision at 1e-12 rad (acos near 1 would give 0 or ~1e-8)."""
+    from scipy.spatial.transform import Rotation
+
+    from validation.longrun import orientation
+
+    rng = np.random.default_rng(5)
+    for angle in (1e-12, 1e-6, 0.3, 3.0):
+        ref = Rotation.random(random_state=rng)
+        axis = rng.normal(size=3)
+        turn = Rotation.from_rotvec(angle * axis / np.linalg.norm(axis))
+        q = (turn * ref).as_quat(scalar_first=True)
+        q_ref = ref.as_quat(scalar_first=True)
+        expected = (ref.inv() * turn * ref).magnitude()
+        for sign in (1.0, -1.0):
+            assert math.isclose(float(orientation.angles(sign * q, q_ref)), expected, rel_tol=1e-4)
+
+
+def test_lyapunov_time_of_an_exponential_separation():
+    """A separation 1e-12 exp(t / 7) (with an O(1) plateau after it) gives the Lyapunov time 7."""
+    from validation.longrun import orientation
+
+    t = np.linspace(0.0, 300.0, 301)
+    separation = np.minimum(1e-12 * np.exp(t / 7.0), 2.0)
+    assert math.isclose(orientation.lyapunov_time(t, separation), 7.0, rel_tol=1e-9)
+    assert orientation.lyapunov_time(t, np.full_like(t, 1e-13)) is None
+
+
+def test_orientation_chain_is_the_uninterrupted_run():
+    """The chain of restarts gives, at each sample step, the orientations of
+    one uninterrupted run recording every step (bit for bit), so sampling costs
+    nothing and changes nothing."""
+    from validation.longrun import orientation
+
+    scene = systems.rotor_in_field()
+    steps = [1, 7, 30, 100]
+    found = orientation.chain(scene, {"kind": "gear_b"}, 0.02, steps)
+    whole = quatrot.sweep.apply(scene, {"integrator": {"kind": "gear_b"}, "run.dt": 0.02, "run.steps": 100, "record": {"trajectory": {"every": 1}}})
+    frames = quatrot.run(whole, threads=1)["trajectory"]
+    expected = np.array([frames["orientations"][list(frames["step"]).index(s)] for s in steps])
+    assert found["error"] == ""
+    assert np.array_equal(found["orientations"], expected)
