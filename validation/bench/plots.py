@@ -96,15 +96,26 @@ def scaling(rows: list[dict], out: Path) -> Path:
 
 
 def stability(rows: list[dict], out: Path) -> Path:
-    """Largest stable time step per scheme and scene."""
+    """Largest stable time step per scheme and scene. A scheme stable at every
+    step of the grid (`capped`) has only a lower bound: its bar is hatched
+    and topped by an upward arrow, labelled ">=", not a measurement."""
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     schemes = list(dict.fromkeys(r["scheme"] for r in rows))
     fig, ax = plt.subplots(figsize=(10, 4.5))
     width = 0.8 / len(scenes)
     for k, scene in enumerate(scenes):
-        values = [next((r["largest_stable_dt"] or math.nan for r in rows if r["scene"] == scene and r["scheme"] == s), math.nan) for s in schemes]
-        ax.bar(np.arange(len(schemes)) + k * width, values, width, label=scene)
+        found = [next((r for r in rows if r["scene"] == scene and r["scheme"] == s), None) for s in schemes]
+        values = [(r["largest_stable_dt"] or math.nan) if r else math.nan for r in found]
+        capped = [bool(r and r.get("capped")) for r in found]
+        x = np.arange(len(schemes)) + k * width
+        bars = ax.bar(x, values, width, label=scene)
+        for bar, xk, v, c in zip(bars, x, values, capped):
+            if c and math.isfinite(v):
+                bar.set_hatch("//")
+                ax.annotate(">=", (xk, v), xytext=(0, 10), textcoords="offset points", ha="center", fontsize=6,
+                            arrowprops=dict(arrowstyle="<-", lw=0.8))
     ax.set_yscale("log")
+    ax.set_title("hatched with >=: stable at every step of the grid (a lower bound, not a measurement)", fontsize=8)
     ax.set_xticks(np.arange(len(schemes)) + 0.4 - width / 2, schemes, rotation=30, fontsize=7)
     ax.set_ylabel("largest stable dt")
     ax.legend(fontsize=7)

@@ -186,7 +186,10 @@ def verdicts(s: System, points: list[grid.Point], steps: int) -> tuple[list[Chec
 
 
 def plot(results: list[tuple[System, list[grid.Point], int]], out_dir: Path) -> Path:
-    """Per system, the largest stable step of each configuration against run length."""
+    """Per system, the largest stable step of each configuration against run
+    length. Where every step of the grid was stable (`capped`), the point is
+    only a lower bound: drawn as an upward triangle (a filled circle is a
+    measurement, the grid step below the first unstable one)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -196,13 +199,18 @@ def plot(results: list[tuple[System, list[grid.Point], int]], out_dir: Path) -> 
     for ax, (s, points, steps) in zip(axes[0], results):
         ls = lengths(steps)
         for label in systems.CONFIGURATIONS:
-            ys = [survival.stability(points, label, n).largest for n in ls]
-            ax.plot(ls, [math.nan if y is None else y for y in ys], marker="o", label=label)
+            found = [survival.stability(points, label, n) for n in ls]
+            ys = [math.nan if st.largest is None else st.largest for st in found]
+            (line,) = ax.plot(ls, ys, label=label)
+            measured = [y if not st.capped else math.nan for y, st in zip(ys, found)]
+            bounds = [y if st.capped else math.nan for y, st in zip(ys, found)]
+            ax.plot(ls, measured, "o", color=line.get_color())
+            ax.plot(ls, bounds, "^", color=line.get_color(), markersize=8, fillstyle="none")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("run length (steps)")
-        ax.set_ylabel("largest stable dt")
-        ax.set_title(f"{s.name}", fontsize=9)
+        ax.set_ylabel("largest stable dt (open triangle: lower bound)")
+        ax.set_title(f"{s.name} (dt grid up to {fmt(s.dts()[-1])})", fontsize=9)
     axes[0][0].legend(fontsize=6)
     fig.tight_layout()
     path = out_dir / "long_runs_stability.png"
