@@ -115,6 +115,7 @@ def stability(rows: list[dict], out: Path) -> Path:
                 ax.annotate(">=", (xk, v), xytext=(0, 10), textcoords="offset points", ha="center", fontsize=6,
                             arrowprops=dict(arrowstyle="<-", lw=0.8))
     ax.set_yscale("log")
+    ax.margins(y=0.12)
     ax.set_title("hatched with >=: stable at every step of the grid (a lower bound, not a measurement)", fontsize=8)
     ax.set_xticks(np.arange(len(schemes)) + 0.4 - width / 2, schemes, rotation=30, fontsize=7)
     ax.set_ylabel("largest stable dt")
