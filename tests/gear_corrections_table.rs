@@ -71,3 +71,66 @@ fn correction_table_rows_follow_theory() {
         }
     }
 }
+
+/// The configurations read from `gear_corrections.toml` (the list the Python
+/// long runs read too) are the note's: scheme A, then scheme B with no
+/// correction, each correction added in the note's order, every correction
+/// with the higher derivatives corrected too, and every correction with
+/// c0 = 3/20.
+#[test]
+fn configuration_file_gives_the_notes_configurations() {
+    use quatrot::integrators::{FirstCorrector, GearBOptions};
+    let none = GearBOptions {
+        project_torque: false,
+        project_velocity: false,
+        renormalise: false,
+        ..GearBOptions::default()
+    };
+    let full = GearBOptions::default();
+    assert!(full.project_torque && full.project_velocity && full.renormalise);
+    assert!(!full.correct_higher_derivatives);
+    let expected = vec![
+        ("A (renormalised)", Variant::A),
+        ("B, no correction", Variant::B(none)),
+        (
+            "B, renormalisation only",
+            Variant::B(GearBOptions {
+                renormalise: true,
+                ..none
+            }),
+        ),
+        (
+            "B, torque only",
+            Variant::B(GearBOptions {
+                project_torque: true,
+                ..none
+            }),
+        ),
+        (
+            "B, torque + velocity",
+            Variant::B(GearBOptions {
+                project_torque: true,
+                project_velocity: true,
+                ..none
+            }),
+        ),
+        ("B, torque + velocity + renormalisation", Variant::B(full)),
+        (
+            "B, all + higher derivatives",
+            Variant::B(GearBOptions {
+                correct_higher_derivatives: true,
+                ..full
+            }),
+        ),
+        (
+            "B, all, c0 = 3/20",
+            Variant::B(GearBOptions {
+                c0: FirstCorrector::PositionOnly,
+                ..full
+            }),
+        ),
+    ];
+    let found = variants();
+    let found: Vec<(&str, Variant)> = found.iter().map(|(l, v)| (l.as_str(), *v)).collect();
+    assert_eq!(found, expected);
+}

@@ -3,7 +3,7 @@
 //! [`Row`]: energy drift and fluctuation, global error and its observed order,
 //! the largest stable time step, and the size of the eq 15 zeroth components.
 
-use crate::integrators::{FirstCorrector, GearAOptions, GearBOptions, IntegratorSpec, RotorState};
+use crate::integrators::{GearAOptions, GearBOptions, IntegratorSpec, RotorState};
 use crate::observables::norm_velocity;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -96,59 +96,46 @@ pub struct Row {
     pub max_norm_force: Option<f64>,
 }
 
-/// The configurations of the note's comparison.
+/// The configurations of the note's comparison, in table order: a label and a
+/// scene `[integrator]` table each, read from `gear_corrections.toml` (the one
+/// list, which the Python long runs read too).
+pub const CONFIGURATIONS_TOML: &str = include_str!("gear_corrections.toml");
+
+/// The file's layout.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ConfigurationTable {
+    configuration: Vec<Configuration>,
+}
+
+/// One entry of the file.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Configuration {
+    label: String,
+    integrator: IntegratorSpec,
+}
+
+/// The configurations of the note's comparison ([`CONFIGURATIONS_TOML`]).
 pub fn variants() -> Vec<(String, Variant)> {
-    let none = GearBOptions {
-        project_torque: false,
-        project_velocity: false,
-        renormalise: false,
-        ..GearBOptions::default()
-    };
-    let full = GearBOptions::default();
-    vec![
-        ("A (renormalised)".into(), Variant::A),
-        ("B, no correction".into(), Variant::B(none)),
-        (
-            "B, renormalisation only".into(),
-            Variant::B(GearBOptions {
-                renormalise: true,
-                ..none
-            }),
-        ),
-        (
-            "B, torque only".into(),
-            Variant::B(GearBOptions {
-                project_torque: true,
-                ..none
-            }),
-        ),
-        (
-            "B, torque + velocity".into(),
-            Variant::B(GearBOptions {
-                project_torque: true,
-                project_velocity: true,
-                ..none
-            }),
-        ),
-        (
-            "B, torque + velocity + renormalisation".into(),
-            Variant::B(full),
-        ),
-        (
-            "B, all + higher derivatives".into(),
-            Variant::B(GearBOptions {
-                correct_higher_derivatives: true,
-                ..full
-            }),
-        ),
-        (
-            "B, all, c0 = 3/20".into(),
-            Variant::B(GearBOptions {
-                c0: FirstCorrector::PositionOnly,
-                ..full
-            }),
-        ),
-    ]
+    // The file is part of the source, parsed by a unit test: not user input.
+    let table: ConfigurationTable =
+        toml::from_str(CONFIGURATIONS_TOML).expect("gear_corrections.toml parses");
+    table
+        .configuration
+        .into_iter()
+        .map(|c| {
+            let variant = match c.integrator {
+                IntegratorSpec::GearA(options) if options == GearAOptions::default() => Variant::A,
+                IntegratorSpec::GearB(options) => Variant::B(options),
+                other => panic!(
+                    "gear_corrections.toml: {}: not scheme A (default options) or B: {other:?}",
+                    c.label
+                ),
+            };
+            (c.label, variant)
+        })
+        .collect()
 }
 
 /// The largest `|Q.Q'|` and `|Q.N|` (eqs 15a, 15b) over the samples of a run.

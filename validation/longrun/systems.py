@@ -8,6 +8,7 @@ run of a sweep."""
 from __future__ import annotations
 
 import tomllib
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -15,19 +16,12 @@ import quatrot
 
 from validation.checks import gear_corrections
 
-#: The experiment's configurations, by the Rust table's labels (the same
-#: order; `validation/tests/test_longrun.py` checks the labels against
-#: `quatrot.gear_corrections_table`), as scene `[integrator]` tables.
-_NO_CORRECTION = {"kind": "gear_b", "project_torque": False, "project_velocity": False, "renormalise": False}
+#: The experiment's configurations (label -> scene `[integrator]` table), in
+#: the table's order, read from the file `experiments::gear_corrections::variants`
+#: reads (`src/experiments/gear_corrections.toml`): the one list.
+CONFIGURATIONS_FILE = Path(__file__).resolve().parents[2] / "src" / "experiments" / "gear_corrections.toml"
 CONFIGURATIONS: dict[str, dict[str, Any]] = {
-    "A (renormalised)": {"kind": "gear_a"},
-    "B, no correction": _NO_CORRECTION,
-    "B, renormalisation only": {**_NO_CORRECTION, "renormalise": True},
-    "B, torque only": {**_NO_CORRECTION, "project_torque": True},
-    "B, torque + velocity": {**_NO_CORRECTION, "project_torque": True, "project_velocity": True},
-    "B, torque + velocity + renormalisation": {"kind": "gear_b"},
-    "B, all + higher derivatives": {"kind": "gear_b", "correct_higher_derivatives": True},
-    "B, all, c0 = 3/20": {"kind": "gear_b", "c0": "3/20"},
+    c["label"]: c["integrator"] for c in tomllib.loads(CONFIGURATIONS_FILE.read_text())["configuration"]
 }
 
 #: The baselines (second order, one torque evaluation per step), as the benchmark names them.
