@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import sys
 import time
 from pathlib import Path
@@ -40,6 +41,11 @@ def main(argv=None) -> int:
         "--orientation-only",
         action="store_true",
         help="only the orientation error against run length (costs measured again, no energy grids): its own section",
+    )
+    parser.add_argument(
+        "--rebuild",
+        action="store_true",
+        help="with --orientation-only: rewrite its section and figure from the curves recorded in <out>/results.json (no runs)",
     )
     args = parser.parse_args(argv)
     if args.orientation_only:
@@ -109,6 +115,11 @@ def orientation_only(args) -> int:
     """The orientation comparison of `make bench`'s long-run mode alone: each
     study's costs (a sweep), then its orientation chains, in a section of its own."""
     ctx = Context(out_dir=args.sweeps, quick=args.quick)
+    if args.rebuild:
+        recorded = json.loads((args.out / "results.json").read_text())["orientation_at_length"]
+        studies = {s.name: s for s in accuracy_at_length.studies(ctx, long=True)}
+        outcomes = [_orientation_outcome(studies[r["study"]], r) for r in recorded["studies"]]
+        return _write_orientation(args, recorded["machine"], recorded["seconds"], outcomes)
     machine = results_md.machine()
     started = time.perf_counter()
     outcomes = []
@@ -120,14 +131,35 @@ def orientation_only(args) -> int:
             dts = accuracy.equal_cost_dts(cost, study.dt0)
             found = accuracy_at_length.Outcome(study, cost, dts, [], {}, {})
             found.orientation = accuracy_at_length.measure_orientation(study, dts, client)
-            curves = found.orientation.curves
-            found.orientation_crossovers = {
-                (a, b): orientation.crossover(curves[a], curves[b])
-                for a in accuracy_at_length.ORIENTATION_SYMPLECTIC
-                for b in accuracy_at_length.ORIENTATION_GEAR
-            }
+            found.orientation_crossovers = accuracy_at_length.orientation_crossovers(found.orientation)
             outcomes.append(found)
-    seconds = time.perf_counter() - started
+    return _write_orientation(args, machine, time.perf_counter() - started, outcomes)
+
+
+def _orientation_outcome(study, r: dict):
+    """An orientation study's outcome rebuilt from its `results.json` record."""
+    import numpy as np
+
+    curves = {
+        k: orientation.Curve(k, c["dt"], np.array(c["times"]), np.array(c["error"]), np.array(c["error"]) * np.nan, c["cpu_seconds"])
+        for k, c in r["curves"].items()
+    }
+    e = r["reference_error_estimate"]
+    found = orientation.Outcome(
+        study.name, r["dt0"], r["dt0"] * r["steps"], r["reference_step"],
+        {k: round(c.dt / r["reference_step"]) for k, c in curves.items()}, curves,
+        np.array(e["times"]), np.array(e["step_pair"]), np.array(e["alternate"]), r["reference_cpu_seconds"],
+        dop853=r["dop853"],
+    )
+    found.lyapunov_time = orientation.lyapunov_time(found.pair_times, found.pair_separation)
+    found.meaningless_after = orientation.meaningless_after(found)
+    outcome = accuracy_at_length.Outcome(study, r["cost_per_step"], r["dts"], [], {}, {})
+    outcome.orientation = found
+    outcome.orientation_crossovers = accuracy_at_length.orientation_crossovers(found)
+    return outcome
+
+
+def _write_orientation(args, machine: dict, seconds: float, outcomes: list) -> int:
     figure = accuracy_at_length.orientation_plot(outcomes, args.out).name
     results_md.update_json(
         args.out / "results.json",
@@ -163,7 +195,7 @@ def _orientation_json(o) -> dict:
                    for k, c in r.curves.items()},
         "reference_error_estimate": {"times": r.pair_times.tolist(), "step_pair": r.pair_separation.tolist(),
                                      "alternate": r.alternate_separation.tolist()},
-        "crossovers": {f"{a} vs {b}": t for (a, b), t in o.orientation_crossovers.items()},
+        "crossovers": {f"{a} vs {b}": {"time": t, "compared_until": until} for (a, b), (t, until) in o.orientation_crossovers.items()},
     }
 
 

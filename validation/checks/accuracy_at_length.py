@@ -99,7 +99,7 @@ class Outcome:
     crossovers: dict[tuple[str, str], float | None]
     orientation: orientation.Outcome | None = None
     #: Symplectic x Gear crossover times in orientation error.
-    orientation_crossovers: dict[tuple[str, str], float | None] = dataclasses.field(default_factory=dict)
+    orientation_crossovers: dict[tuple[str, str], tuple[float | None, float]] = dataclasses.field(default_factory=dict)
 
 
 def measure(study: Study, out: Path, client) -> Outcome:
@@ -115,10 +115,18 @@ def measure(study: Study, out: Path, client) -> Outcome:
     if study.orientation_steps:
         outcome.orientation = measure_orientation(study, dts, client)
         curves = outcome.orientation.curves
-        outcome.orientation_crossovers = {
-            (s, g): orientation.crossover(curves[s], curves[g]) for s in ORIENTATION_SYMPLECTIC for g in ORIENTATION_GEAR
-        }
+        outcome.orientation_crossovers = orientation_crossovers(outcome.orientation)
     return outcome
+
+
+def orientation_crossovers(r: orientation.Outcome) -> dict[tuple[str, str], tuple[float | None, float]]:
+    """(crossover time, end of the window compared) of each symplectic x Gear pair."""
+    out = {}
+    for s in ORIENTATION_SYMPLECTIC:
+        for g in ORIENTATION_GEAR:
+            until = orientation.comparable_until(r, r.curves[s], r.curves[g])
+            out[(s, g)] = (orientation.crossover(r.curves[s], r.curves[g], until), until)
+    return out
 
 
 ORIENTATION_SYMPLECTIC = tuple(k for k in ORIENTATION_SCHEMES if k in systems.SYMPLECTIC)
@@ -228,13 +236,18 @@ def orientation_table(o: Outcome) -> str:
             "the reference's own error estimate exceeds a tenth of the smallest scheme error from then on."
         )
     )
-    lines += ["", "Crossover times in orientation error (symplectic scheme more accurate from then on, at equal cost):", ""]
+    lines += [
+        "",
+        f"Crossover times in orientation error (symplectic scheme more accurate from then on, at equal cost), compared while "
+        f"both errors are below {orientation.LOST:g} rad (beyond, the orientation is lost) and the reference is meaningful:",
+        "",
+    ]
     lines += ["| symplectic \\ Gear | " + " | ".join(ORIENTATION_GEAR) + " |", "|---|" + "---|" * len(ORIENTATION_GEAR)]
     for sy in ORIENTATION_SYMPLECTIC:
         cells = []
         for g in ORIENTATION_GEAR:
-            t = o.orientation_crossovers[(sy, g)]
-            cells.append("not within the span" if t is None else f"t = {t:.4g}")
+            t, until = o.orientation_crossovers[(sy, g)]
+            cells.append(f"none before t = {until:.4g}" if t is None else f"t = {t:.4g} (compared to t = {until:.4g})")
         lines.append(f"| {sy} | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 

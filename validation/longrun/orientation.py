@@ -164,13 +164,20 @@ class Outcome:
 
 def lyapunov_time(times: np.ndarray, separation: np.ndarray, low: float = 1e-9, high: float = 1e-2) -> float | None:
     """`1 / slope` of `log(separation)` against time where the separation
-    grows from `low` to `high` (exponential separation); None with fewer
-    than 3 samples there or a slope that is not positive."""
-    keep = (separation > low) & (separation < high) & np.isfinite(separation)
+    grows from `low` to `high`, if that growth is exponential: None with
+    fewer than 3 samples there, a slope that is not positive, or a power law
+    in time that fits `log(separation)` better (a regular system's phase
+    error grows as a power of t, a chaotic one's exponentially)."""
+    keep = (separation > low) & (separation < high) & np.isfinite(separation) & (times > 0)
     if np.count_nonzero(keep) < 3:
         return None
-    slope = np.polyfit(times[keep], np.log(separation[keep]), 1)[0]
-    return float(1.0 / slope) if slope > 0 else None
+    t, y = times[keep], np.log(separation[keep])
+    exponential, residual_exp, *_ = np.polyfit(t, y, 1, full=True)
+    _, residual_power, *_ = np.polyfit(np.log(t), y, 1, full=True)
+    worse = float(residual_exp[0]) if len(residual_exp) else 0.0
+    better = float(residual_power[0]) if len(residual_power) else 0.0
+    slope = exponential[0]
+    return float(1.0 / slope) if slope > 0 and worse <= better else None
 
 
 def measure(
@@ -241,10 +248,32 @@ def meaningless_after(o: Outcome) -> float | None:
     return float(o.pair_times[after[0]]) if len(after) else None
 
 
-def crossover(first: Curve, second: Curve) -> float | None:
-    """The first common-grid time from which `first`'s orientation error stays
-    below `second`'s to the end (interpolated in log time on `first`'s samples;
-    None if it never ends below)."""
+#: An orientation error above this (rad) means the orientation is lost (a
+#: random rotation is 2.3 rad away in RMS): errors are compared below it only.
+LOST = 1.0
+
+
+def comparable_until(o: "Outcome", first: Curve, second: Curve) -> float:
+    """The end of the window in which two schemes' errors are compared: the
+    span, or earlier the time from which errors mean nothing, or the first
+    sample at which either error is above `LOST`."""
+    end = o.span if o.meaningless_after is None else o.meaningless_after
+    for c in (first, second):
+        lost = np.nonzero(~(c.error <= LOST))[0]
+        if len(lost):
+            end = min(end, float(c.times[lost[0]]))
+    return end
+
+
+def crossover(first: Curve, second: Curve, until: float | None = None) -> float | None:
+    """The first time from which `first`'s orientation error stays below
+    `second`'s (interpolated in log time on `first`'s samples) up to `until`
+    (default: the end); None if it is not below at the last sample before `until`."""
+    if until is not None:
+        keep = first.times < until
+        if not keep.any():
+            return None
+        first = Curve(first.label, first.dt, first.times[keep], first.error[keep], first.reference_error[keep], first.cpu_seconds)
     t = first.times
     other = np.interp(np.log(t), np.log(second.times), np.log(np.where(second.error > 0, second.error, 1e-300)))
     mine = np.log(np.where(first.error > 0, first.error, 1e-300))

@@ -119,6 +119,21 @@ def test_lyapunov_time_of_an_exponential_separation():
     separation = np.minimum(1e-12 * np.exp(t / 7.0), 2.0)
     assert math.isclose(orientation.lyapunov_time(t, separation), 7.0, rel_tol=1e-9)
     assert orientation.lyapunov_time(t, np.full_like(t, 1e-13)) is None
+    # A regular system's phase error grows as a power of t: no Lyapunov time.
+    assert orientation.lyapunov_time(t, 1e-12 * t**2) is None
+
+
+def test_orientation_crossover_only_within_the_compared_window():
+    """A symplectic error (growing as t) ends below a Gear error (growing as
+    t^2) from their crossing on; cut before the crossing, there is none."""
+    from validation.longrun import orientation
+
+    t = np.geomspace(1.0, 1e4, 41)
+    symplectic = orientation.Curve("s", 0.1, t, 1e-4 * t, t * 0, 0.0)
+    gear = orientation.Curve("g", 0.1, t, 1e-7 * t**2, t * 0, 0.0)
+    crossing = float(t[np.nonzero(1e-4 * t < 1e-7 * t**2)[0][0]])
+    assert orientation.crossover(symplectic, gear) == crossing
+    assert orientation.crossover(symplectic, gear, until=500.0) is None
 
 
 def test_orientation_chain_is_the_uninterrupted_run():
