@@ -81,7 +81,7 @@ def chain(scene: dict[str, Any], integrator: Mapping[str, Any], dt: float, steps
 
     started = time.process_time()
     base = quatrot.sweep.apply(scene, {"integrator": dict(integrator), "run.dt": dt, "run.time": None, "record": None})
-    n = len(base["initial"]["orientations"]) if base["initial"].get("kind") == "explicit" else None
+    rotors = 0
     out: list[np.ndarray] = []
     error = ""
     with tempfile.TemporaryDirectory(prefix="quatrot-orientation-") as tmp:
@@ -95,18 +95,15 @@ def chain(scene: dict[str, Any], integrator: Mapping[str, Any], dt: float, steps
                 result = quatrot.run(run_scene, out_dir=str(folder), restart=restart, threads=1)
             except quatrot.BlowUpError as e:
                 error = str(e)
+                rotors = len(e.result["initial_orientations"])
                 break
             frames = result["trajectory"]
             at = np.nonzero(frames["step"] == target)[0]
             if len(at) != 1:
                 raise RuntimeError(f"orientation chain: no frame at step {target} (frames {frames['step']})")
-            q = np.array(frames["orientations"][at[0]], dtype=np.float64)
-            n = q.shape[0]
-            out.append(q)
+            out.append(np.array(frames["orientations"][at[0]], dtype=np.float64))
             restart = str(folder / "checkpoint.json")
-    missing = len(steps) - len(out)
-    if missing:
-        out += [np.full((n or 1, 4), np.nan)] * missing
+    out += [np.full((rotors, 4), np.nan)] * (len(steps) - len(out))
     return {"steps": list(steps), "orientations": np.array(out), "cpu_seconds": time.process_time() - started, "error": error}
 
 
