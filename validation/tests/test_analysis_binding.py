@@ -85,9 +85,15 @@ def test_order_parameters_match_numpy_eigh():
     assert abs(out["p1"] - u.mean(axis=0) @ d) < 1e-10
     assert abs(out["p1_direction"] - u[:, 2].mean()) < DOUBLE_TOLERANCE
     np.testing.assert_allclose(out["cos_director"], u @ d, atol=1e-10)
+    np.testing.assert_allclose(out["cos_direction"], u[:, 2], atol=DOUBLE_TOLERANCE)
     frames = quatrot.order_parameters(np.stack([q, q[::-1]]), axis=axis)
     assert frames["p2"].shape == (2,) and frames["cos_director"].shape == (2, 200)
+    assert "p1_direction" not in frames and "cos_direction" not in frames
     np.testing.assert_allclose(frames["p2"], out["p2"], atol=DOUBLE_TOLERANCE)
+    down = quatrot.order_parameters(np.stack([q, q[::-1]]), axis=axis, direction=[0, 0, -2])
+    assert down["p1_direction"].shape == (2,) and down["cos_direction"].shape == (2, 200)
+    np.testing.assert_allclose(down["p1_direction"], -u[:, 2].mean(), atol=DOUBLE_TOLERANCE)
+    np.testing.assert_allclose(down["cos_direction"][1], -u[::-1, 2], atol=DOUBLE_TOLERANCE)
 
 
 def test_total_dipole_matches_scipy_rotations():
