@@ -187,3 +187,20 @@ def test_write_gsd_refuses_mismatched_arrays(tmp_path: Path):
         quatrot.write_gsd(tmp_path / "x.gsd", np.zeros((2, 3)), q, [0, 1])
     with pytest.raises(ValueError, match="^steps: 1 steps for 2 frames"):
         quatrot.write_gsd(tmp_path / "x.gsd", np.zeros((3, 3)), q, [0])
+
+
+def test_dielectric_workflow_on_the_dipole_builtins():
+    """The dipole lattice built-ins record M by default: the Ewald one gives
+    eps with no edit; the canonical one (truncated sum) is refused with the
+    reason, and gives eps once its boundary is the Ewald sum."""
+    import tomllib
+
+    eps = quatrot.run_dielectric_constant(quatrot.run("dipole_lattice_sc", steps=40))
+    assert np.isfinite(eps["epsilon"]) and eps["epsilon"] > 1
+    with pytest.raises(ValueError, match="cutoff"):
+        quatrot.run_dielectric_constant(quatrot.run("dipole_lattice_sc_langevin", steps=40))
+    scene = tomllib.loads(quatrot.builtin_scenes()["dipole_lattice_sc_langevin"])
+    scene["interactions"]["boundary"] = {"kind": "periodic"}
+    scene["rotors"]["cells"] = 4
+    eps = quatrot.run_dielectric_constant(quatrot.run(scene, steps=40), temperature=1.0)
+    assert np.isfinite(eps["epsilon"]) and eps["epsilon"] > 1
