@@ -211,9 +211,15 @@ fn a_run_from_its_files_and_from_memory() {
         control: None,
     };
     let result = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
+    // The built-in's own `energies` series records M too (every 10 steps):
+    // with two, the series must be named.
+    assert!(dipole_series(&result.series, None)
+        .unwrap_err()
+        .message
+        .starts_with("several series record \"M\" (energies, polarization)"));
     let in_memory = dielectric_of_run(
         result.summary.interactions.as_ref(),
-        dipole_series(&result.series, None).expect("one series with M"),
+        dipole_series(&result.series, Some("polarization")).expect("named"),
         None,
     )
     .expect("conducting Ewald");
@@ -226,7 +232,7 @@ fn a_run_from_its_files_and_from_memory() {
     )
     .expect("conducting Ewald");
     assert_eq!(from_files, in_memory);
-    let table = dipole_series(&tables, None).expect("one series with M");
+    let table = dipole_series(&tables, Some("polarization")).expect("named");
     let rows: Vec<&[f64]> = table.values.chunks(table.columns.len()).collect();
     let m: Vec<Vector3<f64>> = rows
         .iter()
@@ -254,7 +260,7 @@ fn a_run_from_its_files_and_from_memory() {
     let result = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
     let refused = dielectric_of_run(
         result.summary.interactions.as_ref(),
-        dipole_series(&result.series, None).expect("one series"),
+        dipole_series(&result.series, Some("polarization")).expect("named"),
         None,
     )
     .unwrap_err();

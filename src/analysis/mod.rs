@@ -8,6 +8,9 @@
 //!   (Flyvbjerg-Petersen blocking, Jonsson's automatic level).
 //! * [`dielectric`]: the static dielectric constant from the fluctuation of
 //!   the total dipole, with the formula of the boundary.
+//! * [`order`](mod@order): the orientational order of a body axis frame by
+//!   frame (`P2`, director, `P1` along it or along a direction, per-rotor
+//!   cosines).
 //! * [`frames`]: the frame-major trajectory view the functions read.
 //!
 //! The order parameters and the total dipole of one configuration are
@@ -19,12 +22,14 @@ pub mod block_average;
 pub mod dielectric;
 mod error;
 pub mod frames;
+pub mod order;
 pub mod time_correlation;
 
 pub use block_average::{block_average, BlockAverage, BlockLevel};
 pub use dielectric::{dielectric_constant, DielectricBoundary, DielectricConstant};
 pub use error::AnalysisError;
 pub use frames::Frames;
+pub use order::{order_parameters, FrameOrder};
 pub use time_correlation::{
     orientational_correlations, vector_autocorrelation, OrientationalCorrelation,
 };

@@ -11,11 +11,12 @@ use super::args::{optional_integer, text};
 use super::arrays::{array, Numbers, Values};
 use crate::analysis::{
     block_average as block_average_of, dielectric_constant as dielectric_of,
-    orientational_correlations as correlations_of, vector_autocorrelation, BlockAverage,
-    DielectricBoundary, DielectricConstant, Frames,
+    order_parameters as order_of, orientational_correlations as correlations_of,
+    vector_autocorrelation, BlockAverage, DielectricBoundary, DielectricConstant, FrameOrder,
+    Frames,
 };
 use crate::checks::from_name;
-use crate::observables::order::{nematic_order, polar_order, space_axes, unit_axis};
+use crate::observables::order::unit_axis;
 use crate::observables::polarization;
 use crate::quaternion::Quat;
 use nalgebra::{Unit, Vector3};
@@ -149,10 +150,10 @@ fn unit(v: [f64; 3], name: &str) -> PyResult<Unit<Vector3<f64>>> {
 /// `Q = <3/2 u u^T - 1/2 I>` (`q_tensor`), its eigenvector `director`
 /// (signed so that `p1 = <u>.director >= 0`), `p1` the polar order along
 /// it, `cos_director` each rotor's `u.director`, and with `direction` (a
-/// space vector, normalised) `p1_direction = <u>.direction`.
-/// `orientations`: `(n, 4)` for one configuration (floats and `(3,)`,
-/// `(3, 3)`, `(n,)` arrays), or `(frames, n, 4)` (each result gains a
-/// leading frames axis).
+/// space vector, normalised) `p1_direction = <u>.direction` and each
+/// rotor's `cos_direction = u.direction`. `orientations`: `(n, 4)` for one
+/// configuration (floats and `(3,)`, `(3, 3)`, `(n,)` arrays), or
+/// `(frames, n, 4)` (each result gains a leading frames axis).
 #[pyfunction]
 #[pyo3(signature = (orientations, axis=None, direction=None))]
 fn order_parameters<'py>(
@@ -180,29 +181,10 @@ fn order_parameters<'py>(
         .transpose()?;
     let q: Vec<Quat> = q.into_iter().map(Quat).collect();
     let rotors = *leading.last().unwrap_or(&0);
-    if rotors == 0 {
-        return Err(PyValueError::new_err(
-            "orientations: needs at least one rotor",
-        ));
-    }
     let frames = Frames::new(&q, rotors, "orientations")?;
-    let (mut p2, mut p1, mut p1_direction) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut director, mut tensor, mut cosines) = (Vec::new(), Vec::new(), Vec::new());
-    for f in 0..frames.frames() {
-        let u: Vec<Vector3<f64>> = space_axes(frames.frame(f), &axis).collect();
-        let order = nematic_order(&u).ok_or_else(|| PyValueError::new_err("no rotors"))?;
-        p2.push(order.p2);
-        p1.push(order.p1);
-        director.extend(order.director.iter().copied());
-        tensor.extend(order.q_tensor.transpose().iter().copied());
-        cosines.extend(u.iter().map(|u| u.dot(&order.director)));
-        if let Some(n) = &direction {
-            p1_direction.extend(polar_order(&u, n));
-        }
-    }
+    let order = py.detach(|| order_of(&frames, &axis, direction.as_ref()));
     let batch: Vec<usize> = leading[..leading.len() - 1].to_vec();
     let shaped = |tail: &[usize]| -> Vec<usize> { batch.iter().chain(tail).copied().collect() };
-    let out = PyDict::new(py);
     let scalar_or_array = |values: Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
         if batch.is_empty() {
             Ok(values[0].into_pyobject(py)?.into_any())
@@ -210,13 +192,38 @@ fn order_parameters<'py>(
             Ok(array(py, &batch, values)?.into_any())
         }
     };
-    out.set_item("p2", scalar_or_array(p2)?)?;
-    out.set_item("p1", scalar_or_array(p1)?)?;
-    out.set_item("director", array(py, &shaped(&[3]), director)?)?;
+    let gather = |f: fn(&FrameOrder) -> &[f64]| -> Vec<f64> {
+        order.iter().flat_map(|o| f(o).iter().copied()).collect()
+    };
+    let out = PyDict::new(py);
+    out.set_item(
+        "p2",
+        scalar_or_array(gather(|o| std::slice::from_ref(&o.p2)))?,
+    )?;
+    out.set_item(
+        "p1",
+        scalar_or_array(gather(|o| std::slice::from_ref(&o.p1)))?,
+    )?;
+    out.set_item(
+        "director",
+        array(py, &shaped(&[3]), gather(|o| o.director.as_slice()))?,
+    )?;
+    let tensor = order
+        .iter()
+        .flat_map(|o| o.q_tensor.transpose().iter().copied().collect::<Vec<_>>())
+        .collect();
     out.set_item("q_tensor", array(py, &shaped(&[3, 3]), tensor)?)?;
-    out.set_item("cos_director", array(py, &shaped(&[rotors]), cosines)?)?;
+    out.set_item(
+        "cos_director",
+        array(py, &shaped(&[rotors]), gather(|o| &o.cos_director))?,
+    )?;
     if direction.is_some() {
-        out.set_item("p1_direction", scalar_or_array(p1_direction)?)?;
+        let p1 = order.iter().filter_map(|o| o.p1_direction).collect();
+        out.set_item("p1_direction", scalar_or_array(p1)?)?;
+        out.set_item(
+            "cos_direction",
+            array(py, &shaped(&[rotors]), gather(|o| &o.cos_direction))?,
+        )?;
     }
     Ok(out)
 }

@@ -1,4 +1,4 @@
-"""Post-processing against references: the orientational time-correlation functions C1, C2 and the angular-velocity autocorrelation of free tops in thermal equilibrium (runs of ``quatrot.run``) against closed forms and scipy quadratures; C1, C2 and P2 recomputed by mdtraj and numpy from the DCD a run writes; the dielectric constant of the ideal dipolar gas; the blocking error against an AR(1) process.
+"""Post-processing against references: the orientational time-correlation functions C1, C2 and the angular-velocity autocorrelation of free tops in thermal equilibrium (runs of ``quatrot.run``) against closed forms and scipy quadratures; C1, C2 and P2 recomputed by mdtraj and numpy from the DCD a run writes; the order parameters per frame (P1 along the director and along a given direction, per-rotor cosines) recomputed by numpy from the run's quaternions; the dielectric constant of the ideal dipolar gas; the blocking error against an AR(1) process.
 
 References, all independent of quatrot's analysis code:
 
@@ -44,6 +44,7 @@ from scipy.signal import lfilter
 
 import quatrot
 from validation.checks.base import Check, Context
+from validation.scene_outputs import order, space_axes
 
 T_MAX = 6.0
 GROUPS = 32
@@ -59,6 +60,11 @@ EPS_ERROR_TOLERANCE = 0.25
 # tests: 3-7 % low); a factor sqrt(2) fails.
 BLOCKING_TOLERANCE = 0.10
 QUAD_TOLERANCE = 1e-10
+# Rotations and 3x3 eigen decompositions in double precision, of means of
+# up to 125 unit vectors (the director's components near a degenerate P2
+# would be looser; the lattice's P2 stays well apart from its next
+# eigenvalue here).
+DOUBLE_TOLERANCE = 1e-12
 
 
 def free_tops(inertia, temperature: float, cells: int, dt: float, steps: int, every: int, seed: int, dipole=None) -> dict:
@@ -299,6 +305,7 @@ def _mdtraj(ctx: Context, refs: dict) -> list[Check]:
         warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
         p2_mdtraj = md.compute_nematic_order(traj, indices=pairs.tolist())
     p2_ours = quatrot.order_parameters(q, axis=[0.0, 0.0, 1.0])["p2"]
+    err_order, order_where = _order_vs_numpy(q)
     err_corr = float(max(np.abs(ours["c1"] - c1).max(), np.abs(ours["c2"] - c2).max()))
     err_p2 = float(np.abs(p2_ours - p2_mdtraj).max())
     where = f"{n} interacting dipoles (sc, periodic, cutoff 1.5), {len(q)} frames, DCD markers 1.0 long"
@@ -319,7 +326,36 @@ def _mdtraj(ctx: Context, refs: dict) -> list[Check]:
             refs,
             f"{where}; P2 from {p2_ours.min():.3f} to {p2_ours.max():.3f}; largest difference.",
         ),
+        Check(
+            "P1 along axes, per-rotor cosines vs numpy",
+            "quatrot.order_parameters per frame (P2, director, P1 along it, P1 along a fixed direction, each rotor's cosine with the director and with the direction) for the dipole axis and a body axis across it equals numpy (scipy rotations, eigh) on the run's quaternions.",
+            DOUBLE_TOLERANCE,
+            err_order,
+            refs,
+            f"{where}; {order_where}; largest difference.",
+        ),
     ]
+
+
+def _order_vs_numpy(q: np.ndarray) -> tuple[float, str]:
+    """The largest difference between quatrot.order_parameters (every frame,
+    two body axes, a direction off the lattice axes) and numpy."""
+    direction = np.array([1.0, -2.0, 2.0]) / 3.0
+    worst = 0.0
+    for axis in (np.array([0.0, 0.0, 1.0]), np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)):
+        ours = quatrot.order_parameters(q, axis=axis, direction=direction)
+        u = space_axes(q, np.tile(axis, (q.shape[1], 1)))
+        p1, p2, d = order(u)
+        worst = max(
+            worst,
+            np.abs(ours["p2"] - p2).max(),
+            np.abs(ours["p1"] - p1).max(),
+            np.abs(ours["director"] - d).max(),
+            np.abs(ours["p1_direction"] - u.mean(axis=1) @ direction).max(),
+            np.abs(ours["cos_director"] - np.einsum("fna,fa->fn", u, d)).max(),
+            np.abs(ours["cos_direction"] - u @ direction).max(),
+        )
+    return float(worst), f"{q.shape[0]} frames, body axes z and (x+y)/sqrt2, direction (1, -2, 2)/3"
 
 
 def _ideal_gas(ctx: Context, refs: dict) -> list[Check]:

@@ -85,9 +85,15 @@ def test_order_parameters_match_numpy_eigh():
     assert abs(out["p1"] - u.mean(axis=0) @ d) < 1e-10
     assert abs(out["p1_direction"] - u[:, 2].mean()) < DOUBLE_TOLERANCE
     np.testing.assert_allclose(out["cos_director"], u @ d, atol=1e-10)
+    np.testing.assert_allclose(out["cos_direction"], u[:, 2], atol=DOUBLE_TOLERANCE)
     frames = quatrot.order_parameters(np.stack([q, q[::-1]]), axis=axis)
     assert frames["p2"].shape == (2,) and frames["cos_director"].shape == (2, 200)
+    assert "p1_direction" not in frames and "cos_direction" not in frames
     np.testing.assert_allclose(frames["p2"], out["p2"], atol=DOUBLE_TOLERANCE)
+    down = quatrot.order_parameters(np.stack([q, q[::-1]]), axis=axis, direction=[0, 0, -2])
+    assert down["p1_direction"].shape == (2,) and down["cos_direction"].shape == (2, 200)
+    np.testing.assert_allclose(down["p1_direction"], -u[:, 2].mean(), atol=DOUBLE_TOLERANCE)
+    np.testing.assert_allclose(down["cos_direction"][1], -u[::-1, 2], atol=DOUBLE_TOLERANCE)
 
 
 def test_total_dipole_matches_scipy_rotations():
@@ -181,3 +187,20 @@ def test_write_gsd_refuses_mismatched_arrays(tmp_path: Path):
         quatrot.write_gsd(tmp_path / "x.gsd", np.zeros((2, 3)), q, [0, 1])
     with pytest.raises(ValueError, match="^steps: 1 steps for 2 frames"):
         quatrot.write_gsd(tmp_path / "x.gsd", np.zeros((3, 3)), q, [0])
+
+
+def test_dielectric_workflow_on_the_dipole_builtins():
+    """The dipole lattice built-ins record M by default: the Ewald one gives
+    eps with no edit; the canonical one (truncated sum) is refused with the
+    reason, and gives eps once its boundary is the Ewald sum."""
+    import tomllib
+
+    eps = quatrot.run_dielectric_constant(quatrot.run("dipole_lattice_sc", steps=40))
+    assert np.isfinite(eps["epsilon"]) and eps["epsilon"] > 1
+    with pytest.raises(ValueError, match="cutoff"):
+        quatrot.run_dielectric_constant(quatrot.run("dipole_lattice_sc_langevin", steps=40))
+    scene = tomllib.loads(quatrot.builtin_scenes()["dipole_lattice_sc_langevin"])
+    scene["interactions"]["boundary"] = {"kind": "periodic"}
+    scene["rotors"]["cells"] = 4
+    eps = quatrot.run_dielectric_constant(quatrot.run(scene, steps=40), temperature=1.0)
+    assert np.isfinite(eps["epsilon"]) and eps["epsilon"] > 1
