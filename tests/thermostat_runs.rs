@@ -255,3 +255,39 @@ fn canonical_builtin_holds_its_temperature() {
     let t = mean_temperature(&drifting, 2000.0);
     assert!(t > 1.15, "mean temperature without a thermostat {t}");
 }
+
+/// The canonical built-in runs from the command line with its thermostat:
+/// `quatrot run dipole_lattice_sc_langevin` writes a summary naming the
+/// Langevin table of the scene, the seed it took from the random `[initial]`
+/// section (1), and a conserved energy apart from the total one.
+#[test]
+fn canonical_builtin_runs_from_the_command_line() {
+    let dir = tempfile::tempdir().expect("dir");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_quatrot"))
+        .args([
+            "run",
+            "dipole_lattice_sc_langevin",
+            "--steps",
+            "20",
+            "--out",
+        ])
+        .arg(dir.path())
+        .output()
+        .expect("the binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.path().join("summary.json")).expect("a summary");
+    let summary: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    assert_eq!(
+        summary["definition"]["thermostat"],
+        serde_json::json!({"kind": "langevin", "temperature": 1.0, "friction": 1.0})
+    );
+    assert_eq!(summary["thermostat_seed"], 1);
+    let energies = &summary["final_energies"];
+    let conserved = energies["conserved"].as_f64().expect("a conserved energy");
+    let total = energies["total"].as_f64().expect("a total energy");
+    assert!(conserved.is_finite() && conserved != total, "{energies}");
+}

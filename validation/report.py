@@ -1,5 +1,6 @@
-"""`python -m validation.report --out results [--quick]`: run every check module
-(``validation.checks.modules()``), print a short summary on the terminal,
+"""`python -m validation.report --out results [--quick] [--only NAME ...]`: run
+every check module (``validation.checks.modules()``; with ``--only``, the named
+ones), print a short summary on the terminal,
 write ``<out>/report.md`` with its plots (and ``report.html``, the same page
 self-contained), and exit non-zero if any check fails.
 
@@ -38,9 +39,14 @@ def _crash(name: str, error: BaseException) -> Check:
     )
 
 
-def run_all(out: Path, quick: bool) -> list[tuple[object, list[Check], float]]:
-    """Runs each module with progress on the terminal: [(module, checks, seconds)]."""
+def run_all(out: Path, quick: bool, only: list[str] | None = None) -> list[tuple[object, list[Check], float]]:
+    """Runs each module (or those named in `only`) with progress on the terminal: [(module, checks, seconds)]."""
     found = modules()
+    if only:
+        unknown = sorted(set(only) - {_module_name(m) for m in found})
+        if unknown:
+            raise SystemExit(f"--only: no check module {', '.join(unknown)}; modules: {', '.join(_module_name(m) for m in found)}")
+        found = [m for m in found if _module_name(m) in only]
     results = []
     for i, module in enumerate(found, 1):
         name = _module_name(module)
@@ -152,9 +158,10 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("results"), help="output folder (default: results)")
     parser.add_argument("--quick", action="store_true", help="the few-second subset that `make test` runs")
+    parser.add_argument("--only", nargs="+", metavar="NAME", help="run only these check modules (e.g. thermostats)")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    results = run_all(args.out, args.quick)
+    results = run_all(args.out, args.quick, args.only)
     report = args.out / "report.md"
     text = markdown(results, args.out, args.quick)
     report.write_text(text)

@@ -127,6 +127,41 @@ mod tests {
         assert!(b.read_checkpoint(&[1.0]).is_err());
     }
 
+    /// Positions beyond 2^52 words, where the low value alone would lose
+    /// the high bits, and the last position of the stream (2^68 - 1) come
+    /// back exactly from the two values; values outside their ranges
+    /// (negative, the high one at 2^16, the low one at 2^52) are refused.
+    #[test]
+    fn positions_beyond_52_bits_round_trip() {
+        let last = (1u128 << 68) - 1;
+        for position in [
+            (1u128 << 52) - 3,
+            (1u128 << 52) + 5,
+            (3u128 << 60) + 7,
+            last,
+        ] {
+            let mut a = Noise::new(11);
+            a.rng.set_word_pos(position);
+            let mut saved = Vec::new();
+            a.write_checkpoint(&mut saved);
+            assert_eq!(saved.len(), Noise::CHECKPOINT_LEN);
+            let mut b = Noise::new(11);
+            b.read_checkpoint(&saved).expect("valid position");
+            assert_eq!(b.rng.get_word_pos(), position, "{saved:?}");
+        }
+        let mut b = Noise::new(11);
+        let largest_low = ((1u64 << 52) - 1) as f64;
+        assert!(b.read_checkpoint(&[65535.0, largest_low]).is_ok());
+        for bad in [
+            [65536.0, 0.0],
+            [0.0, 2f64.powi(52)],
+            [-1.0, 0.0],
+            [0.0, -1.0],
+        ] {
+            assert!(b.read_checkpoint(&bad).is_err(), "{bad:?}");
+        }
+    }
+
     /// The thermostat's stream is not the initial state's (stream 0 of the
     /// same seed).
     #[test]

@@ -309,6 +309,53 @@ impl KickThermostat for NoseHoover {
 mod tests {
     use super::*;
 
+    /// A table without `chain` has three thermostats; 1 to [`MAX_CHAIN`]
+    /// are accepted, one more is refused naming the bound.
+    #[test]
+    fn chain_defaults_to_three_and_is_bounded() {
+        let options: NoseHooverOptions =
+            toml::from_str("temperature = 1.0\ntau = 0.5").expect("valid table");
+        assert_eq!(options.chain.get(), 3);
+        let with = |chain: u32| NoseHooverOptions {
+            chain: NonZeroU32::new(chain).expect("non-zero"),
+            ..options
+        };
+        assert!(with(1).check().is_ok());
+        assert!(with(MAX_CHAIN).check().is_ok());
+        let error = with(MAX_CHAIN + 1).check().expect_err("too long");
+        assert_eq!(error.to_string(), "chain: must be <= 100, got 101");
+    }
+
+    /// A chain's checkpoint restores its positions and momenta (hence its
+    /// energy) exactly; a checkpoint of another length, or with a value
+    /// that is not finite, is refused and leaves the chain as it was.
+    #[test]
+    fn chain_checkpoint_round_trips_and_refuses_bad_data() {
+        let options = NoseHooverOptions {
+            temperature: 0.7,
+            tau: 0.2,
+            chain: NonZeroU32::new(3).expect("non-zero"),
+        };
+        let mut chain = NoseHooverChain::new(&options, 12);
+        chain.positions.copy_from_slice(&[0.3, -0.1, 0.05]);
+        chain.momenta.copy_from_slice(&[0.2, -0.4, 0.6]);
+        let mut saved = Vec::new();
+        chain.write_checkpoint(&mut saved);
+        assert_eq!(saved.len(), chain.checkpoint_len());
+        let mut restored = NoseHooverChain::new(&options, 12);
+        restored.read_checkpoint(&saved).expect("valid");
+        assert_eq!(restored, chain);
+        assert_eq!(restored.energy().to_bits(), chain.energy().to_bits());
+        let fresh = NoseHooverChain::new(&options, 12);
+        let mut bad_values = saved.clone();
+        bad_values[4] = f64::NAN;
+        for bad in [&saved[..5], &bad_values[..]] {
+            let mut target = fresh.clone();
+            assert!(target.read_checkpoint(bad).is_err(), "{bad:?}");
+            assert_eq!(target, fresh);
+        }
+    }
+
     /// The chain's half step alone (with a kinetic energy that only the
     /// scaling changes) conserves `K + chain energy` to second order and
     /// is reversed exactly by the step with `-h` (time reversibility).

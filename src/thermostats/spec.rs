@@ -32,15 +32,6 @@ impl ThermostatSpec {
         }
     }
 
-    /// The temperature `T`.
-    pub fn temperature(&self) -> f64 {
-        match self {
-            ThermostatSpec::Langevin(o) => o.temperature,
-            ThermostatSpec::Bussi(o) => o.temperature,
-            ThermostatSpec::NoseHoover(o) => o.temperature,
-        }
-    }
-
     /// Checks the options (paths relative to the table: `temperature`, ...).
     pub fn check(&self) -> Result<(), InputError> {
         match self {
