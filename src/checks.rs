@@ -64,6 +64,26 @@ pub fn num(x: f64) -> String {
     }
 }
 
+/// Text from the input as a message quotes it: control characters escaped
+/// as Rust writes them (`\n`, `\u{1b}`), at most `max_chars` characters
+/// of it, the length of the rest stated.
+pub fn printable(text: &str, max_chars: usize) -> String {
+    let mut out = String::new();
+    for (shown, c) in text.chars().enumerate() {
+        if shown == max_chars {
+            let rest = text.chars().count() - shown;
+            out.push_str(&format!("... ({rest} more characters)"));
+            break;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// `x` if it is finite.
 pub fn finite(x: f64) -> Result<f64, InputError> {
     if x.is_finite() {
@@ -253,6 +273,15 @@ mod tests {
         assert_eq!(at_least_one(2), Ok(2));
         let e = each(&[1.0, f64::INFINITY], finite).unwrap_err();
         assert_eq!(e.to_string(), "[1]: must be finite, got inf");
+    }
+
+    /// Quoted input loses its control characters and its length beyond the
+    /// excerpt.
+    #[test]
+    fn printable_escapes_control_characters_and_cuts_long_text() {
+        assert_eq!(printable("a\u{1b}[31mb\n", 20), "a\\u{1b}[31mb\\n");
+        assert_eq!(printable(&"x".repeat(1000), 3), "xxx... (997 more characters)");
+        assert_eq!(printable("dipole_lattice_sc", 80), "dipole_lattice_sc");
     }
 
     /// Asymmetry and trace are judged relative to the largest entry, at
