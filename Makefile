@@ -53,6 +53,7 @@ validate: develop
 bench: develop
 	cargo bench
 	$(PY) -m validation.bench --out benchmarks
+	$(PY) -m validation.bench.ewald --out benchmarks
 
 # Mutation testing of the physics modules (scope and exclusions in
 # .cargo/mutants.toml; hours for the full set, so not part of `make test`).

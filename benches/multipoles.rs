@@ -34,10 +34,7 @@ fn lattice_potential(
             quadrupole_body: quadrupole.then_some(theta),
         })
         .collect();
-    let boundary = Boundary::Periodic {
-        box_lengths: lattice.box_lengths,
-        cutoff: 3.1,
-    };
+    let boundary = Boundary::periodic_cutoff(lattice.box_lengths, 3.1);
     let potential = MultipolePotential::new(&rotors, boundary, external).expect("valid potential");
     // Deterministic, varied orientations (golden-angle spiral of rotation axes).
     let orientations = (0..rotors.len())

@@ -217,10 +217,7 @@ fn interleaved<I: Integrator + Clone + Send, P: Potential>(
 
 fn runner(c: &mut Criterion) {
     let (_, lattice) = load("dipole_lattice_sc", &Overrides::default()).expect("built-in");
-    let periodic = Boundary::Periodic {
-        box_lengths: lattice.box_lengths().expect("periodic"),
-        cutoff: 3.1,
-    };
+    let periodic = Boundary::periodic_cutoff(lattice.box_lengths().expect("periodic"), 3.1);
     let potential = MultipolePotential::new(&lattice.rotors, periodic, ExternalFields::NONE)
         .expect("potential");
     bench_system(

@@ -12,7 +12,9 @@ use quatrot::lattice::{Lattice, LatticeKind};
 use quatrot::potential::multipole::convention::{
     buckingham_quadrupole, quadrupole_from_openmm, quadrupole_to_openmm,
 };
-use quatrot::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
+use quatrot::potential::{
+    Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod, Surface,
+};
 use quatrot::rotor::{Inertia, Rotor};
 use quatrot::Quat;
 
@@ -37,11 +39,14 @@ struct Case {
     orientations: Vec<Quat>,
     /// `sum_i Q_i.dV/dQ_i = degree * V` (Euler's theorem), for single-term cases.
     euler_degree: Option<f64>,
+    /// How a periodic sum is taken.
+    method: SumMethod,
 }
 
 impl Case {
     fn potential(&self) -> MultipolePotential {
-        MultipolePotential::new(&self.rotors, self.boundary, self.external).expect(self.name)
+        MultipolePotential::with_method(&self.rotors, self.boundary, self.external, self.method)
+            .expect(self.name)
     }
     /// Open and free of external fields: total angular momentum is conserved.
     fn isolated(&self) -> bool {
@@ -71,6 +76,7 @@ fn open_case(
         external,
         orientations,
         euler_degree,
+        method: SumMethod::Auto,
     }
 }
 
@@ -100,13 +106,63 @@ fn all_cases() -> Vec<Case> {
             .iter()
             .map(|_| random_orientation(&mut r))
             .collect(),
-        rotors: periodic_rotors,
-        boundary: Boundary::Periodic {
-            box_lengths: lattice.box_lengths,
-            cutoff: 1.5,
-        },
+        rotors: periodic_rotors.clone(),
+        boundary: Boundary::periodic_cutoff(lattice.box_lengths, 1.5),
         external: both_fields,
         euler_degree: None,
+        method: SumMethod::Auto,
+    };
+    let ewald = |surface| Boundary::Periodic {
+        box_lengths: lattice.box_lengths,
+        sum: PeriodicSum::Ewald {
+            accuracy: 1e-10,
+            surface,
+        },
+    };
+    let periodic_ewald_fft = Case {
+        name: "periodic fcc, Ewald by FFT, vacuum, all terms",
+        orientations: periodic.orientations.clone(),
+        rotors: periodic_rotors.clone(),
+        boundary: ewald(Surface::Vacuum),
+        external: both_fields,
+        euler_degree: None,
+        method: SumMethod::Auto,
+    };
+    let periodic_ewald_direct = Case {
+        name: "periodic fcc, direct Ewald, conducting",
+        orientations: periodic.orientations.clone(),
+        rotors: periodic_rotors,
+        boundary: ewald(Surface::Conducting),
+        external: ExternalFields::NONE,
+        euler_degree: None,
+        method: SumMethod::Direct,
+    };
+    // Irregular sites with mixed multipoles: the direct Ewald sum.
+    let box_lengths = Vector3::new(2.9, 3.3, 2.5);
+    let scattered: Vec<Rotor> = (0..7)
+        .map(|k| {
+            let site =
+                (random_vector(&mut r, 0.5) + Vector3::repeat(0.5)).component_mul(&box_lengths);
+            random_rotor(&mut r, site, k % 3 != 2, k % 3 != 0)
+        })
+        .collect();
+    let scattered_ewald = Case {
+        name: "periodic scattered, Ewald, vacuum",
+        orientations: scattered
+            .iter()
+            .map(|_| random_orientation(&mut r))
+            .collect(),
+        rotors: scattered,
+        boundary: Boundary::Periodic {
+            box_lengths,
+            sum: PeriodicSum::Ewald {
+                accuracy: 1e-10,
+                surface: Surface::Vacuum,
+            },
+        },
+        external: ExternalFields::NONE,
+        euler_degree: None,
+        method: SumMethod::Auto,
     };
     let none = ExternalFields::NONE;
     vec![
@@ -148,6 +204,9 @@ fn all_cases() -> Vec<Case> {
             None,
         ),
         periodic,
+        periodic_ewald_fft,
+        periodic_ewald_direct,
+        scattered_ewald,
     ]
 }
 
@@ -228,7 +287,9 @@ fn torques_match_directional_difference() {
 }
 
 /// Eq 13 vs eq 14 after the note's projection: for every rotor,
-/// `-dV/dQ + (Q.dV/dQ) Q = 2 N_s*Q` with `N_s = (0, torque_space)`.
+/// `-dV/dQ + (Q.dV/dQ) Q = 2 N_s*Q` with `N_s = (0, torque_space)`; every
+/// term, the truncated periodic sum and the Ewald sums (FFT and direct,
+/// conducting and vacuum).
 #[test]
 fn projected_eq14_equals_eq13() {
     for case in all_cases() {
@@ -608,10 +669,7 @@ fn periodic_lattice_pair_count() {
         .collect();
     let p = MultipolePotential::new(
         &rotors,
-        Boundary::Periodic {
-            box_lengths: lattice.box_lengths,
-            cutoff: 3.1,
-        },
+        Boundary::periodic_cutoff(lattice.box_lengths, 3.1),
         ExternalFields::NONE,
     )
     .unwrap();
@@ -652,10 +710,7 @@ fn periodic_lattice_fields_are_translation_invariant() {
             .collect();
         let p = MultipolePotential::new(
             &rotors,
-            Boundary::Periodic {
-                box_lengths: lattice.box_lengths,
-                cutoff: 1.9,
-            },
+            Boundary::periodic_cutoff(lattice.box_lengths, 1.9),
             ExternalFields::NONE,
         )
         .unwrap();
@@ -691,10 +746,7 @@ fn bad_inputs_name_the_problem() {
             .unwrap_err()
             .to_string()
     };
-    let periodic = |cutoff| Boundary::Periodic {
-        box_lengths: Vector3::new(10.0, 8.0, 12.0),
-        cutoff,
-    };
+    let periodic = |cutoff| Boundary::periodic_cutoff(Vector3::new(10.0, 8.0, 12.0), cutoff);
     // A cutoff beyond half the box is a lattice sum over images; one far
     // beyond it would hold too many pairs.
     assert!(MultipolePotential::new(
@@ -738,10 +790,7 @@ fn bad_inputs_name_the_problem() {
     assert_eq!(
         err(
             &[ok, far],
-            Boundary::Periodic {
-                box_lengths: Vector3::new(1.0, 0.0, 1.0),
-                cutoff: 0.1
-            },
+            Boundary::periodic_cutoff(Vector3::new(1.0, 0.0, 1.0), 0.1),
             ExternalFields::NONE
         ),
         "box_lengths[1]: must be > 0, got 0"

@@ -24,10 +24,7 @@ const FD_STEP: f64 = 1e-6;
 const CUTOFF: f64 = 3.1;
 
 fn periodic(box_lengths: Vector3<f64>, cutoff: f64) -> Boundary {
-    Boundary::Periodic {
-        box_lengths,
-        cutoff,
-    }
+    Boundary::periodic_cutoff(box_lengths, cutoff)
 }
 
 struct Evaluation {

@@ -67,10 +67,7 @@ fn lattice(asymmetric: bool) -> (Scene, OnOneThread<MultipolePotential>) {
             rotor.inertia = Inertia::Principal(Vector3::new(0.08, 0.1, 0.13));
         }
     }
-    let periodic = Boundary::Periodic {
-        box_lengths: scene.box_lengths().expect("periodic scene"),
-        cutoff: 3.1,
-    };
+    let periodic = Boundary::periodic_cutoff(scene.box_lengths().expect("periodic scene"), 3.1);
     let potential = MultipolePotential::new(&scene.rotors, periodic, ExternalFields::NONE)
         .expect("valid lattice");
     (

@@ -62,6 +62,10 @@ class DipoleSystem:
     field: tuple[float, float, float] | None = None  # uniform E, fix efield
     cutoff: float = 50.0  # larger than every site distance: an open cluster
     box: float | None = None  # periodic cube [0, box)^3 when given (else open)
+    # (style, accuracy) of a long-range sum, e.g. ("ewald/dipole", 1e-6) or
+    # ("pppm/dipole", 1e-6): pair lj/cut/dipole/long with that kspace_style
+    # (tin-foil boundary, as quatrot's conducting surface); periodic only.
+    kspace: tuple[str, float] | None = None
 
     @property
     def inertia(self) -> float:
@@ -109,6 +113,27 @@ def time_lammps(system: DipoleSystem, dt: float, steps: int, update: str = "dipo
         lmp.close()
 
 
+def sample_and_time(system: DipoleSystem, dt: float, steps: int, update: str = "dipole/dlm") -> tuple[float, np.ndarray, float]:
+    """The potential energy and space torques at t = 0 (after the set-up's
+    ``run 0``), then the wall seconds of one ``run steps`` (set-up excluded),
+    in one LAMMPS instance (a long-range set-up is paid once)."""
+    import time
+
+    lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+    try:
+        _setup(lmp, system, dt, update)
+        n = len(system.sites)
+        order = np.argsort(lmp.numpy.extract_atom("id")[:n])
+        lmp.command("variable pe0 equal pe")
+        energy = float(lmp.extract_variable("pe0"))
+        torque = np.array(lmp.numpy.extract_atom("torque")[:n][order])
+        start = time.perf_counter()
+        lmp.command(f"run {steps} pre no post no")
+        return energy, torque, time.perf_counter() - start
+    finally:
+        lmp.close()
+
+
 def _setup(lmp, system: DipoleSystem, dt: float, update: str) -> None:
     n = len(system.sites)
     if system.box is None:
@@ -131,8 +156,9 @@ def _setup(lmp, system: DipoleSystem, dt: float, update: str) -> None:
         f"set type 1 diameter {system.diameter:.17g}",
         f"set type 1 mass {system.mass:.17g}",
         "velocity all set 0 0 0",
-        f"pair_style lj/cut/dipole/cut {system.cutoff:.17g}",
+        f"pair_style lj/cut/dipole/{'cut' if system.kspace is None else 'long'} {system.cutoff:.17g}",
         "pair_coeff * * 0.0 1.0",
+        *([] if system.kspace is None else [f"kspace_style {system.kspace[0]} {system.kspace[1]:.17g}"]),
         "neighbor 1.0 bin",
         "neigh_modify every 1 delay 0 check yes",
         f"fix integrate all nve/sphere update {update}",

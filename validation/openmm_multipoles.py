@@ -70,11 +70,21 @@ def random_cluster(rng, n, kind, spacing=0.5):
 class OpenMMCluster:
     """An OpenMM Context on the Reference platform for one cluster."""
 
-    def __init__(self, sites, dipoles, quadrupoles):
+    def __init__(self, sites, dipoles, quadrupoles, pme=None):
+        """``pme = (box (3,), cutoff, ewald_error_tolerance)`` for an
+        orthorhombic periodic box summed by PME (tin-foil surface), else an
+        open cluster (NoCutoff)."""
         self.sites = np.asarray(sites, float)
         system = mm.System()
         force = mm.AmoebaMultipoleForce()
-        force.setNonbondedMethod(mm.AmoebaMultipoleForce.NoCutoff)
+        if pme is None:
+            force.setNonbondedMethod(mm.AmoebaMultipoleForce.NoCutoff)
+        else:
+            box, cutoff, tolerance = pme
+            force.setNonbondedMethod(mm.AmoebaMultipoleForce.PME)
+            force.setCutoffDistance(cutoff)
+            force.setEwaldErrorTolerance(tolerance)
+            system.setDefaultPeriodicBoxVectors(*(mm.Vec3(*(np.eye(3)[a] * box[a])) for a in range(3)))
         force.setPolarizationType(mm.AmoebaMultipoleForce.Direct)
         zero3, zero9 = [0.0] * 3, [0.0] * 9
         for k, (mu, theta) in enumerate(zip(dipoles, quadrupoles)):

@@ -238,7 +238,7 @@ mod tests {
             "series: needs at least 2 samples, got 1"
         );
         assert_eq!(
-            block_average(&[1.0, f64::NAN]).unwrap_err().what,
+            block_average(&[1.0, f64::NAN]).unwrap_err().path,
             "series[1]"
         );
     }

@@ -271,7 +271,7 @@ mod tests {
         let err = dielectric_constant(&m, 0.0, 1.0, DielectricBoundary::Vacuum).unwrap_err();
         assert_eq!(err.to_string(), "volume: must be finite and > 0, got 0");
         let err = dielectric_constant(&m, 1.0, 1.0, DielectricBoundary::Vacuum).unwrap_err();
-        assert!(err.problem.contains(">= 1 with vacuum"));
+        assert!(err.message.contains(">= 1 with vacuum"));
         assert!("tin foil".parse::<DielectricBoundary>().is_err());
         assert_eq!(
             "vacuum".parse::<DielectricBoundary>(),

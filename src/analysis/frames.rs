@@ -99,7 +99,7 @@ mod tests {
         let mut bad = q;
         bad[5] = Quat::ZERO;
         assert_eq!(
-            Frames::new(&bad, 2, "orientations").unwrap_err().what,
+            Frames::new(&bad, 2, "orientations").unwrap_err().path,
             "orientations[2, 1]"
         );
         let f = Frames::new(&q, 3, "orientations").unwrap();

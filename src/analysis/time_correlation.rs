@@ -234,6 +234,6 @@ mod tests {
             "max_lag: must be below the number of frames 4, got 4"
         );
         let err = orientational_correlations(&f, &[Vector3::zeros()], None).unwrap_err();
-        assert_eq!(err.what, "axes_body[0]");
+        assert_eq!(err.path, "axes_body[0]");
     }
 }

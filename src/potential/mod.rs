@@ -10,5 +10,8 @@ pub mod multipole;
 mod term;
 
 pub use free::Free;
-pub use multipole::{Boundary, ExternalFields, MultipolePotential, PotentialError};
+pub use multipole::{
+    Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod, SumPath,
+    Surface,
+};
 pub use term::Potential;

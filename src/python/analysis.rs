@@ -9,8 +9,8 @@
 
 use crate::analysis::{
     block_average as block_average_of, dielectric_constant as dielectric_of,
-    orientational_correlations as correlations_of, vector_autocorrelation, AnalysisError,
-    BlockAverage, DielectricBoundary, Frames,
+    orientational_correlations as correlations_of, vector_autocorrelation, BlockAverage,
+    DielectricBoundary, Frames,
 };
 use crate::observables::order::{nematic_order, polar_order, space_axes, unit_axis};
 use crate::observables::polarization;
@@ -22,12 +22,6 @@ use pyo3::exceptions::{PyRuntimeWarning, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::ffi::CString;
-
-impl From<AnalysisError> for PyErr {
-    fn from(e: AnalysisError) -> PyErr {
-        PyValueError::new_err(e.to_string())
-    }
-}
 
 /// A numeric argument converted once to float64, with its shape.
 pub(crate) struct Numbers {

@@ -61,7 +61,7 @@ fn gear_corrections_table<'py>(
     batch.extend(dipoles.iter().chain(quadrupoles.iter()));
     let (n, _) = common_len(&batch)?;
     let field = single(field, "field", &[3])?.map(|f| f.vector(0));
-    let boundary = super::potential::boundary(box_lengths, cutoff)?;
+    let boundary = super::potential::boundary(box_lengths, cutoff, None, None, None)?;
     let rotors: Vec<Rotor> = (0..n)
         .map(|i| {
             let m = moments.vector(i);

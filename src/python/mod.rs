@@ -2,6 +2,8 @@
 //! submodule converts numpy arrays at the boundary and delegates to the
 //! library; one place maps errors to Python exceptions.
 
+use crate::checks::InputError;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 mod analysis;
@@ -12,6 +14,14 @@ mod gsd;
 mod potential;
 mod quaternion;
 mod run;
+
+/// Input the library refuses (a potential's sites or multipoles, an
+/// analysis' arrays) is a `ValueError` naming the argument.
+impl From<InputError> for PyErr {
+    fn from(e: InputError) -> PyErr {
+        PyValueError::new_err(e.to_string())
+    }
+}
 
 /// The `quatrot` Python module.
 #[pymodule]

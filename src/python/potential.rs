@@ -1,38 +1,98 @@
 //! `quatrot.multipole_evaluate`: the point-multipole potential from numpy arrays.
 
 use super::arrays::{collect, common_len, single, Items};
-use crate::potential::{Boundary, ExternalFields, MultipolePotential, PotentialError};
+use crate::potential::multipole::DEFAULT_ACCURACY;
+use crate::potential::{
+    Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod, Surface,
+};
 use crate::quaternion::Quat;
 use crate::rotor::{Inertia, Rotor};
-use nalgebra::Vector3;
-use numpy::PyArrayDyn;
+use nalgebra::{Matrix3, Vector3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
 
-impl From<PotentialError> for PyErr {
-    fn from(e: PotentialError) -> PyErr {
-        PyValueError::new_err(e.to_string())
-    }
-}
-
-/// Periodic boundaries when both `box_lengths` (a single 3-vector) and
-/// `cutoff` are given (the lattice sum over every image inside the cutoff,
-/// which may exceed half the box: see [`Boundary::Periodic`]), open when
-/// neither is.
+/// The boundary of the keywords: open when `box_lengths` is absent (and
+/// none of the others is given); periodic otherwise, in the orthorhombic box
+/// `box_lengths` ((3,), or a diagonal (3, 3) matrix), summed as `sum` says:
+/// `"cutoff"` (the default when `cutoff` is given: every image within it,
+/// which may exceed half the box, see [`PeriodicSum::Cutoff`]) or `"ewald"`
+/// (`accuracy` default 1e-12, `surface` `"conducting"` (default) or
+/// `"vacuum"`, see [`PeriodicSum::Ewald`]).
 pub(crate) fn boundary(
     box_lengths: Option<&Bound<'_, PyAny>>,
     cutoff: Option<f64>,
+    sum: Option<&str>,
+    accuracy: Option<f64>,
+    surface: Option<&str>,
 ) -> PyResult<Boundary> {
-    match (single(box_lengths, "box_lengths", &[3])?, cutoff) {
-        (None, None) => Ok(Boundary::Open),
-        (Some(l), Some(cutoff)) => Ok(Boundary::Periodic {
-            box_lengths: l.vector(0),
-            cutoff,
-        }),
-        _ => Err(PyValueError::new_err(
-            "box_lengths, cutoff: give both for periodic boundaries, or neither for open",
+    let Some(box_lengths) = box_lengths else {
+        if cutoff.is_some() {
+            return Err(PyValueError::new_err(
+                "box_lengths, cutoff: give both for periodic boundaries, or neither for open",
+            ));
+        }
+        if sum.is_some() || accuracy.is_some() || surface.is_some() {
+            return Err(PyValueError::new_err(
+                "box_lengths: required with sum, accuracy or surface (periodic boundaries)",
+            ));
+        }
+        return Ok(Boundary::Open);
+    };
+    let box_lengths = orthorhombic_box(box_lengths)?;
+    match (
+        sum.unwrap_or(if cutoff.is_some() { "cutoff" } else { "" }),
+        cutoff,
+    ) {
+        ("cutoff", Some(cutoff)) if accuracy.is_none() && surface.is_none() => {
+            Ok(Boundary::periodic_cutoff(box_lengths, cutoff))
+        }
+        ("cutoff", Some(_)) => Err(PyValueError::new_err(
+            "accuracy, surface: only for sum=\"ewald\", not with a cutoff",
         )),
+        ("cutoff", None) => Err(PyValueError::new_err(
+            "cutoff: required with sum=\"cutoff\"",
+        )),
+        ("ewald", None) => Ok(Boundary::Periodic {
+            box_lengths,
+            sum: PeriodicSum::Ewald {
+                accuracy: accuracy.unwrap_or(DEFAULT_ACCURACY),
+                surface: surface.map_or(Ok(Surface::Conducting), str::parse)?,
+            },
+        }),
+        ("ewald", Some(_)) => Err(PyValueError::new_err(
+            "cutoff: not with sum=\"ewald\" (its cutoffs follow from the accuracy)",
+        )),
+        ("", None) => Err(PyValueError::new_err(
+            "box_lengths, cutoff: give both for periodic boundaries, or neither for open \
+             (or sum=\"ewald\" with box_lengths)",
+        )),
+        (other, _) => Err(PyValueError::new_err(format!(
+            "sum: must be \"cutoff\" or \"ewald\", got \"{other}\""
+        ))),
     }
+}
+
+/// The box edges of `box_lengths`: a 3-vector, or a 3x3 matrix whose rows
+/// are the box vectors, which must be diagonal (orthorhombic).
+fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
+    if let Ok(Some(l)) = single(Some(box_lengths), "box_lengths", &[3]) {
+        return Ok(l.vector(0));
+    }
+    let Ok(Some(m)) = single(Some(box_lengths), "box_lengths", &[3, 3]) else {
+        return Err(PyValueError::new_err(
+            "box_lengths: expected the box edges (3,) or the box vectors (3, 3)",
+        ));
+    };
+    let m = m.matrix(0);
+    let off_diagonal = (m - Matrix3::from_diagonal(&m.diagonal())).amax();
+    if off_diagonal != 0.0 {
+        return Err(PyValueError::new_err(format!(
+            "box_lengths: the box must be orthorhombic (a diagonal matrix of box vectors), \
+             got off-diagonal entries up to {off_diagonal:e}"
+        )));
+    }
+    Ok(m.diagonal())
 }
 
 /// Energy, eq 14 gradient `dV/dq` (n, 4) and space-frame torques (n, 3) of
@@ -40,13 +100,21 @@ pub(crate) fn boundary(
 /// scalar first), body `dipoles_body` (n, 3) and Buckingham
 /// `quadrupoles_body` (n, 3, 3, symmetric traceless), each optional (zero
 /// rows mean no multipole); optional uniform `field` (3,) and
-/// `field_gradient` (3, 3) with `[a, b] = dE_b/dr_a`; open boundaries, or
-/// periodic when `box_lengths` (3,) and `cutoff` are given (every image
-/// within the cutoff, a rotor's own images included). Reduced units,
+/// `field_gradient` (3, 3) with `[a, b] = dE_b/dr_a`. Boundaries: open, or
+/// periodic in the box `box_lengths` with `cutoff` (every image within the
+/// cutoff, a rotor's own images included) or with `sum="ewald"` (optional
+/// `accuracy`, default 1e-12, and `surface`, `"conducting"` (default) or
+/// `"vacuum"`). `method`: `"auto"` (default: the FFT lattice sum for an
+/// Ewald sum on a lattice, the direct sums otherwise), `"direct"` or
+/// `"lattice_fft"`. With `details=True` a fourth value is returned: a dict
+/// with the `path` used (`"open_pairs"`, `"cutoff_pairs"`,
+/// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"`), and
+/// for Ewald sums `alpha`, `real_cutoff`, `reciprocal_cutoff` and the
+/// error estimates, for FFT sums `cells` and `basis`. Reduced units,
 /// 4 pi eps0 = 1.
 #[pyfunction]
-#[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None, sum=None, accuracy=None, surface=None, method="auto", details=false))]
+#[allow(clippy::too_many_arguments)]
 fn multipole_evaluate<'py>(
     py: Python<'py>,
     sites: &Bound<'py, PyAny>,
@@ -57,11 +125,12 @@ fn multipole_evaluate<'py>(
     field_gradient: Option<&Bound<'py, PyAny>>,
     box_lengths: Option<&Bound<'py, PyAny>>,
     cutoff: Option<f64>,
-) -> PyResult<(
-    f64,
-    Bound<'py, PyArrayDyn<f64>>,
-    Bound<'py, PyArrayDyn<f64>>,
-)> {
+    sum: Option<&str>,
+    accuracy: Option<f64>,
+    surface: Option<&str>,
+    method: &str,
+    details: bool,
+) -> PyResult<Bound<'py, PyTuple>> {
     let sites = Items::new(sites, "sites", &[3])?;
     let orientations = Items::new(orientations, "orientations", &[4])?;
     let dipoles = dipoles_body
@@ -87,20 +156,35 @@ fn multipole_evaluate<'py>(
         field: single(field, "field", &[3])?.map(|e| e.vector(0)),
         field_gradient: single(field_gradient, "field_gradient", &[3, 3])?.map(|g| g.matrix(0)),
     };
-    let boundary = boundary(box_lengths, cutoff)?;
+    let boundary = boundary(box_lengths, cutoff, sum, accuracy, surface)?;
+    let method: SumMethod = method.parse()?;
     let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
-    let (energy, gradient, torques) = py.detach(|| -> Result<_, PotentialError> {
-        let potential = MultipolePotential::new(&rotors, boundary, external)?;
+    let (energy, gradient, torques, potential) = py.detach(|| -> Result<_, PotentialError> {
+        let potential = MultipolePotential::with_method(&rotors, boundary, external, method)?;
         let mut gradient = vec![Quat::ZERO; n];
         let mut torques = vec![Vector3::zeros(); n];
         let energy = potential.evaluate(&q, Some(&mut gradient), Some(&mut torques));
-        Ok((energy, gradient, torques))
+        Ok((energy, gradient, torques, potential))
     })?;
-    Ok((
-        energy,
-        collect(py, batch, &[4], |i| Ok(gradient[i].0))?,
-        collect(py, batch, &[3], |i| Ok(torques[i].into()))?,
-    ))
+    let gradient = collect(py, batch, &[4], |i| Ok(gradient[i].0))?;
+    let torques = collect(py, batch, &[3], |i| Ok(torques[i].into()))?;
+    if !details {
+        return (energy, gradient, torques).into_pyobject(py);
+    }
+    let info = PyDict::new(py);
+    info.set_item("path", potential.sum_path().as_str())?;
+    if let Some(p) = potential.ewald_parameters() {
+        info.set_item("alpha", p.alpha)?;
+        info.set_item("real_cutoff", p.real_cutoff)?;
+        info.set_item("reciprocal_cutoff", p.reciprocal_cutoff)?;
+        info.set_item("real_estimate", p.real_estimate)?;
+        info.set_item("reciprocal_estimate", p.reciprocal_estimate)?;
+    }
+    if let Some(grid) = potential.lattice() {
+        info.set_item("cells", grid.cells.to_vec())?;
+        info.set_item("basis", grid.basis.len())?;
+    }
+    (energy, gradient, torques, info).into_pyobject(py)
 }
 
 /// Adds the potential functions to the module.

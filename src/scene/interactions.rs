@@ -95,10 +95,7 @@ pub(super) fn interactions(
             };
             // Any cutoff is a lattice sum over the images inside it; only its
             // size is limited.
-            let boundary = Boundary::Periodic {
-                box_lengths,
-                cutoff: p.cutoff,
-            };
+            let boundary = Boundary::periodic_cutoff(box_lengths, p.cutoff);
             boundary.validate(rotors.len()).map_err(|e| {
                 SceneError::renamed(
                     e,
@@ -207,10 +204,7 @@ mod tests {
                 &rotors,
                 lattice
             ),
-            Ok(Boundary::Periodic {
-                box_lengths: Vector3::repeat(2.0),
-                cutoff: 0.9
-            })
+            Ok(Boundary::periodic_cutoff(Vector3::repeat(2.0), 0.9))
         );
         assert_eq!(
             check(

@@ -71,3 +71,44 @@ def test_periodic_sum_beyond_half_the_box_matches_numpy_image_sum():
     )
     assert e == pytest.approx(energy, rel=IMAGE_SUM_RTOL)
     np.testing.assert_allclose(t, np.cross(mu, field), rtol=0, atol=IMAGE_SUM_RTOL * np.abs(np.cross(mu, field)).max())
+
+
+def _lattice_args():
+    sites = np.array([[x, y, z] for x in range(3) for y in range(3) for z in range(3)], float)
+    return sites, np.tile([1.0, 0, 0, 0], (27, 1)), np.tile([0, 0, 1.0], (27, 1))
+
+
+def test_ewald_keyword_lorentz_energy_and_details():
+    """sum="ewald" on an aligned sc lattice: the Lorentz energy -(2 pi/3) n mu^2
+    per dipole (to 1e-13), the FFT path reported, the direct path on request
+    equal to it, and a (3, 3) diagonal box accepted."""
+    sites, q, mu = _lattice_args()
+    e, g, t, info = quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=np.array([3.0, 3, 3]), sum="ewald", accuracy=1e-14, details=True)
+    assert e / 27 == pytest.approx(-2 * np.pi / 3, rel=1e-13)
+    assert info["path"] == "ewald_lattice_fft" and info["cells"] == [3, 3, 3] and info["basis"] == 1
+    e2, _, _, info2 = quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=np.diag([3.0, 3, 3]), sum="ewald", accuracy=1e-14, method="direct", details=True)
+    assert info2["path"] == "ewald_direct" and e2 == pytest.approx(e, rel=1e-13)
+    # Existing calls keep returning three values.
+    assert len(quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=np.array([3.0, 3, 3]), cutoff=1.5)) == 3
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"sum": "ewald", "accuracy": 0.0}, "accuracy: must be in (0, 1), got 0"),
+        ({"sum": "ewald", "accuracy": 1.5}, "accuracy: must be in (0, 1), got 1.5"),
+        ({"sum": "ewald", "surface": "metal"}, 'surface: must be "conducting" or "vacuum", got "metal"'),
+        ({"sum": "pme"}, 'sum: must be "cutoff" or "ewald", got "pme"'),
+        ({"sum": "ewald", "cutoff": 1.0}, 'cutoff: not with sum="ewald"'),
+        ({"sum": "ewald", "method": "fast"}, 'method: must be "auto", "direct" or "lattice_fft", got "fast"'),
+        ({"sum": "ewald", "box_lengths": np.array([[3.0, 0.5, 0], [0, 3, 0], [0, 0, 3]])}, "box_lengths: the box must be orthorhombic"),
+        ({"cutoff": 1.0, "method": "lattice_fft", "box_lengths": None}, "box_lengths, cutoff: give both"),
+    ],
+)
+def test_bad_ewald_inputs_name_the_field(kwargs, message):
+    sites, q, mu = _lattice_args()
+    args = {"box_lengths": np.array([3.0, 3, 3]), **kwargs}
+    if args["box_lengths"] is None:
+        del args["box_lengths"]
+    with pytest.raises(ValueError, match=re.escape(message)):
+        quatrot.multipole_evaluate(sites, q, dipoles_body=mu, **args)

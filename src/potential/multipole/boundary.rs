@@ -1,9 +1,11 @@
-//! Open or periodic boundaries: the box, the cutoff, and the limit on the
-//! size of the periodic image sum.
+//! Open or periodic boundaries: the box, how the periodic sum is taken (a
+//! spherical cutoff or the Ewald sum), and the limits on the size of the sums.
 
 use super::PotentialError;
 use crate::checks::{each, positive};
 use nalgebra::Vector3;
+use std::fmt;
+use std::str::FromStr;
 
 /// The most interacting pairs (periodic images included) a pair list may
 /// hold: about 0.8 GB of pair indices, and it bounds the build time. The
@@ -11,52 +13,146 @@ use nalgebra::Vector3;
 /// density has about 6.1e7.
 pub const MAX_PAIRS: usize = 100_000_000;
 
-/// How site pairs are enumerated.
+/// The default relative accuracy of the Ewald sum.
+pub const DEFAULT_ACCURACY: f64 = 1e-12;
+
+/// How site pairs are enumerated and summed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Boundary {
     /// An isolated cluster: every pair interacts, no cutoff.
     Open,
     /// An orthorhombic periodic box of edges `box_lengths` (> 0, length unit
-    /// of the scene, along x, y, z) and a spherical `cutoff` (> 0, any size):
-    /// the lattice sum
-    /// `V = sum_{i<j} sum_n v(r_j - r_i + n L) + 1/2 sum_i sum_{n != 0} v(n L)`,
-    /// truncated at `|r| <= cutoff`, over every image `n L` (`n` integer,
-    /// `L` the box) inside the cutoff, so a
-    /// pair may interact through several images and a rotor with its own
-    /// images (a plain spherical cutoff: no Ewald sum, no shift, no tail
-    /// correction). The cutoff is limited only by the size of the sum: about
-    /// `N^2 (4 pi / 3) cutoff^3 / (2 V)` pairs for `N` sites in a box of
-    /// volume `V`, at most [`MAX_PAIRS`].
+    /// of the scene, along x, y, z), summed as `sum` says.
     Periodic {
         /// The edges of the box along x, y, z.
         box_lengths: Vector3<f64>,
-        /// The spherical cutoff.
-        cutoff: f64,
+        /// How the images are summed.
+        sum: PeriodicSum,
     },
 }
 
+/// The periodic lattice sum
+/// `V = sum_{i<j} sum_n v(r_j - r_i + n L) + 1/2 sum_i sum_{n != 0} v(n L)`
+/// over the images `n L` (`n` integer, `L` the box), taken one of two ways.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PeriodicSum {
+    /// Truncated at `|r| <= cutoff` (> 0, any size): every image inside the
+    /// cutoff, so a pair may interact through several images and a rotor with
+    /// its own images (a plain spherical cutoff: no shift, no tail
+    /// correction). The cutoff is limited only by the size of the sum: about
+    /// `N^2 (4 pi / 3) cutoff^3 / (2 V)` pairs for `N` sites in a box of
+    /// volume `V`, at most [`MAX_PAIRS`].
+    Cutoff {
+        /// The spherical cutoff (> 0).
+        cutoff: f64,
+    },
+    /// The Ewald sum (the conditionally convergent dipolar sum taken over
+    /// growing spheres, de Leeuw, Perram & Smith, Proc. R. Soc. A 373, 27
+    /// (1980)), with the splitting parameter and both cutoffs chosen for the
+    /// relative `accuracy` (in (0, 1), default [`DEFAULT_ACCURACY`]; see
+    /// [`super::ewald_parameters`] for its meaning and the estimates), and
+    /// the medium around the sphere given by `surface`.
+    Ewald {
+        /// The requested relative accuracy, in (0, 1).
+        accuracy: f64,
+        /// The medium around the sphere of boxes.
+        surface: Surface,
+    },
+}
+
+/// The medium surrounding the infinite sphere of periodic boxes in the Ewald
+/// sum (de Leeuw, Perram & Smith 1980).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Surface {
+    /// A conductor ("tin foil"): no surface term (the default, as in LAMMPS
+    /// and OpenMM).
+    #[default]
+    Conducting,
+    /// Vacuum: adds `2 pi |M|^2 / (3 V)`, `M` the total dipole of the box.
+    Vacuum,
+}
+
+impl Surface {
+    /// The name used in scenes and in Python: `"conducting"` or `"vacuum"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Surface::Conducting => "conducting",
+            Surface::Vacuum => "vacuum",
+        }
+    }
+}
+
+impl fmt::Display for Surface {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for Surface {
+    type Err = PotentialError;
+    fn from_str(s: &str) -> Result<Self, PotentialError> {
+        match s {
+            "conducting" => Ok(Surface::Conducting),
+            "vacuum" => Ok(Surface::Vacuum),
+            _ => Err(PotentialError::new(
+                "surface",
+                format!("must be \"conducting\" or \"vacuum\", got \"{s}\""),
+            )),
+        }
+    }
+}
+
 impl Boundary {
-    /// Checks the box (path `box_lengths[k]`) and the cutoff (path `cutoff`)
-    /// for `sites` sites: finite and > 0, and the estimated size of the
-    /// periodic image sum at most [`MAX_PAIRS`].
-    pub fn validate(&self, sites: usize) -> Result<(), PotentialError> {
-        let Boundary::Periodic {
+    /// A periodic box summed with a spherical cutoff.
+    pub fn periodic_cutoff(box_lengths: Vector3<f64>, cutoff: f64) -> Boundary {
+        Boundary::Periodic {
             box_lengths,
-            cutoff,
-        } = *self
-        else {
+            sum: PeriodicSum::Cutoff { cutoff },
+        }
+    }
+
+    /// A periodic box summed by Ewald at the default accuracy, conducting surface.
+    pub fn periodic_ewald(box_lengths: Vector3<f64>) -> Boundary {
+        Boundary::Periodic {
+            box_lengths,
+            sum: PeriodicSum::Ewald {
+                accuracy: DEFAULT_ACCURACY,
+                surface: Surface::Conducting,
+            },
+        }
+    }
+
+    /// Checks the box (path `box_lengths[k]`: finite and > 0), the cutoff
+    /// (path `cutoff`) or the accuracy (path `accuracy`) for `sites` sites
+    /// (the estimated size of a truncated periodic sum at most
+    /// [`MAX_PAIRS`]; the Ewald sums check their own sizes when they are
+    /// built).
+    pub fn validate(&self, sites: usize) -> Result<(), PotentialError> {
+        let Boundary::Periodic { box_lengths, sum } = *self else {
             return Ok(());
         };
         each(box_lengths.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
-        let _ = positive(cutoff).map_err(|e| e.at("cutoff"))?;
-        let sphere = 4.0 / 3.0 * std::f64::consts::PI * cutoff.powi(3);
-        let estimate = (sites as f64).powi(2) * sphere / (2.0 * box_lengths.product());
-        if estimate > MAX_PAIRS as f64 {
-            return Err(too_many_pairs(
-                cutoff,
-                sites,
-                &format!("about {estimate:.2e}"),
-            ));
+        match sum {
+            PeriodicSum::Cutoff { cutoff } => {
+                let _ = positive(cutoff).map_err(|e| e.at("cutoff"))?;
+                let sphere = 4.0 / 3.0 * std::f64::consts::PI * cutoff.powi(3);
+                let estimate = (sites as f64).powi(2) * sphere / (2.0 * box_lengths.product());
+                if estimate > MAX_PAIRS as f64 {
+                    return Err(too_many_pairs(
+                        cutoff,
+                        sites,
+                        &format!("about {estimate:.2e}"),
+                    ));
+                }
+            }
+            PeriodicSum::Ewald { accuracy, .. } => {
+                if !(accuracy > 0.0 && accuracy < 1.0) {
+                    return Err(PotentialError::new(
+                        "accuracy",
+                        format!("must be in (0, 1), got {accuracy}"),
+                    ));
+                }
+            }
         }
         Ok(())
     }

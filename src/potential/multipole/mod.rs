@@ -1,18 +1,29 @@
 //! Point-multipole rotors on fixed sites (dipoles and Buckingham quadrupoles),
-//! with open or periodic boundaries and uniform external fields. The energy is
-//! a polynomial of the quaternion components, so the quaternion force of
-//! eq 14 is its analytic gradient.
+//! with open or periodic boundaries (a truncated sum, or the Ewald sum:
+//! direct on any sites, by FFT on lattices) and uniform external fields. The
+//! energy is a polynomial of the quaternion components, so the quaternion
+//! force of eq 14 is its analytic gradient.
 
 mod boundary;
 pub mod convention;
 mod error;
+mod ewald;
+pub mod ewald_parameters;
+mod ewald_terms;
 mod external;
+mod fft3;
 mod kernels;
+mod lattice_fft;
+mod lattice_grid;
 mod pairs;
 mod potential;
 mod row_quads;
 
-pub use boundary::{Boundary, MAX_PAIRS};
+pub use boundary::{Boundary, PeriodicSum, Surface, DEFAULT_ACCURACY, MAX_PAIRS};
 pub use error::PotentialError;
+pub use ewald::MAX_WAVE_VECTORS;
+pub use ewald_parameters::EwaldParameters;
 pub use external::ExternalFields;
-pub use potential::MultipolePotential;
+pub use lattice_fft::MAX_FFT_BYTES;
+pub use lattice_grid::{LatticeGrid, LATTICE_TOLERANCE};
+pub use potential::{MultipolePotential, SumMethod, SumPath};

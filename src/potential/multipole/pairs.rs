@@ -2,7 +2,7 @@
 //!
 //! Each interacting pair is stored once, grouped by its first rotor `i` (CSR),
 //! with one entry per image inside the cutoff (periodic boxes: see
-//! [`Boundary::Periodic`] for the sum): `(i, j)` with `i < j` for every image
+//! [`super::PeriodicSum::Cutoff`] for the sum): `(i, j)` with `i < j` for every image
 //! `r_j - r_i + n L` within the cutoff, and `(i, i)` for every pair of
 //! opposite self images `±n L` (`n != 0`), once, which is the self term
 //! `1/2 sum_{n != 0} v(n L)` since `n` and `-n` give equal terms. The kernels
@@ -15,7 +15,7 @@
 //! cutoff 3.1), so the tables stay in the L1 cache.
 
 use super::boundary::{too_many_pairs, MAX_PAIRS};
-use super::{Boundary, PotentialError};
+use super::PotentialError;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -168,11 +168,15 @@ impl ImageGrid {
 }
 
 impl PairTable {
-    /// Enumerates the interacting pairs: all pairs `i < j` when open; every
-    /// image within the cutoff when periodic (see the module doc). Coincident
-    /// sites (images included) and more than [`MAX_PAIRS`] periodic pairs are
-    /// errors.
-    pub fn build(sites: &[Vector3<f64>], boundary: &Boundary) -> Result<Self, PotentialError> {
+    /// Enumerates the interacting pairs: all pairs `i < j` when `images` is
+    /// `None` (open); every image within the cutoff when it is
+    /// `Some((box_lengths, cutoff))` (periodic, see the module doc).
+    /// Coincident sites (images included) and more than [`MAX_PAIRS`]
+    /// periodic pairs are errors.
+    pub fn build(
+        sites: &[Vector3<f64>],
+        images: Option<(Vector3<f64>, f64)>,
+    ) -> Result<Self, PotentialError> {
         let n = sites.len();
         if u32::try_from(n).is_err() {
             return Err(PotentialError::new(
@@ -187,13 +191,7 @@ impl PairTable {
             geometry: Vec::new(),
         };
         let mut by_offset: HashMap<[i64; 3], u32> = HashMap::new();
-        let grid = match *boundary {
-            Boundary::Periodic {
-                box_lengths,
-                cutoff,
-            } => Some(ImageGrid::new(sites, &box_lengths, cutoff)),
-            Boundary::Open => None,
-        };
+        let grid = images.map(|(box_lengths, cutoff)| ImageGrid::new(sites, &box_lengths, cutoff));
         let mut row = Vec::new();
         for i in 0..n {
             table.start.push(table.partner.len());
@@ -345,11 +343,7 @@ mod tests {
             (Vector3::new(9.0, 8.0, 0.7), 1.9, 120, 1000),
         ] {
             let sites = scatter(count, &box_lengths);
-            let boundary = Boundary::Periodic {
-                box_lengths,
-                cutoff,
-            };
-            let table = PairTable::build(&sites, &boundary).unwrap();
+            let table = PairTable::build(&sites, Some((box_lengths, cutoff))).unwrap();
             let found = table_entries(&table);
             assert!(found
                 .windows(2)
@@ -367,10 +361,7 @@ mod tests {
     /// sum, before any pair is built (not by running out of memory).
     #[test]
     fn huge_cutoffs_are_refused_before_building() {
-        let boundary = Boundary::Periodic {
-            box_lengths: Vector3::repeat(1.0),
-            cutoff: 1e4,
-        };
+        let boundary = crate::potential::Boundary::periodic_cutoff(Vector3::repeat(1.0), 1e4);
         let e = boundary.validate(1).unwrap_err();
         assert_eq!(e.path, "cutoff");
         assert!(e.message.contains("more than the limit"), "{e}");

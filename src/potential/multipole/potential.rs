@@ -1,13 +1,16 @@
 //! [`MultipolePotential`]: point multipoles on fixed sites, as polynomials of
 //! the quaternions.
 
+use super::ewald::EwaldSum;
 use super::kernels::{
     accumulate_pair_fields, Dipoles, DipolesAndQuadrupoles, Lanes, MultipoleKind, Quadrupoles,
     SiteFields, SpaceMultipoles,
 };
+use super::lattice_fft::{LatticeFft, LatticeTensor};
+use super::lattice_grid::{self, LatticeGrid};
 use super::pairs::PairTable;
 use super::row_quads::RowQuads;
-use super::{Boundary, ExternalFields, PotentialError};
+use super::{Boundary, EwaldParameters, ExternalFields, PeriodicSum, PotentialError};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Rotor;
@@ -39,9 +42,13 @@ enum Carried {
 /// `W = dV/dTheta_s` are the conjugate fields; the space-frame torque is
 /// `mu_s x E - 2 vec(Theta_s W)` with `vec(M)_c = eps_abc M_ab`.
 ///
+/// Periodic boxes are summed with a plain cutoff or by Ewald (see
+/// [`PeriodicSum`]): on any sites directly, on a lattice by FFT ([`SumMethod`],
+/// [`SumPath`]); either way the sum gives the fields `E` and `W` at the
+/// sites, and the gradient and torques follow from them as above.
+///
 /// Units are reduced with `4 pi eps0 = 1`. Left out: charges, octupoles and
-/// higher, polarisation, Ewald sums (the periodic sum is truncated at the
-/// cutoff, without shift), damping at short range.
+/// higher, polarisation, damping at short range.
 ///
 /// ```
 /// use nalgebra::Vector3;
@@ -70,10 +77,87 @@ pub struct MultipolePotential {
     carried: Carried,
     dipoles_body: Vec<Vector3<f64>>,
     quadrupoles_body: Vec<Matrix3<f64>>,
-    pairs: PairTable,
-    /// The dipole pairs regrouped for the quad kernel, when it pays (dipole-only systems).
-    row_quads: Option<RowQuads>,
+    sum: FieldSum,
     external: ExternalFields,
+}
+
+/// How the pair fields are summed, fixed at construction.
+#[derive(Clone, Debug)]
+enum FieldSum {
+    /// The pair list (open, or periodic truncated at the cutoff).
+    Pairs {
+        pairs: PairTable,
+        /// The dipole pairs regrouped for the quad kernel, when it pays (dipole-only systems).
+        row_quads: Option<RowQuads>,
+        periodic: bool,
+    },
+    /// The direct Ewald sum.
+    Ewald(Box<EwaldSum>),
+    /// The FFT lattice sum (Ewald or truncated).
+    LatticeFft(Box<LatticeFft>),
+}
+
+/// Which way of summing a periodic system is wanted. [`SumMethod::Auto`]
+/// (what [`MultipolePotential::new`] uses) takes the FFT lattice sum for an
+/// Ewald sum whose sites are a lattice of the box (detected: see
+/// [`crate::potential::multipole::LatticeGrid`]; vacancies and mixed
+/// multipoles included), the direct Ewald sum for other sites, and the pair
+/// list for a truncated sum (bit for bit the sum of earlier versions).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SumMethod {
+    /// The fastest path that is exact for the sites (the default).
+    #[default]
+    Auto,
+    /// The pair list (truncated) or the direct Ewald sum, even on a lattice.
+    Direct,
+    /// The FFT lattice sum (Ewald, or the truncated sum, which it equals to
+    /// round-off): an error when the sites are not a lattice of the box.
+    LatticeFft,
+}
+
+impl std::str::FromStr for SumMethod {
+    type Err = PotentialError;
+    /// `"auto"`, `"direct"` or `"lattice_fft"`.
+    fn from_str(s: &str) -> Result<Self, PotentialError> {
+        match s {
+            "auto" => Ok(SumMethod::Auto),
+            "direct" => Ok(SumMethod::Direct),
+            "lattice_fft" => Ok(SumMethod::LatticeFft),
+            _ => Err(PotentialError::new(
+                "method",
+                format!("must be \"auto\", \"direct\" or \"lattice_fft\", got \"{s}\""),
+            )),
+        }
+    }
+}
+
+/// The way a potential sums its pair fields (see [`MultipolePotential::sum_path`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SumPath {
+    /// Every pair of an open cluster.
+    OpenPairs,
+    /// The truncated periodic sum over the pair list.
+    CutoffPairs,
+    /// The truncated periodic sum by FFT on the lattice.
+    CutoffLatticeFft,
+    /// The direct Ewald sum (real-space pairs and structure factors).
+    EwaldDirect,
+    /// The Ewald sum by FFT on the lattice.
+    EwaldLatticeFft,
+}
+
+impl SumPath {
+    /// A short name, as written in summaries: `"open_pairs"`, `"cutoff_pairs"`,
+    /// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SumPath::OpenPairs => "open_pairs",
+            SumPath::CutoffPairs => "cutoff_pairs",
+            SumPath::CutoffLatticeFft => "cutoff_lattice_fft",
+            SumPath::EwaldDirect => "ewald_direct",
+            SumPath::EwaldLatticeFft => "ewald_lattice_fft",
+        }
+    }
 }
 
 impl MultipolePotential {
@@ -86,6 +170,16 @@ impl MultipolePotential {
         rotors: &[Rotor],
         boundary: Boundary,
         external: ExternalFields,
+    ) -> Result<MultipolePotential, PotentialError> {
+        Self::with_method(rotors, boundary, external, SumMethod::Auto)
+    }
+
+    /// [`Self::new`] with the way of summing chosen (see [`SumMethod`]).
+    pub fn with_method(
+        rotors: &[Rotor],
+        boundary: Boundary,
+        external: ExternalFields,
+        method: SumMethod,
     ) -> Result<MultipolePotential, PotentialError> {
         boundary.validate(rotors.len())?;
         external.validate()?;
@@ -100,12 +194,12 @@ impl MultipolePotential {
             (false, true) => Carried::Quadrupoles,
             (true, true) => Carried::Both,
         };
-        let sites: Vec<_> = rotors.iter().map(|r| r.site).collect();
-        let pairs = if carried == Carried::Nothing {
-            PairTable::build(&[], &boundary)?
+        let sites: Vec<_> = if carried == Carried::Nothing {
+            Vec::new()
         } else {
-            PairTable::build(&sites, &boundary)?
+            rotors.iter().map(|r| r.site).collect()
         };
+        let sum = FieldSum::build(&sites, boundary, method, (has_dipoles, has_quadrupoles))?;
         let dipoles_body = if has_dipoles {
             rotors
                 .iter()
@@ -122,29 +216,61 @@ impl MultipolePotential {
         } else {
             Vec::new()
         };
-        let row_quads = if carried == Carried::Dipoles {
-            RowQuads::build(&pairs)
-        } else {
-            None
-        };
         Ok(MultipolePotential {
             carried,
             dipoles_body,
             quadrupoles_body,
-            pairs,
-            row_quads,
+            sum,
             external,
         })
     }
 
-    /// Number of interacting pairs (each counted once).
+    /// Number of interacting pairs of the pair list, each counted once (the
+    /// real-space pairs of a direct Ewald sum; 0 for an FFT lattice sum).
     pub fn pair_count(&self) -> usize {
-        self.pairs.len()
+        match &self.sum {
+            FieldSum::Pairs { pairs, .. } => pairs.len(),
+            FieldSum::Ewald(ewald) => ewald.real_pairs(),
+            FieldSum::LatticeFft(_) => 0,
+        }
     }
 
-    /// Number of distinct pair geometries stored (shared by equal offsets).
+    /// Number of distinct pair geometries stored (shared by equal offsets;
+    /// 0 unless the pair list is used).
     pub fn geometry_count(&self) -> usize {
-        self.pairs.geometry.len()
+        match &self.sum {
+            FieldSum::Pairs { pairs, .. } => pairs.geometry.len(),
+            _ => 0,
+        }
+    }
+
+    /// The way the pair fields are summed.
+    pub fn sum_path(&self) -> SumPath {
+        match &self.sum {
+            FieldSum::Pairs { periodic: true, .. } => SumPath::CutoffPairs,
+            FieldSum::Pairs { .. } => SumPath::OpenPairs,
+            FieldSum::Ewald(_) => SumPath::EwaldDirect,
+            FieldSum::LatticeFft(fft) if fft.parameters().is_some() => SumPath::EwaldLatticeFft,
+            FieldSum::LatticeFft(_) => SumPath::CutoffLatticeFft,
+        }
+    }
+
+    /// The lattice of the box the FFT lattice sum runs on (`None` for the other sums).
+    pub fn lattice(&self) -> Option<&LatticeGrid> {
+        match &self.sum {
+            FieldSum::LatticeFft(fft) => Some(fft.grid()),
+            _ => None,
+        }
+    }
+
+    /// The Ewald parameters chosen for the requested accuracy (`None`
+    /// without an Ewald sum).
+    pub fn ewald_parameters(&self) -> Option<EwaldParameters> {
+        match &self.sum {
+            FieldSum::Ewald(ewald) => Some(ewald.parameters()),
+            FieldSum::LatticeFft(fft) => fft.parameters(),
+            FieldSum::Pairs { .. } => None,
+        }
     }
 
     /// One evaluation: returns the energy and, when asked, adds the eq 14
@@ -236,8 +362,15 @@ impl MultipolePotential {
     /// thread writes its own rows. Otherwise one block of rows of the half
     /// list per rayon thread, each with its own buffer, summed in block order.
     fn pair_fields<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
+        let (pairs, row_quads) = match &self.sum {
+            FieldSum::Pairs {
+                pairs, row_quads, ..
+            } => (pairs, row_quads),
+            FieldSum::Ewald(ewald) => return ewald.fields::<K>(multipoles),
+            FieldSum::LatticeFft(fft) => return fft.fields::<K>(multipoles),
+        };
         let n = self.rotor_count();
-        if let (true, false, Some(quads)) = (K::DIPOLES, K::QUADRUPOLES, &self.row_quads) {
+        if let (true, false, Some(quads)) = (K::DIPOLES, K::QUADRUPOLES, row_quads) {
             let mut fields = SiteFields::zeros::<K>(n);
             let dipoles = quads.extend(&multipoles.dipoles);
             let per_thread = quads.quads().div_ceil(rayon::current_num_threads());
@@ -248,13 +381,13 @@ impl MultipolePotential {
                 .for_each(|(k, rows)| quads.fields(&dipoles, k * per_thread.max(1), rows));
             return fields;
         }
-        let blocks = self.pairs.balanced_blocks(rayon::current_num_threads());
+        let blocks = pairs.balanced_blocks(rayon::current_num_threads());
         let mut partial: Vec<(usize, SiteFields)> = blocks
             .into_par_iter()
             .map(|rows| {
                 let mut fields = SiteFields::zeros::<K>(n);
                 let first = rows.start;
-                accumulate_pair_fields::<K>(&self.pairs, rows, multipoles, &mut fields);
+                accumulate_pair_fields::<K>(pairs, rows, multipoles, &mut fields);
                 (first, fields)
             })
             .collect();
@@ -342,6 +475,77 @@ impl MultipolePotential {
     }
 }
 
+impl FieldSum {
+    /// The sum for `boundary` and `method` (see [`SumMethod`]), for the
+    /// multipole kinds `(dipoles, quadrupoles)` carried.
+    fn build(
+        sites: &[Vector3<f64>],
+        boundary: Boundary,
+        method: SumMethod,
+        kinds: (bool, bool),
+    ) -> Result<FieldSum, PotentialError> {
+        let pair_sum = |images: Option<(Vector3<f64>, f64)>| -> Result<FieldSum, PotentialError> {
+            let pairs = PairTable::build(sites, images)?;
+            let row_quads = if kinds == (true, false) {
+                RowQuads::build(&pairs)
+            } else {
+                None
+            };
+            Ok(FieldSum::Pairs {
+                pairs,
+                row_quads,
+                periodic: images.is_some(),
+            })
+        };
+        let Boundary::Periodic { box_lengths, sum } = boundary else {
+            if method == SumMethod::LatticeFft {
+                return Err(PotentialError::new(
+                    "method",
+                    "the FFT lattice sum needs a periodic box, got open boundaries",
+                ));
+            }
+            return pair_sum(None);
+        };
+        let (tensor, cutoff) = match sum {
+            PeriodicSum::Cutoff { cutoff } => (LatticeTensor::Cutoff(cutoff), Some(cutoff)),
+            PeriodicSum::Ewald { accuracy, surface } => {
+                (LatticeTensor::Ewald { accuracy, surface }, None)
+            }
+        };
+        if sites.is_empty() {
+            return pair_sum(Some((box_lengths, cutoff.unwrap_or(0.0))));
+        }
+        let fft = match method {
+            SumMethod::LatticeFft => true,
+            SumMethod::Auto => cutoff.is_none(),
+            SumMethod::Direct => false,
+        };
+        if fft {
+            match lattice_grid::detect(sites, &box_lengths) {
+                Some(grid) => {
+                    let sum = LatticeFft::new(grid, &box_lengths, tensor, kinds)?;
+                    return Ok(FieldSum::LatticeFft(Box::new(sum)));
+                }
+                None if method == SumMethod::LatticeFft => {
+                    return Err(PotentialError::new(
+                        "method",
+                        "the FFT lattice sum needs the sites on a lattice of the box \
+                         (one grid of cells with the same basis offsets, to round-off); \
+                         these sites are not",
+                    ));
+                }
+                None => {}
+            }
+        }
+        match sum {
+            PeriodicSum::Cutoff { cutoff } => pair_sum(Some((box_lengths, cutoff))),
+            PeriodicSum::Ewald { accuracy, surface } => Ok(FieldSum::Ewald(Box::new(
+                EwaldSum::new(sites, box_lengths, accuracy, surface, kinds)?,
+            ))),
+        }
+    }
+}
+
 /// Adds `mu_s x E - 2 vec(Theta_s W)` to each rotor's space-frame torque.
 fn add_torques<K: MultipoleKind>(
     multipoles: &SpaceMultipoles,
@@ -403,18 +607,25 @@ mod tests {
                 quadrupole_body: None,
             })
             .collect();
-        let boundary = Boundary::Periodic {
-            box_lengths: Vector3::repeat(10.0),
-            cutoff: 3.1,
-        };
+        let boundary = Boundary::periodic_cutoff(Vector3::repeat(10.0), 3.1);
         let external = ExternalFields {
             field: Some(Vector3::new(0.4, -1.3, 0.7)),
             field_gradient: None,
         };
         let quads = MultipolePotential::new(&rotors, boundary, external).unwrap();
-        assert!(quads.row_quads.is_some());
+        let FieldSum::Pairs {
+            pairs, row_quads, ..
+        } = &quads.sum
+        else {
+            panic!("a pair sum");
+        };
+        assert!(row_quads.is_some());
         let half_list = MultipolePotential {
-            row_quads: None,
+            sum: FieldSum::Pairs {
+                pairs: pairs.clone(),
+                row_quads: None,
+                periodic: true,
+            },
             ..quads.clone()
         };
         let mut rng = ChaCha20Rng::seed_from_u64(8);

@@ -373,7 +373,6 @@ mod tests {
     use super::*;
     use crate::potential::multipole::kernels::SpaceMultipoles;
     use crate::potential::multipole::kernels::{pair_fields, Dipoles, Separate, SiteFields};
-    use crate::potential::Boundary;
     use nalgebra::Vector3;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha20Rng;
@@ -394,11 +393,8 @@ mod tests {
             .collect()
     }
 
-    fn periodic(cells: usize, cutoff: f64) -> Boundary {
-        Boundary::Periodic {
-            box_lengths: Vector3::repeat(cells as f64),
-            cutoff,
-        }
+    fn periodic(cells: usize, cutoff: f64) -> Option<(Vector3<f64>, f64)> {
+        Some((Vector3::repeat(cells as f64), cutoff))
     }
 
     /// Unit dipoles in random directions.
@@ -417,8 +413,11 @@ mod tests {
     /// The quad kernel (dispatched build, and the portable build) gives the
     /// fields of the portable half list kernel; split into two calls at an
     /// odd quad, as two threads would.
-    fn check_against_half_list(sites: &[Vector3<f64>], boundary: &Boundary) -> RowQuads {
-        let pairs = PairTable::build(sites, boundary).unwrap();
+    fn check_against_half_list(
+        sites: &[Vector3<f64>],
+        images: Option<(Vector3<f64>, f64)>,
+    ) -> RowQuads {
+        let pairs = PairTable::build(sites, images).unwrap();
         let quads = RowQuads::build(&pairs).expect("the quad kernel is selected");
         let n = sites.len();
         let multipoles = SpaceMultipoles {
@@ -459,7 +458,7 @@ mod tests {
     /// selected, with few ghost entries.
     #[test]
     fn lattice_fields_match_the_half_list() {
-        let quads = check_against_half_list(&simple_cubic(10, &[]), &periodic(10, 3.1));
+        let quads = check_against_half_list(&simple_cubic(10, &[]), periodic(10, 3.1));
         assert!(quads.ghosts.len() < 3000, "{}", quads.ghosts.len());
     }
 
@@ -467,7 +466,7 @@ mod tests {
     /// (self pairs counting both ends) and each partner many times.
     #[test]
     fn self_images_match_the_half_list() {
-        let _ = check_against_half_list(&simple_cubic(2, &[]), &periodic(2, 3.1));
+        let _ = check_against_half_list(&simple_cubic(2, &[]), periodic(2, 3.1));
     }
 
     /// A 10^3 lattice with two vacancies: rows of different lengths (missing
@@ -475,7 +474,7 @@ mod tests {
     /// two rows (998 rotors).
     #[test]
     fn lattice_with_vacancies_matches_the_half_list() {
-        let quads = check_against_half_list(&simple_cubic(10, &[17, 600]), &periodic(10, 3.1));
+        let quads = check_against_half_list(&simple_cubic(10, &[17, 600]), periodic(10, 3.1));
         assert!(!quads.ghosts.is_empty());
         assert!(quads.ghosts.contains(&NO_ROTOR));
     }
@@ -488,7 +487,7 @@ mod tests {
         let sites: Vec<_> = (0..64)
             .map(|_| Vector3::from_fn(|_, _| rng.random_range(0.0..4.0)))
             .collect();
-        let pairs = PairTable::build(&sites, &periodic(4, 1.9)).unwrap();
+        let pairs = PairTable::build(&sites, periodic(4, 1.9)).unwrap();
         assert!(pairs.len() > 100);
         assert!(RowQuads::build(&pairs).is_none());
     }

@@ -1,0 +1,191 @@
+//! The periodic sums' cost (`cargo bench --bench ewald`, part of `make bench`;
+//! `python -m validation.bench.ewald` adds LAMMPS side by side and writes the
+//! results): one energy + eq 14 gradient evaluation, one thread, of
+//!
+//! * the built-in 1000-dipole simple-cubic lattice (10^3, spacing 1, |mu| = 1):
+//!   the truncated pair sum at cutoff 3.1 (today's kernel), the FFT lattice
+//!   sum of the same truncated tensor, the FFT lattice Ewald sum at
+//!   accuracies 1e-6 and 1e-12, the direct Ewald sum at 1e-6 and 1e-12;
+//! * the FFT lattice Ewald sum (1e-12) from 10^3 to 100^3 rotors (and its
+//!   one-off set-up);
+//! * the direct Ewald sum (1e-6 and 1e-12) of irregular sites (uniform random
+//!   at unit density, seed 14) from 125 to 4000 rotors.
+//!
+//! Each time is the median and the best of repeated single evaluations
+//! (repeats fill ~`SECONDS_PER_CASE`). Writes `<QUATROT_BENCH_RAW or
+//! target/bench/raw>/ewald.json`; `QUATROT_BENCH_QUICK=1` shrinks the sizes.
+
+use nalgebra::Vector3;
+use quatrot::lattice::{Lattice, LatticeKind};
+use quatrot::potential::{
+    Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod, Surface,
+};
+use quatrot::rotor::{Inertia, Rotor};
+use quatrot::Quat;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha20Rng;
+use serde_json::{json, Value};
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Wall time spent on each timed case (its repeats).
+const SECONDS_PER_CASE: f64 = 1.5;
+
+fn dipoles(sites: &[Vector3<f64>]) -> Vec<Rotor> {
+    sites
+        .iter()
+        .map(|s| Rotor {
+            site: *s,
+            inertia: Inertia::Spherical(0.1),
+            dipole_body: Some(Vector3::z()),
+            quadrupole_body: None,
+        })
+        .collect()
+}
+
+fn orientations(n: usize, seed: u64) -> Vec<Quat> {
+    let mut rng = ChaCha20Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            let v: [f64; 4] = std::array::from_fn(|_| rng.random_range(-1.0..1.0));
+            let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            Quat(v.map(|x| x / norm))
+        })
+        .collect()
+}
+
+fn ewald(box_lengths: Vector3<f64>, accuracy: f64) -> Boundary {
+    Boundary::Periodic {
+        box_lengths,
+        sum: PeriodicSum::Ewald {
+            accuracy,
+            surface: Surface::Conducting,
+        },
+    }
+}
+
+/// Set-up seconds, then (median, best) seconds of one energy + gradient evaluation.
+fn time_case(rotors: &[Rotor], boundary: Boundary, method: SumMethod, q: &[Quat]) -> Value {
+    let start = Instant::now();
+    let p = MultipolePotential::with_method(rotors, boundary, ExternalFields::NONE, method)
+        .expect("valid potential");
+    let setup = start.elapsed().as_secs_f64();
+    let mut gradient = vec![Quat::ZERO; q.len()];
+    let mut times = Vec::new();
+    let budget = Instant::now();
+    while times.len() < 5
+        || (budget.elapsed().as_secs_f64() < SECONDS_PER_CASE && times.len() < 2000)
+    {
+        gradient.fill(Quat::ZERO);
+        let t = Instant::now();
+        black_box(p.energy_and_gradient(black_box(q), &mut gradient));
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    let parameters = p.ewald_parameters().map(|e| {
+        json!({"alpha": e.alpha, "real_cutoff": e.real_cutoff, "reciprocal_cutoff": e.reciprocal_cutoff})
+    });
+    json!({
+        "rotors": rotors.len(),
+        "path": p.sum_path().as_str(),
+        "setup_seconds": setup,
+        "median_seconds": times[times.len() / 2],
+        "best_seconds": times[0],
+        "repeats": times.len(),
+        "real_space_pairs": p.pair_count(),
+        "parameters": parameters,
+    })
+}
+
+fn main() {
+    let quick = std::env::var("QUATROT_BENCH_QUICK").is_ok_and(|v| v == "1");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    let started = Instant::now();
+    let out = pool.install(|| {
+        let lattice = Lattice::cubic(LatticeKind::SimpleCubic, 10, 1.0).expect("lattice");
+        let rotors = dipoles(&lattice.sites);
+        let q = orientations(rotors.len(), 1);
+        let l = lattice.box_lengths;
+        let cutoff = Boundary::periodic_cutoff(l, 3.1);
+        let mut lattice_cases = Vec::new();
+        for (name, boundary, method) in [
+            (
+                "truncated, cutoff 3.1, pair kernel",
+                cutoff,
+                SumMethod::Auto,
+            ),
+            ("truncated, cutoff 3.1, FFT", cutoff, SumMethod::LatticeFft),
+            ("Ewald 1e-6, FFT", ewald(l, 1e-6), SumMethod::Auto),
+            ("Ewald 1e-12, FFT", ewald(l, 1e-12), SumMethod::Auto),
+            ("Ewald 1e-6, direct", ewald(l, 1e-6), SumMethod::Direct),
+            ("Ewald 1e-12, direct", ewald(l, 1e-12), SumMethod::Direct),
+        ] {
+            let mut case = time_case(&rotors, boundary, method, &q);
+            case["case"] = json!(name);
+            eprintln!("{case}");
+            lattice_cases.push(case);
+        }
+        let cells: &[usize] = if quick { &[10, 22] } else { &[10, 22, 46, 100] };
+        let scaling: Vec<Value> = cells
+            .iter()
+            .map(|&c| {
+                let lattice = Lattice::cubic(LatticeKind::SimpleCubic, c, 1.0).expect("lattice");
+                let rotors = dipoles(&lattice.sites);
+                let q = orientations(rotors.len(), 2);
+                let case = time_case(
+                    &rotors,
+                    ewald(lattice.box_lengths, 1e-12),
+                    SumMethod::Auto,
+                    &q,
+                );
+                eprintln!("{case}");
+                case
+            })
+            .collect();
+        let sizes: &[usize] = if quick {
+            &[125, 250]
+        } else {
+            &[125, 250, 500, 1000, 2000, 4000]
+        };
+        let mut direct = Vec::new();
+        for &accuracy in &[1e-6, 1e-12] {
+            for &n in sizes {
+                let edge = (n as f64).cbrt();
+                let mut rng = ChaCha20Rng::seed_from_u64(14);
+                let sites: Vec<Vector3<f64>> = (0..n)
+                    .map(|_| Vector3::from_fn(|_, _| rng.random_range(0.0..edge)))
+                    .collect();
+                let rotors = dipoles(&sites);
+                let q = orientations(n, 3);
+                let mut case = time_case(
+                    &rotors,
+                    ewald(Vector3::repeat(edge), accuracy),
+                    SumMethod::Auto,
+                    &q,
+                );
+                case["accuracy"] = json!(accuracy);
+                eprintln!("{case}");
+                direct.push(case);
+            }
+        }
+        json!({
+            "quick": quick,
+            "quatrot": env!("CARGO_PKG_VERSION"),
+            "lattice": lattice_cases,
+            "fft_scaling": scaling,
+            "direct_scaling": direct,
+        })
+    });
+    let dir = PathBuf::from(
+        std::env::var("QUATROT_BENCH_RAW").unwrap_or_else(|_| "target/bench/raw".into()),
+    );
+    std::fs::create_dir_all(&dir).expect("output folder");
+    let mut out = out;
+    out["seconds"] = json!(started.elapsed().as_secs_f64());
+    std::fs::write(dir.join("ewald.json"), out.to_string()).expect("write ewald.json");
+    eprintln!("wrote {}", dir.join("ewald.json").display());
+}

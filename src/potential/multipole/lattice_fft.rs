@@ -1,0 +1,510 @@
+//! The lattice sum by FFT: on a lattice of the box ([`super::lattice_grid`])
+//! the fields at slot `(m, b)` (cell `m`, basis offset `b`) are a discrete
+//! circular convolution over the cells,
+//! `F_b(m) = sum_{m', b'} K_{b b'}(m - m') p_{b'}(m')`, of the multipoles
+//! `p` (zero in empty slots) with one fixed tensor per basis pair,
+//! `K_{b b'}(d) = sum_n T(d c + s_b - s_b' + n L)`, `T` the linear map from
+//! a source's dipole and quadrupole to a target's `E` and `W` at their
+//! offset. So `F^_b(q) = sum_b' K^_{b b'}(q) p^_{b'}(q)` on the FFT grid of
+//! the cells, and one evaluation is `B C` forward and `B F` inverse real 3D
+//! FFTs (`C` = 3 dipole and/or 5 quadrupole components, `F` = 3 field and/or
+//! 6 gradient components) and `B^2 C F` products per frequency: `O(N log N)`
+//! whatever the cutoff or accuracy.
+//!
+//! `K^` is built once:
+//!
+//! * truncated sum: `T` is the bare interaction tensor over every image with
+//!   `0 < |r| <= cutoff`, placed on the cell grid and transformed;
+//! * Ewald sum (Laino & Hutter 2008, for the reciprocal part per basis
+//!   pair): the real-space tensor on `erfc(alpha r)/r` within `r_c` and the
+//!   self term on the grid, transformed, plus the reciprocal part added at
+//!   each frequency `q` directly,
+//!   `(4 pi / V) sum_K exp(-k^2 / 4 alpha^2) / k^2 P(k) exp(i k.(s_b - s_b'))`
+//!   over `k = q + K != 0`, `|k| <= k_c`, `K` the cell's reciprocal lattice,
+//!   `P(k)` the mode response of [`super::ewald_terms`]; the vacuum surface
+//!   term adds `-4 pi / (3 V)` to the dipole-field block at `q = 0`.
+//!
+//! The memory is estimated before anything is allocated and refused above
+//! [`MAX_FFT_BYTES`].
+
+use super::ewald_parameters::{self, EwaldParameters};
+use super::ewald_terms::{
+    mode_weight, pair_fields, radial, self_conjugate_per_quadrupole, self_field_per_dipole,
+    surface_field_per_dipole,
+};
+use super::fft3::RealFft3;
+use super::kernels::{Lanes, MultipoleKind, SiteFields, SpaceMultipoles};
+use super::lattice_grid::LatticeGrid;
+use super::{PotentialError, Surface};
+use nalgebra::{Matrix3, Vector3};
+use rustfft::num_complex::Complex;
+use std::f64::consts::PI;
+
+type C64 = Complex<f64>;
+
+/// The most memory (bytes) the FFT lattice sum may hold: its kernel, the
+/// buffers of one evaluation and those of the kernel's construction.
+pub const MAX_FFT_BYTES: usize = 1 << 30;
+
+/// Which lattice tensor is transformed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum LatticeTensor {
+    /// The bare tensor over every image within the cutoff.
+    Cutoff(f64),
+    /// The Ewald sum for `accuracy`, with `surface`.
+    Ewald { accuracy: f64, surface: Surface },
+}
+
+/// The source components (unit multipoles) of a system carrying dipoles
+/// and/or quadrupoles: `mu = e_x, e_y, e_z`, then the traceless
+/// `Theta` with one of `Theta_xx`, `Theta_yy`, `Theta_xy`, `Theta_xz`,
+/// `Theta_yz` equal to 1 (and `Theta_zz = -Theta_xx - Theta_yy`).
+fn unit_sources(dipoles: bool, quadrupoles: bool) -> Vec<(Vector3<f64>, Matrix3<f64>)> {
+    let mut out = Vec::new();
+    if dipoles {
+        for a in 0..3 {
+            out.push((
+                Vector3::from_fn(|i, _| (i == a) as u8 as f64),
+                Matrix3::zeros(),
+            ));
+        }
+    }
+    if quadrupoles {
+        let mut units = vec![
+            Matrix3::from_diagonal(&Vector3::new(1.0, 0.0, -1.0)),
+            Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, -1.0)),
+        ];
+        for (a, b) in [(0, 1), (0, 2), (1, 2)] {
+            let mut m = Matrix3::zeros();
+            m[(a, b)] = 1.0;
+            m[(b, a)] = 1.0;
+            units.push(m);
+        }
+        out.extend(units.into_iter().map(|m| (Vector3::zeros(), m)));
+    }
+    out
+}
+
+/// The source components of one space-frame multipole (order of [`unit_sources`]).
+fn source_components(
+    dipoles: bool,
+    mu: &Lanes,
+    theta: Option<&Matrix3<f64>>,
+) -> impl Iterator<Item = f64> {
+    let d = dipoles.then(|| [mu[0], mu[1], mu[2]]);
+    let q = theta.map(|t| [t.m11, t.m22, t.m12, t.m13, t.m23]);
+    d.into_iter().flatten().chain(q.into_iter().flatten())
+}
+
+/// The field components `(E_x, E_y, E_z)` and/or
+/// `(W_xx, W_yy, W_zz, W_xy, W_xz, W_yz)` of `(E, W)`.
+fn field_components<T: nalgebra::Scalar + Copy>(
+    dipoles: bool,
+    quadrupoles: bool,
+    e: &Vector3<T>,
+    w: &Matrix3<T>,
+) -> Vec<T> {
+    let mut out = Vec::with_capacity(9);
+    if dipoles {
+        out.extend([e[0], e[1], e[2]]);
+    }
+    if quadrupoles {
+        out.extend([
+            w[(0, 0)],
+            w[(1, 1)],
+            w[(2, 2)],
+            w[(0, 1)],
+            w[(0, 2)],
+            w[(1, 2)],
+        ]);
+    }
+    out
+}
+
+/// The FFT lattice sum of one lattice (see the module doc).
+#[derive(Clone, Debug)]
+pub(crate) struct LatticeFft {
+    grid: LatticeGrid,
+    plan: RealFft3,
+    dipoles: bool,
+    quadrupoles: bool,
+    sources: usize,
+    fields: usize,
+    /// `K^ / N_cells` per frequency, as `[b][f][b'][c]` (see [`kernel_index`]).
+    kernel: Vec<C64>,
+    parameters: Option<EwaldParameters>,
+}
+
+impl LatticeFft {
+    /// Builds the transformed lattice tensor, after checking its memory.
+    pub fn new(
+        grid: LatticeGrid,
+        box_lengths: &Vector3<f64>,
+        tensor: LatticeTensor,
+        (dipoles, quadrupoles): (bool, bool),
+    ) -> Result<Self, PotentialError> {
+        let mut occupant = std::collections::HashMap::new();
+        for (i, slot) in grid.slots.iter().enumerate() {
+            if let Some(j) = occupant.insert(*slot, i) {
+                return Err(PotentialError::new(
+                    format!("rotors[{j}].site and rotors[{i}].site"),
+                    "coincide (periodic images included)",
+                ));
+            }
+        }
+        let sources = 3 * dipoles as usize + 5 * quadrupoles as usize;
+        let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
+        let b = grid.basis.len();
+        let cells = grid.cell_count();
+        let plan = RealFft3::new(grid.cells);
+        let spectrum = plan.spectrum_len();
+        let bytes = memory_bytes(b, cells, spectrum, sources, fields);
+        if bytes > MAX_FFT_BYTES as f64 {
+            return Err(PotentialError::new(
+                "rotors",
+                format!(
+                    "the FFT lattice sum of these {} rotors ({} x {} x {} cells of {b} sites, \
+                     {sources} multipole and {fields} field components) needs about {:.2} GB, \
+                     more than the limit {:.2} GB",
+                    grid.slots.len(),
+                    grid.cells[0],
+                    grid.cells[1],
+                    grid.cells[2],
+                    bytes / 1e9,
+                    MAX_FFT_BYTES as f64 / 1e9
+                ),
+            ));
+        }
+        let volume = box_lengths.product();
+        let cell_volume = volume / cells as f64;
+        let (reach, parameters) = match tensor {
+            LatticeTensor::Cutoff(cutoff) => (cutoff, None),
+            LatticeTensor::Ewald { accuracy, .. } => {
+                let density = grid.slots.len() as f64 / volume;
+                let per_pair = (b * b) as f64;
+                let p = ewald_parameters::choose(
+                    accuracy,
+                    density,
+                    &ewald_parameters::ranks(dipoles, quadrupoles),
+                    |rc, kc| {
+                        per_pair
+                            * (4.0 * PI / 3.0 * rc.powi(3) / cell_volume
+                                + spectrum as f64 * cell_volume * kc.powi(3) / (6.0 * PI * PI))
+                    },
+                );
+                (p.real_cutoff, Some(p))
+            }
+        };
+        let alpha = parameters.map_or(0.0, |p| p.alpha);
+        let units = unit_sources(dipoles, quadrupoles);
+        let block = sources * fields;
+        let mut kernel = vec![C64::default(); spectrum * b * b * block];
+        let mut real = vec![0.0; cells];
+        let mut transformed = vec![C64::default(); spectrum];
+        let mut work = vec![C64::default(); spectrum];
+        let scale = 1.0 / cells as f64;
+        for (target, s_t) in grid.basis.iter().enumerate() {
+            for (source, s_s) in grid.basis.iter().enumerate() {
+                let shift = s_t - s_s;
+                // Real-space (or truncated) tensor on the cell grid, per (f, c).
+                let mut tensor_grid = vec![0.0; block * cells];
+                for_lattice_vectors(&grid, &shift, reach, |cell, r| {
+                    let rb = radial(alpha, r.norm());
+                    for (c, (mu, theta)) in units.iter().enumerate() {
+                        let (e, w) = pair_fields(r, &rb, Some(mu), Some(theta));
+                        for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
+                            .into_iter()
+                            .enumerate()
+                        {
+                            tensor_grid[(f * sources + c) * cells + cell] += v;
+                        }
+                    }
+                });
+                if target == source && parameters.is_some() {
+                    let (a3, a5) = (
+                        self_field_per_dipole(alpha),
+                        self_conjugate_per_quadrupole(alpha),
+                    );
+                    for (c, (mu, theta)) in units.iter().enumerate() {
+                        let (e, w) = (mu * a3, theta * a5);
+                        for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
+                            .into_iter()
+                            .enumerate()
+                        {
+                            tensor_grid[(f * sources + c) * cells] += v;
+                        }
+                    }
+                }
+                for fc in 0..block {
+                    real.copy_from_slice(&tensor_grid[fc * cells..(fc + 1) * cells]);
+                    plan.forward(&mut real, &mut transformed, &mut work);
+                    let (f, c) = (fc / sources, fc % sources);
+                    for (q, value) in transformed.iter().enumerate() {
+                        let at = kernel_index(q, (target, f), (source, c), b, sources, fields);
+                        kernel[at] = value * scale;
+                    }
+                }
+                if let Some(p) = parameters {
+                    add_reciprocal(
+                        &mut kernel,
+                        &plan,
+                        &grid,
+                        box_lengths,
+                        &p,
+                        &units,
+                        (dipoles, quadrupoles),
+                        (target, source, &shift),
+                    );
+                }
+            }
+        }
+        if let LatticeTensor::Ewald {
+            surface: Surface::Vacuum,
+            ..
+        } = tensor
+        {
+            if dipoles {
+                let value = surface_field_per_dipole(volume);
+                for target in 0..b {
+                    for source in 0..b {
+                        for a in 0..3 {
+                            kernel
+                                [kernel_index(0, (target, a), (source, a), b, sources, fields)] +=
+                                value;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(LatticeFft {
+            grid,
+            plan,
+            dipoles,
+            quadrupoles,
+            sources,
+            fields,
+            kernel,
+            parameters,
+        })
+    }
+
+    /// The Ewald parameters of the kernel (`None` for a truncated sum).
+    pub fn parameters(&self) -> Option<EwaldParameters> {
+        self.parameters
+    }
+
+    /// The lattice the sum runs on.
+    pub fn grid(&self) -> &LatticeGrid {
+        &self.grid
+    }
+
+    /// The fields of every site.
+    pub fn fields<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
+        debug_assert_eq!(
+            (K::DIPOLES, K::QUADRUPOLES),
+            (self.dipoles, self.quadrupoles)
+        );
+        let b = self.grid.basis.len();
+        let cells = self.grid.cell_count();
+        let spectrum = self.plan.spectrum_len();
+        let (c_count, f_count) = (self.sources, self.fields);
+        // Scatter the multipoles onto the grids, one per (basis offset, component).
+        let mut grids = vec![0.0; b * c_count * cells];
+        let zero = Lanes::default();
+        for (i, &(cell, basis)) in self.grid.slots.iter().enumerate() {
+            let mu = if K::DIPOLES {
+                &multipoles.dipoles[i]
+            } else {
+                &zero
+            };
+            let theta = K::QUADRUPOLES.then(|| &multipoles.quadrupoles[i]);
+            for (c, v) in source_components(K::DIPOLES, mu, theta).enumerate() {
+                grids[(basis * c_count + c) * cells + cell] = v;
+            }
+        }
+        let mut work = vec![C64::default(); spectrum];
+        let mut sources = vec![C64::default(); b * c_count * spectrum];
+        for (grid, out) in grids.chunks_mut(cells).zip(sources.chunks_mut(spectrum)) {
+            self.plan.forward(grid, out, &mut work);
+        }
+        // Multiply by the kernel, frequency by frequency: each row of the
+        // kernel ([b][f] fixed) against the sources ([b'][c]) at q.
+        let bc = b * c_count;
+        let mut fields = vec![C64::default(); b * f_count * spectrum];
+        let mut p = vec![C64::default(); bc];
+        for (q, kernel) in self.kernel.chunks_exact(b * f_count * bc).enumerate() {
+            for (k, v) in p.iter_mut().enumerate() {
+                *v = sources[k * spectrum + q];
+            }
+            for (tf, row) in kernel.chunks_exact(bc).enumerate() {
+                fields[tf * spectrum + q] = row
+                    .iter()
+                    .zip(&p)
+                    .fold(C64::default(), |sum, (k, v)| sum + k * v);
+            }
+        }
+        let mut real = vec![0.0; b * f_count * cells];
+        for (spec, out) in fields.chunks_mut(spectrum).zip(real.chunks_mut(cells)) {
+            self.plan.inverse(spec, out, &mut work);
+        }
+        // Gather each site's fields.
+        let n = self.grid.slots.len();
+        let mut out = SiteFields::zeros::<K>(n);
+        for (i, &(cell, basis)) in self.grid.slots.iter().enumerate() {
+            let at = |f: usize| real[(basis * f_count + f) * cells + cell];
+            let mut f = 0;
+            if K::DIPOLES {
+                out.field[i] = Lanes([at(0), at(1), at(2), 0.0]);
+                f = 3;
+            }
+            if K::QUADRUPOLES {
+                let w = [0, 1, 2, 3, 4, 5].map(|k| at(f + k));
+                out.quadrupole_conjugate[i] =
+                    Matrix3::new(w[0], w[3], w[4], w[3], w[1], w[5], w[4], w[5], w[2]);
+            }
+        }
+        out
+    }
+}
+
+/// The position of `K^_{(target, f), (source, c)}(q) / N_cells` in the
+/// kernel: per frequency, rows `(target, f)` of `b sources` entries.
+fn kernel_index(
+    q: usize,
+    (target, f): (usize, usize),
+    (source, c): (usize, usize),
+    b: usize,
+    sources: usize,
+    fields: usize,
+) -> usize {
+    ((q * b + target) * fields + f) * b * sources + source * sources + c
+}
+
+/// Bytes of the kernel, of one evaluation's buffers and of the construction's.
+fn memory_bytes(b: usize, cells: usize, spectrum: usize, sources: usize, fields: usize) -> f64 {
+    let (b, cells, spectrum) = (b as f64, cells as f64, spectrum as f64);
+    let (c, f) = (sources as f64, fields as f64);
+    let kernel = spectrum * b * b * c * f * 16.0;
+    let evaluation = (c + f) * b * (cells * 8.0 + spectrum * 16.0) + 2.0 * spectrum * 16.0;
+    let construction = c * f * cells * 8.0 + cells * 8.0 + 2.0 * spectrum * 16.0;
+    kernel + evaluation.max(construction)
+}
+
+/// Calls `f(cell, r)` for every lattice vector `r = m c + shift` (`m`
+/// integer, any size) with `0 < |r| <= reach`, `cell` being `m` modulo the
+/// cells.
+fn for_lattice_vectors(
+    grid: &LatticeGrid,
+    shift: &Vector3<f64>,
+    reach: f64,
+    mut f: impl FnMut(usize, &Vector3<f64>),
+) {
+    let c = &grid.cell_lengths;
+    let range = |a: usize| {
+        let lo = ((-reach - shift[a]) / c[a]).ceil() as i64;
+        let hi = ((reach - shift[a]) / c[a]).floor() as i64;
+        lo..=hi
+    };
+    let m_count = grid.cells.map(|m| m as i64);
+    for mx in range(0) {
+        for my in range(1) {
+            for mz in range(2) {
+                let r = Vector3::new(
+                    mx as f64 * c.x + shift.x,
+                    my as f64 * c.y + shift.y,
+                    mz as f64 * c.z + shift.z,
+                );
+                let r2 = r.norm_squared();
+                if r2 == 0.0 || r2 > reach * reach {
+                    continue;
+                }
+                let wrap = |m: i64, a: usize| m.rem_euclid(m_count[a]) as usize;
+                let cell =
+                    (wrap(mx, 0) * grid.cells[1] + wrap(my, 1)) * grid.cells[2] + wrap(mz, 2);
+                f(cell, &r);
+            }
+        }
+    }
+}
+
+/// Adds the reciprocal-space part of `K^_{target, source}(q) / N_cells` at every frequency.
+#[allow(clippy::too_many_arguments)]
+fn add_reciprocal(
+    kernel: &mut [C64],
+    plan: &RealFft3,
+    grid: &LatticeGrid,
+    box_lengths: &Vector3<f64>,
+    p: &EwaldParameters,
+    units: &[(Vector3<f64>, Matrix3<f64>)],
+    (dipoles, quadrupoles): (bool, bool),
+    (target, source, shift): (usize, usize, &Vector3<f64>),
+) {
+    let b = grid.basis.len();
+    let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
+    let sources = units.len();
+    let [nx, ny, nz] = plan.dims();
+    let kc = p.reciprocal_cutoff;
+    let volume = box_lengths.product();
+    let c = &grid.cell_lengths;
+    let signed = |j: usize, n: usize| {
+        if 2 * j <= n {
+            j as f64
+        } else {
+            j as f64 - n as f64
+        }
+    };
+    for jz in 0..nz / 2 + 1 {
+        for jy in 0..ny {
+            for jx in 0..nx {
+                let q = Vector3::new(
+                    2.0 * PI * signed(jx, nx) / box_lengths.x,
+                    2.0 * PI * signed(jy, ny) / box_lengths.y,
+                    2.0 * PI * jz as f64 / box_lengths.z,
+                );
+                let index = plan.spectrum_index([jx, jy, jz]);
+                let range = |a: usize| {
+                    let step = 2.0 * PI / c[a];
+                    (((-kc - q[a]) / step).ceil() as i64)..=(((kc - q[a]) / step).floor() as i64)
+                };
+                for hx in range(0) {
+                    for hy in range(1) {
+                        for hz in range(2) {
+                            let k = q + Vector3::new(
+                                2.0 * PI * hx as f64 / c.x,
+                                2.0 * PI * hy as f64 / c.y,
+                                2.0 * PI * hz as f64 / c.z,
+                            );
+                            let k2 = k.norm_squared();
+                            if k2 == 0.0 || k2 > kc * kc {
+                                continue;
+                            }
+                            let weight = 4.0 * PI / volume * mode_weight(p.alpha, k2);
+                            let phase = C64::from_polar(weight, k.dot(shift));
+                            let kk = k * k.transpose();
+                            for (ci, (mu, theta)) in units.iter().enumerate() {
+                                // phi = -i mu.k - 1/3 k.Theta.k; E = -i k phi; W = -1/3 k k^T phi.
+                                let phi = C64::new(-k.dot(&(theta * k)) / 3.0, -mu.dot(&k));
+                                let e = k.map(|x| C64::new(0.0, -x) * phi);
+                                let w = kk.map(|x| C64::new(-x / 3.0, 0.0) * phi);
+                                for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
+                                    .into_iter()
+                                    .enumerate()
+                                {
+                                    let at = kernel_index(
+                                        index,
+                                        (target, f),
+                                        (source, ci),
+                                        b,
+                                        sources,
+                                        fields,
+                                    );
+                                    kernel[at] += v * phase;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
