@@ -9,18 +9,27 @@
 //! add both ends of a pair to the rotors' fields, so a self pair adds both
 //! ends to rotor `i`, as the derivative of `v(n L)` in rotor `i` requires.
 //!
-//! The geometry is kept in a table indexed by the distinct offsets: on a
-//! periodic lattice all pairs with the same offset share one entry (122
-//! entries serve the 61,000 pairs of the 10^3 simple-cubic lattice with
-//! cutoff 3.1), so the tables stay in the L1 cache.
+//! The geometry is kept in a table indexed by the distinct offsets, keyed by
+//! their exact bit patterns (a cache never changes a result: only pairs
+//! whose computed offsets are the same numbers share an entry): on a
+//! periodic lattice of exactly representable sites all pairs with the same
+//! offset share one entry (122 entries serve the 61,000 pairs of the 10^3
+//! simple-cubic lattice with cutoff 3.1), so the tables stay in the L1 cache.
 
 use super::boundary::{too_many_pairs, MAX_PAIRS};
 use super::PotentialError;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
-/// Offsets closer than this (length unit) share one geometry entry.
-const OFFSET_RESOLUTION: f64 = 1e-9;
+/// Sites closer than this (length unit, periodic images included) are
+/// refused as coincident.
+const COINCIDENT: f64 = 1e-9;
+
+/// The exact key of an offset: the bit patterns of its components (`-0.0`
+/// and `0.0` are one value).
+fn offset_key(offset: &Vector3<f64>) -> [u64; 3] {
+    [0, 1, 2].map(|a| (offset[a] + 0.0).to_bits())
+}
 
 /// Geometry of one offset `r = r_j - r_i`. Laid out with the tensor first and
 /// aligned to 32 bytes, so that no four-lane column straddles two cache lines
@@ -190,7 +199,7 @@ impl PairTable {
             geometry_index: Vec::new(),
             geometry: Vec::new(),
         };
-        let mut by_offset: HashMap<[i64; 3], u32> = HashMap::new();
+        let mut by_offset: HashMap<[u64; 3], u32> = HashMap::new();
         let grid = images.map(|(box_lengths, cutoff)| ImageGrid::new(sites, &box_lengths, cutoff));
         let mut row = Vec::new();
         for i in 0..n {
@@ -209,7 +218,7 @@ impl PairTable {
                 }
             }
             for &(j, _, offset) in &row {
-                if offset.norm() <= OFFSET_RESOLUTION {
+                if offset.norm() <= COINCIDENT {
                     return Err(PotentialError::new(
                         format!("rotors[{i}].site and rotors[{j}].site"),
                         format!(
@@ -218,11 +227,8 @@ impl PairTable {
                         ),
                     ));
                 }
-                let key = offset
-                    .map(|x| (x / OFFSET_RESOLUTION).round() as i64)
-                    .into();
                 let next = table.geometry.len() as u32;
-                let index = *by_offset.entry(key).or_insert(next);
+                let index = *by_offset.entry(offset_key(&offset)).or_insert(next);
                 if index == next {
                     table.geometry.push(PairGeometry::new(&offset));
                 }
