@@ -16,7 +16,7 @@ use quatrot::integrators::{Dlm, GearB, Integrator};
 use quatrot::parallel::on_worker;
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
-use quatrot::run::{RunError, SeriesObserver};
+use quatrot::run::{CsvTarget, RunError, SeriesObserver};
 use quatrot::scene::{load, validate, Overrides, Scene, Series};
 use quatrot::simulation::{
     run, BlowUpChecks, EnergyReference, Observer, Quantity, RunOptions, Scheduled,
@@ -43,6 +43,7 @@ fn options(scene: &Scene, start: u64, end: u64, reference: Option<EnergyReferenc
             energy_error_threshold: None,
         }),
         reference,
+        control: None,
     }
 }
 
@@ -97,7 +98,7 @@ fn bare<I: Integrator + Send, P: Potential>(mut integrator: I, potential: &P, st
 /// The observer of `series`, writing CSV to `csv` (created outside the
 /// timed region: opening a file is a per-run cost, not a per-step one).
 fn observer(series: Option<&Series>, csv: &std::path::Path) -> Option<SeriesObserver> {
-    series.map(|s| SeriesObserver::new(s, Some(csv), false).expect("csv"))
+    series.map(|s| SeriesObserver::new(s, Some(CsvTarget::Create(csv)), false).expect("csv"))
 }
 
 /// The runner from `options.start_step` to `options.end_step`, feeding

@@ -280,7 +280,10 @@ mod tests {
     #[test]
     fn printable_escapes_control_characters_and_cuts_long_text() {
         assert_eq!(printable("a\u{1b}[31mb\n", 20), "a\\u{1b}[31mb\\n");
-        assert_eq!(printable(&"x".repeat(1000), 3), "xxx... (997 more characters)");
+        assert_eq!(
+            printable(&"x".repeat(1000), 3),
+            "xxx... (997 more characters)"
+        );
         assert_eq!(printable("dipole_lattice_sc", 80), "dipole_lattice_sc");
     }
 

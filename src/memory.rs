@@ -135,7 +135,7 @@ fn physical() -> Option<f64> {
             libc::sysconf(libc::_SC_PAGESIZE),
         )
     };
-    (pages > 0 && size > 0).then(|| pages as f64 * size as f64)
+    (pages > 0 && size > 0).then_some(pages as f64 * size as f64)
 }
 
 #[cfg(unix)]

@@ -95,6 +95,7 @@ fn run(integrator: &str, quantities: &[&str]) -> RunResult {
     let outputs = Outputs {
         dir: None,
         keep: true,
+        control: None,
     };
     execute(&scene, serde_json::Value::Null, &outputs, None, None).expect("runs")
 }

@@ -21,6 +21,7 @@ fn in_memory() -> Outputs {
     Outputs {
         dir: None,
         keep: true,
+        control: None,
     }
 }
 
@@ -200,6 +201,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
     let outputs = Outputs {
         dir: Some(dir.path().to_path_buf()),
         keep: false,
+        control: None,
     };
     let mut integrator = Poisoned {
         inner: Dlm::default(),
@@ -299,6 +301,7 @@ fn restart_from_checkpoint_is_bit_for_bit() {
             let outputs = Outputs {
                 dir: Some(dir.to_path_buf()),
                 keep: true,
+                control: None,
             };
             execute(&scene, definition(), &outputs, restart, None).expect("runs")
         };
@@ -346,6 +349,7 @@ fn checkpoint_of_another_integrator_is_refused() {
     let outputs = Outputs {
         dir: Some(dir.path().to_path_buf()),
         keep: false,
+        control: None,
     };
     let scene = validate(&parse_toml(&text).expect("valid")).expect("valid");
     execute(&scene, definition(), &outputs, None, None).expect("runs");
@@ -366,8 +370,10 @@ fn checkpoint_of_another_integrator_is_refused() {
     )
     .expect_err("refused");
     assert!(
-        err.to_string()
-            .contains("the integrator is gear_a in the scene but dlm in the checkpoint"),
+        err.to_string().contains(
+            "the integrator is {\"kind\":\"gear_a\",\"renormalise\":true,\"startup\":\"consistent\"} \
+             in the scene but {\"kind\":\"dlm\",\"spherical_tops\":\"exact\"} in the checkpoint"
+        ),
         "{err}"
     );
 }

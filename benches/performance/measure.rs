@@ -119,6 +119,7 @@ fn counted<P: Potential>(
     let outputs = Outputs {
         dir: None,
         keep: true,
+        control: None,
     };
     let result = run_scene(
         scene,

@@ -223,6 +223,7 @@ fn trace(variant: Variant, system: &System<'_>, dt: f64, t_end: f64, sample_ever
             energy_error_threshold: None,
         }),
         reference: None,
+        control: None,
     };
     let mut observers = [Scheduled {
         every: sample_every,

@@ -192,6 +192,7 @@ fn run<'a>(
         end_step: steps as u64,
         checks: None,
         reference: None,
+        control: None,
     };
     let mut observers = [Scheduled {
         every: 1,

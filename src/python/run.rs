@@ -230,6 +230,7 @@ fn run<'py>(
     let outputs = Outputs {
         dir: out_dir,
         keep: true,
+        control: None,
     };
     let result = py
         .detach(|| execute(&scene, definition, &outputs, restart.as_deref(), None))

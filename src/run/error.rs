@@ -25,6 +25,14 @@ pub enum RunError {
         /// What failed.
         message: String,
     },
+    /// The output folder is in use by another run.
+    #[error("{dir}: the output folder is in use by {holder} (one run per folder; choose another with --out or out_dir)")]
+    Locked {
+        /// The folder.
+        dir: String,
+        /// Who holds its lock.
+        holder: String,
+    },
     /// A checkpoint does not belong to this scene.
     #[error("checkpoint {path}: {message}")]
     Checkpoint {

@@ -6,22 +6,26 @@ mod checkpoint;
 mod dcd;
 mod error;
 mod execute;
+mod folder;
 mod gsd;
 mod pdb;
+mod resume;
 mod scene_run;
 mod series;
 mod summary;
 mod trajectory;
 
-pub use checkpoint::{Checkpoint, CheckpointWriter};
-pub use dcd::DcdWriter;
+pub use checkpoint::{Checkpoint, CheckpointWriter, Identity};
+pub use dcd::{read_header, DcdHeader, DcdWriter};
 pub use error::RunError;
 pub use execute::{execute, potential};
+pub use folder::{OutputFolder, LOCK_FILE};
 pub use gsd::{GsdBox, GsdWriter};
 pub use pdb::ROTOR_ATOMS;
+pub use resume::{AppendAfter, Placement};
 pub use scene_run::{
     run_scene, Outputs, Progress, RunResult, CHECKPOINT_FILE, DCD_FILE, PDB_FILE, SUMMARY_FILE,
 };
-pub use series::{SeriesObserver, SeriesTable};
+pub use series::{CsvTarget, SeriesObserver, SeriesTable};
 pub use summary::{Drift, FinalEnergies, Summary, Versions};
 pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};

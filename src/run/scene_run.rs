@@ -2,18 +2,21 @@
 //! opening the outputs the scene asks for, running the one loop of
 //! [`crate::simulation`], and summarising.
 
-use super::checkpoint::{Checkpoint, CheckpointWriter};
+use super::checkpoint::{Checkpoint, CheckpointWriter, Identity};
 use super::error::RunError;
-use super::series::{SeriesObserver, SeriesTable};
+use super::folder::{write_atomically, OutputFolder};
+use super::resume::{kept_summary_name, plan, Placement};
+use super::series::{CsvTarget, SeriesObserver, SeriesTable};
 use super::summary::Summary;
 use super::trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
 use crate::integrators::Integrator;
 use crate::potential::Potential;
 use crate::scene::Scene;
 use crate::simulation::{
-    run, BlowUpChecks, Checkpoints, EnergyReference, Observer, RunOptions, Scheduled, Stop,
+    run, BlowUpChecks, Checkpoints, Control, EnergyReference, Observer, RunOptions, Scheduled, Stop,
 };
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Name of the summary file in the output directory.
 pub const SUMMARY_FILE: &str = "summary.json";
@@ -27,18 +30,15 @@ pub const PDB_FILE: &str = "topology.pdb";
 /// Where a run's outputs go.
 #[derive(Clone, Debug, Default)]
 pub struct Outputs {
-    /// Directory for the CSV, DCD, PDB, checkpoint and summary files (created
-    /// if missing); `None` writes no file.
+    /// Directory for the CSV, DCD, PDB, checkpoint and summary files
+    /// (created if missing, locked for the run: see [`super::OutputFolder`]);
+    /// `None` writes no file.
     pub dir: Option<PathBuf>,
     /// Keep the series and trajectory in memory (for Python).
     pub keep: bool,
-}
-
-impl Outputs {
-    /// The path of file `name` in the output directory, if there is one.
-    fn file(&self, name: &str) -> Option<PathBuf> {
-        self.dir.as_deref().map(|d| d.join(name))
-    }
+    /// Stops the run from another thread (a signal handler, Ctrl-C in
+    /// Python) at the end of a step.
+    pub control: Option<Arc<Control>>,
 }
 
 /// A progress reporter and its interval in steps.
@@ -60,11 +60,14 @@ pub struct RunResult {
     pub trajectory: Option<TrajectoryFrames>,
     /// Why the run ended.
     pub stop: Stop,
+    /// Where the files went and how (`None` when no file was written).
+    pub written: Option<(PathBuf, Placement)>,
 }
 
 /// Runs `scene` with an integrator and a potential (both built from the
 /// scene by the caller, possibly wrapped), from t = 0 or from the checkpoint
-/// `restart`.
+/// `restart`. The output folder is locked for the run; a restart keeps the
+/// files an earlier run left there ([`super::resume`]).
 pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,
@@ -80,14 +83,32 @@ pub fn run_scene(
         Some(path) => restore(integrator, scene, path)?,
         None => (0, None),
     };
-    if let Some(d) = &outputs.dir {
-        std::fs::create_dir_all(d).map_err(|e| RunError::io(d, e))?;
+    let folder = outputs.dir.as_deref().map(OutputFolder::lock).transpose()?;
+    let placement = folder.as_ref().map(|f| match restart {
+        Some(_) => plan(f.dir(), scene, start_step),
+        None => Placement::New,
+    });
+    let dir = match (&folder, &placement) {
+        (Some(_), Some(Placement::NewFolder { dir, .. })) => {
+            std::fs::create_dir(dir).map_err(|e| RunError::io(dir, e))?;
+            Some(dir.clone())
+        }
+        (Some(f), _) => Some(f.dir().to_path_buf()),
+        (None, _) => None,
+    };
+    let files = dir.as_deref().zip(placement.as_ref());
+    if let Some((dir, Placement::Append(_))) = files {
+        let summary = dir.join(SUMMARY_FILE);
+        if summary.exists() {
+            let kept = kept_summary_name(dir, start_step);
+            std::fs::rename(&summary, &kept).map_err(|e| RunError::io(&kept, e))?;
+        }
     }
     let Recorders {
         mut series,
         mut trajectory,
         mut checkpoints,
-    } = Recorders::open(scene, integrator, outputs, start_step)?;
+    } = Recorders::open(scene, integrator, files, outputs.keep, start_step)?;
     let options = RunOptions {
         dt: scene.dt,
         start_step,
@@ -97,6 +118,7 @@ pub fn run_scene(
             energy_error_threshold: scene.record.energy_error_threshold,
         }),
         reference,
+        control: outputs.control.clone(),
     };
     let mut scheduled = scheduled(scene, &mut series, &mut trajectory, progress);
     let checkpoints = checkpoints.as_mut().map(|(every, sink)| Checkpoints {
@@ -112,10 +134,12 @@ pub fn run_scene(
         &options,
     )?;
     drop(scheduled);
-    let summary = Summary::new(scene, definition, &report, start_step);
-    if let Some(path) = outputs.file(SUMMARY_FILE) {
+    let mut summary = Summary::new(scene, definition, &report, start_step);
+    summary.outputs = placement.as_ref().map(Placement::as_str);
+    if let Some(dir) = &dir {
+        let path = dir.join(SUMMARY_FILE);
         let text = serde_json::to_string_pretty(&summary).map_err(|e| RunError::io(&path, e))?;
-        std::fs::write(&path, text + "\n").map_err(|e| RunError::io(&path, e))?;
+        write_atomically(&path, (text + "\n").as_bytes(), false)?;
     }
     Ok(RunResult {
         summary,
@@ -125,6 +149,7 @@ pub fn run_scene(
             .collect(),
         trajectory: trajectory.and_then(TrajectoryObserver::into_frames),
         stop: report.stop,
+        written: dir.zip(placement),
     })
 }
 
@@ -136,7 +161,7 @@ fn restore(
     path: &Path,
 ) -> Result<(u64, Option<EnergyReference>), RunError> {
     let checkpoint = Checkpoint::read(path)?;
-    checkpoint.check(path, integrator.name(), scene.rotors.len(), scene.dt)?;
+    checkpoint.check(path, scene)?;
     if checkpoint.step > scene.steps {
         return Err(RunError::Checkpoint {
             path: path.display().to_string(),
@@ -157,58 +182,70 @@ struct Recorders {
     checkpoints: Option<(u64, CheckpointWriter)>,
 }
 
+/// The first multiple of `every` at or after `step`.
+fn first_sample(step: u64, every: u64) -> u64 {
+    step.div_ceil(every).saturating_mul(every)
+}
+
 impl Recorders {
-    /// Opens the files of `scene`'s record section in `outputs` (the CSV
-    /// headers and the PDB are written now), for a run from `start_step`.
+    /// Opens the files of `scene`'s record section in `files` (a folder and
+    /// how to write there; the CSV headers and the PDB of new files are
+    /// written now), for a run from `start_step`.
     fn open(
         scene: &Scene,
         integrator: &dyn Integrator,
-        outputs: &Outputs,
+        files: Option<(&Path, &Placement)>,
+        keep: bool,
         start_step: u64,
     ) -> Result<Self, RunError> {
         let record = &scene.record;
+        let append = match files {
+            Some((_, Placement::Append(after))) => Some(after),
+            _ => None,
+        };
         let series = record
             .series
             .iter()
-            .map(|s| {
-                let path = outputs.file(&format!("{}.csv", s.name));
-                SeriesObserver::new(s, path.as_deref(), outputs.keep)
+            .enumerate()
+            .map(|(k, s)| {
+                let path = files.map(|(dir, _)| dir.join(format!("{}.csv", s.name)));
+                let target = path.as_deref().map(|path| match append {
+                    Some(after) => CsvTarget::Append {
+                        path,
+                        after: after.series[k],
+                    },
+                    None => CsvTarget::Create(path),
+                });
+                SeriesObserver::new(s, target, keep)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let (dcd, pdb) = (outputs.file(DCD_FILE), outputs.file(PDB_FILE));
         let box_lengths = scene.box_lengths();
         let trajectory = record
             .trajectory
             .as_ref()
             .map(|spec| {
-                let files = dcd
-                    .as_deref()
-                    .zip(pdb.as_deref())
-                    .map(|(dcd, pdb)| TrajectoryFiles {
-                        dcd,
-                        pdb,
-                        box_lengths: box_lengths.as_ref(),
-                        first_step: start_step,
-                        dt: scene.dt,
-                        title: &scene.name,
-                    });
+                let paths = files.map(|(dir, _)| (dir.join(DCD_FILE), dir.join(PDB_FILE)));
+                let files = paths.as_ref().map(|(dcd, pdb)| TrajectoryFiles {
+                    dcd,
+                    pdb,
+                    box_lengths: box_lengths.as_ref(),
+                    first_step: first_sample(start_step, spec.every),
+                    dt: scene.dt,
+                    title: &scene.name,
+                    append: append.and_then(|a| a.trajectory),
+                });
                 let now = integrator.orientations();
-                TrajectoryObserver::new(spec, &scene.rotors, now, files, outputs.keep)
+                TrajectoryObserver::new(spec, &scene.rotors, now, files, keep)
             })
             .transpose()?;
-        let checkpoints = record
-            .checkpoint_every
-            .zip(outputs.file(CHECKPOINT_FILE))
-            .map(|(every, path)| {
-                let writer = CheckpointWriter {
-                    path,
-                    scene: scene.name.clone(),
-                    integrator: integrator.name().to_string(),
-                    rotors: scene.rotors.len(),
-                    dt: scene.dt,
-                };
-                (every, writer)
-            });
+        let checkpoints = record.checkpoint_every.zip(files).map(|(every, (dir, _))| {
+            let writer = CheckpointWriter {
+                path: dir.join(CHECKPOINT_FILE),
+                scene: scene.name.clone(),
+                identity: Identity::of(scene),
+            };
+            (every, writer)
+        });
         Ok(Recorders {
             series,
             trajectory,

@@ -65,7 +65,7 @@ pub struct Summary {
     pub start_step: u64,
     /// The step the run ended at.
     pub last_step: u64,
-    /// "completed" or "blew_up".
+    /// "completed", "blew_up" or "interrupted".
     pub status: &'static str,
     /// The blow-up message (step and rotor), if any.
     pub message: Option<String>,
@@ -77,6 +77,10 @@ pub struct Summary {
     pub final_energies: Option<FinalEnergies>,
     /// The energy drift, when energies were computed at two steps or more.
     pub drift: Option<Drift>,
+    /// How the files were written: `"new"`, `"appended"` to an earlier
+    /// run's, or `"new_folder"` (a restart whose folder held files that do
+    /// not end at the checkpoint); absent when no file was written.
+    pub outputs: Option<&'static str>,
 }
 
 /// The drift of the run's total energy, relative to the mean kinetic
@@ -129,12 +133,14 @@ impl Summary {
             status: match report.stop {
                 Stop::Completed => "completed",
                 Stop::BlewUp { .. } => "blew_up",
+                Stop::Interrupted { .. } => "interrupted",
             },
             message: report.stop.message(),
             wall_seconds: report.wall_seconds,
             initial_energy: report.reference,
             final_energies,
             drift: drift(report),
+            outputs: None,
         }
     }
 }

@@ -3,7 +3,7 @@
 //! `A^T`), written as DCD with a PDB topology, and/or the orientations and
 //! body angular velocities kept in memory for Python.
 
-use super::dcd::DcdWriter;
+use super::dcd::{DcdHeader, DcdWriter};
 use super::error::RunError;
 use super::pdb::write_topology;
 use crate::quaternion::Quat;
@@ -31,6 +31,8 @@ pub struct TrajectoryObserver {
     sites: Vec<Vector3<f64>>,
     marker_length: f64,
     dcd: Option<(PathBuf, DcdWriter)>,
+    /// Frames at or before this step are already in the DCD.
+    written_through: Option<u64>,
     frames: Option<TrajectoryFrames>,
     positions: Vec<[f32; 3]>,
 }
@@ -49,6 +51,9 @@ pub struct TrajectoryFiles<'a> {
     pub dt: f64,
     /// The title of both files.
     pub title: &'a str,
+    /// Append to the DCD of an earlier run with this header (the PDB is
+    /// kept); `None` writes new files.
+    pub append: Option<DcdHeader>,
 }
 
 impl TrajectoryObserver {
@@ -65,22 +70,32 @@ impl TrajectoryObserver {
             sites: rotors.iter().map(|r| r.site).collect(),
             marker_length: spec.marker_length,
             dcd: None,
+            written_through: None,
             frames: keep.then(TrajectoryFrames::default),
             positions: vec![[0.0; 3]; 4 * rotors.len()],
         };
         if let Some(f) = files {
-            observer.fill_positions(initial);
-            write_topology(f.pdb, &observer.positions, f.box_lengths, f.title)
-                .map_err(|e| RunError::io(f.pdb, e))?;
-            let dcd = DcdWriter::create(
-                f.dcd,
-                observer.positions.len(),
-                f.first_step,
-                spec.every,
-                f.dt,
-                f.title,
-                f.box_lengths,
-            )
+            let dcd = match &f.append {
+                Some(header) => {
+                    observer.written_through =
+                        header.last_step().and_then(|s| u64::try_from(s).ok());
+                    DcdWriter::append(f.dcd, header, f.box_lengths)
+                }
+                None => {
+                    observer.fill_positions(initial);
+                    write_topology(f.pdb, &observer.positions, f.box_lengths, f.title)
+                        .map_err(|e| RunError::io(f.pdb, e))?;
+                    DcdWriter::create(
+                        f.dcd,
+                        observer.positions.len(),
+                        f.first_step,
+                        spec.every,
+                        f.dt,
+                        f.title,
+                        f.box_lengths,
+                    )
+                }
+            }
             .map_err(|e| RunError::io(f.dcd, e))?;
             observer.dcd = Some((f.dcd.to_path_buf(), dcd));
         }
@@ -124,10 +139,11 @@ impl Observer for TrajectoryObserver {
     }
 
     fn observe(&mut self, sample: &Sample<'_>) -> Result<(), RunError> {
-        if self.dcd.is_some() {
+        let in_file = self.written_through.is_some_and(|s| sample.step <= s);
+        if self.dcd.is_some() && !in_file {
             self.fill_positions(sample.orientations);
         }
-        if let Some((path, dcd)) = &mut self.dcd {
+        if let (Some((path, dcd)), false) = (&mut self.dcd, in_file) {
             dcd.write_frame(&self.positions)
                 .map_err(|e| RunError::io(path, e))?;
         }
@@ -145,6 +161,13 @@ impl Observer for TrajectoryObserver {
                     .omega_body
                     .extend(std::iter::repeat_n(f64::NAN, 3 * sample.orientations.len())),
             }
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<(), RunError> {
+        if let Some((path, dcd)) = &mut self.dcd {
+            dcd.flush().map_err(|e| RunError::io(path, e))?;
         }
         Ok(())
     }

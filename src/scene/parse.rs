@@ -51,7 +51,10 @@ fn too_deep(text: &str) -> Option<usize> {
     while at < bytes.len() {
         match bytes[at] {
             b'#' => {
-                at += bytes[at..].iter().position(|&b| b == b'\n').unwrap_or(bytes.len() - at);
+                at += bytes[at..]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .unwrap_or(bytes.len() - at);
             }
             quote @ (b'"' | b'\'') => {
                 let multi = bytes[at..].starts_with(if quote == b'"' { b"\"\"\"" } else { b"'''" });
@@ -62,9 +65,7 @@ fn too_deep(text: &str) -> Option<usize> {
                         end += 2;
                         continue;
                     }
-                    if bytes[end] == quote
-                        && (!multi || bytes[end..].starts_with(&[quote; 3]))
-                    {
+                    if bytes[end] == quote && (!multi || bytes[end..].starts_with(&[quote; 3])) {
                         break;
                     }
                     if !multi && bytes[end] == b'\n' {

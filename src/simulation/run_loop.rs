@@ -4,6 +4,7 @@
 //! it computes only what is due then: the observers' [`Needs`], the blow-up
 //! checks, a checkpoint.
 
+use super::control::Control;
 use super::energy::{EnergyHistory, EnergyReference};
 use super::observer::{Checkpoints, Energies, Needs, Sample, Scheduled};
 use super::stop::{blow_up, BlowUpChecks, Stop};
@@ -13,6 +14,7 @@ use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use nalgebra::Vector3;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// How long to run and what to guard.
@@ -28,6 +30,9 @@ pub struct RunOptions {
     pub checks: Option<BlowUpChecks>,
     /// The reference energy carried over from a checkpoint.
     pub reference: Option<EnergyReference>,
+    /// Polled after every step: a stop request ends the run there
+    /// ([`Stop::Interrupted`]); the step reached is recorded in it.
+    pub control: Option<Arc<Control>>,
 }
 
 /// What the run did.
@@ -49,8 +54,12 @@ pub struct RunReport {
 
 /// Runs `integrator` (already set up, or restored at `options.start_step`)
 /// from `start_step` to `end_step`, feeding the observers at their intervals
-/// and writing checkpoints. Observers are finished in every case; the first
-/// error of an observer or of the checkpoint sink ends the run.
+/// and writing checkpoints (the observers flushed first, so that their files
+/// hold at least what the checkpoint does). A stop requested through
+/// `options.control` ends the run at the end of the current step, with a
+/// checkpoint there when checkpoints are written. Observers are finished in
+/// every case; the first error of an observer or of the checkpoint sink ends
+/// the run.
 pub fn run<E>(
     integrator: &mut dyn Integrator,
     potential: &dyn Potential,
@@ -151,15 +160,31 @@ impl<E> Loop<'_, '_, E> {
             if self.report.stop != Stop::Completed {
                 return Ok(());
             }
-            self.checkpoint(step)?;
+            self.checkpoint(step, observers, false)?;
             if step >= self.options.end_step {
                 return Ok(());
             }
             let next = self.next_event(step, observers);
-            for _ in step..next {
-                self.integrator.step(self.potential);
+            match &self.options.control {
+                None => {
+                    for _ in step..next {
+                        self.integrator.step(self.potential);
+                    }
+                    step = next;
+                }
+                Some(control) => {
+                    while step < next && !control.stop_requested() {
+                        self.integrator.step(self.potential);
+                        step += 1;
+                        control.set_step(step);
+                    }
+                    if step < next || control.stop_requested() {
+                        self.report.last_step = step;
+                        self.report.stop = Stop::Interrupted { step };
+                        return self.checkpoint(step, observers, true);
+                    }
+                }
             }
-            step = next;
         }
     }
 
@@ -239,10 +264,19 @@ impl<E> Loop<'_, '_, E> {
         Ok(())
     }
 
-    /// Writes a checkpoint when one is due at `step` (never at the start).
-    fn checkpoint(&mut self, step: u64) -> Result<(), E> {
+    /// Writes a checkpoint when one is due at `step`, or at once when
+    /// `now` (never at the start), after flushing the observers.
+    fn checkpoint(
+        &mut self,
+        step: u64,
+        observers: &mut [Scheduled<'_, E>],
+        now: bool,
+    ) -> Result<(), E> {
         if let Some(c) = &mut self.checkpoints {
-            if step != self.options.start_step && step % c.every.max(1) == 0 {
+            if step != self.options.start_step && (now || step % c.every.max(1) == 0) {
+                for s in observers.iter_mut() {
+                    s.observer.flush()?;
+                }
                 c.sink
                     .write(step, &self.integrator.checkpoint(), self.report.reference)?;
             }

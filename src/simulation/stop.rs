@@ -32,13 +32,21 @@ pub enum Stop {
         /// What was wrong.
         reason: String,
     },
+    /// A stop was requested through the run's [`super::Control`] (a
+    /// signal, Ctrl-C); the run ended at the end of this step.
+    Interrupted {
+        /// The last step done.
+        step: u64,
+    },
 }
 
 impl Stop {
-    /// The message of a blow-up, naming the step and the rotor.
+    /// The message of a blow-up (naming the step and the rotor) or of an
+    /// interrupt.
     pub fn message(&self) -> Option<String> {
         match self {
             Stop::Completed => None,
+            Stop::Interrupted { step } => Some(format!("interrupted at step {step}")),
             Stop::BlewUp {
                 step,
                 rotor,
