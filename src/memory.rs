@@ -7,8 +7,9 @@
 //! least of the physical memory, the cgroup's `memory.max` and the
 //! address-space limit `ulimit -v`), or the size given in the environment
 //! variable [`LIMIT_VARIABLE`] (`QUATROT_MEMORY_LIMIT=16G`; suffixes K, M,
-//! G, T are powers of 1024, a plain number is bytes). Estimates are
-//! computed in `f64`, so no count from input can wrap them.
+//! G, T are powers of 1024, a plain number is bytes), or the command line's
+//! `--memory-limit` ([`set_limit`]). Estimates are computed in `f64`, so no
+//! count from input can wrap them.
 
 use crate::checks::InputError;
 use std::sync::OnceLock;
@@ -31,9 +32,24 @@ pub struct Limit {
     pub origin: String,
 }
 
+/// The limit of this process, once decided.
+static LIMIT: OnceLock<Result<Limit, InputError>> = OnceLock::new();
+
+/// Sets the limit from `text` (a size as [`LIMIT_VARIABLE`] takes it), set
+/// by `origin` (for messages, e.g. `--memory-limit`); it replaces the
+/// environment's and the default. Only before the limit was first used.
+pub fn set_limit(text: &str, origin: &str) -> Result<(), InputError> {
+    let bytes = parse_size(text).map_err(|e| InputError::new(origin, e.message))?;
+    LIMIT
+        .set(Ok(Limit {
+            bytes,
+            origin: format!("set by {origin}"),
+        }))
+        .map_err(|_| InputError::new(origin, "the memory limit is already in use"))
+}
+
 /// The limit (read once per process).
 pub fn limit() -> &'static Result<Limit, InputError> {
-    static LIMIT: OnceLock<Result<Limit, InputError>> = OnceLock::new();
     LIMIT.get_or_init(|| match std::env::var(LIMIT_VARIABLE) {
         Ok(text) => parse_size(&text).map(|bytes| Limit {
             bytes,

@@ -3,7 +3,7 @@
 
 use super::args::{Cli, Command};
 use super::progress::ProgressBarObserver;
-use crate::run::{execute, potential, Outputs, Placement, Progress, RunResult};
+use crate::run::{execute, prepare, Outputs, Placement, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use crate::simulation::{Control, Stop};
 use clap::Parser;
@@ -27,13 +27,18 @@ const PROGRESS_UPDATES: u64 = 200;
 /// Runs the command line and returns the process exit code.
 pub fn main() -> i32 {
     let cli = Cli::parse();
+    if let Some(limit) = &cli.memory_limit {
+        if let Err(e) = crate::memory::set_limit(limit, "--memory-limit") {
+            return fail(&e);
+        }
+    }
     match cli.command {
         Command::Scenes => {
             list_scenes();
             0
         }
         Command::Check { scene } => match load(&scene, &Overrides::default()) {
-            Ok((_, scene)) => match potential(&scene) {
+            Ok((_, scene)) => match prepare(&scene, false) {
                 Ok(_) => {
                     println!("ok: {}", describe(&scene));
                     0
@@ -83,7 +88,7 @@ fn describe(scene: &Scene) -> String {
         scene.name,
         scene.rotors.len(),
         scene.integrator.name(),
-        scene.dt,
+        crate::checks::num(scene.dt),
         scene.steps
     )
 }

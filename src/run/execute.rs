@@ -2,10 +2,11 @@
 //! integrator its [`crate::integrators::IntegratorSpec`] builds.
 
 use super::error::RunError;
+use super::limits::check_run_limits;
 use super::scene_run::{run_scene, Outputs, Progress, RunResult};
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneError};
 use std::path::Path;
 
 /// The potential of a scene: `None` for rotors without interactions or
@@ -18,7 +19,27 @@ pub fn potential(scene: &Scene) -> Result<Option<MultipolePotential>, RunError> 
     let boundary = scene.interactions.unwrap_or(Boundary::Open);
     MultipolePotential::new(&scene.rotors, boundary, scene.fields)
         .map(Some)
-        .map_err(|e| RunError::Potential(e.to_string()))
+        .map_err(|e| {
+            let e = SceneError::renamed(
+                e,
+                &[
+                    ("box_lengths", "interactions.boundary.box"),
+                    ("cutoff", "interactions.boundary.cutoff"),
+                    ("accuracy", "interactions.boundary.accuracy"),
+                ],
+            );
+            RunError::Potential(e.to_string())
+        })
+}
+
+/// Everything `run` checks before its first step, without running: the
+/// sizes and ranges of the run ([`check_run_limits`], series and frames kept
+/// in memory when `keep`) and the potential (built, which checks what scene
+/// validation cannot cheaply, such as coincident sites). Returns the
+/// potential.
+pub fn prepare(scene: &Scene, keep: bool) -> Result<Option<MultipolePotential>, RunError> {
+    check_run_limits(scene, keep)?;
+    potential(scene)
 }
 
 /// Runs a validated scene (`definition` is its raw form, for the summary)
@@ -31,7 +52,7 @@ pub fn execute(
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
     on_worker(|| {
-        let built = potential(scene)?;
+        let built = prepare(scene, outputs.keep)?;
         let potential: &dyn Potential = match &built {
             Some(p) => p,
             None => &Free,

@@ -13,7 +13,7 @@ use super::ewald_terms::{
     surface_field_per_dipole,
 };
 use super::kernels::{MultipoleKind, SiteFields, SpaceMultipoles};
-use super::pairs::PairTable;
+use super::pairs::{balanced_blocks, PairRows, PairTable};
 use super::{PotentialError, Surface};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -180,7 +180,7 @@ impl EwaldSum {
     /// its own buffer, summed in block order).
     fn real_space<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
         let n = self.sites.len();
-        let blocks = self.real.balanced_blocks(rayon::current_num_threads());
+        let blocks = balanced_blocks(self.real.starts(), rayon::current_num_threads());
         let partial: Vec<(usize, SiteFields)> = blocks
             .into_par_iter()
             .map(|rows| {
