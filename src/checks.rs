@@ -66,20 +66,23 @@ pub fn num(x: f64) -> String {
 
 /// Text from the input as a message quotes it: control characters escaped
 /// as Rust writes them (`\n`, `\u{1b}`), at most `max_chars` characters
-/// of it, the length of the rest stated.
+/// shown (escapes counted as written), the length of the rest stated.
 pub fn printable(text: &str, max_chars: usize) -> String {
     let mut out = String::new();
-    for (shown, c) in text.chars().enumerate() {
-        if shown == max_chars {
-            let rest = text.chars().count() - shown;
+    let mut shown = 0;
+    for (k, c) in text.chars().enumerate() {
+        let piece: String = if c.is_control() {
+            c.escape_default().collect()
+        } else {
+            c.to_string()
+        };
+        if shown + piece.chars().count() > max_chars {
+            let rest = text.chars().count() - k;
             out.push_str(&format!("... ({rest} more characters)"));
             break;
         }
-        if c.is_control() {
-            out.extend(c.escape_default());
-        } else {
-            out.push(c);
-        }
+        shown += piece.chars().count();
+        out.push_str(&piece);
     }
     out
 }

@@ -16,6 +16,15 @@ pub(super) fn parse_value<T: DeserializeOwned>(value: toml::Value) -> Result<T, 
         // toml appends "\nin `path`"; the path is reported in front instead.
         let message = message.lines().next().unwrap_or_default();
         let (path, message) = join_path(outer, message);
+        // A missing field is named by its own path.
+        let (path, message) = match message
+            .strip_prefix("missing field `")
+            .and_then(|m| m.strip_suffix('`'))
+        {
+            Some(field) if path.is_empty() => (field.to_string(), "missing".to_string()),
+            Some(field) => (format!("{path}.{field}"), "missing".to_string()),
+            None => (path, message),
+        };
         let path = if path.is_empty() {
             "(top level)".to_string()
         } else {
