@@ -59,6 +59,12 @@ fn dlm_dipoles<'py>(
     split: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let n = sites.shape()[0];
+    // Sizes before allocation: steps + 1 samples of 11 values per rotor
+    // and the energy (in f64, so no count wraps).
+    crate::memory::check(
+        "steps",
+        (steps as f64 + 1.0) * (11.0 * n as f64 + 1.0) * 8.0,
+    )?;
     rows("sites", &sites, n, 3)?;
     rows("dipoles_body", &dipoles_body, n, 3)?;
     rows("orientations", &orientations, n, 4)?;

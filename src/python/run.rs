@@ -2,12 +2,14 @@
 //! A scene arrives as TOML text, a built-in name, a path or a dict; the run
 //! happens without the GIL; results come back as numpy arrays and a summary
 //! dict. Scene errors raise `quatrot.SceneError` (a `ValueError`) naming the
-//! field; a blow-up raises `quatrot.BlowUpError` carrying the partial
-//! results in its `result` attribute.
+//! field; a blow-up raises `quatrot.BlowUpError` and Ctrl-C
+//! `KeyboardInterrupt`, each carrying the partial results in its `result`
+//! attribute.
 
 use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
 use crate::scene::{load, load_table, load_text, Overrides, Scene, BUILTINS};
+use crate::simulation::Control;
 use crate::simulation::Stop;
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::create_exception;
@@ -15,6 +17,11 @@ use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// How often a running `quatrot.run` checks for Ctrl-C.
+const SIGNAL_POLL: Duration = Duration::from_millis(20);
 
 create_exception!(
     quatrot,
@@ -208,7 +215,11 @@ fn result_dict<'py>(
 /// `series` ({name: {column: ndarray}}), `trajectory` (None, or `step`,
 /// `time`, `orientations` (frames, n, 4), `omega_body` (frames, n, 3)),
 /// `sites` (n, 3), `initial_orientations` (n, 4), `initial_omega_body` (n, 3).
-/// The GIL is released while the run goes on.
+/// The GIL is released while the run goes on. Ctrl-C (a signal whose
+/// handler raises) stops the run at the end of the step in progress, with
+/// its files flushed and closed (a checkpoint written when the scene asks
+/// for checkpoints), and raises `KeyboardInterrupt` with the partial result
+/// dict in its `result` attribute (`summary["status"]` is `"interrupted"`).
 #[pyfunction]
 #[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None))]
 fn run<'py>(
@@ -227,17 +238,38 @@ fn run<'py>(
     };
     let (raw, scene) = load_scene(scene, &overrides)?;
     let definition = raw.definition();
+    let control = Arc::new(Control::new());
     let outputs = Outputs {
         dir: out_dir,
         keep: true,
-        control: None,
+        control: Some(Arc::clone(&control)),
     };
-    let result = py
-        .detach(|| execute(&scene, definition, &outputs, restart.as_deref(), None))
+    // The run goes on in its own thread, without the GIL; this thread checks
+    // for signals (Ctrl-C) between short waits and passes a stop request on.
+    let (result, interrupt) = std::thread::scope(|scope| {
+        let run = scope.spawn(|| execute(&scene, definition, &outputs, restart.as_deref(), None));
+        let mut interrupt = None;
+        while !run.is_finished() {
+            py.detach(|| std::thread::sleep(SIGNAL_POLL));
+            if interrupt.is_none() {
+                if let Err(e) = py.check_signals() {
+                    control.request_stop();
+                    interrupt = Some(e);
+                }
+            }
+        }
+        (run.join(), interrupt)
+    });
+    let result = result
+        .map_err(|_| PyRuntimeError::new_err("the run panicked"))?
         .map_err(run_error)?;
     let message = result.stop.message();
     let blew_up = matches!(result.stop, Stop::BlewUp { .. });
     let dict = result_dict(py, &scene, result)?;
+    if let Some(err) = interrupt {
+        err.value(py).setattr("result", dict)?;
+        return Err(err);
+    }
     if blew_up {
         let err = BlowUpError::new_err(message.unwrap_or_default());
         err.value(py).setattr("result", dict)?;
