@@ -67,7 +67,7 @@ pub struct RunResult {
 /// Runs `scene` with an integrator and a potential (both built from the
 /// scene by the caller, possibly wrapped), from t = 0 or from the checkpoint
 /// `restart`. The output folder is locked for the run; a restart keeps the
-/// files an earlier run left there ([`super::resume`]).
+/// files an earlier run left there (see [`Placement`]).
 pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,

@@ -28,6 +28,6 @@ pub use error::SceneError;
 pub use initial::random_states;
 pub use load::{load, load_raw, load_table, load_text, Overrides};
 pub use model::Scene;
-pub use parse::{parse_table, parse_toml};
+pub use parse::{parse_table, parse_toml, MAX_NESTING};
 pub use record::{Record, Series, TrajectorySpec, DEFAULT_CHECK_EVERY, DEFAULT_MARKER_LENGTH};
 pub use validate::{validate, SCENE_VERSION};
