@@ -47,7 +47,9 @@ test: lint rust-test py-test
 fixtures: develop
 	$(PY) -m validation.fixtures
 
+# The scene fuzz at ten times the cases of `make test` (tests/fuzz_scenes.rs).
 validate: develop
+	QUATROT_FUZZ_CASES=20000 cargo test --release --test fuzz_scenes
 	$(PY) -m validation.report --out $(RESULTS)
 
 bench: develop

@@ -171,5 +171,46 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
+/// An open cluster of `n` dipoles scattered in a cube (every pair
+/// interacts; the pair geometry is computed row by row, `O(N)` memory).
+fn open_cluster(n: usize) -> (MultipolePotential, Vec<Quat>) {
+    let rotors: Vec<Rotor> = (0..n)
+        .map(|k| {
+            let t = k as f64;
+            Rotor {
+                site: Vector3::new(
+                    (t * 0.618_034).fract() * 30.0,
+                    (t * 0.414_214).fract() * 30.0,
+                    (t * 0.732_051).fract() * 30.0 + t * 1e-3,
+                ),
+                inertia: Inertia::Spherical(1.0),
+                dipole_body: Some(Vector3::z()),
+                quadrupole_body: None,
+            }
+        })
+        .collect();
+    let potential = MultipolePotential::new(&rotors, Boundary::Open, ExternalFields::NONE)
+        .expect("valid cluster");
+    (potential, vec![Quat::IDENTITY; n])
+}
+
+/// The open-boundary sum per evaluation (one per step of every integrator).
+fn bench_open(c: &mut Criterion) {
+    let mut group = c.benchmark_group("multipoles open cluster");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(5));
+    for n in [1000, 4000] {
+        let (potential, q) = open_cluster(n);
+        let mut gradient = vec![Quat::ZERO; n];
+        group.throughput(Throughput::Elements(potential.pair_count() as u64));
+        group.bench_function(BenchmarkId::new("dipoles energy+gradient", n), |b| {
+            b.iter(|| black_box(potential.energy_and_gradient(black_box(&q), &mut gradient)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_open);
 criterion_main!(benches);

@@ -16,7 +16,7 @@ use quatrot::integrators::{Dlm, GearB, Integrator};
 use quatrot::parallel::on_worker;
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
-use quatrot::run::{RunError, SeriesObserver};
+use quatrot::run::{CsvTarget, RunError, SeriesObserver};
 use quatrot::scene::{load, validate, Overrides, Scene, Series};
 use quatrot::simulation::{
     run, BlowUpChecks, EnergyReference, MultipoleInputs, Observer, Quantity, RunOptions, Scheduled,
@@ -109,7 +109,9 @@ fn observer(
     scene: &Scene,
     csv: &std::path::Path,
 ) -> Option<SeriesObserver> {
-    series.map(|s| SeriesObserver::new(s, &scene.rotors, Some(csv), false).expect("csv"))
+    series.map(|s| {
+        SeriesObserver::new(s, &scene.rotors, Some(CsvTarget::Create(csv)), false).expect("csv")
+    })
 }
 
 /// The runner from `options.start_step` to `options.end_step`, feeding

@@ -64,6 +64,29 @@ pub fn num(x: f64) -> String {
     }
 }
 
+/// Text from the input as a message quotes it: control characters escaped
+/// as Rust writes them (`\n`, `\u{1b}`), at most `max_chars` characters
+/// shown (escapes counted as written), the length of the rest stated.
+pub fn printable(text: &str, max_chars: usize) -> String {
+    let mut out = String::new();
+    let mut shown = 0;
+    for (k, c) in text.chars().enumerate() {
+        let piece: String = if c.is_control() {
+            c.escape_default().collect()
+        } else {
+            c.to_string()
+        };
+        if shown + piece.chars().count() > max_chars {
+            let rest = text.chars().count() - k;
+            out.push_str(&format!("... ({rest} more characters)"));
+            break;
+        }
+        shown += piece.chars().count();
+        out.push_str(&piece);
+    }
+    out
+}
+
 /// `x` if it is finite.
 pub fn finite(x: f64) -> Result<f64, InputError> {
     if x.is_finite() {
@@ -283,6 +306,18 @@ mod tests {
         assert_eq!(non_negative(0.0), Ok(0.0));
         let e = each(&[1.0, f64::INFINITY], finite).unwrap_err();
         assert_eq!(e.to_string(), "[1]: must be finite, got inf");
+    }
+
+    /// Quoted input loses its control characters and its length beyond the
+    /// excerpt.
+    #[test]
+    fn printable_escapes_control_characters_and_cuts_long_text() {
+        assert_eq!(printable("a\u{1b}[31mb\n", 20), "a\\u{1b}[31mb\\n");
+        assert_eq!(
+            printable(&"x".repeat(1000), 3),
+            "xxx... (997 more characters)"
+        );
+        assert_eq!(printable("dipole_lattice_sc", 80), "dipole_lattice_sc");
     }
 
     /// Asymmetry and trace are judged relative to the largest entry, at

@@ -61,14 +61,21 @@ impl Lattice {
         }
         let _ = positive(spacing).map_err(|e| e.at("spacing"))?;
         let basis = kind.basis();
-        let count = (cells as u128).pow(3) * basis.len() as u128;
-        if count > MAX_SITES as u128 {
-            return Err(InputError::new(
-                "cells",
-                format!("{cells} cells give {count} rotors, more than the limit {MAX_SITES}"),
-            ));
-        }
-        let mut sites = Vec::with_capacity(cells.pow(3) * basis.len());
+        let count = cells
+            .checked_pow(3)
+            .and_then(|c| c.checked_mul(basis.len()))
+            .filter(|&c| c <= MAX_SITES)
+            .ok_or_else(|| {
+                let count = (cells as f64).powi(3) * basis.len() as f64;
+                InputError::new(
+                    "cells",
+                    format!(
+                        "{cells} cells give {} rotors, more than the limit {MAX_SITES}",
+                        crate::checks::num(count)
+                    ),
+                )
+            })?;
+        let mut sites = Vec::with_capacity(count);
         for x in 0..cells {
             for y in 0..cells {
                 for z in 0..cells {

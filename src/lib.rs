@@ -9,6 +9,8 @@
 //! * [`checks`]: the checks of input values every constructor shares.
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
 //! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
+//! * [`memory`]: the memory limit that every size decided by input is
+//!   checked against before allocation.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, [`integrators::IntegratorSpec`]
 //!   (the one dispatch), Allen's schemes A and B, the baselines.
@@ -45,6 +47,7 @@ pub mod cli;
 pub mod experiments;
 pub mod integrators;
 pub mod lattice;
+pub mod memory;
 pub mod observables;
 pub mod parallel;
 pub mod potential;

@@ -1,16 +1,21 @@
 //! Every file in `tests/bad_scenes/` is a scene that must be rejected with the
-//! exact message stated on its `# error: ` line, as `quatrot check` rejects
-//! it: when it is read and validated, or else when its potential is built
-//! (what validation cannot check cheaply: the size of the sums, a lattice
-//! for the FFT path). Each file is a test case of its own (named after the
-//! file), so a failure names the scene.
+//! exact message stated on its `# error: ` line, by loading it or by the
+//! checks `run` makes before its first step ([`prepare`], as `quatrot check`
+//! does: the sizes of the run, then the potential, built, for what
+//! validation cannot check cheaply: coincident sites, the size of the sums,
+//! a lattice for the FFT path). Each file is a test case of its own (named
+//! after the file), so a failure names the scene. The memory limit is set
+//! to [`MEMORY_LIMIT`], as `tests/cli.rs` sets it through the environment,
+//! so that messages naming it do not depend on the machine.
 
 use libtest_mimic::{Arguments, Failed, Trial};
-use quatrot::run::potential;
+use quatrot::run::prepare;
 use quatrot::scene::{load, Overrides};
 use std::path::{Path, PathBuf};
 
 const MARKER: &str = "# error: ";
+/// The memory limit of the corpus.
+const MEMORY_LIMIT: &str = "4G";
 /// The corpus holds at least this many bad scenes (a folder emptied or
 /// misread would otherwise pass).
 const MIN_BAD_SCENES: usize = 30;
@@ -35,21 +40,23 @@ fn fails_with_its_stated_message(path: &Path) -> Result<(), Failed> {
         .find_map(|l| l.strip_prefix(MARKER))
         .ok_or_else(|| format!("no `{MARKER}` line"))?;
     let path = path.to_str().ok_or("not a UTF-8 path")?;
-    let refused = match load(path, &Overrides::default()) {
-        Ok((_, scene)) => match potential(&scene) {
+    let error = match load(path, &Overrides::default()) {
+        Ok((_, scene)) => match prepare(&scene, false) {
             Ok(_) => return Err("accepted".into()),
             Err(e) => e.to_string(),
         },
         Err(e) => e.to_string(),
     };
-    if refused == expected {
+    if error == expected {
         Ok(())
     } else {
-        Err(format!("\n  expected: {expected}\n  got:      {refused}").into())
+        Err(format!("\n  expected: {expected}\n  got:      {error}").into())
     }
 }
 
 fn main() {
+    quatrot::memory::set_limit(MEMORY_LIMIT, quatrot::memory::LIMIT_VARIABLE)
+        .expect("the limit is set first");
     let paths = corpus();
     let count = paths.len();
     let mut trials = vec![Trial::test("corpus_has_enough_bad_scenes", move || {

@@ -9,9 +9,13 @@ const BIN: &str = env!("CARGO_BIN_EXE_quatrot");
 const EXIT_ERROR: i32 = 2;
 const EXIT_BLOW_UP: i32 = 3;
 
+/// The memory limit of the bad-scene corpus (`tests/bad_scenes.rs`).
+const MEMORY_LIMIT: &str = "4G";
+
 fn quatrot(args: &[&str]) -> Output {
     Command::new(BIN)
         .args(args)
+        .env("QUATROT_MEMORY_LIMIT", MEMORY_LIMIT)
         .output()
         .expect("the binary runs")
 }

@@ -373,8 +373,10 @@ fn checkpoint_of_another_integrator_is_refused() {
     )
     .expect_err("refused");
     assert!(
-        err.to_string()
-            .contains("the integrator is gear_a in the scene but dlm in the checkpoint"),
+        err.to_string().contains(
+            "the integrator is {\"kind\":\"gear_a\",\"renormalise\":true,\"startup\":\"consistent\"} \
+             in the scene but {\"kind\":\"dlm\",\"spherical_tops\":\"exact\"} in the checkpoint"
+        ),
         "{err}"
     );
 }

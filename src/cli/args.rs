@@ -8,6 +8,11 @@ use std::path::PathBuf;
 #[derive(Parser, Debug)]
 #[command(name = "quatrot", version, about)]
 pub(super) struct Cli {
+    /// Memory a run may take for what its input sizes (lattices, pair
+    /// lists, histories), e.g. 16G or 512M; default half the memory
+    /// available, or QUATROT_MEMORY_LIMIT.
+    #[arg(long, global = true)]
+    pub(super) memory_limit: Option<String>,
     #[command(subcommand)]
     pub(super) command: Command,
 }

@@ -4,21 +4,22 @@
 use super::args::{Cli, Command};
 use super::progress::ProgressBarObserver;
 use super::sweep;
-use crate::run::{execute, potential, Outputs, Progress, RunResult};
+use crate::run::{execute, prepare, Outputs, Placement, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
-use crate::simulation::Stop;
+use crate::simulation::{Control, Stop};
 use clap::Parser;
 use std::ffi::OsString;
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// Exit code of a scene or run error (and of a sweep that cannot start).
 pub(super) const EXIT_ERROR: i32 = 2;
 /// Exit code of a run that blew up (its outputs are written and valid).
 const EXIT_BLOW_UP: i32 = 3;
-/// Exit code of an interrupted run (its outputs are written, flushed and
-/// valid up to the step it stopped at; 128 + SIGINT, as shells report an
-/// interrupted command).
+/// Exit code of a run stopped by SIGINT or SIGTERM (its outputs are
+/// written, flushed and valid up to the step it stopped at; 128 + SIGINT,
+/// as shells report an interrupted command).
 const EXIT_INTERRUPTED: i32 = 130;
 /// Runs shorter than this many steps get no progress bar.
 const PROGRESS_MIN_STEPS: u64 = 1000;
@@ -45,13 +46,18 @@ where
             return e.exit_code();
         }
     };
+    if let Some(limit) = &cli.memory_limit {
+        if let Err(e) = crate::memory::set_limit(limit, "--memory-limit") {
+            return fail(&e);
+        }
+    }
     match cli.command {
         Command::Scenes => {
             list_scenes();
             0
         }
         Command::Check { scene } => match load(&scene, &Overrides::default()) {
-            Ok((_, scene)) => match potential(&scene) {
+            Ok((_, scene)) => match prepare(&scene, false) {
                 Ok(_) => {
                     println!("ok: {}", describe(&scene));
                     0
@@ -105,7 +111,7 @@ fn describe(scene: &Scene) -> String {
         scene.name,
         scene.rotors.len(),
         scene.integrator.name(),
-        scene.dt,
+        crate::checks::num(scene.dt),
         scene.steps
     )
 }
@@ -117,10 +123,12 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
     };
     let definition = raw.definition();
     let dir = out.unwrap_or_else(|| PathBuf::from("quatrot_out").join(&scene.name));
+    let control = Arc::new(Control::new());
+    stop_on_signals(&control);
     let outputs = Outputs {
         dir: Some(dir.clone()),
         keep: false,
-        control: None,
+        control: Some(control),
     };
     let show_progress = std::io::stderr().is_terminal() && scene.steps >= PROGRESS_MIN_STEPS;
     let mut bar = show_progress.then(|| ProgressBarObserver::new(scene.steps));
@@ -130,7 +138,7 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
     });
     match execute(&scene, definition, &outputs, restart.as_deref(), progress) {
         Ok(result) => {
-            println!("{}", one_line(&scene, &result, &dir));
+            println!("{}", one_line(&scene, &result));
             match result.stop {
                 Stop::Completed => 0,
                 Stop::BlewUp { .. } => EXIT_BLOW_UP,
@@ -141,8 +149,46 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
     }
 }
 
+/// SIGINT and SIGTERM ask the run to stop at the end of the current step
+/// (it then flushes and closes its outputs); a second one exits at once.
+fn stop_on_signals(control: &Arc<Control>) {
+    let control = Arc::clone(control);
+    let installed = ctrlc::set_handler(move || {
+        if control.stop_requested() {
+            eprintln!("quatrot: interrupted again: exiting without flushing the outputs");
+            std::process::exit(EXIT_INTERRUPTED);
+        }
+        eprintln!(
+            "quatrot: stopping at the end of step {} (interrupt again to exit at once)",
+            control.step() + 1
+        );
+        control.request_stop();
+    });
+    if let Err(e) = installed {
+        eprintln!("quatrot: warning: cannot catch interrupts ({e}); an interrupt ends the run without flushing its outputs");
+    }
+}
+
+/// Where the outputs went, in words.
+fn placement(result: &RunResult) -> String {
+    match &result.written {
+        None => "No output files".to_string(),
+        Some((dir, Placement::New)) => format!("Outputs in {}", dir.display()),
+        Some((dir, Placement::Append(_))) => {
+            format!(
+                "Outputs appended to the earlier run's files in {}",
+                dir.display()
+            )
+        }
+        Some((dir, Placement::NewFolder { reason, .. })) => format!(
+            "Outputs in the new folder {} (the earlier files were kept: {reason})",
+            dir.display()
+        ),
+    }
+}
+
 /// The one-line summary printed at the end of a run.
-fn one_line(scene: &Scene, result: &RunResult, dir: &std::path::Path) -> String {
+fn one_line(scene: &Scene, result: &RunResult) -> String {
     let s = &result.summary;
     let steps = s.last_step - s.start_step;
     let rate = steps as f64 / s.wall_seconds.max(f64::MIN_POSITIVE);
@@ -159,11 +205,11 @@ fn one_line(scene: &Scene, result: &RunResult, dir: &std::path::Path) -> String 
         .message()
         .map_or(String::new(), |m| format!(" STOPPED: {m}."));
     format!(
-        "{}: {steps} steps of {} ({} rotors) in {:.3} s ({rate:.0} steps/s){energy}.{status} Outputs in {}",
+        "{}: {steps} steps of {} ({} rotors) in {:.3} s ({rate:.0} steps/s){energy}.{status} {}.",
         scene.name,
         s.integrator,
         s.rotors,
         s.wall_seconds,
-        dir.display()
+        placement(result)
     )
 }

@@ -43,7 +43,7 @@ pub use dlm::{Dlm, DlmOptions};
 pub use free_rotation::SphericalTops;
 pub use integrator::{Integrator, IntegratorError, RotorState};
 pub use kick::{KickState, KickThermostat, Kicked, Nve, Splitting};
-pub use no_squish::{NoSquish, NoSquishOptions};
+pub use no_squish::{NoSquish, NoSquishOptions, MAX_SUBSTEPS};
 pub use richardson::{Richardson, RichardsonOptions};
 pub use scheme_a::{GearA, GearAOptions};
 pub use scheme_b::{FirstCorrector, GearB, GearBOptions};

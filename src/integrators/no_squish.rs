@@ -38,13 +38,18 @@ pub type NoSquish = Kicked<NoSquishOptions>;
 
 /// Options of [`NoSquish`] (the scene's `[integrator]` table with
 /// `kind = "no_squish"`).
+///
+/// [`MAX_SUBSTEPS`] bounds the sweeps per step: far beyond any use (the
+/// splitting error falls as `1 / substeps^2`, and DL_POLY takes 10), it
+/// keeps a step from taking hours.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NoSquishOptions {
-    /// Free-rotation sweeps per step, each over `dt / substeps` (>= 1,
-    /// default 1 as LAMMPS `fix rigid/nve` and HOOMD-blue; 10 as DL_POLY).
-    /// No effect on spherical tops with [`SphericalTops::Exact`].
-    #[serde(deserialize_with = "crate::checks::deserialize_at_least_one")]
+    /// Free-rotation sweeps per step, each over `dt / substeps` (1 to
+    /// [`MAX_SUBSTEPS`], default 1 as LAMMPS `fix rigid/nve` and
+    /// HOOMD-blue; 10 as DL_POLY). No effect on spherical tops with
+    /// [`SphericalTops::Exact`].
+    #[serde(deserialize_with = "deserialize_substeps")]
     pub substeps: NonZeroU32,
     /// The free flow of spherical tops (default [`SphericalTops::Exact`]).
     pub spherical_tops: SphericalTops,
@@ -58,6 +63,22 @@ impl NoSquishOptions {
         Some(n) => n,
         None => NonZeroU32::MIN,
     };
+}
+
+/// The most free-rotation sweeps per step.
+pub const MAX_SUBSTEPS: u32 = 10_000;
+
+/// `substeps`: an integer from 1 to [`MAX_SUBSTEPS`].
+fn deserialize_substeps<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<NonZeroU32, D::Error> {
+    let n = crate::checks::deserialize_at_least_one(deserializer)?;
+    if n.get() > MAX_SUBSTEPS {
+        return Err(serde::de::Error::custom(format!(
+            "must be <= {MAX_SUBSTEPS}, got {n}"
+        )));
+    }
+    Ok(n)
 }
 
 impl Default for NoSquishOptions {

@@ -94,33 +94,10 @@ pub(crate) fn optional_integer(
     obj.map(|o| integer(o, name, min, max)).transpose()
 }
 
-/// The largest allocation a binding makes for a result: half the physical
-/// memory (`MemTotal` of /proc/meminfo), or 4 GiB where that cannot be read.
-fn memory_limit() -> u64 {
-    const FALLBACK: u64 = 4 << 30;
-    std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|text| {
-            let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-            let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-            Some(kib.saturating_mul(1024) / 2)
-        })
-        .unwrap_or(FALLBACK)
-}
-
-/// Refuses a result of `bytes` (`None`: the count overflowed) larger than
-/// the memory limit, naming the argument `name` that sets its size.
+/// Refuses a result of `bytes` (`None`: the count overflowed) beyond the
+/// memory limit of [`crate::memory`], naming the argument `name` that sets
+/// its size.
 pub(crate) fn check_memory(name: &str, bytes: Option<u64>) -> PyResult<()> {
-    let limit = memory_limit();
-    match bytes {
-        Some(b) if b <= limit => Ok(()),
-        Some(b) => Err(PyValueError::new_err(format!(
-            "{name}: the result would take {:.3e} bytes, more than the limit of {:.3e} \
-             (half the physical memory)",
-            b as f64, limit as f64
-        ))),
-        None => Err(PyValueError::new_err(format!(
-            "{name}: the result would take more than 2^64 bytes"
-        ))),
-    }
+    let bytes = bytes.map_or(f64::INFINITY, |b| b as f64);
+    Ok(crate::memory::check(name, bytes)?)
 }

@@ -11,7 +11,6 @@ use crate::integrators::{DlmOptions, IntegratorSpec, SphericalTops};
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, MultipolePotential};
 use crate::rotor::Inertia;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -59,11 +58,9 @@ fn dlm_dipoles<'py>(
         SphericalTops::Exact
     };
     let mut dlm = IntegratorSpec::Dlm(DlmOptions { spherical_tops }).build(None)?;
-    let samples = py
-        .detach(|| {
-            on_worker(|| every_step(dlm.as_mut(), &inertia, &potential, &initial, dt, steps))
-        })
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let samples = py.detach(|| {
+        on_worker(|| every_step(dlm.as_mut(), &inertia, &potential, &initial, dt, steps))
+    })?;
     let s = samples.energy.len();
     let out = PyDict::new(py);
     out.set_item("orientations", array(py, &[s, n, 4], samples.orientations)?)?;

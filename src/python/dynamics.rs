@@ -100,8 +100,7 @@ fn gear_corrections_table<'py>(
     check_memory("t_energy, dt, sample_every", bytes)?;
     // Validate the rotors and states once, so the experiment itself cannot fail.
     let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
-    let _ = validate_setup(&inertia, &initial, dt, Moments::Positive)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let _ = validate_setup(&inertia, &initial, dt, Moments::Positive)?;
     let settings = Settings {
         dt,
         t_energy,

@@ -7,6 +7,7 @@
 //! library's input errors to Python exceptions.
 
 use crate::checks::InputError;
+use crate::integrators::IntegratorError;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -27,6 +28,14 @@ mod run_analysis;
 /// analysis' arrays) is a `ValueError` naming the argument.
 impl From<InputError> for PyErr {
     fn from(e: InputError) -> PyErr {
+        PyValueError::new_err(e.to_string())
+    }
+}
+
+/// An integrator that cannot run these rotors (a zero moment, a state it
+/// cannot start from) is a `ValueError` with the integrator's message.
+impl From<IntegratorError> for PyErr {
+    fn from(e: IntegratorError) -> PyErr {
         PyValueError::new_err(e.to_string())
     }
 }

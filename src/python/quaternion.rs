@@ -24,110 +24,76 @@ const V: [usize; 1] = [3];
 const M: [usize; 2] = [3, 3];
 const S: [usize; 0] = [];
 
-/// Hamilton product `p*q` (eq 2, corrected sign).
-#[pyfunction]
-fn product<'py>(py: Python<'py>, p: &Bound<'py, PyAny>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let (p, q) = (
-        Items::new(p, "p", &Q, Values::Quaternions)?,
-        Items::new(q, "q", &Q, Values::Quaternions)?,
-    );
-    collect(py, common_len(&[&p, &q])?, &Q, |i| {
-        Ok((p.quat(i) * q.quat(i)).0)
-    })
+/// A function of `quatrot.quaternion` applied item by item: each argument
+/// converted once (its Python name, item shape and value check), the items
+/// paired (a single item broadcast), and `body` giving item `i`'s result
+/// (of shape `out`).
+macro_rules! elementwise {
+    ($(#[$doc:meta])* fn $name:ident($($arg:ident: $shape:ident, $values:ident),+) -> $out:ident, |$i:ident| $body:expr) => {
+        $(#[$doc])*
+        #[pyfunction]
+        fn $name<'py>(py: Python<'py>, $($arg: &Bound<'py, PyAny>),+) -> Array<'py> {
+            $(let $arg = Items::new($arg, stringify!($arg), &$shape, Values::$values)?;)+
+            collect(py, common_len(&[$(&$arg),+])?, &$out, |$i| $body)
+        }
+    };
 }
 
-/// Conjugate `(q0, -q)` (eq 3).
-#[pyfunction]
-fn conjugate<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
-    collect(py, common_len(&[&q])?, &Q, |i| Ok(q.quat(i).conjugate().0))
+elementwise! {
+    /// Hamilton product `p*q` (eq 2, corrected sign).
+    fn product(p: Q, Quaternions, q: Q, Quaternions) -> Q, |i| Ok((p.quat(i) * q.quat(i)).0)
 }
 
-/// Norm `|Q|` (square root of eq 5).
-#[pyfunction]
-fn norm<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
-    collect(py, common_len(&[&q])?, &S, |i| Ok([q.quat(i).norm()]))
+elementwise! {
+    /// Conjugate `(q0, -q)` (eq 3).
+    fn conjugate(q: Q, Quaternions) -> Q, |i| Ok(q.quat(i).conjugate().0)
 }
 
-/// `A(Q)` of eq 7, space to body (`r_b = A r_s`).
-#[pyfunction]
-fn space_to_body_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
-    collect(py, common_len(&[&q])?, &M, |i| {
-        Ok(row_major(&q.quat(i).space_to_body_matrix()))
-    })
+elementwise! {
+    /// Norm `|Q|` (square root of eq 5).
+    fn norm(q: Q, Quaternions) -> S, |i| Ok([q.quat(i).norm()])
 }
 
-/// `R(Q) = A(Q)^T`, body to space (`r_s = R r_b`), the active rotation of `Q`.
-#[pyfunction]
-fn body_to_space_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
-    collect(py, common_len(&[&q])?, &M, |i| {
-        Ok(row_major(&q.quat(i).body_to_space_matrix()))
-    })
+elementwise! {
+    /// `A(Q)` of eq 7, space to body (`r_b = A r_s`).
+    fn space_to_body_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(&q.quat(i).space_to_body_matrix()))
 }
 
-/// nalgebra's `Rotation3` of `Q` (via `UnitQuaternion`): an independent `R(Q)`
-/// for the cross-code checks.
-#[pyfunction]
-fn nalgebra_body_to_space_matrix<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
-    collect(py, common_len(&[&q])?, &M, |i| {
-        Ok(row_major(Rotation3::from(q.quat(i)).matrix()))
-    })
+elementwise! {
+    /// `R(Q) = A(Q)^T`, body to space (`r_s = R r_b`), the active rotation of `Q`.
+    fn body_to_space_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(&q.quat(i).body_to_space_matrix()))
 }
 
-/// Body-fixed components `A(Q) v_space` (eq 6).
-#[pyfunction]
-fn space_to_body<'py>(
-    py: Python<'py>,
-    q: &Bound<'py, PyAny>,
-    v_space: &Bound<'py, PyAny>,
-) -> Array<'py> {
-    let (q, v) = (
-        Items::new(q, "q", &Q, Values::Quaternions)?,
-        Items::new(v_space, "v_space", &V, Values::Finite)?,
-    );
-    collect(py, common_len(&[&q, &v])?, &V, |i| {
-        Ok(q.quat(i).space_to_body(&v.vector(i)).into())
-    })
+elementwise! {
+    /// nalgebra's `Rotation3` of `Q` (via `UnitQuaternion`): an independent `R(Q)`
+    /// for the cross-code checks.
+    fn nalgebra_body_to_space_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(Rotation3::from(q.quat(i)).matrix()))
 }
 
-/// Space-fixed components `R(Q) v_body`.
-#[pyfunction]
-fn body_to_space<'py>(
-    py: Python<'py>,
-    q: &Bound<'py, PyAny>,
-    v_body: &Bound<'py, PyAny>,
-) -> Array<'py> {
-    let (q, v) = (
-        Items::new(q, "q", &Q, Values::Quaternions)?,
-        Items::new(v_body, "v_body", &V, Values::Finite)?,
-    );
-    collect(py, common_len(&[&q, &v])?, &V, |i| {
-        Ok(q.quat(i).body_to_space(&v.vector(i)).into())
-    })
+elementwise! {
+    /// Body-fixed components `A(Q) v_space` (eq 6).
+    fn space_to_body(q: Q, Quaternions, v_space: V, Finite) -> V, |i| Ok(q.quat(i).space_to_body(&v_space.vector(i)).into())
 }
 
-/// `Q` of y-convention Euler angles `(phi, theta, psi)` in radians (eq 8).
-#[pyfunction]
-fn from_euler_y<'py>(py: Python<'py>, angles: &Bound<'py, PyAny>) -> Array<'py> {
-    let a = Items::new(angles, "angles", &V, Values::Finite)?;
-    collect(py, common_len(&[&a])?, &Q, |i| {
-        let [phi, theta, psi] = a.vector(i).into();
+elementwise! {
+    /// Space-fixed components `R(Q) v_body`.
+    fn body_to_space(q: Q, Quaternions, v_body: V, Finite) -> V, |i| Ok(q.quat(i).body_to_space(&v_body.vector(i)).into())
+}
+
+elementwise! {
+    /// `Q` of y-convention Euler angles `(phi, theta, psi)` in radians (eq 8).
+    fn from_euler_y(angles: V, Finite) -> Q, |i| {
+        let [phi, theta, psi] = angles.vector(i).into();
         Ok(Quat::from_euler_y(phi, theta, psi).0)
-    })
+    }
 }
 
-/// y-convention `(phi, theta, psi)` of unit `Q`: theta in [0, pi], phi, psi in (-pi, pi].
-#[pyfunction]
-fn to_euler_y<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
-    collect(py, common_len(&[&q])?, &V, |i| {
+elementwise! {
+    /// y-convention `(phi, theta, psi)` of unit `Q`: theta in [0, pi], phi, psi in (-pi, pi].
+    fn to_euler_y(q: Q, Quaternions) -> V, |i| {
         let (phi, theta, psi) = q.quat(i).to_euler_y();
         Ok([phi, theta, psi])
-    })
+    }
 }
 
 /// `Q` of the rotation by `angle` (radians) about `axis` (normalised here; must be nonzero).
@@ -169,105 +135,44 @@ fn to_axis_angle<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> ArrayPair<'py> 
     Ok((axis, angle))
 }
 
-/// `Q = exp(v)`: the rotation by `|v|` about `v`.
-#[pyfunction]
-fn exp<'py>(py: Python<'py>, rotvec: &Bound<'py, PyAny>) -> Array<'py> {
-    let v = Items::new(rotvec, "rotvec", &V, Values::Finite)?;
-    collect(
-        py,
-        common_len(&[&v])?,
-        &Q,
-        |i| Ok(Quat::exp(&v.vector(i)).0),
-    )
+elementwise! {
+    /// `Q = exp(v)`: the rotation by `|v|` about `v`.
+    fn exp(rotvec: V, Finite) -> Q, |i| Ok(Quat::exp(&rotvec.vector(i)).0)
 }
 
-/// `ln Q`: the rotation vector of unit `Q`, `|v|` in [0, pi].
-#[pyfunction]
-fn ln<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> Array<'py> {
-    let q = Items::new(q, "q", &Q, Values::Quaternions)?;
-    collect(py, common_len(&[&q])?, &V, |i| Ok(q.quat(i).ln().into()))
+elementwise! {
+    /// `ln Q`: the rotation vector of unit `Q`, `|v|` in [0, pi].
+    fn ln(q: Q, Quaternions) -> V, |i| Ok(q.quat(i).ln().into())
 }
 
-/// `Q' = 1/2 Q*(0, w_b)` (eq 10, body form).
-#[pyfunction]
-fn q_dot_from_omega_body<'py>(
-    py: Python<'py>,
-    q: &Bound<'py, PyAny>,
-    omega_body: &Bound<'py, PyAny>,
-) -> Array<'py> {
-    let (q, w) = (
-        Items::new(q, "q", &Q, Values::Quaternions)?,
-        Items::new(omega_body, "omega_body", &V, Values::Finite)?,
-    );
-    collect(py, common_len(&[&q, &w])?, &Q, |i| {
-        Ok(q.quat(i).q_dot_from_omega_body(&w.vector(i)).0)
-    })
+elementwise! {
+    /// `Q' = 1/2 Q*(0, w_b)` (eq 10, body form).
+    fn q_dot_from_omega_body(q: Q, Quaternions, omega_body: V, Finite) -> Q, |i| Ok(q.quat(i).q_dot_from_omega_body(&omega_body.vector(i)).0)
 }
 
-/// `Q' = 1/2 (0, w_s)*Q` (eq 10, space form).
-#[pyfunction]
-fn q_dot_from_omega_space<'py>(
-    py: Python<'py>,
-    q: &Bound<'py, PyAny>,
-    omega_space: &Bound<'py, PyAny>,
-) -> Array<'py> {
-    let (q, w) = (
-        Items::new(q, "q", &Q, Values::Quaternions)?,
-        Items::new(omega_space, "omega_space", &V, Values::Finite)?,
-    );
-    collect(py, common_len(&[&q, &w])?, &Q, |i| {
-        Ok(q.quat(i).q_dot_from_omega_space(&w.vector(i)).0)
-    })
+elementwise! {
+    /// `Q' = 1/2 (0, w_s)*Q` (eq 10, space form).
+    fn q_dot_from_omega_space(q: Q, Quaternions, omega_space: V, Finite) -> Q, |i| Ok(q.quat(i).q_dot_from_omega_space(&omega_space.vector(i)).0)
 }
 
-/// `w_b = 2 vec(Q~*Q')/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
-#[pyfunction]
-fn omega_body_from_q_dot<'py>(
-    py: Python<'py>,
-    q: &Bound<'py, PyAny>,
-    q_dot: &Bound<'py, PyAny>,
-) -> Array<'py> {
-    let (q, d) = (
-        Items::new(q, "q", &Q, Values::Quaternions)?,
-        Items::new(q_dot, "q_dot", &Q, Values::Finite)?,
-    );
-    collect(py, common_len(&[&q, &d])?, &V, |i| {
-        Ok(q.quat(i).omega_body_from_q_dot(&d.quat(i)).into())
-    })
+elementwise! {
+    /// `w_b = 2 vec(Q~*Q')/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
+    fn omega_body_from_q_dot(q: Q, Quaternions, q_dot: Q, Finite) -> V, |i| Ok(q.quat(i).omega_body_from_q_dot(&q_dot.quat(i)).into())
 }
 
-/// `w_s = 2 vec(Q'*Q~)/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
-#[pyfunction]
-fn omega_space_from_q_dot<'py>(
-    py: Python<'py>,
-    q: &Bound<'py, PyAny>,
-    q_dot: &Bound<'py, PyAny>,
-) -> Array<'py> {
-    let (q, d) = (
-        Items::new(q, "q", &Q, Values::Quaternions)?,
-        Items::new(q_dot, "q_dot", &Q, Values::Finite)?,
-    );
-    collect(py, common_len(&[&q, &d])?, &V, |i| {
-        Ok(q.quat(i).omega_space_from_q_dot(&d.quat(i)).into())
-    })
+elementwise! {
+    /// `w_s = 2 vec(Q'*Q~)/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
+    fn omega_space_from_q_dot(q: Q, Quaternions, q_dot: Q, Finite) -> V, |i| Ok(q.quat(i).omega_space_from_q_dot(&q_dot.quat(i)).into())
 }
 
-/// Unit `Q` (q0 >= 0) of a body-to-space rotation matrix `R`.
-#[pyfunction]
-fn from_body_to_space_matrix<'py>(py: Python<'py>, r: &Bound<'py, PyAny>) -> Array<'py> {
-    let r = Items::new(r, "r", &M, Values::Finite)?;
-    collect(py, common_len(&[&r])?, &Q, |i| {
-        Ok(checked_rotation(&r, i, false)?.0)
-    })
+elementwise! {
+    /// Unit `Q` (q0 >= 0) of a body-to-space rotation matrix `R`.
+    fn from_body_to_space_matrix(r: M, Finite) -> Q, |i| Ok(checked_rotation(&r, i, false)?.0)
 }
 
-/// Unit `Q` (q0 >= 0) of a space-to-body matrix `A` (eq 7).
-#[pyfunction]
-fn from_space_to_body_matrix<'py>(py: Python<'py>, a: &Bound<'py, PyAny>) -> Array<'py> {
-    let a = Items::new(a, "a", &M, Values::Finite)?;
-    collect(py, common_len(&[&a])?, &Q, |i| {
-        Ok(checked_rotation(&a, i, true)?.0)
-    })
+elementwise! {
+    /// Unit `Q` (q0 >= 0) of a space-to-body matrix `A` (eq 7).
+    fn from_space_to_body_matrix(a: M, Finite) -> Q, |i| Ok(checked_rotation(&a, i, true)?.0)
 }
 
 /// Item `i` of `m` (transposed first if `transpose`) as a quaternion, or a

@@ -281,8 +281,9 @@ const POLL: Duration = Duration::from_millis(20);
 /// `sites` (n, 3), `initial_orientations` (n, 4), `initial_omega_body` (n, 3).
 /// The GIL is released while the run goes on. Ctrl-C stops the run at the
 /// end of the step in progress, with its output files flushed and closed
-/// (summary status `"interrupted"`), and raises `KeyboardInterrupt` whose
-/// `result` attribute holds the dict of what the run recorded.
+/// (summary status `"interrupted"`, a checkpoint written when the scene asks
+/// for checkpoints), and raises `KeyboardInterrupt` whose `result` attribute
+/// holds the dict of what the run recorded.
 #[pyfunction]
 #[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None, progress=false, on_progress=None))]
 #[allow(clippy::too_many_arguments)]

@@ -1,7 +1,10 @@
 //! A minimal writer of CHARMM-style DCD trajectories (as read by VMD and
 //! mdtraj): Fortran unformatted records, little-endian, single precision.
-//! The header's frame count is rewritten after every frame, so the file is
-//! valid whenever the run stops.
+//! Each frame is written whole, then the header's frame count is rewritten,
+//! so the file is valid up to its last counted frame however the run stops
+//! (`kill -9` included); ISTART is the step of the first frame, so the step
+//! of the last frame follows from the header (a restart appends only after
+//! checking it).
 //!
 //! For a periodic box the header sets CHARMM's unit-cell flag (the 11th
 //! control integer) and every frame starts with a record of six doubles
@@ -10,9 +13,10 @@
 //! order and cosine form CHARMM and NAMD write and VMD's DCD plugin (used by
 //! mdtraj) reads as lengths and 90-degree angles.
 
+use super::folder::{create_file, open_existing};
 use nalgebra::Vector3;
 use std::fs::File;
-use std::io::{self, BufWriter, Seek, SeekFrom, Write};
+use std::io::{self, Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
 /// Byte offset of the frame count (NSET) in the header.
@@ -27,24 +31,99 @@ const UNIT_CELL_FLAG: usize = 10;
 
 /// An open DCD file.
 pub struct DcdWriter {
-    file: BufWriter<File>,
+    file: File,
     atoms: usize,
     frames: i32,
     steps_per_frame: i32,
     /// The unit-cell record of every frame (periodic boxes only).
     unit_cell: Option<[u8; 48]>,
+    /// One frame's bytes, reused.
+    frame: Vec<u8>,
 }
 
-fn record(out: &mut impl Write, payload: &[u8]) -> io::Result<()> {
+/// What the header of an existing DCD file says, and whether the file holds
+/// exactly the frames it counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DcdHeader {
+    /// Atoms per frame.
+    pub atoms: usize,
+    /// Frames counted in the header (NSET).
+    pub frames: i32,
+    /// The step of the first frame (ISTART).
+    pub first_step: i32,
+    /// Steps between frames (NSAVC).
+    pub steps_per_frame: i32,
+    /// Whether frames carry a unit-cell record.
+    pub unit_cell: bool,
+    /// The file's size is the header's plus exactly `frames` frames.
+    pub complete: bool,
+}
+
+impl DcdHeader {
+    /// The step of the last frame, if there is one.
+    pub fn last_step(&self) -> Option<i64> {
+        (self.frames > 0).then(|| {
+            i64::from(self.first_step)
+                + i64::from(self.frames - 1) * i64::from(self.steps_per_frame)
+        })
+    }
+}
+
+fn record(out: &mut Vec<u8>, payload: &[u8]) {
     let len = payload.len() as i32;
-    out.write_all(&len.to_le_bytes())?;
-    out.write_all(payload)?;
-    out.write_all(&len.to_le_bytes())
+    out.extend_from_slice(&len.to_le_bytes());
+    out.extend_from_slice(payload);
+    out.extend_from_slice(&len.to_le_bytes());
+}
+
+/// Bytes of one frame of `atoms` atoms.
+fn frame_bytes(atoms: usize, unit_cell: bool) -> u64 {
+    let coordinates = 3 * (8 + 4 * atoms as u64);
+    coordinates + if unit_cell { 8 + 48 } else { 0 }
+}
+
+/// Reads the header of the DCD file at `path` (as this writer writes it).
+pub fn read_header(path: &Path) -> io::Result<DcdHeader> {
+    let bad = |what: &str| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("not a DCD file written by quatrot ({what})"),
+        )
+    };
+    let mut file = File::open(path)?;
+    let size = file.metadata()?.len();
+    let mut head = [0u8; 92];
+    file.read_exact(&mut head)?;
+    let int = |at: usize| i32::from_le_bytes([head[at], head[at + 1], head[at + 2], head[at + 3]]);
+    if int(0) != 84 || &head[4..8] != b"CORD" || int(88) != 84 {
+        return Err(bad("first record"));
+    }
+    let icntrl = |k: usize| int(8 + 4 * k);
+    let title_len = 4 + 80;
+    let mut rest = [0u8; 4 + 4 + 4];
+    let _ = file.seek(SeekFrom::Start(92 + 8 + title_len))?;
+    file.read_exact(&mut rest)?;
+    let atoms = i32::from_le_bytes([rest[4], rest[5], rest[6], rest[7]]);
+    let header_len = 92 + 8 + title_len + 12;
+    let atoms = usize::try_from(atoms).map_err(|_| bad("atom count"))?;
+    let unit_cell = icntrl(UNIT_CELL_FLAG) != 0;
+    let frames = icntrl(0);
+    let expected = u64::try_from(frames)
+        .ok()
+        .map(|f| header_len + f * frame_bytes(atoms, unit_cell));
+    Ok(DcdHeader {
+        atoms,
+        frames,
+        first_step: icntrl(1),
+        steps_per_frame: icntrl(2),
+        unit_cell,
+        complete: expected == Some(size),
+    })
 }
 
 impl DcdWriter {
     /// Creates `path` for `atoms` atoms; frames are `steps_per_frame` steps
-    /// of `dt` apart, starting at step `first_step`, in the orthorhombic
+    /// of `dt` apart, the first at step `first_step`, in the orthorhombic
     /// periodic box `box_lengths` if given.
     pub fn create(
         path: &Path,
@@ -71,34 +150,54 @@ impl DcdWriter {
                 header.extend_from_slice(&v.to_le_bytes());
             }
         }
-        let mut file = BufWriter::new(File::create(path)?);
-        record(&mut file, &header)?;
+        let mut bytes = Vec::new();
+        record(&mut bytes, &header);
         let mut title_record = 1i32.to_le_bytes().to_vec();
         let mut line = format!("{title:<80}").into_bytes();
         line.truncate(80);
         title_record.extend_from_slice(&line);
-        record(&mut file, &title_record)?;
-        record(&mut file, &(atoms as i32).to_le_bytes())?;
+        record(&mut bytes, &title_record);
+        record(&mut bytes, &(atoms as i32).to_le_bytes());
+        let mut file = create_file(path)?;
+        file.write_all(&bytes)?;
         Ok(DcdWriter {
             file,
             atoms,
             frames: 0,
             steps_per_frame,
-            unit_cell: box_lengths.map(|b| {
-                let mut cell = [0u8; 48];
-                for (k, v) in [b.x, 0.0, b.y, 0.0, 0.0, b.z].into_iter().enumerate() {
-                    cell[8 * k..8 * k + 8].copy_from_slice(&v.to_le_bytes());
-                }
-                cell
-            }),
+            unit_cell: box_lengths.map(unit_cell_record),
+            frame: Vec::new(),
         })
     }
 
-    /// Appends one frame of `atoms` positions and updates the header.
+    /// Opens the existing file at `path` to append frames after the
+    /// `header.frames` it holds (the caller checked `header`, read by
+    /// [`read_header`], against the run).
+    pub fn append(
+        path: &Path,
+        header: &DcdHeader,
+        box_lengths: Option<&Vector3<f64>>,
+    ) -> io::Result<Self> {
+        let mut file = open_existing(path)?;
+        let _ = file.seek(SeekFrom::End(0))?;
+        Ok(DcdWriter {
+            file,
+            atoms: header.atoms,
+            frames: header.frames,
+            steps_per_frame: header.steps_per_frame,
+            unit_cell: box_lengths.map(unit_cell_record),
+            frame: Vec::new(),
+        })
+    }
+
+    /// Appends one frame of `atoms` positions (one write), then updates the
+    /// header's frame count: a run killed between the two leaves a file
+    /// whose header counts only complete frames.
     pub fn write_frame(&mut self, positions: &[[f32; 3]]) -> io::Result<()> {
         debug_assert_eq!(positions.len(), self.atoms);
+        self.frame.clear();
         if let Some(cell) = &self.unit_cell {
-            record(&mut self.file, cell)?;
+            record(&mut self.frame, cell);
         }
         let mut payload = Vec::with_capacity(4 * positions.len());
         for axis in 0..3 {
@@ -106,22 +205,36 @@ impl DcdWriter {
             for p in positions {
                 payload.extend_from_slice(&p[axis].to_le_bytes());
             }
-            record(&mut self.file, &payload)?;
+            record(&mut self.frame, &payload);
         }
+        self.file.write_all(&self.frame)?;
         self.frames += 1;
-        let _ = self.file.seek(SeekFrom::Start(NSET_OFFSET))?;
-        self.file.write_all(&self.frames.to_le_bytes())?;
-        let _ = self.file.seek(SeekFrom::Start(NSTEP_OFFSET))?;
+        let mut counts = self.frames.to_le_bytes().to_vec();
         let steps = self.frames.saturating_mul(self.steps_per_frame);
-        self.file.write_all(&steps.to_le_bytes())?;
+        let _ = self.file.seek(SeekFrom::Start(NSET_OFFSET))?;
+        self.file.write_all(&counts)?;
+        counts.clear();
+        counts.extend_from_slice(&steps.to_le_bytes());
+        let _ = self.file.seek(SeekFrom::Start(NSTEP_OFFSET))?;
+        self.file.write_all(&counts)?;
         let _ = self.file.seek(SeekFrom::End(0))?;
         Ok(())
     }
 
-    /// Flushes to disk.
+    /// Flushes to disk (every frame is written as it comes: nothing is
+    /// buffered here).
     pub fn flush(&mut self) -> io::Result<()> {
         self.file.flush()
     }
+}
+
+/// The unit-cell record `[A, cos(gamma), B, cos(beta), cos(alpha), C]`.
+fn unit_cell_record(b: &Vector3<f64>) -> [u8; 48] {
+    let mut cell = [0u8; 48];
+    for (k, v) in [b.x, 0.0, b.y, 0.0, 0.0, b.z].into_iter().enumerate() {
+        cell[8 * k..8 * k + 8].copy_from_slice(&v.to_le_bytes());
+    }
+    cell
 }
 
 #[cfg(test)]
@@ -180,5 +293,33 @@ mod tests {
                 assert_eq!(f32::from_le_bytes(x[0..4].try_into().unwrap()), f as f32);
             }
         }
+    }
+
+    /// The header read back gives the frames, the step of the last one and
+    /// the layout; a file cut inside a frame is not complete.
+    #[test]
+    fn the_header_reads_back_and_a_cut_file_is_incomplete() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.dcd");
+        let box_lengths = Vector3::repeat(2.0);
+        let mut dcd = DcdWriter::create(&path, 2, 30, 10, 0.01, "t", Some(&box_lengths)).unwrap();
+        for _ in 0..3 {
+            dcd.write_frame(&[[0.0; 3]; 2]).unwrap();
+        }
+        let header = read_header(&path).unwrap();
+        assert_eq!(
+            (header.atoms, header.frames, header.unit_cell),
+            (2, 3, true)
+        );
+        assert_eq!(header.last_step(), Some(50));
+        assert!(header.complete);
+        let len = std::fs::metadata(&path).unwrap().len();
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(&path)
+            .unwrap()
+            .set_len(len - 4)
+            .unwrap();
+        assert!(!read_header(&path).unwrap().complete);
     }
 }

@@ -1,6 +1,10 @@
 //! The one error type of the run layer.
 
+use crate::checks::printable;
 use crate::integrators::IntegratorError;
+
+/// The most characters of a path or message shown.
+const SHOWN: usize = 300;
 use crate::scene::SceneError;
 
 /// Why a run could not start, continue or write its outputs. A blow-up is
@@ -15,18 +19,29 @@ pub enum RunError {
     #[error(transparent)]
     Integrator(#[from] IntegratorError),
     /// The potential could not be built from the scene.
-    #[error("potential: {0}")]
+    #[error("potential: {}", printable(.0, SHOWN))]
     Potential(String),
     /// Writing or reading an output file failed.
-    #[error("{path}: {message}")]
+    #[error("{}: {}", printable(.path, SHOWN), printable(.message, SHOWN))]
     Io {
         /// The file.
         path: String,
         /// What failed.
         message: String,
     },
+    /// The output folder is in use by another run.
+    #[error(
+        "{}: the output folder is in use by {holder} (one run per folder; choose another with --out or out_dir)",
+        printable(.dir, SHOWN)
+    )]
+    Locked {
+        /// The folder.
+        dir: String,
+        /// Who holds its lock.
+        holder: String,
+    },
     /// A checkpoint does not belong to this scene.
-    #[error("checkpoint {path}: {message}")]
+    #[error("checkpoint {}: {}", printable(.path, SHOWN), printable(.message, SHOWN))]
     Checkpoint {
         /// The checkpoint file.
         path: String,

@@ -2,6 +2,7 @@
 //! integrator its [`crate::integrators::IntegratorSpec`] builds.
 
 use super::error::RunError;
+use super::limits::check_run_limits;
 use super::scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
 use crate::parallel::on_worker;
@@ -30,6 +31,16 @@ pub fn potential(scene: &Scene) -> Result<Option<MultipolePotential>, RunError> 
         })
 }
 
+/// Everything `run` checks before its first step, without running: the
+/// sizes and ranges of the run ([`check_run_limits`], series and frames kept
+/// in memory when `keep`) and the potential (built, which checks what scene
+/// validation cannot cheaply, such as coincident sites). Returns the
+/// potential.
+pub fn prepare(scene: &Scene, keep: bool) -> Result<Option<MultipolePotential>, RunError> {
+    check_run_limits(scene, keep)?;
+    potential(scene)
+}
+
 /// Runs a validated scene (`definition` is its raw form, for the summary)
 /// on a worker of the rayon pool.
 pub fn execute(
@@ -40,7 +51,7 @@ pub fn execute(
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
     on_worker(|| {
-        let built = potential(scene)?;
+        let built = prepare(scene, outputs.keep)?;
         let interactions = scene
             .interactions
             .as_ref()

@@ -8,25 +8,31 @@ mod dcd;
 mod dielectric;
 mod error;
 mod execute;
+mod folder;
 mod gsd;
+mod limits;
 mod pdb;
+mod resume;
 mod scene_run;
 mod series;
 mod summary;
 mod trajectory;
 
-pub use checkpoint::{Checkpoint, CheckpointWriter};
-pub use dcd::DcdWriter;
+pub use checkpoint::{Checkpoint, CheckpointWriter, Identity};
+pub use dcd::{read_header, DcdHeader, DcdWriter};
 pub use dielectric::{dielectric_of_run, dipole_series, read_run};
 pub use error::RunError;
-pub use execute::{execute, potential};
+pub use execute::{execute, potential, prepare};
+pub use folder::{OutputFolder, LOCK_FILE};
 pub use gsd::{GsdBox, GsdWriter};
+pub use limits::check_run_limits;
 pub use pdb::ROTOR_ATOMS;
+pub use resume::{AppendAfter, Placement};
 pub use scene_run::{
     run_scene, Outputs, Progress, RunResult, ScenePotential, CHECKPOINT_FILE, DCD_FILE, GSD_FILE,
     PDB_FILE, SUMMARY_FILE,
 };
-pub use series::{SeriesObserver, SeriesTable};
+pub use series::{CsvTarget, SeriesObserver, SeriesTable};
 pub use summary::{
     Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary, Summary, Versions,
 };

@@ -2,16 +2,19 @@
 //! opening the outputs the scene asks for, running the one loop of
 //! [`crate::simulation`], and summarising.
 
-use super::checkpoint::{Checkpoint, CheckpointWriter};
+use super::checkpoint::{Checkpoint, CheckpointWriter, Identity};
 use super::error::RunError;
-use super::series::{SeriesObserver, SeriesTable};
+use super::folder::{write_atomically, OutputFolder};
+use super::resume::{kept_summary_name, plan, Placement};
+use super::series::{CsvTarget, SeriesObserver, SeriesTable};
 use super::summary::{InteractionsSummary, Summary};
 use super::trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
 use crate::integrators::Integrator;
 use crate::potential::Potential;
 use crate::scene::Scene;
 use crate::simulation::{
-    run, BlowUpChecks, Checkpoints, Control, EnergyReference, Observer, RunOptions, Scheduled, Stop,
+    run, BlowUpChecks, CheckpointSink, Checkpoints, Control, EnergyHistory, EnergyReference,
+    Observer, RunOptions, RunReport, Scheduled, Stop,
 };
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -30,21 +33,15 @@ pub const GSD_FILE: &str = "trajectory.gsd";
 /// Where a run's outputs go.
 #[derive(Clone, Debug, Default)]
 pub struct Outputs {
-    /// Directory for the CSV, DCD, PDB, checkpoint and summary files (created
-    /// if missing); `None` writes no file.
+    /// Directory for the CSV, DCD, PDB, checkpoint and summary files
+    /// (created if missing, locked for the run: see [`super::OutputFolder`]);
+    /// `None` writes no file.
     pub dir: Option<PathBuf>,
     /// Keep the series and trajectory in memory (for Python).
     pub keep: bool,
-    /// Stops the run from another thread (Ctrl-C in Python) at the end of
-    /// a step.
+    /// Stops the run from another thread (a signal handler, Ctrl-C in
+    /// Python) at the end of a step.
     pub control: Option<Arc<Control>>,
-}
-
-impl Outputs {
-    /// The path of file `name` in the output directory, if there is one.
-    fn file(&self, name: &str) -> Option<PathBuf> {
-        self.dir.as_deref().map(|d| d.join(name))
-    }
 }
 
 /// A progress reporter and its interval in steps.
@@ -87,11 +84,14 @@ pub struct RunResult {
     pub trajectory: Option<TrajectoryFrames>,
     /// Why the run ended.
     pub stop: Stop,
+    /// Where the files went and how (`None` when no file was written).
+    pub written: Option<(PathBuf, Placement)>,
 }
 
 /// Runs `scene` with an integrator and a potential (both built from the
 /// scene by the caller, possibly wrapped), from t = 0 or from the checkpoint
-/// `restart`.
+/// `restart`. The output folder is locked for the run; a restart keeps the
+/// files an earlier run left there (see [`Placement`]).
 pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,
@@ -111,14 +111,51 @@ pub fn run_scene(
         Some(path) => restore(integrator, scene, path)?,
         None => (0, None),
     };
-    if let Some(d) = &outputs.dir {
-        std::fs::create_dir_all(d).map_err(|e| RunError::io(d, e))?;
+    let folder = outputs.dir.as_deref().map(OutputFolder::lock).transpose()?;
+    let placement = folder.as_ref().map(|f| match restart {
+        Some(_) => plan(f.dir(), scene, start_step),
+        None => Placement::New,
+    });
+    let dir = match (&folder, &placement) {
+        (Some(_), Some(Placement::NewFolder { dir, .. })) => {
+            std::fs::create_dir(dir).map_err(|e| RunError::io(dir, e))?;
+            Some(dir.clone())
+        }
+        (Some(f), _) => Some(f.dir().to_path_buf()),
+        (None, _) => None,
+    };
+    let files = dir.as_deref().zip(placement.as_ref());
+    if let Some((dir, Placement::Append(_))) = files {
+        let summary = dir.join(SUMMARY_FILE);
+        if summary.exists() {
+            let kept = kept_summary_name(dir, start_step);
+            std::fs::rename(&summary, &kept).map_err(|e| RunError::io(&kept, e))?;
+        }
     }
     let Recorders {
         mut series,
         mut trajectory,
-        mut checkpoints,
-    } = Recorders::open(scene, integrator, outputs, start_step)?;
+        checkpoints,
+    } = Recorders::open(scene, integrator, files, outputs.keep, start_step)?;
+    // What a killed run leaves: a summary saying "running", rewritten after
+    // each checkpoint with the checkpoint's step.
+    let running = dir.as_ref().map(|d| {
+        let mut summary = in_progress(scene, &definition, interactions.cloned(), start_step);
+        summary.outputs = placement.as_ref().map(Placement::as_str);
+        (d.join(SUMMARY_FILE), summary)
+    });
+    if let Some((path, summary)) = &running {
+        write_summary(path, summary)?;
+    }
+    let mut checkpoints = checkpoints.map(|(every, checkpoint)| {
+        (
+            every,
+            SummaryAfterCheckpoint {
+                checkpoint,
+                summary: running,
+            },
+        )
+    });
     let options = RunOptions {
         dt: scene.dt,
         start_step,
@@ -144,16 +181,16 @@ pub fn run_scene(
         &options,
     )?;
     drop(scheduled);
-    let summary = Summary::new(
+    let mut summary = Summary::new(
         scene,
         definition,
         interactions.cloned(),
         &report,
         start_step,
     );
-    if let Some(path) = outputs.file(SUMMARY_FILE) {
-        let text = serde_json::to_string_pretty(&summary).map_err(|e| RunError::io(&path, e))?;
-        std::fs::write(&path, text + "\n").map_err(|e| RunError::io(&path, e))?;
+    summary.outputs = placement.as_ref().map(Placement::as_str);
+    if let Some(dir) = &dir {
+        write_summary(&dir.join(SUMMARY_FILE), &summary)?;
     }
     Ok(RunResult {
         summary,
@@ -163,7 +200,66 @@ pub fn run_scene(
             .collect(),
         trajectory: trajectory.and_then(TrajectoryObserver::into_frames),
         stop: report.stop,
+        written: dir.zip(placement),
     })
+}
+
+/// Status of the summary of a run in progress (or killed).
+const RUNNING: &str = "running";
+
+/// The summary of a run of `scene` from `start_step` that has not ended:
+/// status [`RUNNING`], no energies yet.
+fn in_progress(
+    scene: &Scene,
+    definition: &serde_json::Value,
+    interactions: Option<InteractionsSummary>,
+    start_step: u64,
+) -> Summary {
+    let report = RunReport {
+        stop: Stop::Completed,
+        last_step: start_step,
+        reference: None,
+        last_energies: None,
+        energy_history: EnergyHistory::default(),
+        wall_seconds: 0.0,
+    };
+    let mut summary = Summary::new(scene, definition.clone(), interactions, &report, start_step);
+    summary.status = RUNNING;
+    summary
+}
+
+/// Writes `summary` to `path` atomically (readers, and a run killed
+/// meanwhile, see the old file or the new one).
+fn write_summary(path: &Path, summary: &Summary) -> Result<(), RunError> {
+    let text = serde_json::to_string_pretty(summary).map_err(|e| RunError::io(path, e))?;
+    write_atomically(path, (text + "\n").as_bytes(), false)
+}
+
+/// Checkpoints, each followed by the summary in progress (status
+/// [`RUNNING`]) brought to the checkpoint's step, so that a killed run's
+/// summary names the checkpoint to restart from.
+struct SummaryAfterCheckpoint {
+    checkpoint: CheckpointWriter,
+    summary: Option<(PathBuf, Summary)>,
+}
+
+impl CheckpointSink for SummaryAfterCheckpoint {
+    type Error = RunError;
+
+    fn write(
+        &mut self,
+        step: u64,
+        state: &[f64],
+        reference: Option<EnergyReference>,
+    ) -> Result<(), RunError> {
+        self.checkpoint.write(step, state, reference)?;
+        if let Some((path, summary)) = &mut self.summary {
+            summary.last_step = step;
+            summary.initial_energy = reference;
+            write_summary(path, summary)?;
+        }
+        Ok(())
+    }
 }
 
 /// Restores `integrator` (set up for `scene`) from the checkpoint at `path`:
@@ -174,13 +270,7 @@ fn restore(
     path: &Path,
 ) -> Result<(u64, Option<EnergyReference>), RunError> {
     let checkpoint = Checkpoint::read(path)?;
-    checkpoint.check(
-        path,
-        integrator.name(),
-        scene.thermostat.as_ref().map(|t| t.name()),
-        scene.rotors.len(),
-        scene.dt,
-    )?;
+    checkpoint.check(path, scene)?;
     if checkpoint.step > scene.steps {
         return Err(RunError::Checkpoint {
             path: path.display().to_string(),
@@ -201,63 +291,72 @@ struct Recorders {
     checkpoints: Option<(u64, CheckpointWriter)>,
 }
 
+/// The first multiple of `every` at or after `step`.
+fn first_sample(step: u64, every: u64) -> u64 {
+    step.div_ceil(every).saturating_mul(every)
+}
+
 impl Recorders {
-    /// Opens the files of `scene`'s record section in `outputs` (the CSV
-    /// headers and the PDB are written now), for a run from `start_step`.
+    /// Opens the files of `scene`'s record section in `files` (a folder and
+    /// how to write there; the CSV headers and the PDB of new files are
+    /// written now), for a run from `start_step`.
     fn open(
         scene: &Scene,
         integrator: &dyn Integrator,
-        outputs: &Outputs,
+        files: Option<(&Path, &Placement)>,
+        keep: bool,
         start_step: u64,
     ) -> Result<Self, RunError> {
         let record = &scene.record;
+        let append = match files {
+            Some((_, Placement::Append(after))) => Some(after),
+            _ => None,
+        };
         let series = record
             .series
             .iter()
-            .map(|s| {
-                let path = outputs.file(&format!("{}.csv", s.name));
-                SeriesObserver::new(s, &scene.rotors, path.as_deref(), outputs.keep)
+            .enumerate()
+            .map(|(k, s)| {
+                let path = files.map(|(dir, _)| dir.join(format!("{}.csv", s.name)));
+                let target = path.as_deref().map(|path| match append {
+                    Some(after) => CsvTarget::Append {
+                        path,
+                        after: after.series[k],
+                    },
+                    None => CsvTarget::Create(path),
+                });
+                SeriesObserver::new(s, &scene.rotors, target, keep)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let (dcd, pdb, gsd) = (
-            outputs.file(DCD_FILE),
-            outputs.file(PDB_FILE),
-            outputs.file(GSD_FILE),
-        );
         let box_lengths = scene.box_lengths();
         let trajectory = record
             .trajectory
             .as_ref()
             .map(|spec| {
-                let files = dcd.as_deref().zip(pdb.as_deref()).zip(gsd.as_deref()).map(
-                    |((dcd, pdb), gsd)| TrajectoryFiles {
-                        dcd,
-                        pdb,
-                        gsd,
-                        box_lengths: box_lengths.as_ref(),
-                        first_step: start_step,
-                        dt: scene.dt,
-                        title: &scene.name,
-                    },
-                );
+                let paths = files
+                    .map(|(dir, _)| (dir.join(DCD_FILE), dir.join(PDB_FILE), dir.join(GSD_FILE)));
+                let files = paths.as_ref().map(|(dcd, pdb, gsd)| TrajectoryFiles {
+                    dcd,
+                    pdb,
+                    gsd,
+                    box_lengths: box_lengths.as_ref(),
+                    first_step: first_sample(start_step, spec.every),
+                    dt: scene.dt,
+                    title: &scene.name,
+                    append: append.and_then(|a| a.trajectory),
+                });
                 let now = integrator.orientations();
-                TrajectoryObserver::new(spec, &scene.rotors, now, files, outputs.keep)
+                TrajectoryObserver::new(spec, &scene.rotors, now, files, keep)
             })
             .transpose()?;
-        let checkpoints = record
-            .checkpoint_every
-            .zip(outputs.file(CHECKPOINT_FILE))
-            .map(|(every, path)| {
-                let writer = CheckpointWriter {
-                    path,
-                    scene: scene.name.clone(),
-                    integrator: integrator.name().to_string(),
-                    thermostat: scene.thermostat.as_ref().map(|t| t.name().to_string()),
-                    rotors: scene.rotors.len(),
-                    dt: scene.dt,
-                };
-                (every, writer)
-            });
+        let checkpoints = record.checkpoint_every.zip(files).map(|(every, (dir, _))| {
+            let writer = CheckpointWriter {
+                path: dir.join(CHECKPOINT_FILE),
+                scene: scene.name.clone(),
+                identity: Identity::of(scene),
+            };
+            (every, writer)
+        });
         Ok(Recorders {
             series,
             trajectory,

@@ -1,13 +1,33 @@
 //! A table of scalar observables (a [`Series`] of the scene), written as CSV
 //! (a header, one row per sample) and/or kept in memory for Python.
+//!
+//! Rows reach the file whole: each is handed to the buffer in one write, so
+//! the buffer only ever passes whole lines to the file, and a run killed at
+//! any moment leaves a file that ends with a complete row.
 
 use super::error::RunError;
+use super::folder::{create_file, open_existing};
 use crate::rotor::Rotor;
 use crate::scene::{SceneError, Series};
 use crate::simulation::{MultipoleInputs, Needs, Observer, Sample};
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
+
+/// Where a series' CSV goes.
+#[derive(Clone, Copy, Debug)]
+pub enum CsvTarget<'a> {
+    /// A new file (the header is written now).
+    Create(&'a Path),
+    /// The file of an earlier run, whose last row is at step `after`: rows
+    /// are appended from the first sample after it.
+    Append {
+        /// The file.
+        path: &'a Path,
+        /// The step of its last row.
+        after: u64,
+    },
+}
 
 /// The columns and rows of a finished series.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,38 +87,65 @@ pub struct SeriesObserver {
     spec: Series,
     multipoles: MultipoleInputs,
     csv: Option<(PathBuf, BufWriter<File>)>,
+    /// Samples at or before this step are already in the file.
+    written_through: Option<u64>,
     table: Option<SeriesTable>,
     row: Vec<f64>,
 }
 
 impl SeriesObserver {
-    /// A series of `rotors` written to `csv_path` (if given; the header is
-    /// written now) and kept in memory if `keep`.
+    /// The CSV header of `spec`: `step,time,` then the quantities' columns.
+    pub fn header(spec: &Series) -> String {
+        Self::columns(spec).join(",")
+    }
+
+    fn columns(spec: &Series) -> Vec<String> {
+        ["step".to_string(), "time".to_string()]
+            .into_iter()
+            .chain(spec.quantities.iter().flat_map(|q| q.columns()))
+            .collect()
+    }
+
+    /// A series of `rotors` written to `csv` (if given) and kept in memory
+    /// if `keep`.
     pub fn new(
         spec: &Series,
         rotors: &[Rotor],
-        csv_path: Option<&Path>,
+        csv: Option<CsvTarget<'_>>,
         keep: bool,
     ) -> Result<Self, RunError> {
         let multipoles = MultipoleInputs::new(rotors, &spec.quantities)
             .map_err(|e| SceneError::from(e.at(&format!("series `{}`", spec.name))))?;
-        let columns: Vec<String> = ["step".to_string(), "time".to_string()]
-            .into_iter()
-            .chain(spec.quantities.iter().flat_map(|q| q.columns()))
-            .collect();
+        let columns = Self::columns(spec);
         let columns_len = columns.len();
-        let csv = csv_path
-            .map(|path| {
-                let file = File::create(path).map_err(|e| RunError::io(path, e))?;
-                let mut writer = BufWriter::new(file);
-                writeln!(writer, "{}", columns.join(",")).map_err(|e| RunError::io(path, e))?;
-                Ok::<_, RunError>((path.to_path_buf(), writer))
+        let mut written_through = None;
+        let csv = csv
+            .map(|target| {
+                let (path, file) = match target {
+                    CsvTarget::Create(path) => {
+                        let mut file = create_file(path).map_err(|e| RunError::io(path, e))?;
+                        let header = columns.join(",") + "\n";
+                        file.write_all(header.as_bytes())
+                            .map_err(|e| RunError::io(path, e))?;
+                        (path, file)
+                    }
+                    CsvTarget::Append { path, after } => {
+                        written_through = Some(after);
+                        let mut file = open_existing(path).map_err(|e| RunError::io(path, e))?;
+                        let _ = file
+                            .seek(SeekFrom::End(0))
+                            .map_err(|e| RunError::io(path, e))?;
+                        (path, file)
+                    }
+                };
+                Ok::<_, RunError>((path.to_path_buf(), BufWriter::new(file)))
             })
             .transpose()?;
         Ok(SeriesObserver {
             spec: spec.clone(),
             multipoles,
             csv,
+            written_through,
             table: keep.then(|| SeriesTable {
                 name: spec.name.clone(),
                 columns,
@@ -129,13 +176,17 @@ impl Observer for SeriesObserver {
         for q in &self.spec.quantities {
             q.write(sample, &mut self.multipoles, &mut self.row);
         }
-        if let Some((path, writer)) = &mut self.csv {
+        let in_file = self.written_through.is_some_and(|s| sample.step <= s);
+        if let (Some((path, writer)), false) = (&mut self.csv, in_file) {
             // `{:e}` is the shortest representation that reads back exactly.
             let mut line = format!("{},{:e}", sample.step, sample.time);
             for x in &self.row {
                 line.push_str(&format!(",{x:e}"));
             }
-            writeln!(writer, "{line}").map_err(|e| RunError::io(path, e))?;
+            line.push('\n');
+            writer
+                .write_all(line.as_bytes())
+                .map_err(|e| RunError::io(path, e))?;
         }
         if let Some(table) = &mut self.table {
             table.values.push(sample.step as f64);
@@ -145,10 +196,14 @@ impl Observer for SeriesObserver {
         Ok(())
     }
 
-    fn finish(&mut self) -> Result<(), RunError> {
+    fn flush(&mut self) -> Result<(), RunError> {
         if let Some((path, writer)) = &mut self.csv {
             writer.flush().map_err(|e| RunError::io(path, e))?;
         }
         Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), RunError> {
+        self.flush()
     }
 }

@@ -181,7 +181,9 @@ pub struct Summary {
     pub start_step: u64,
     /// The step the run ended at.
     pub last_step: u64,
-    /// "completed", "blew_up" or "interrupted".
+    /// "completed", "blew_up" or "interrupted"; "running" in the file of a
+    /// run that has not ended (written at its start and after each
+    /// checkpoint: what a killed run leaves).
     pub status: &'static str,
     /// The blow-up message (step and rotor), if any.
     pub message: Option<String>,
@@ -193,6 +195,10 @@ pub struct Summary {
     pub final_energies: Option<FinalEnergies>,
     /// The energy drift, when energies were computed at two steps or more.
     pub drift: Option<Drift>,
+    /// How the files were written: `"new"`, `"appended"` to an earlier
+    /// run's, or `"new_folder"` (a restart whose folder held files that do
+    /// not end at the checkpoint); absent when no file was written.
+    pub outputs: Option<&'static str>,
 }
 
 /// The drift of the run's conserved energy (the total energy without a
@@ -258,6 +264,7 @@ impl Summary {
             initial_energy: report.reference,
             final_energies,
             drift: drift(report),
+            outputs: None,
         }
     }
 }

@@ -4,7 +4,7 @@
 //! orientation quaternions, the box, the step), and/or the orientations and
 //! body angular velocities kept in memory for Python.
 
-use super::dcd::DcdWriter;
+use super::dcd::{DcdHeader, DcdWriter};
 use super::error::RunError;
 use super::gsd::{GsdBox, GsdWriter};
 use super::pdb::write_topology;
@@ -38,6 +38,8 @@ pub struct TrajectoryObserver {
     marker_length: f64,
     dcd: Option<(PathBuf, DcdWriter)>,
     gsd: Option<(PathBuf, GsdWriter)>,
+    /// Frames at or before this step are already in the DCD.
+    written_through: Option<u64>,
     frames: Option<TrajectoryFrames>,
     positions: Vec<[f32; 3]>,
 }
@@ -61,6 +63,9 @@ pub struct TrajectoryFiles<'a> {
     pub dt: f64,
     /// The title of both files.
     pub title: &'a str,
+    /// Append to the DCD of an earlier run with this header (the PDB is
+    /// kept); `None` writes new files.
+    pub append: Option<DcdHeader>,
 }
 
 impl TrajectoryObserver {
@@ -78,6 +83,7 @@ impl TrajectoryObserver {
             marker_length: spec.marker_length,
             dcd: None,
             gsd: None,
+            written_through: None,
             frames: keep.then(TrajectoryFrames::default),
             positions: Vec::new(),
         };
@@ -98,7 +104,8 @@ impl TrajectoryObserver {
     }
 
     /// Writes the PDB topology (with the `initial` orientations) and opens
-    /// the DCD file.
+    /// the DCD file, or appends to the DCD of an earlier run (`f.append`;
+    /// the PDB is kept).
     fn open_dcd(
         &mut self,
         spec: &TrajectorySpec,
@@ -106,18 +113,26 @@ impl TrajectoryObserver {
         f: &TrajectoryFiles<'_>,
     ) -> Result<(), RunError> {
         self.positions = vec![[0.0; 3]; 4 * self.sites.len()];
-        self.fill_positions(initial);
-        write_topology(f.pdb, &self.positions, f.box_lengths, f.title)
-            .map_err(|e| RunError::io(f.pdb, e))?;
-        let dcd = DcdWriter::create(
-            f.dcd,
-            self.positions.len(),
-            f.first_step,
-            spec.every,
-            f.dt,
-            f.title,
-            f.box_lengths,
-        )
+        let dcd = match &f.append {
+            Some(header) => {
+                self.written_through = header.last_step().and_then(|s| u64::try_from(s).ok());
+                DcdWriter::append(f.dcd, header, f.box_lengths)
+            }
+            None => {
+                self.fill_positions(initial);
+                write_topology(f.pdb, &self.positions, f.box_lengths, f.title)
+                    .map_err(|e| RunError::io(f.pdb, e))?;
+                DcdWriter::create(
+                    f.dcd,
+                    self.positions.len(),
+                    f.first_step,
+                    spec.every,
+                    f.dt,
+                    f.title,
+                    f.box_lengths,
+                )
+            }
+        }
         .map_err(|e| RunError::io(f.dcd, e))?;
         self.dcd = Some((f.dcd.to_path_buf(), dcd));
         Ok(())
@@ -160,10 +175,11 @@ impl Observer for TrajectoryObserver {
     }
 
     fn observe(&mut self, sample: &Sample<'_>) -> Result<(), RunError> {
-        if self.dcd.is_some() {
+        let in_file = self.written_through.is_some_and(|s| sample.step <= s);
+        if self.dcd.is_some() && !in_file {
             self.fill_positions(sample.orientations);
         }
-        if let Some((path, dcd)) = &mut self.dcd {
+        if let (Some((path, dcd)), false) = (&mut self.dcd, in_file) {
             dcd.write_frame(&self.positions)
                 .map_err(|e| RunError::io(path, e))?;
         }
@@ -189,7 +205,7 @@ impl Observer for TrajectoryObserver {
         Ok(())
     }
 
-    fn finish(&mut self) -> Result<(), RunError> {
+    fn flush(&mut self) -> Result<(), RunError> {
         if let Some((path, dcd)) = &mut self.dcd {
             dcd.flush().map_err(|e| RunError::io(path, e))?;
         }
@@ -197,5 +213,9 @@ impl Observer for TrajectoryObserver {
             gsd.flush().map_err(|e| RunError::io(path, e))?;
         }
         Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), RunError> {
+        self.flush()
     }
 }

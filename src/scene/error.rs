@@ -1,16 +1,24 @@
 //! The one error type of the scene layer.
 
-use crate::checks::InputError;
+use crate::checks::{printable, InputError};
+
+/// The most characters of a field path a message shows.
+const PATH_CHARS: usize = 160;
+/// The most characters of a message's text (the value quoted in it
+/// included) shown.
+const MESSAGE_CHARS: usize = 400;
 
 /// Why a scene could not be read or validated. Every message names the
-/// field (as a path such as `rotors.sites[3].inertia`) and the offending value.
+/// field (as a path such as `rotors.sites[3].inertia`) and the offending value;
+/// what it quotes from the input is shown without control characters and
+/// cut to an excerpt ([`printable`]).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SceneError {
     /// The text is not valid TOML (or JSON).
-    #[error("syntax: {0}")]
+    #[error("syntax: {}", printable(.0, MESSAGE_CHARS))]
     Syntax(String),
     /// A field is unknown, missing, of the wrong type, or has a bad value.
-    #[error("{path}: {message}")]
+    #[error("{}: {}", printable(.path, PATH_CHARS), printable(.message, MESSAGE_CHARS))]
     Field {
         /// Where, e.g. `rotors.sites[3].inertia`.
         path: String,
@@ -18,10 +26,17 @@ pub enum SceneError {
         message: String,
     },
     /// No built-in scene of that name and no such file.
-    #[error("no built-in scene or file named `{0}` (`quatrot scenes` lists the built-ins)")]
+    #[error(
+        "no built-in scene or file named `{}` (`quatrot scenes` lists the built-ins)",
+        printable(.0, PATH_CHARS)
+    )]
     NotFound(String),
     /// The file exists but could not be read.
-    #[error("{path}: cannot read: {message}")]
+    #[error(
+        "{}: cannot read: {}",
+        printable(.path, PATH_CHARS),
+        printable(.message, MESSAGE_CHARS)
+    )]
     Io {
         /// The file.
         path: String,

@@ -57,7 +57,7 @@ pub struct RawExplicitInitial {
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawRandomInitial {
-    /// The seed (drawn from the OS if absent).
+    /// The seed (drawn from the OS if absent, below 2^63).
     pub seed: Option<u64>,
     /// The reduced temperature (>= 0).
     pub temperature: f64,
@@ -94,6 +94,13 @@ pub fn random_states(inertia: &[Inertia], temperature: f64, seed: u64) -> Vec<Ro
             }
         })
         .collect()
+}
+
+/// A seed drawn from the operating system when the scene gives none: below
+/// 2^63, so that it can be written back into a scene (TOML integers are
+/// signed 64-bit) to replay the run.
+fn drawn_seed() -> u64 {
+    rand::random::<u64>() >> 1
 }
 
 /// One rotor's state from the file, with the paths of its two entries.
@@ -158,9 +165,24 @@ pub(super) fn initial(
                     format!("must be >= 0, got {}", num(temperature)),
                 ));
             }
-            let seed = r.seed.unwrap_or_else(rand::random);
+            let seed = r.seed.unwrap_or_else(drawn_seed);
             let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
-            Ok((random_states(&inertia, temperature, seed), Some(seed)))
+            let states = random_states(&inertia, temperature, seed);
+            let kinetic: f64 = states
+                .iter()
+                .zip(&inertia)
+                .map(|(s, i)| crate::observables::kinetic_energy(i, &s.omega_body))
+                .sum();
+            if !kinetic.is_finite() {
+                return Err(SceneError::field(
+                    "initial.temperature",
+                    format!(
+                        "too high for these moments of inertia: the kinetic energy is not finite, got {}",
+                        num(temperature)
+                    ),
+                ));
+            }
+            Ok((states, Some(seed)))
         }
     }
 }
@@ -223,5 +245,19 @@ mod tests {
         assert_eq!(seed, Some(11));
         assert_eq!(check(table, 4).expect("valid").0, a);
         assert_eq!(a, random_states(&[Inertia::Spherical(2.0); 4], 0.5, 11));
+    }
+
+    /// Regression: seeds drawn from the OS at or above 2^63 could not be
+    /// written back into a scene. A drawn seed is below 2^63, and the scene
+    /// with it written in (as the summary records it) draws the same states.
+    #[test]
+    fn drawn_seeds_can_be_written_back_into_a_scene() {
+        for _ in 0..64 {
+            assert!(drawn_seed() < 1 << 63);
+        }
+        let (states, seed) = check("kind = 'random'\ntemperature = 0.5", 3).expect("valid");
+        let seed = seed.expect("drawn");
+        let replay = format!("kind = 'random'\nseed = {seed}\ntemperature = 0.5");
+        assert_eq!(check(&replay, 3).expect("replays").0, states);
     }
 }

@@ -30,7 +30,7 @@ pub use initial::random_states;
 pub use interactions::boundary_error;
 pub use load::{load, load_raw, load_table, load_text, Overrides};
 pub use model::{Interactions, Scene};
-pub use parse::{parse_table, parse_toml};
+pub use parse::{parse_table, parse_toml, MAX_NESTING};
 pub use record::{
     Record, Series, TrajectoryFormat, TrajectorySpec, DEFAULT_CHECK_EVERY, DEFAULT_MARKER_LENGTH,
 };

@@ -16,6 +16,15 @@ pub(super) fn parse_value<T: DeserializeOwned>(value: toml::Value) -> Result<T, 
         // toml appends "\nin `path`"; the path is reported in front instead.
         let message = message.lines().next().unwrap_or_default();
         let (path, message) = join_path(outer, message);
+        // A missing field is named by its own path.
+        let (path, message) = match message
+            .strip_prefix("missing field `")
+            .and_then(|m| m.strip_suffix('`'))
+        {
+            Some(field) if path.is_empty() => (field.to_string(), "missing".to_string()),
+            Some(field) => (format!("{path}.{field}"), "missing".to_string()),
+            None => (path, message),
+        };
         let path = if path.is_empty() {
             "(top level)".to_string()
         } else {
@@ -33,8 +42,79 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
-/// Parses a scene written in TOML.
+/// The deepest nesting of arrays and inline tables a scene may have (a
+/// quadrupole in a site's table in the list of sites is 4 deep).
+pub const MAX_NESTING: usize = 16;
+/// Memory the TOML parser needs per byte of text, at most (a number of a few
+/// characters becomes a value of 32 bytes in a vector).
+const PARSE_BYTES_PER_BYTE: f64 = 16.0;
+
+/// The byte offset where the nesting of arrays and inline tables in `text`
+/// first exceeds [`MAX_NESTING`], if it does. Strings (basic, literal,
+/// multi-line) and comments are skipped; table headers count as one or two
+/// levels, closed on their line.
+fn too_deep(text: &str) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let mut depth = 0usize;
+    let mut at = 0;
+    while at < bytes.len() {
+        match bytes[at] {
+            b'#' => {
+                at += bytes[at..]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .unwrap_or(bytes.len() - at);
+            }
+            quote @ (b'"' | b'\'') => {
+                let multi = bytes[at..].starts_with(if quote == b'"' { b"\"\"\"" } else { b"'''" });
+                let open = if multi { 3 } else { 1 };
+                let mut end = at + open;
+                while end < bytes.len() {
+                    if quote == b'"' && bytes[end] == b'\\' {
+                        end += 2;
+                        continue;
+                    }
+                    if bytes[end] == quote && (!multi || bytes[end..].starts_with(&[quote; 3])) {
+                        break;
+                    }
+                    if !multi && bytes[end] == b'\n' {
+                        break;
+                    }
+                    end += 1;
+                }
+                // Past the closing quotes (a multi-line string may end with
+                // up to two more quotes inside it).
+                at = end + open;
+                while multi && at < bytes.len() && bytes[at] == quote {
+                    at += 1;
+                }
+                continue;
+            }
+            b'[' | b'{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Some(at);
+                }
+            }
+            b']' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        at += 1;
+    }
+    None
+}
+
+/// Parses a scene written in TOML. Text that would need more memory to
+/// parse than the limit ([`crate::memory`]), or nests arrays and inline
+/// tables deeper than [`MAX_NESTING`], is refused before parsing.
 pub fn parse_toml(text: &str) -> Result<RawScene, SceneError> {
+    crate::memory::check("(scene text)", text.len() as f64 * PARSE_BYTES_PER_BYTE)?;
+    if let Some(offset) = too_deep(text) {
+        let (line, column) = line_column(text, offset);
+        return Err(SceneError::Syntax(format!(
+            "line {line}, column {column}: arrays and inline tables nested deeper than {MAX_NESTING}"
+        )));
+    }
     let table: toml::Table = toml::from_str(text).map_err(|e| {
         let message = e.message().trim().to_string();
         match e.span() {
@@ -52,4 +132,26 @@ pub fn parse_toml(text: &str) -> Result<RawScene, SceneError> {
 /// dict is converted to).
 pub fn parse_table(table: toml::Table) -> Result<RawScene, SceneError> {
     parse_value(toml::Value::Table(table))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Nesting is counted outside strings and comments only; headers close
+    /// on their line.
+    #[test]
+    fn nesting_is_counted_outside_strings_and_comments() {
+        let deep = |n: usize| format!("x = {}{}", "[".repeat(n), "]".repeat(n));
+        assert_eq!(too_deep(&deep(MAX_NESTING)), None);
+        assert_eq!(too_deep(&deep(MAX_NESTING + 1)), Some(4 + MAX_NESTING));
+        let quoted = format!(
+            "[[a.b]]\n[[a.b]]\nk = \"{0}\"\nl = '{0}'\nm = \"\"\"{0}\"\"\"\"\"\n# {0}\nn = '\''{0}\'\'\'\nq = \"\\\"[\"",
+            "[".repeat(100)
+        );
+        assert_eq!(too_deep(&quoted), None, "{quoted}");
+        assert!(parse_toml(&deep(1000)).is_err_and(|e| e
+            .to_string()
+            .starts_with("syntax: line 1, column 21: arrays and inline tables nested deeper")));
+    }
 }

@@ -305,12 +305,26 @@ fn rotor(site: Vector3<f64>, own: Props<'_>, default: &RawRotorProps) -> Result<
 }
 
 /// Moments of inertia: each finite and > 0 (the scene's rotors are
-/// three-dimensional bodies; the baselines also accept zero moments).
+/// three-dimensional bodies; the baselines also accept zero moments), and a
+/// normal number, so that `1 / I` is finite.
 fn inertia(raw: &RawInertia) -> Result<Inertia, InputError> {
+    let moment = |i: f64| {
+        let i = positive(i)?;
+        if i < f64::MIN_POSITIVE {
+            return Err(InputError::new(
+                "",
+                format!(
+                    "must be at least {:e} (1 / I must be finite), got {i:e}",
+                    f64::MIN_POSITIVE
+                ),
+            ));
+        }
+        Ok(i)
+    };
     match raw {
-        RawInertia::Spherical(i) => Ok(Inertia::Spherical(positive(*i)?)),
+        RawInertia::Spherical(i) => Ok(Inertia::Spherical(moment(*i)?)),
         RawInertia::Principal(m) => {
-            each(m, positive)?;
+            each(m, moment)?;
             Ok(Inertia::Principal(Vector3::from(*m)))
         }
     }

@@ -17,9 +17,20 @@ pub struct RawRun {
     pub time: Option<f64>,
 }
 
+/// The smallest time step: the Gear schemes keep `dt^5 / 120` times the
+/// fifth derivative, which underflows to zero (and the run to NaN) for
+/// steps much below `(2.2e-308)^(1/5)`, about 1e-61.
+pub const MIN_DT: f64 = 1e-60;
+
 /// Validates the section: the time step and the number of steps.
 pub(super) fn run_length(raw: &RawRun) -> Result<(f64, u64), SceneError> {
     let dt = positive(raw.dt).map_err(|e| e.at("run.dt"))?;
+    if dt < MIN_DT {
+        return Err(SceneError::field(
+            "run.dt",
+            format!("must be >= {MIN_DT:e}, got {}", num(dt)),
+        ));
+    }
     let steps = match (raw.steps, raw.time) {
         (Some(_), Some(_)) => {
             return Err(SceneError::field(

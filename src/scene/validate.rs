@@ -17,6 +17,57 @@ use crate::potential::ExternalFields;
 /// The only scene format version this build reads.
 pub const SCENE_VERSION: i64 = 1;
 
+/// The most characters of a scene's name.
+const MAX_NAME_CHARS: usize = 100;
+/// The most characters of a scene's description.
+const MAX_DESCRIPTION_CHARS: usize = 1000;
+
+/// The scene's name (default `scene`): a plain file name, since it names the
+/// default output folder and titles the trajectory. Letters, digits, `_`,
+/// `-`, `.`, `+` and spaces, starting with a letter, a digit or `_`: no path
+/// separator, no `..`, no control character.
+fn scene_name(raw: Option<&str>) -> Result<String, SceneError> {
+    let Some(name) = raw else {
+        return Ok("scene".to_string());
+    };
+    let plain = name
+        .chars()
+        .all(|c| c.is_alphanumeric() || "_-.+ ".contains(c))
+        && name
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_alphanumeric() || c == '_')
+        && !name.contains("..")
+        && !name.ends_with([' ', '.'])
+        && name.chars().count() <= MAX_NAME_CHARS;
+    if !plain {
+        return Err(SceneError::field(
+            "name",
+            format!(
+                "must be a plain file name of at most {MAX_NAME_CHARS} characters (letters, digits, _ - . + and spaces, starting with a letter, a digit or _; it names the default output folder), got \"{}\"",
+                crate::checks::printable(name, 60)
+            ),
+        ));
+    }
+    Ok(name.to_string())
+}
+
+/// The scene's description: one line of at most [`MAX_DESCRIPTION_CHARS`]
+/// characters, without control characters.
+fn description(raw: Option<&str>) -> Result<String, SceneError> {
+    let text = raw.unwrap_or_default();
+    if text.chars().any(char::is_control) || text.chars().count() > MAX_DESCRIPTION_CHARS {
+        return Err(SceneError::field(
+            "description",
+            format!(
+                "must be one line of at most {MAX_DESCRIPTION_CHARS} characters without control characters, got \"{}\"",
+                crate::checks::printable(text, 60)
+            ),
+        ));
+    }
+    Ok(text.to_string())
+}
+
 /// Validates a whole scene.
 pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
     if raw.version != SCENE_VERSION {
@@ -52,8 +103,8 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         &rotors,
     )?;
     Ok(Scene {
-        name: raw.name.clone().unwrap_or_else(|| "scene".to_string()),
-        description: raw.description.clone().unwrap_or_default(),
+        name: scene_name(raw.name.as_deref())?,
+        description: description(raw.description.as_deref())?,
         rotors,
         interactions,
         fields,

@@ -82,7 +82,13 @@ pub trait Observer {
     fn needs(&self) -> Needs;
     /// Records one sample.
     fn observe(&mut self, sample: &Sample<'_>) -> Result<(), Self::Error>;
-    /// Flushes and closes; called once, also after a blow-up.
+    /// Passes what was recorded so far to its files, whole samples only;
+    /// called before every checkpoint, so that the files hold at least what
+    /// the checkpoint does.
+    fn flush(&mut self) -> Result<(), Self::Error> {
+        Ok(())
+    }
+    /// Flushes and closes; called once, also after a blow-up or an interrupt.
     fn finish(&mut self) -> Result<(), Self::Error> {
         Ok(())
     }

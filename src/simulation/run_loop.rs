@@ -31,8 +31,9 @@ pub struct RunOptions {
     /// The reference energy carried over from a checkpoint.
     pub reference: Option<EnergyReference>,
     /// Polled after every step: a stop request ends the run there
-    /// ([`Stop::Interrupted`]), after the samples due at that step; the
-    /// step reached is recorded in it.
+    /// ([`Stop::Interrupted`]), after the samples due at that step, with a
+    /// checkpoint if checkpoints are written; the step reached is recorded
+    /// in it.
     pub control: Option<Arc<Control>>,
 }
 
@@ -55,8 +56,12 @@ pub struct RunReport {
 
 /// Runs `integrator` (already set up, or restored at `options.start_step`)
 /// from `start_step` to `end_step`, feeding the observers at their intervals
-/// and writing checkpoints. Observers are finished in every case; the first
-/// error of an observer or of the checkpoint sink ends the run.
+/// and writing checkpoints (the observers flushed first, so that their files
+/// hold at least what the checkpoint does). A stop requested through
+/// `options.control` ends the run at the end of the current step, with a
+/// checkpoint there when checkpoints are written. Observers are finished in
+/// every case; the first error of an observer or of the checkpoint sink ends
+/// the run.
 pub fn run<E>(
     integrator: &mut dyn Integrator,
     potential: &dyn Potential,
@@ -165,14 +170,14 @@ impl<E> Loop<'_, '_, E> {
             if self.report.stop != Stop::Completed {
                 return Ok(());
             }
-            self.checkpoint(step)?;
+            self.checkpoint(step, observers, false)?;
             if step >= self.options.end_step {
                 return Ok(());
             }
             let control = self.options.control.as_deref();
             if control.is_some_and(Control::stop_requested) {
                 self.report.stop = Stop::Interrupted { step };
-                return Ok(());
+                return self.checkpoint(step, observers, true);
             }
             let next = self.next_event(step, observers);
             match control {
@@ -193,7 +198,7 @@ impl<E> Loop<'_, '_, E> {
                     if step < next {
                         self.report.last_step = step;
                         self.report.stop = Stop::Interrupted { step };
-                        return Ok(());
+                        return self.checkpoint(step, observers, true);
                     }
                 }
             }
@@ -279,10 +284,19 @@ impl<E> Loop<'_, '_, E> {
         Ok(())
     }
 
-    /// Writes a checkpoint when one is due at `step` (never at the start).
-    fn checkpoint(&mut self, step: u64) -> Result<(), E> {
+    /// Writes a checkpoint when one is due at `step`, or at once when
+    /// `now` (never at the start), after flushing the observers.
+    fn checkpoint(
+        &mut self,
+        step: u64,
+        observers: &mut [Scheduled<'_, E>],
+        now: bool,
+    ) -> Result<(), E> {
         if let Some(c) = &mut self.checkpoints {
-            if step != self.options.start_step && step % c.every.max(1) == 0 {
+            if step != self.options.start_step && (now || step % c.every.max(1) == 0) {
+                for s in observers.iter_mut() {
+                    s.observer.flush()?;
+                }
                 c.sink
                     .write(step, &self.integrator.checkpoint(), self.report.reference)?;
             }

@@ -32,8 +32,8 @@ pub enum Stop {
         /// What was wrong.
         reason: String,
     },
-    /// A stop was requested through the run's [`super::Control`] (Ctrl-C
-    /// in Python); the run ended at the end of this step.
+    /// A stop was requested through the run's [`super::Control`] (a
+    /// signal, Ctrl-C); the run ended at the end of this step.
     Interrupted {
         /// The last step done.
         step: u64,

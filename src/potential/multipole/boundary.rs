@@ -11,6 +11,13 @@ use nalgebra::Vector3;
 /// density has about 6.1e7.
 pub const MAX_PAIRS: usize = 100_000_000;
 
+/// Bytes a pair of the truncated periodic sum may cost while the pair list
+/// is built, at most: its partner and geometry index (8), a geometry of its
+/// own when its offset is shared by no other pair (96, and about 56 in the
+/// map of offsets), and the two directed entries of the quad kernel's build
+/// (64). Sizes are checked against [`crate::memory`] with it.
+pub const BYTES_PER_PAIR: f64 = 224.0;
+
 /// The default relative accuracy of the Ewald sum.
 pub const DEFAULT_ACCURACY: f64 = 1e-12;
 
@@ -117,6 +124,7 @@ impl Boundary {
                         &format!("about {estimate:.2e}"),
                     ));
                 }
+                pair_memory(cutoff, sites, estimate)?;
             }
             PeriodicSum::Ewald { accuracy, .. } => {
                 if !(accuracy > 0.0 && accuracy < 1.0) {
@@ -129,6 +137,20 @@ impl Boundary {
         }
         Ok(())
     }
+}
+
+/// Refuses a truncated periodic sum of `pairs` pairs (estimated or found)
+/// whose pair list would exceed the memory limit.
+pub(crate) fn pair_memory(cutoff: f64, sites: usize, pairs: f64) -> Result<(), PotentialError> {
+    crate::memory::check("cutoff", pairs * BYTES_PER_PAIR).map_err(|e| {
+        PotentialError::new(
+            "cutoff",
+            format!(
+                "{cutoff} gives about {pairs:.2e} interacting pairs (periodic images included) for {sites} rotors: {}",
+                e.message
+            ),
+        )
+    })
 }
 
 /// The error for a periodic sum larger than [`MAX_PAIRS`]; `count` says how

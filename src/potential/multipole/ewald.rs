@@ -6,14 +6,14 @@
 //! pairs plus `2 N` products per wave vector; `alpha` balances the two
 //! (`N^(3/2)` overall).
 
-use super::boundary::MAX_PAIRS;
+use super::boundary::{BYTES_PER_PAIR, MAX_PAIRS};
 use super::ewald_parameters::{self, EwaldParameters};
 use super::ewald_terms::{
     mode_weight, pair_fields, radial, self_conjugate_per_quadrupole, self_field_per_dipole,
     surface_field_per_dipole,
 };
 use super::kernels::{MultipoleKind, SiteFields, SpaceMultipoles};
-use super::pairs::PairTable;
+use super::pairs::{balanced_blocks, PairRows, PairTable};
 use super::{PotentialError, Surface};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -57,8 +57,10 @@ impl EwaldSum {
     /// Chooses the parameters for `accuracy` (balancing the real- and
     /// reciprocal-space work of this `N`), then builds the pair list and the
     /// wave vectors. Refuses sums larger than [`MAX_PAIRS`] pairs or
-    /// [`MAX_WAVE_VECTORS`] wave vectors, and coincident sites (periodic
-    /// images included).
+    /// [`MAX_WAVE_VECTORS`] wave vectors or than the memory limit of
+    /// [`crate::memory`] (pair list, wave vectors and the structure factors
+    /// of an evaluation; path `accuracy`, which sets the sizes), and
+    /// coincident sites (periodic images included).
     pub fn new(
         sites: &[Vector3<f64>],
         box_lengths: Vector3<f64>,
@@ -115,6 +117,21 @@ impl EwaldSum {
                 ),
             ));
         }
+        let waves_count = count / 2.0;
+        let chunks = (n / SITES_PER_TASK as f64).ceil() + 1.0;
+        let bytes = estimate * BYTES_PER_PAIR
+            + waves_count * (size_of::<WaveVector>() as f64 + chunks * 16.0);
+        crate::memory::check("accuracy", bytes).map_err(|e| {
+            PotentialError::new(
+                "accuracy",
+                format!(
+                    "the direct Ewald sum of {} rotors (about {estimate:.2e} real-space pairs, \
+                     cutoff {rc:.3}, and {waves_count:.2e} wave vectors) {}",
+                    sites.len(),
+                    e.message
+                ),
+            )
+        })?;
         let real = PairTable::build(sites, Some((box_lengths, rc)))?;
         let real_geometry = real
             .geometry
@@ -180,7 +197,7 @@ impl EwaldSum {
     /// its own buffer, summed in block order).
     fn real_space<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
         let n = self.sites.len();
-        let blocks = self.real.balanced_blocks(rayon::current_num_threads());
+        let blocks = balanced_blocks(self.real.starts(), rayon::current_num_threads());
         let partial: Vec<(usize, SiteFields)> = blocks
             .into_par_iter()
             .map(|rows| {

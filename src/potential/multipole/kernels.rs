@@ -21,7 +21,9 @@
 //! system never runs quadrupole code. Dipole-only lattices use the kernel of
 //! [`super::row_quads`] instead, when it pays (decided at construction).
 
-use super::pairs::{PairGeometry, PairTable};
+#[cfg(test)]
+use super::pairs::PairTable;
+use super::pairs::{PairGeometry, PairRows};
 use nalgebra::{Matrix3, Vector3};
 use std::ops::Range;
 
@@ -130,8 +132,8 @@ impl SiteFields {
 /// Dispatches once to a build of the loop for AVX and FMA when the CPU has
 /// them (four-lane dipole tensors then take one instruction per lane group);
 /// the results differ only by rounding.
-pub(crate) fn accumulate_pair_fields<K: MultipoleKind>(
-    pairs: &PairTable,
+pub(crate) fn accumulate_pair_fields<K: MultipoleKind, R: PairRows>(
+    pairs: &R,
     rows: Range<usize>,
     multipoles: &SpaceMultipoles,
     out: &mut SiteFields,
@@ -139,21 +141,21 @@ pub(crate) fn accumulate_pair_fields<K: MultipoleKind>(
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports AVX and FMA, checked just above.
-        unsafe { pair_fields_avx_fma::<K>(pairs, rows, multipoles, out) };
+        unsafe { pair_fields_avx_fma::<K, R>(pairs, rows, multipoles, out) };
         return;
     }
-    pair_fields::<K, Separate>(pairs, rows, multipoles, out);
+    pair_fields::<K, Separate, R>(pairs, rows, multipoles, out);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,fma")]
-fn pair_fields_avx_fma<K: MultipoleKind>(
-    pairs: &PairTable,
+fn pair_fields_avx_fma<K: MultipoleKind, R: PairRows>(
+    pairs: &R,
     rows: Range<usize>,
     multipoles: &SpaceMultipoles,
     out: &mut SiteFields,
 ) {
-    pair_fields::<K, Fused>(pairs, rows, multipoles, out);
+    pair_fields::<K, Fused, R>(pairs, rows, multipoles, out);
 }
 
 /// `a * b + c`, fused into one rounding or not.
@@ -189,19 +191,17 @@ fn add_tensor_times<M: MulAdd>(acc: &mut [f64; 4], t: &[[f64; 4]; 3], mu: &[f64;
 }
 
 #[inline(always)]
-pub(crate) fn pair_fields<K: MultipoleKind, M: MulAdd>(
-    pairs: &PairTable,
+pub(crate) fn pair_fields<K: MultipoleKind, M: MulAdd, R: PairRows>(
+    pairs: &R,
     rows: Range<usize>,
     multipoles: &SpaceMultipoles,
     out: &mut SiteFields,
 ) {
     let (dipoles, quadrupoles) = (&multipoles.dipoles[..], &multipoles.quadrupoles[..]);
     let (field, conjugate) = (&mut out.field[..], &mut out.quadrupole_conjugate[..]);
-    let geometry = &pairs.geometry[..];
+    let mut scratch = R::Scratch::default();
     for i in rows {
-        let range = pairs.start[i]..pairs.start[i + 1];
-        let partners = &pairs.partner[range.clone()];
-        let geometry_index = &pairs.geometry_index[range];
+        let (partners, geometry_index, geometry) = pairs.row(i, &mut scratch);
         let mut field_i = [0.0; 4];
         let mut conjugate_i = Matrix3::zeros();
         if K::DIPOLES && !K::QUADRUPOLES {
@@ -405,8 +405,8 @@ mod tests {
         ) -> (SiteFields, SiteFields) {
             let n = m.dipoles.len();
             let (mut plain, mut fused) = (SiteFields::zeros::<K>(n), SiteFields::zeros::<K>(n));
-            pair_fields::<K, Separate>(pairs, 0..n, m, &mut plain);
-            pair_fields::<K, Fused>(pairs, 0..n, m, &mut fused);
+            pair_fields::<K, Separate, _>(pairs, 0..n, m, &mut plain);
+            pair_fields::<K, Fused, _>(pairs, 0..n, m, &mut fused);
             (plain, fused)
         }
         let check = |(plain, fused): (SiteFields, SiteFields)| {
@@ -460,9 +460,9 @@ mod tests {
             ghosts: (&PairTable, &SpaceMultipoles),
         ) {
             let mut own = SiteFields::zeros::<K>(1);
-            pair_fields::<K, Separate>(self_pair.0, 0..1, self_pair.1, &mut own);
+            pair_fields::<K, Separate, _>(self_pair.0, 0..1, self_pair.1, &mut own);
             let mut reference = SiteFields::zeros::<K>(3);
-            pair_fields::<K, Separate>(ghosts.0, 0..3, ghosts.1, &mut reference);
+            pair_fields::<K, Separate, _>(ghosts.0, 0..3, ghosts.1, &mut reference);
             if K::DIPOLES {
                 let (a, b) = (own.field[0], reference.field[0]);
                 let scale = b.iter().fold(0.0, |m: f64, x| m.max(x.abs()));

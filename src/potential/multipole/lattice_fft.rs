@@ -25,7 +25,7 @@
 //!   term adds `-4 pi / (3 V)` to the dipole-field block at `q = 0`.
 //!
 //! The memory is estimated before anything is allocated and refused above
-//! [`MAX_FFT_BYTES`].
+//! [`MAX_FFT_BYTES`] or the memory limit of [`crate::memory`].
 
 use super::ewald_parameters::{self, EwaldParameters};
 use super::ewald_terms::{
@@ -175,6 +175,19 @@ impl LatticeFft {
                 ),
             ));
         }
+        crate::memory::check("rotors", bytes).map_err(|e| {
+            PotentialError::new(
+                "rotors",
+                format!(
+                    "the FFT lattice sum of these {} rotors ({} x {} x {} cells of {b} sites) {}",
+                    grid.slots.len(),
+                    grid.cells[0],
+                    grid.cells[1],
+                    grid.cells[2],
+                    e.message
+                ),
+            )
+        })?;
         let volume = box_lengths.product();
         let cell_volume = volume / cells as f64;
         let (reach, parameters) = match tensor {

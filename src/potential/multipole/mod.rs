@@ -19,7 +19,7 @@ mod pairs;
 mod potential;
 mod row_quads;
 
-pub use boundary::{Boundary, PeriodicSum, Surface, DEFAULT_ACCURACY, MAX_PAIRS};
+pub use boundary::{Boundary, PeriodicSum, Surface, BYTES_PER_PAIR, DEFAULT_ACCURACY, MAX_PAIRS};
 pub use error::PotentialError;
 pub use ewald::MAX_WAVE_VECTORS;
 pub use ewald_parameters::EwaldParameters;

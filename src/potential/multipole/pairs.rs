@@ -9,18 +9,27 @@
 //! add both ends of a pair to the rotors' fields, so a self pair adds both
 //! ends to rotor `i`, as the derivative of `v(n L)` in rotor `i` requires.
 //!
-//! The geometry is kept in a table indexed by the distinct offsets: on a
-//! periodic lattice all pairs with the same offset share one entry (122
-//! entries serve the 61,000 pairs of the 10^3 simple-cubic lattice with
-//! cutoff 3.1), so the tables stay in the L1 cache.
+//! The geometry is kept in a table indexed by the distinct offsets, keyed by
+//! their exact bit patterns (a cache never changes a result: only pairs
+//! whose computed offsets are the same numbers share an entry): on a
+//! periodic lattice of exactly representable sites all pairs with the same
+//! offset share one entry (122 entries serve the 61,000 pairs of the 10^3
+//! simple-cubic lattice with cutoff 3.1), so the tables stay in the L1 cache.
 
-use super::boundary::{too_many_pairs, MAX_PAIRS};
+use super::boundary::{pair_memory, too_many_pairs, MAX_PAIRS};
 use super::PotentialError;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
-/// Offsets closer than this (length unit) share one geometry entry.
-const OFFSET_RESOLUTION: f64 = 1e-9;
+/// Sites closer than this (length unit, periodic images included) are
+/// refused as coincident.
+const COINCIDENT: f64 = 1e-9;
+
+/// The exact key of an offset: the bit patterns of its components (`-0.0`
+/// and `0.0` are one value).
+fn offset_key(offset: &Vector3<f64>) -> [u64; 3] {
+    [0, 1, 2].map(|a| (offset[a] + 0.0).to_bits())
+}
 
 /// Geometry of one offset `r = r_j - r_i`. Laid out with the tensor first and
 /// aligned to 32 bytes, so that no four-lane column straddles two cache lines
@@ -190,7 +199,7 @@ impl PairTable {
             geometry_index: Vec::new(),
             geometry: Vec::new(),
         };
-        let mut by_offset: HashMap<[i64; 3], u32> = HashMap::new();
+        let mut by_offset: HashMap<[u64; 3], u32> = HashMap::new();
         let grid = images.map(|(box_lengths, cutoff)| ImageGrid::new(sites, &box_lengths, cutoff));
         let mut row = Vec::new();
         for i in 0..n {
@@ -198,10 +207,15 @@ impl PairTable {
             match &grid {
                 Some(grid) => {
                     grid.row(i, &mut row);
-                    if table.len() + row.len() > MAX_PAIRS {
-                        let count = format!("more than {}", table.len() + row.len());
-                        return Err(too_many_pairs(grid.cutoff, n, &count));
+                    let count = table.len() + row.len();
+                    if count > MAX_PAIRS {
+                        return Err(too_many_pairs(
+                            grid.cutoff,
+                            n,
+                            &format!("more than {count}"),
+                        ));
                     }
+                    pair_memory(grid.cutoff, n, count as f64)?;
                 }
                 None => {
                     row.clear();
@@ -209,20 +223,11 @@ impl PairTable {
                 }
             }
             for &(j, _, offset) in &row {
-                if offset.norm() <= OFFSET_RESOLUTION {
-                    return Err(PotentialError::new(
-                        format!("rotors[{i}].site and rotors[{j}].site"),
-                        format!(
-                            "coincide (distance {:e}, periodic images included)",
-                            offset.norm()
-                        ),
-                    ));
+                if offset.norm() <= COINCIDENT {
+                    return Err(coincident(i, j as usize, offset.norm()));
                 }
-                let key = offset
-                    .map(|x| (x / OFFSET_RESOLUTION).round() as i64)
-                    .into();
                 let next = table.geometry.len() as u32;
-                let index = *by_offset.entry(key).or_insert(next);
+                let index = *by_offset.entry(offset_key(&offset)).or_insert(next);
                 if index == next {
                     table.geometry.push(PairGeometry::new(&offset));
                 }
@@ -237,29 +242,174 @@ impl PairTable {
     pub fn len(&self) -> usize {
         self.partner.len()
     }
+}
 
-    /// Splits `0..n_rotors` into `blocks` contiguous ranges of about equal pair counts.
-    pub fn balanced_blocks(&self, blocks: usize) -> Vec<std::ops::Range<usize>> {
-        let n = self.start.len() - 1;
-        let blocks = blocks.clamp(1, n.max(1));
-        let total = self.len();
-        let mut ranges = Vec::with_capacity(blocks);
-        let mut begin = 0;
-        for b in 1..=blocks {
-            let end = if b == blocks {
-                n
-            } else {
-                let target = total * b / blocks;
-                self.start
-                    .partition_point(|&s| s < target)
-                    .min(n)
-                    .max(begin)
-            };
-            ranges.push(begin..end);
-            begin = end;
-        }
-        ranges
+/// Splits the rows `0..n` of a source whose row `i` starts at `start[i]`
+/// into `blocks` contiguous ranges of about equal pair counts.
+pub(crate) fn balanced_blocks(start: &[usize], blocks: usize) -> Vec<std::ops::Range<usize>> {
+    let n = start.len() - 1;
+    let blocks = blocks.clamp(1, n.max(1));
+    let total = start[n];
+    let mut ranges = Vec::with_capacity(blocks);
+    let mut begin = 0;
+    for b in 1..=blocks {
+        let end = if b == blocks {
+            n
+        } else {
+            let target = total * b / blocks;
+            start.partition_point(|&s| s < target).min(n).max(begin)
+        };
+        ranges.push(begin..end);
+        begin = end;
     }
+    ranges
+}
+
+/// A source of the rows of pairs the kernels sum: for row `i`, the
+/// partners `j`, the index of each pair's geometry, and the geometries
+/// indexed (see [`super::kernels`]).
+pub(crate) trait PairRows: Sync {
+    /// Per-thread scratch space for the rows.
+    type Scratch: Default + Send;
+    /// `(partners, geometry_index, geometry)` of row `i`.
+    fn row<'a>(
+        &'a self,
+        i: usize,
+        scratch: &'a mut Self::Scratch,
+    ) -> (&'a [u32], &'a [u32], &'a [PairGeometry]);
+    /// Pairs of row `i` are `starts()[i]..starts()[i + 1]` (in a full
+    /// enumeration), for splitting the rows into blocks.
+    fn starts(&self) -> &[usize];
+}
+
+impl PairRows for PairTable {
+    type Scratch = ();
+    #[inline(always)]
+    fn row<'a>(&'a self, i: usize, _: &'a mut ()) -> (&'a [u32], &'a [u32], &'a [PairGeometry]) {
+        let range = self.start[i]..self.start[i + 1];
+        (
+            &self.partner[range.clone()],
+            &self.geometry_index[range],
+            &self.geometry,
+        )
+    }
+    fn starts(&self) -> &[usize] {
+        &self.start
+    }
+}
+
+/// Every pair `i < j` of an open cluster, in the order of a [`PairTable`]
+/// built for open boundaries, with each row's geometry computed when the row
+/// is summed (the same numbers the table would hold, so the same sums bit
+/// for bit): `O(N)` memory instead of `O(N^2)`.
+#[derive(Clone, Debug)]
+pub(crate) struct OpenPairs {
+    sites: Vec<Vector3<f64>>,
+    /// `0, 1, ..., n - 1`: the partners of row `i` are `indices[i + 1..]`,
+    /// its geometry indices `indices[..n - 1 - i]`.
+    indices: Vec<u32>,
+    /// Pairs before row `i`.
+    start: Vec<usize>,
+}
+
+impl OpenPairs {
+    /// The pairs of `sites`; coincident sites (closer than 1e-9) are an
+    /// error, found with a grid of cells in `O(N)`.
+    pub fn new(sites: &[Vector3<f64>]) -> Result<Self, PotentialError> {
+        let n = sites.len();
+        let indices = (0..n)
+            .map(u32::try_from)
+            .collect::<Result<Vec<u32>, _>>()
+            .map_err(|_| {
+                PotentialError::new("rotors", format!("at most {} rotors, got {n}", u32::MAX))
+            })?;
+        if let Some((i, j, d)) = first_coincident(sites) {
+            return Err(coincident(i, j, d));
+        }
+        let mut start = Vec::with_capacity(n + 1);
+        let mut count = 0usize;
+        for i in 0..n {
+            start.push(count);
+            count += n - 1 - i;
+        }
+        start.push(count);
+        Ok(OpenPairs {
+            sites: sites.to_vec(),
+            indices,
+            start,
+        })
+    }
+
+    /// Number of pairs, `n (n - 1) / 2`.
+    pub fn len(&self) -> usize {
+        self.start.last().copied().unwrap_or(0)
+    }
+}
+
+impl PairRows for OpenPairs {
+    type Scratch = Vec<PairGeometry>;
+    #[inline(always)]
+    fn row<'a>(
+        &'a self,
+        i: usize,
+        scratch: &'a mut Vec<PairGeometry>,
+    ) -> (&'a [u32], &'a [u32], &'a [PairGeometry]) {
+        let site = self.sites[i];
+        scratch.clear();
+        scratch.extend(
+            self.sites[i + 1..]
+                .iter()
+                .map(|s| PairGeometry::new(&(s - site))),
+        );
+        let partners = &self.indices[i + 1..];
+        (partners, &self.indices[..partners.len()], scratch)
+    }
+    fn starts(&self) -> &[usize] {
+        &self.start
+    }
+}
+
+/// The error for sites `i` and `j` at distance `d` (<= [`COINCIDENT`]).
+fn coincident(i: usize, j: usize, d: f64) -> PotentialError {
+    PotentialError::new(
+        format!("rotors[{i}].site and rotors[{j}].site"),
+        format!("coincide (distance {d:e}, periodic images included)"),
+    )
+}
+
+/// The first pair `(i, j)`, `i < j` in row order, of sites closer than
+/// [`COINCIDENT`], and their distance: sites are binned into cells of that
+/// width (keys saturate for huge coordinates, which only merges far cells)
+/// and compared with the sites of the 27 cells around them.
+fn first_coincident(sites: &[Vector3<f64>]) -> Option<(usize, usize, f64)> {
+    let cell =
+        |s: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|a| (s[a] / COINCIDENT).floor() as i64) };
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(sites.len());
+    for (k, s) in sites.iter().enumerate() {
+        cells.entry(cell(s)).or_default().push(k as u32);
+    }
+    let mut best: Option<(usize, usize, f64)> = None;
+    for (i, s) in sites.iter().enumerate() {
+        let home = cell(s);
+        for d in 0..27i64 {
+            let shift = [d / 9 - 1, (d / 3) % 3 - 1, d % 3 - 1];
+            let key = [0, 1, 2].map(|a| home[a].saturating_add(shift[a]));
+            let Some(members) = cells.get(&key) else {
+                continue;
+            };
+            for &j in members {
+                let j = j as usize;
+                let distance = (sites[j] - s).norm();
+                if j > i && distance <= COINCIDENT && best.is_none_or(|(_, bj, _)| j < bj) {
+                    best = Some((i, j, distance));
+                }
+            }
+        }
+        if best.is_some() {
+            return best;
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -365,5 +515,35 @@ mod tests {
         let e = boundary.validate(1).unwrap_err();
         assert_eq!(e.path, "cutoff");
         assert!(e.message.contains("more than the limit"), "{e}");
+    }
+
+    /// The open rows computed on the fly hold exactly the partners and
+    /// geometries (bit for bit) of the stored open table, and the same
+    /// blocks; coincident sites are found by the grid as the table finds
+    /// them (the first pair in row order).
+    #[test]
+    fn open_rows_are_the_stored_table_bit_for_bit() {
+        let sites = scatter(60, &Vector3::new(3.0, 4.0, 5.0));
+        let table = PairTable::build(&sites, None).unwrap();
+        let open = OpenPairs::new(&sites).unwrap();
+        assert_eq!(open.starts(), &table.start[..]);
+        let (mut none, mut scratch) = ((), Vec::new());
+        for i in 0..sites.len() {
+            let (pt, gt, geometry_t) = table.row(i, &mut none);
+            let (po, go, geometry_o) = open.row(i, &mut scratch);
+            assert_eq!(pt, po);
+            for (a, b) in gt.iter().zip(go) {
+                let (a, b) = (&geometry_t[*a as usize], &geometry_o[*b as usize]);
+                assert_eq!(a.dipole_tensor, b.dipole_tensor);
+                assert_eq!((a.unit, a.inv_r), (b.unit, b.inv_r));
+            }
+        }
+        let mut clash = sites.clone();
+        clash[41] = clash[7] + Vector3::new(0.0, 4e-10, 0.0);
+        clash[50] = clash[3];
+        let by_table = PairTable::build(&clash, None).unwrap_err();
+        let by_grid = OpenPairs::new(&clash).unwrap_err();
+        assert_eq!(by_grid, by_table);
+        assert_eq!(by_grid.path, "rotors[3].site and rotors[50].site");
     }
 }

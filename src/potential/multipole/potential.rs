@@ -8,7 +8,7 @@ use super::kernels::{
 };
 use super::lattice_fft::{LatticeFft, LatticeTensor};
 use super::lattice_grid::{self, LatticeGrid};
-use super::pairs::PairTable;
+use super::pairs::{balanced_blocks, OpenPairs, PairRows, PairTable};
 use super::row_quads::RowQuads;
 use super::{Boundary, EwaldParameters, ExternalFields, PeriodicSum, PotentialError};
 use crate::checks::named_choices;
@@ -85,12 +85,14 @@ pub struct MultipolePotential {
 /// How the pair fields are summed, fixed at construction.
 #[derive(Clone, Debug)]
 enum FieldSum {
-    /// The pair list (open, or periodic truncated at the cutoff).
+    /// Every pair of an open cluster, the geometry computed row by row
+    /// (`O(N)` memory).
+    Open(OpenPairs),
+    /// The pair list of a periodic box truncated at the cutoff.
     Pairs {
         pairs: PairTable,
         /// The dipole pairs regrouped for the quad kernel, when it pays (dipole-only systems).
         row_quads: Option<RowQuads>,
-        periodic: bool,
     },
     /// The direct Ewald sum.
     Ewald(Box<EwaldSum>),
@@ -220,6 +222,7 @@ impl MultipolePotential {
     /// real-space pairs of a direct Ewald sum; 0 for an FFT lattice sum).
     pub fn pair_count(&self) -> usize {
         match &self.sum {
+            FieldSum::Open(pairs) => pairs.len(),
             FieldSum::Pairs { pairs, .. } => pairs.len(),
             FieldSum::Ewald(ewald) => ewald.real_pairs(),
             FieldSum::LatticeFft(_) => 0,
@@ -227,7 +230,8 @@ impl MultipolePotential {
     }
 
     /// Number of distinct pair geometries stored (shared by equal offsets;
-    /// 0 unless the pair list is used).
+    /// 0 unless the pair list of a truncated periodic sum is used: open
+    /// clusters compute theirs row by row).
     pub fn geometry_count(&self) -> usize {
         match &self.sum {
             FieldSum::Pairs { pairs, .. } => pairs.geometry.len(),
@@ -238,8 +242,8 @@ impl MultipolePotential {
     /// The way the pair fields are summed.
     pub fn sum_path(&self) -> SumPath {
         match &self.sum {
-            FieldSum::Pairs { periodic: true, .. } => SumPath::CutoffPairs,
-            FieldSum::Pairs { .. } => SumPath::OpenPairs,
+            FieldSum::Pairs { .. } => SumPath::CutoffPairs,
+            FieldSum::Open(_) => SumPath::OpenPairs,
             FieldSum::Ewald(_) => SumPath::EwaldDirect,
             FieldSum::LatticeFft(fft) if fft.parameters().is_some() => SumPath::EwaldLatticeFft,
             FieldSum::LatticeFft(_) => SumPath::CutoffLatticeFft,
@@ -260,7 +264,7 @@ impl MultipolePotential {
         match &self.sum {
             FieldSum::Ewald(ewald) => Some(ewald.parameters()),
             FieldSum::LatticeFft(fft) => fft.parameters(),
-            FieldSum::Pairs { .. } => None,
+            FieldSum::Pairs { .. } | FieldSum::Open(_) => None,
         }
     }
 
@@ -354,9 +358,8 @@ impl MultipolePotential {
     /// list per rayon thread, each with its own buffer, summed in block order.
     fn pair_fields<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
         let (pairs, row_quads) = match &self.sum {
-            FieldSum::Pairs {
-                pairs, row_quads, ..
-            } => (pairs, row_quads),
+            FieldSum::Pairs { pairs, row_quads } => (pairs, row_quads),
+            FieldSum::Open(pairs) => return self.half_list_fields::<K, _>(pairs, multipoles),
             FieldSum::Ewald(ewald) => return ewald.fields::<K>(multipoles),
             FieldSum::LatticeFft(fft) => return fft.fields::<K>(multipoles),
         };
@@ -372,13 +375,24 @@ impl MultipolePotential {
                 .for_each(|(k, rows)| quads.fields(&dipoles, k * per_thread.max(1), rows));
             return fields;
         }
-        let blocks = pairs.balanced_blocks(rayon::current_num_threads());
+        self.half_list_fields::<K, _>(pairs, multipoles)
+    }
+
+    /// The pair fields of a half list: one block of rows per rayon thread,
+    /// each with its own buffer, summed in block order.
+    fn half_list_fields<K: MultipoleKind, R: PairRows>(
+        &self,
+        pairs: &R,
+        multipoles: &SpaceMultipoles,
+    ) -> SiteFields {
+        let n = self.rotor_count();
+        let blocks = balanced_blocks(pairs.starts(), rayon::current_num_threads());
         let mut partial: Vec<(usize, SiteFields)> = blocks
             .into_par_iter()
             .map(|rows| {
                 let mut fields = SiteFields::zeros::<K>(n);
                 let first = rows.start;
-                accumulate_pair_fields::<K>(pairs, rows, multipoles, &mut fields);
+                accumulate_pair_fields::<K, R>(pairs, rows, multipoles, &mut fields);
                 (first, fields)
             })
             .collect();
@@ -475,18 +489,14 @@ impl FieldSum {
         method: SumMethod,
         kinds: (bool, bool),
     ) -> Result<FieldSum, PotentialError> {
-        let pair_sum = |images: Option<(Vector3<f64>, f64)>| -> Result<FieldSum, PotentialError> {
-            let pairs = PairTable::build(sites, images)?;
+        let pair_sum = |images: (Vector3<f64>, f64)| -> Result<FieldSum, PotentialError> {
+            let pairs = PairTable::build(sites, Some(images))?;
             let row_quads = if kinds == (true, false) {
                 RowQuads::build(&pairs)
             } else {
                 None
             };
-            Ok(FieldSum::Pairs {
-                pairs,
-                row_quads,
-                periodic: images.is_some(),
-            })
+            Ok(FieldSum::Pairs { pairs, row_quads })
         };
         let Boundary::Periodic { box_lengths, sum } = boundary else {
             if method == SumMethod::LatticeFft {
@@ -495,7 +505,7 @@ impl FieldSum {
                     "the FFT lattice sum needs a periodic box, got open boundaries",
                 ));
             }
-            return pair_sum(None);
+            return Ok(FieldSum::Open(OpenPairs::new(sites)?));
         };
         let (tensor, cutoff) = match sum {
             PeriodicSum::Cutoff { cutoff } => (LatticeTensor::Cutoff(cutoff), Some(cutoff)),
@@ -504,7 +514,7 @@ impl FieldSum {
             }
         };
         if sites.is_empty() {
-            return pair_sum(Some((box_lengths, cutoff.unwrap_or(0.0))));
+            return pair_sum((box_lengths, cutoff.unwrap_or(0.0)));
         }
         let fft = match method {
             SumMethod::LatticeFft => true,
@@ -529,7 +539,7 @@ impl FieldSum {
             }
         }
         match sum {
-            PeriodicSum::Cutoff { cutoff } => pair_sum(Some((box_lengths, cutoff))),
+            PeriodicSum::Cutoff { cutoff } => pair_sum((box_lengths, cutoff)),
             PeriodicSum::Ewald { accuracy, surface } => Ok(FieldSum::Ewald(Box::new(
                 EwaldSum::new(sites, box_lengths, accuracy, surface, kinds)?,
             ))),
@@ -625,7 +635,6 @@ mod tests {
             sum: FieldSum::Pairs {
                 pairs: pairs.clone(),
                 row_quads: None,
-                periodic: true,
             },
             ..quads.clone()
         };

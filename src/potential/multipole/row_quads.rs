@@ -425,7 +425,7 @@ mod tests {
             quadrupoles: Vec::new(),
         };
         let mut reference = SiteFields::zeros::<Dipoles>(n);
-        pair_fields::<Dipoles, Separate>(&pairs, 0..n, &multipoles, &mut reference);
+        pair_fields::<Dipoles, Separate, _>(&pairs, 0..n, &multipoles, &mut reference);
         let scale = reference
             .field
             .iter()
