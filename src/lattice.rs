@@ -60,6 +60,21 @@ impl Lattice {
             return Err(InputError::new("cells", "must be >= 1, got 0"));
         }
         let _ = positive(spacing).map_err(|e| e.at("spacing"))?;
+        // The sums divide by cell and box volumes: both must be normal
+        // numbers (a spacing of 1e-212 gives a cell volume of 0).
+        let (cell, whole) = (spacing.powi(3), (cells as f64 * spacing).powi(3));
+        if !(cell.is_normal() && whole.is_normal()) {
+            return Err(InputError::new(
+                "spacing",
+                format!(
+                    "must give cell and box volumes between {:e} and {:e}, got {} and {}",
+                    f64::MIN_POSITIVE,
+                    f64::MAX,
+                    crate::checks::num(cell),
+                    crate::checks::num(whole)
+                ),
+            ));
+        }
         let basis = kind.basis();
         let count = cells
             .checked_pow(3)

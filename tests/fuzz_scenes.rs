@@ -17,6 +17,7 @@ use quatrot::scene::{load_text, Overrides, BUILTINS};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use toml::Value;
 
@@ -224,6 +225,22 @@ fn mutated_scenes_never_panic_and_every_error_names_a_field() {
         .map(|b| Value::Table(toml::from_str(b.toml).expect("built-ins parse")))
         .collect();
     let (mut accepted, mut refused, mut case) = (0, 0, 0);
+    // A case that never returns cannot be timed after the fact: a watchdog
+    // ends the test with the case's scene once it exceeds the bound.
+    let current: Arc<Mutex<Option<(u64, Instant, String)>>> = Arc::new(Mutex::new(None));
+    let watched = Arc::clone(&current);
+    std::thread::spawn(move || loop {
+        std::thread::sleep(Duration::from_millis(500));
+        if let Some((case, started, text)) = watched.lock().unwrap().as_ref() {
+            if started.elapsed() > CASE_BOUND {
+                let excerpt: String = text.chars().take(3000).collect();
+                eprintln!(
+                    "fuzz seed {seed}, case {case}: still running after {CASE_BOUND:?}\n--- scene ---\n{excerpt}"
+                );
+                std::process::exit(101);
+            }
+        }
+    });
     while accepted + refused < cases {
         case += 1;
         let mut scene = corpus[rng.random_range(0..corpus.len())].clone();
@@ -236,8 +253,10 @@ fn mutated_scenes_never_panic_and_every_error_names_a_field() {
             continue;
         };
         let started = Instant::now();
+        *current.lock().unwrap() = Some((case, started, text.clone()));
         let outcome = catch_unwind(AssertUnwindSafe(|| check_case(&text)));
         let elapsed = started.elapsed();
+        *current.lock().unwrap() = None;
         let failure = match outcome {
             Err(_) => Some("panicked".to_string()),
             Ok(Err(why)) => Some(why),

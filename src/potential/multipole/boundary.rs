@@ -112,6 +112,19 @@ impl Boundary {
             return Ok(());
         };
         each(box_lengths.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
+        // The sums divide by the volume: it must be a normal number.
+        let volume = box_lengths.product();
+        if !volume.is_normal() {
+            return Err(PotentialError::new(
+                "box_lengths",
+                format!(
+                    "must give a volume between {:e} and {:e}, got {}",
+                    f64::MIN_POSITIVE,
+                    f64::MAX,
+                    crate::checks::num(volume)
+                ),
+            ));
+        }
         match sum {
             PeriodicSum::Cutoff { cutoff } => {
                 let _ = positive(cutoff).map_err(|e| e.at("cutoff"))?;
