@@ -131,14 +131,6 @@ def section(r: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_section(path: Path, text: str) -> None:
-    old = path.read_text() if path.exists() else "# Benchmark results\n"
-    if BEGIN in old:
-        head, rest = old.split(BEGIN, 1)
-        old = head + rest.split(END, 1)[1].lstrip("\n")
-    path.write_text(old.rstrip("\n") + "\n\n" + text)
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("benchmarks"))
@@ -162,10 +154,8 @@ def main(argv=None) -> int:
     }
     args.out.mkdir(parents=True, exist_ok=True)
     path = args.out / "results.json"
-    results = json.loads(path.read_text()) if path.exists() else {}
-    results["ewald"] = result
-    path.write_text(json.dumps(results, indent=1) + "\n")
-    write_section(args.out / "RESULTS.md", section(result))
+    results_md.update_json(path, {"ewald": result})
+    results_md.replace_section(args.out / "RESULTS.md", BEGIN, END, section(result))
     print(f"wrote the ewald entry of {path} and its section of {args.out / 'RESULTS.md'}")
     return 0
 
