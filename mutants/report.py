@@ -41,8 +41,10 @@ def _fate(mutant: Mutant, python: dict) -> str:
 
 def render(out_dirs: list[Path], command: str) -> tuple[str, int]:
     """The report's text and the number of unexplained survivors, from one
-    run's output directory or several (the shards of a run)."""
-    mutants = [m for d in out_dirs for m in read(d)]
+    run's output directory or several: the shards of a run, or its passes
+    (a pass with `--iterate` re-tests what the earlier ones missed), where a
+    later directory's outcome of a mutant replaces an earlier one's."""
+    mutants = list({m.name: m for d in out_dirs for m in read(d)}.values())
     stage = {"mutants": {}, "baseline_seconds": None}
     for d in out_dirs:
         s = read_python_stage(d)
@@ -110,7 +112,7 @@ def render(out_dirs: list[Path], command: str) -> tuple[str, int]:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("out_dirs", type=Path, nargs="+", help="cargo-mutants' mutants.out directories (one per shard)")
+    parser.add_argument("out_dirs", type=Path, nargs="+", help="cargo-mutants' mutants.out directories (shards, or passes in order)")
     parser.add_argument("--report", type=Path, required=True)
     parser.add_argument("--command", default="all mutants", help="how the run was limited, for the header")
     args = parser.parse_args()

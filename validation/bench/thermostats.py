@@ -119,6 +119,7 @@ def plot(rows: list[dict], path: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
     for ax, key, title in ((axes[0], "kinetic", "kinetic temperature"), (axes[1], "configurational", "configurational temperature")):
@@ -127,8 +128,12 @@ def plot(rows: list[dict], path: Path) -> None:
             dts = np.array([p["dt"] for p in stable])
             bias = np.array([abs(p[key] / T - 1) for p in stable])
             err = np.array([p[f"{key}_error"] / T for p in stable])
-            ax.errorbar(dts, np.maximum(bias, 1e-6), yerr=err, marker="o", capsize=2, label=f"{r['thermostat']} + {r['integrator']}")
+            line = ax.errorbar(dts, np.maximum(bias, 1e-6), yerr=err, marker="o", capsize=2, label=f"{r['thermostat']} + {r['integrator']}")
+            blew_up = [p["dt"] for p in r["points"] if "blew_up" in p]
+            if blew_up:
+                ax.plot(blew_up, [0.2] * len(blew_up), "x", markersize=9, color=line[0].get_color(), label=f"{r['thermostat']} + {r['integrator']}: blew up")
         ax.set_xscale("log")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_yscale("log")
         ax.set_xlabel("dt")
         ax.set_title(f"|{title} / T - 1|")
