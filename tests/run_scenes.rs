@@ -27,14 +27,8 @@ fn every_builtin_scene_runs_a_few_steps() {
     for b in BUILTINS {
         let (_, scene) =
             load(b.name, &common::steps(5)).unwrap_or_else(|e| panic!("{}: {e}", b.name));
-        let result = execute(
-            &scene,
-            definition(),
-            &common::outputs(None, true),
-            None,
-            None,
-        )
-        .unwrap_or_else(|e| panic!("{}: {e}", b.name));
+        let result = execute(&scene, definition(), &common::in_memory(), None, None)
+            .unwrap_or_else(|e| panic!("{}: {e}", b.name));
         assert_eq!(result.stop, Stop::Completed, "{}", b.name);
         assert_eq!(result.summary.last_step, 5, "{}", b.name);
     }
@@ -107,7 +101,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         definition(),
         &mut Dlm::default(),
         ScenePotential::plain(&counting),
-        &common::outputs(None, true),
+        &common::in_memory(),
         None,
         None,
     )
@@ -124,7 +118,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         definition(),
         &mut Dlm::default(),
         ScenePotential::plain(&counting),
-        &common::outputs(None, true),
+        &common::in_memory(),
         None,
         None,
     )
@@ -255,14 +249,7 @@ fn energy_threshold_stops_a_run_with_too_large_a_step() {
     record.check_every = Some(1);
     raw.record = Some(record);
     let scene = validate(&raw).expect("valid");
-    let result = execute(
-        &scene,
-        definition(),
-        &common::outputs(None, true),
-        None,
-        None,
-    )
-    .expect("runs");
+    let result = execute(&scene, definition(), &common::in_memory(), None, None).expect("runs");
     let Stop::BlewUp {
         step,
         rotor,
@@ -377,14 +364,7 @@ fn same_seed_same_output() {
             parse_toml(&text.replace("seed = 7", &format!("seed = {seed}"))).expect("valid");
         raw.name = Some("seeded".into());
         let scene = validate(&raw).expect("valid");
-        let r = execute(
-            &scene,
-            definition(),
-            &common::outputs(None, true),
-            None,
-            None,
-        )
-        .expect("runs");
+        let r = execute(&scene, definition(), &common::in_memory(), None, None).expect("runs");
         (scene.initial, r.series[0].values.clone(), r.summary.seed)
     };
     let (a, b, c) = (run(7), run(7), run(8));

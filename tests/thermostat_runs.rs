@@ -225,7 +225,7 @@ fn mean_temperature(result: &RunResult, from: f64) -> f64 {
 fn canonical_builtin_holds_its_temperature() {
     let (raw, scene) =
         load("dipole_lattice_sc_langevin", &common::steps(4000)).expect("a built-in");
-    let outputs = common::outputs(None, true);
+    let outputs = common::in_memory();
     let canonical = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
     let t = mean_temperature(&canonical, 2000.0);
     assert!((t - 1.0).abs() < 0.04, "mean temperature {t}");

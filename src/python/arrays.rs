@@ -137,6 +137,16 @@ impl<'py> Items<'py> {
         })
     }
 
+    /// [`Items::new`] of finite values for an optional argument.
+    pub(crate) fn optional(
+        obj: Option<&Bound<'py, PyAny>>,
+        name: &'static str,
+        item: &[usize],
+    ) -> PyResult<Option<Self>> {
+        obj.map(|o| Items::new(o, name, item, Values::Finite))
+            .transpose()
+    }
+
     /// The number of items, `None` for a single item.
     fn len(&self) -> Option<usize> {
         (!self.single).then(|| self.array.shape()[0])
@@ -220,8 +230,9 @@ pub(crate) fn single<'py>(
     name: &'static str,
     item: &[usize],
 ) -> PyResult<Option<Items<'py>>> {
-    let Some(obj) = obj else { return Ok(None) };
-    let items = Items::new(obj, name, item, Values::Finite)?;
+    let Some(items) = Items::optional(obj, name, item)? else {
+        return Ok(None);
+    };
     if !common_len(&[&items])?.1 {
         return Err(invalid(
             name,

@@ -56,12 +56,8 @@ fn gear_corrections_table<'py>(
     let moments = Items::new(inertia, "inertia", &[3], Values::Finite)?;
     let q = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
     let w = Items::new(omega_body, "omega_body", &[3], Values::Finite)?;
-    let dipoles = dipoles
-        .map(|d| Items::new(d, "dipoles", &[3], Values::Finite))
-        .transpose()?;
-    let quadrupoles = quadrupoles
-        .map(|t| Items::new(t, "quadrupoles", &[3, 3], Values::Finite))
-        .transpose()?;
+    let dipoles = Items::optional(dipoles, "dipoles", &[3])?;
+    let quadrupoles = Items::optional(quadrupoles, "quadrupoles", &[3, 3])?;
     let mut batch = vec![&sites, &moments, &q, &w];
     batch.extend(dipoles.iter().chain(quadrupoles.iter()));
     let (n, _) = common_len(&batch)?;

@@ -142,12 +142,8 @@ fn multipole_evaluate<'py>(
 ) -> PyResult<Bound<'py, PyTuple>> {
     let sites = Items::new(sites, "sites", &[3], Values::Finite)?;
     let orientations = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
-    let dipoles = dipoles_body
-        .map(|d| Items::new(d, "dipoles_body", &[3], Values::Finite))
-        .transpose()?;
-    let quadrupoles = quadrupoles_body
-        .map(|t| Items::new(t, "quadrupoles_body", &[3, 3], Values::Finite))
-        .transpose()?;
+    let dipoles = Items::optional(dipoles_body, "dipoles_body", &[3])?;
+    let quadrupoles = Items::optional(quadrupoles_body, "quadrupoles_body", &[3, 3])?;
     let mut per_rotor = vec![&sites, &orientations];
     per_rotor.extend(dipoles.iter());
     per_rotor.extend(quadrupoles.iter());

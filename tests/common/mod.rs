@@ -174,3 +174,8 @@ pub fn outputs(dir: Option<&Path>, keep: bool) -> Outputs {
         control: None,
     }
 }
+
+/// Outputs kept in memory only (no files).
+pub fn in_memory() -> Outputs {
+    outputs(None, true)
+}

@@ -92,7 +92,7 @@ pub fn dipole_lattice(cells: usize, cutoff: f64) -> (MultipolePotential, Vec<Ine
             quadrupole_body: None,
         })
         .collect();
-    let boundary = Boundary::periodic_cutoff(Vector3::repeat(cells as f64), cutoff);
+    let boundary = Boundary::periodic_cutoff(lattice.box_lengths, cutoff);
     let potential =
         MultipolePotential::new(&rotors, boundary, ExternalFields::NONE).expect("valid");
     let inertia = rotors.iter().map(|r| r.inertia).collect();
