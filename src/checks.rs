@@ -108,6 +108,20 @@ pub fn positive(x: f64) -> Result<f64, InputError> {
     }
 }
 
+/// `value` if it is finite and `> 0`, else the error at `path` in the
+/// wording of the analyses, the experiments and the integrators' time step:
+/// `must be finite and > 0, got 0`.
+pub fn finite_and_positive(path: &str, value: f64) -> Result<f64, InputError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(InputError::new(
+            path,
+            format!("must be finite and > 0, got {value}"),
+        ))
+    }
+}
+
 /// `x` if it is finite and `>= 0`.
 pub fn non_negative(x: f64) -> Result<f64, InputError> {
     if finite(x)? >= 0.0 {
@@ -304,6 +318,11 @@ mod tests {
             "must be >= 0, got -0.5"
         );
         assert_eq!(non_negative(0.0), Ok(0.0));
+        assert_eq!(
+            finite_and_positive("volume", -1.0).unwrap_err().to_string(),
+            "volume: must be finite and > 0, got -1"
+        );
+        assert_eq!(finite_and_positive("dt", 0.5), Ok(0.5));
         let e = each(&[1.0, f64::INFINITY], finite).unwrap_err();
         assert_eq!(e.to_string(), "[1]: must be finite, got inf");
     }

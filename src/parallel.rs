@@ -11,7 +11,17 @@
 //! [`in_pool`] fixes the size (a sweep's runs then give the same numbers on
 //! any machine).
 
+use crate::checks::{at_least_one, InputError};
 use std::num::NonZeroUsize;
+
+/// The size of a pool of `n` threads: at least 1.
+pub fn thread_count(n: i64) -> Result<NonZeroUsize, InputError> {
+    let n = at_least_one(n)?;
+    usize::try_from(n)
+        .ok()
+        .and_then(NonZeroUsize::new)
+        .ok_or_else(|| InputError::new("", format!("must be at most {}, got {n}", usize::MAX)))
+}
 
 /// Runs `op` on a worker of the current rayon pool and returns its result.
 pub fn on_worker<R: Send>(op: impl FnOnce() -> R + Send) -> R {
@@ -28,4 +38,24 @@ pub fn in_pool<R: Send>(
         .num_threads(threads.get())
         .build()?;
     Ok(pool.install(op))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pool has at least one thread; zero and negative sizes are refused
+    /// with the value.
+    #[test]
+    fn thread_counts_are_at_least_one() {
+        assert_eq!(thread_count(3).map(NonZeroUsize::get), Ok(3));
+        assert_eq!(
+            thread_count(0).unwrap_err().at("threads").to_string(),
+            "threads: must be >= 1, got 0"
+        );
+        assert_eq!(
+            thread_count(-1).unwrap_err().message,
+            "must be >= 1, got -1"
+        );
+    }
 }

@@ -9,10 +9,12 @@ use quatrot::run::{
     execute, Checkpoint, OutputFolder, Outputs, Placement, Progress, RunError, RunResult,
     CHECKPOINT_FILE, DCD_FILE, SUMMARY_FILE,
 };
-use quatrot::scene::{parse_toml, validate, Overrides, Scene};
+use quatrot::scene::Scene;
 use quatrot::simulation::{Control, Needs, Observer, Sample, Stop};
 use std::path::Path;
 use std::sync::Arc;
+
+mod common;
 
 /// Two interacting rotors with a series every 4 steps, a trajectory every
 /// 10 and checkpoints every 20.
@@ -45,14 +47,7 @@ every = 10
 "#;
 
 fn scene(steps: i64, text: &str) -> Scene {
-    let mut raw = parse_toml(text).expect("valid");
-    Overrides {
-        steps: Some(steps),
-        ..Overrides::default()
-    }
-    .apply(&mut raw)
-    .expect("overrides");
-    validate(&raw).expect("valid")
+    common::scene_with(text, &common::steps(steps)).1
 }
 
 fn run_in(
@@ -61,11 +56,7 @@ fn run_in(
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
-    let outputs = Outputs {
-        dir: Some(dir.to_path_buf()),
-        keep: false,
-        control: None,
-    };
+    let outputs = common::outputs(Some(dir), false);
     let scene = scene(steps, SCENE);
     execute(&scene, serde_json::Value::Null, &outputs, restart, progress)
 }

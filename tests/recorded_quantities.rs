@@ -6,9 +6,11 @@
 use nalgebra::{Matrix3, Vector3};
 use quatrot::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
 use quatrot::rotor::{Inertia, Rotor};
-use quatrot::run::{execute, Outputs, RunResult};
+use quatrot::run::{execute, RunResult};
 use quatrot::scene::{load_text, Overrides};
 use quatrot::Quat;
+
+mod common;
 
 /// Recorded and recomputed values are the same sums in another order:
 /// round-off relative to the largest term (energies of O(1) with terms of
@@ -100,12 +102,14 @@ fn potential() -> MultipolePotential {
 fn run(integrator: &str, quantities: &[&str]) -> RunResult {
     let (_, scene) = load_text(&scene_text(integrator, quantities), &Overrides::default())
         .unwrap_or_else(|e| panic!("{integrator}: {e}"));
-    let outputs = Outputs {
-        dir: None,
-        keep: true,
-        control: None,
-    };
-    execute(&scene, serde_json::Value::Null, &outputs, None, None).expect("runs")
+    execute(
+        &scene,
+        serde_json::Value::Null,
+        &common::in_memory(),
+        None,
+        None,
+    )
+    .expect("runs")
 }
 
 /// The definitions, evaluated from the recorded state of one step.

@@ -7,7 +7,7 @@
 use nalgebra::Vector3;
 use quatrot::potential::Surface;
 use quatrot::run::{
-    dielectric_of_run, dipole_series, execute, read_run, InteractionsSummary, Outputs, SeriesTable,
+    dielectric_of_run, dipole_series, execute, read_run, InteractionsSummary, SeriesTable,
 };
 use quatrot::scene::raw::SumKind;
 use quatrot::scene::{load_text, Overrides};
@@ -15,6 +15,8 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha20Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;
+
+mod common;
 
 /// How far the estimate may be from the closed form, in its own standard
 /// errors (two-sided 6e-5 for a normal estimate).
@@ -205,11 +207,7 @@ fn a_run_from_its_files_and_from_memory() {
     let record = "\n[[record.series]]\nname = \"polarization\"\nevery = 2\nquantities = [\"M\", \"M2\", \"temperature\"]\n";
     let dir = tempfile::tempdir().expect("dir");
     let (raw, scene) = load_text(&format!("{base}{record}"), &Overrides::default()).expect("valid");
-    let outputs = Outputs {
-        dir: Some(dir.path().to_path_buf()),
-        keep: true,
-        control: None,
-    };
+    let outputs = common::outputs(Some(dir.path()), true);
     let result = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
     // The built-in's own `energies` series records M too (every 10 steps):
     // with two, the series must be named.

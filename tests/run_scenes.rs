@@ -9,35 +9,25 @@ use quatrot::potential::{Free, Potential};
 use quatrot::quaternion::Quat;
 use quatrot::rotor::Inertia;
 use quatrot::run::{
-    execute, run_scene, Outputs, ScenePotential, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE,
-    SUMMARY_FILE,
+    execute, run_scene, ScenePotential, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE,
 };
 use quatrot::scene::{load, parse_toml, validate, Overrides, BUILTINS};
 use quatrot::simulation::Stop;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+mod common;
+
 fn definition() -> serde_json::Value {
     serde_json::Value::Null
-}
-
-fn in_memory() -> Outputs {
-    Outputs {
-        dir: None,
-        keep: true,
-        control: None,
-    }
 }
 
 /// Every built-in scene validates and runs a few steps with its own integrator.
 #[test]
 fn every_builtin_scene_runs_a_few_steps() {
     for b in BUILTINS {
-        let overrides = Overrides {
-            steps: Some(5),
-            ..Overrides::default()
-        };
-        let (_, scene) = load(b.name, &overrides).unwrap_or_else(|e| panic!("{}: {e}", b.name));
-        let result = execute(&scene, definition(), &in_memory(), None, None)
+        let (_, scene) =
+            load(b.name, &common::steps(5)).unwrap_or_else(|e| panic!("{}: {e}", b.name));
+        let result = execute(&scene, definition(), &common::in_memory(), None, None)
             .unwrap_or_else(|e| panic!("{}: {e}", b.name));
         assert_eq!(result.stop, Stop::Completed, "{}", b.name);
         assert_eq!(result.summary.last_step, 5, "{}", b.name);
@@ -111,7 +101,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         definition(),
         &mut Dlm::default(),
         ScenePotential::plain(&counting),
-        &in_memory(),
+        &common::in_memory(),
         None,
         None,
     )
@@ -128,7 +118,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
         definition(),
         &mut Dlm::default(),
         ScenePotential::plain(&counting),
-        &in_memory(),
+        &common::in_memory(),
         None,
         None,
     )
@@ -201,11 +191,7 @@ fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
     raw.interactions = None;
     let scene = validate(&raw).expect("valid");
     let dir = tempfile::tempdir().expect("temp dir");
-    let outputs = Outputs {
-        dir: Some(dir.path().to_path_buf()),
-        keep: false,
-        control: None,
-    };
+    let outputs = common::outputs(Some(dir.path()), false);
     let mut integrator = Poisoned {
         inner: Dlm::default(),
         step: 0,
@@ -263,7 +249,7 @@ fn energy_threshold_stops_a_run_with_too_large_a_step() {
     record.check_every = Some(1);
     raw.record = Some(record);
     let scene = validate(&raw).expect("valid");
-    let result = execute(&scene, definition(), &in_memory(), None, None).expect("runs");
+    let result = execute(&scene, definition(), &common::in_memory(), None, None).expect("runs");
     let Stop::BlewUp {
         step,
         rotor,
@@ -292,20 +278,12 @@ fn restart_from_checkpoint_is_bit_for_bit() {
             "{TWO_ROTORS}\n[record]\ncheckpoint_every = 20\n[[record.series]]\nname = \"e\"\nevery = 4\nquantities = [\"kinetic_energy\", \"potential_energy\", \"energy_error\", \"norm_error\"]\n[record.trajectory]\nevery = 10\n"
         );
         let run_to = |steps: i64, restart: Option<&std::path::Path>, dir: &std::path::Path| {
-            let mut raw = parse_toml(&text).expect("valid");
-            Overrides {
-                steps: Some(steps),
+            let overrides = Overrides {
                 integrator: Some(integrator.to_string()),
-                ..Overrides::default()
-            }
-            .apply(&mut raw)
-            .expect("overrides");
-            let scene = validate(&raw).expect("valid");
-            let outputs = Outputs {
-                dir: Some(dir.to_path_buf()),
-                keep: true,
-                control: None,
+                ..common::steps(steps)
             };
+            let (_, scene) = common::scene_with(&text, &overrides);
+            let outputs = common::outputs(Some(dir), true);
             execute(&scene, definition(), &outputs, restart, None).expect("runs")
         };
         let (full_dir, half_dir, rest_dir) = (
@@ -349,21 +327,14 @@ fn restart_from_checkpoint_is_bit_for_bit() {
 fn checkpoint_of_another_integrator_is_refused() {
     let text = format!("{TWO_ROTORS}\n[record]\ncheckpoint_every = 10\n");
     let dir = tempfile::tempdir().expect("dir");
-    let outputs = Outputs {
-        dir: Some(dir.path().to_path_buf()),
-        keep: false,
-        control: None,
-    };
+    let outputs = common::outputs(Some(dir.path()), false);
     let scene = validate(&parse_toml(&text).expect("valid")).expect("valid");
     execute(&scene, definition(), &outputs, None, None).expect("runs");
-    let mut raw = parse_toml(&text).expect("valid");
-    Overrides {
+    let overrides = Overrides {
         integrator: Some("gear_a".to_string()),
         ..Overrides::default()
-    }
-    .apply(&mut raw)
-    .expect("overrides");
-    let other = validate(&raw).expect("valid");
+    };
+    let (_, other) = common::scene_with(&text, &overrides);
     let err = execute(
         &other,
         definition(),
@@ -393,7 +364,7 @@ fn same_seed_same_output() {
             parse_toml(&text.replace("seed = 7", &format!("seed = {seed}"))).expect("valid");
         raw.name = Some("seeded".into());
         let scene = validate(&raw).expect("valid");
-        let r = execute(&scene, definition(), &in_memory(), None, None).expect("runs");
+        let r = execute(&scene, definition(), &common::in_memory(), None, None).expect("runs");
         (scene.initial, r.series[0].values.clone(), r.summary.seed)
     };
     let (a, b, c) = (run(7), run(7), run(8));
@@ -414,11 +385,7 @@ fn gsd_format_writes_the_gsd_file_only() {
             format!("{TWO_ROTORS}\n[record.trajectory]\nevery = {every}\nformat = \"gsd\"\n");
         let scene = validate(&parse_toml(&text).expect("valid")).expect("valid");
         let dir = tempfile::tempdir().expect("dir");
-        let outputs = Outputs {
-            dir: Some(dir.path().to_path_buf()),
-            keep: false,
-            control: None,
-        };
+        let outputs = common::outputs(Some(dir.path()), false);
         execute(&scene, definition(), &outputs, None, None).expect("runs");
         assert!(!dir.path().join(DCD_FILE).exists() && !dir.path().join(PDB_FILE).exists());
         std::fs::metadata(dir.path().join(GSD_FILE))

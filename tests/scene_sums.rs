@@ -5,9 +5,11 @@
 
 use nalgebra::Vector3;
 use quatrot::potential::{Boundary, PeriodicSum, SumMethod, Surface};
-use quatrot::run::{execute, potential, Outputs, RunResult, SUMMARY_FILE};
+use quatrot::run::{execute, potential, RunResult, SUMMARY_FILE};
 use quatrot::scene::{load, load_text, Interactions, Overrides};
 use std::f64::consts::PI;
+
+mod common;
 
 /// Lattice sums of ~1e3-1e4 terms whose absolute sum is ~20 times their
 /// total, each rounded to ~1e-16, plus the kinetic energy subtracted from the
@@ -18,14 +20,6 @@ const LATTICE_ROUND_OFF: f64 = 1e-13;
 /// the fields relative to a neighbour's, so of the energy relative to the
 /// lattice energy): fcc at 1e-12 is 9e-14 off (measured).
 const DEFAULT_ACCURACY: f64 = quatrot::potential::multipole::DEFAULT_ACCURACY;
-
-fn in_memory() -> Outputs {
-    Outputs {
-        dir: None,
-        keep: true,
-        control: None,
-    }
-}
 
 /// A lattice of unit dipoles, all along body z, at rest and aligned along
 /// space z, with the given boundary table, recording the potential energy
@@ -60,7 +54,7 @@ quantities = ["potential_energy"]
 
 fn run(text: &str) -> RunResult {
     let (raw, scene) = load_text(text, &Overrides::default()).expect("valid scene");
-    execute(&scene, raw.definition(), &in_memory(), None, None).expect("runs")
+    execute(&scene, raw.definition(), &common::in_memory(), None, None).expect("runs")
 }
 
 /// The potential energy recorded at step 0.
@@ -174,11 +168,7 @@ fn the_summary_records_the_sum_path_and_the_ewald_parameters() {
     for (boundary, path) in cases {
         let text = with_boundary(boundary).replace("steps = 500", "steps = 2");
         let (raw, scene) = load_text(&text, &Overrides::default()).expect("valid");
-        let outputs = Outputs {
-            dir: Some(dir.path().to_path_buf()),
-            keep: false,
-            control: None,
-        };
+        let outputs = common::outputs(Some(dir.path()), false);
         let result = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
         let summary: serde_json::Value = serde_json::from_str(
             &std::fs::read_to_string(dir.path().join(SUMMARY_FILE)).expect("summary written"),

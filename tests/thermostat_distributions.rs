@@ -382,6 +382,18 @@ fn lag_p_value(x: &[f64], y: &[f64], expected: f64) -> f64 {
     two_sided_p((slope - expected) / error)
 }
 
+/// The relaxation of a thermostat whose time constant is `name` = `value`,
+/// over a lag of one time constant: the samples `pairs(value)` (second on
+/// first) have the slope `exp(-1)`, and those of twice the value are
+/// rejected.
+fn assert_one_e_fold(name: &str, value: f64, pairs: impl Fn(f64) -> (Vec<f64>, Vec<f64>)) {
+    let expected = (-1.0f64).exp();
+    let (x, y) = pairs(value);
+    assert_pass(name, &[lag_p_value(&x, &y, expected)]);
+    let (x, y) = pairs(2.0 * value);
+    assert_rejected(&format!("{name} x 2"), &[lag_p_value(&x, &y, expected)]);
+}
+
 /// The friction: for a free spherical top with the exact flow only the O
 /// step changes `w_b`, so `w_b(t + s) = exp(-gamma s) w_b(t) + noise`
 /// exactly. 2000 replicas at equilibrium, lag `s = 1/gamma`: the slope
@@ -397,7 +409,6 @@ fn langevin_friction_sets_the_exact_decay() {
         steps: 10,
         lag: (1.0 / FRICTION / DT).round() as usize,
     };
-    let expected = (-1.0f64).exp();
     let pairs = |friction: f64| {
         let runs = run_replicas(&system, &dlm, &langevin(T, friction), replicas, 61);
         let component = |k: usize| -> Vec<f64> {
@@ -407,10 +418,7 @@ fn langevin_friction_sets_the_exact_decay() {
         };
         (component(0), component(1))
     };
-    let (x, y) = pairs(FRICTION);
-    assert_pass("friction", &[lag_p_value(&x, &y, expected)]);
-    let (x, y) = pairs(2.0 * FRICTION);
-    assert_rejected("friction x 2", &[lag_p_value(&x, &y, expected)]);
+    assert_one_e_fold("friction", FRICTION, pairs);
 }
 
 /// Bussi's relaxation time: for a free spherical top with the exact flow
@@ -429,7 +437,6 @@ fn bussi_tau_sets_the_exact_relaxation() {
         steps: 10,
         lag: (TAU_BUSSI / DT).round() as usize,
     };
-    let expected = (-1.0f64).exp();
     let pairs = |tau: f64| {
         let runs = run_replicas(&system, &dlm, &bussi(T, tau), replicas, 71);
         let inertia = [system.rotors[0].inertia];
@@ -440,10 +447,7 @@ fn bussi_tau_sets_the_exact_relaxation() {
         };
         (kinetic(0), kinetic(1))
     };
-    let (x, y) = pairs(TAU_BUSSI);
-    assert_pass("tau", &[lag_p_value(&x, &y, expected)]);
-    let (x, y) = pairs(2.0 * TAU_BUSSI);
-    assert_rejected("tau x 2", &[lag_p_value(&x, &y, expected)]);
+    assert_one_e_fold("tau", TAU_BUSSI, pairs);
 }
 
 /// A dipole on a spherical top keeps its spin about the dipole (no torque

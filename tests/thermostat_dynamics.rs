@@ -17,6 +17,7 @@ use quatrot::rotor::{Inertia, Rotor};
 use quatrot::scene::random_states;
 use quatrot::thermostats::{BussiOptions, LangevinOptions, NoseHooverOptions, ThermostatSpec};
 use std::num::NonZeroU32;
+use thermostat_common::dipole_lattice;
 
 const T: f64 = 0.8;
 
@@ -307,23 +308,7 @@ fn runs_are_reproducible_and_independent_of_the_thread_count() {
             assert_ne!(run_with(1), run_with(2), "{name}");
         }
     }
-    let lattice =
-        quatrot::lattice::Lattice::cubic(quatrot::lattice::LatticeKind::SimpleCubic, 10, 1.0)
-            .expect("a lattice");
-    let rotors: Vec<Rotor> = lattice
-        .sites
-        .iter()
-        .map(|s| Rotor {
-            site: *s,
-            inertia: Inertia::Spherical(0.1),
-            dipole_body: Some(Vector3::z()),
-            quadrupole_body: None,
-        })
-        .collect();
-    let boundary = Boundary::periodic_cutoff(Vector3::repeat(10.0), 1.5);
-    let potential =
-        MultipolePotential::new(&rotors, boundary, ExternalFields::NONE).expect("valid");
-    let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
+    let (potential, inertia) = dipole_lattice(10, 1.5);
     let initial = random_states(&inertia, T, 4);
     for (name, ispec, tspec) in pairs(5) {
         let on = |threads: usize| {
@@ -356,23 +341,7 @@ fn perpendicular_and_spin_temperatures(
     every: usize,
     samples: usize,
 ) -> (f64, f64) {
-    let lattice =
-        quatrot::lattice::Lattice::cubic(quatrot::lattice::LatticeKind::SimpleCubic, 5, 1.0)
-            .expect("a lattice");
-    let rotors: Vec<Rotor> = lattice
-        .sites
-        .iter()
-        .map(|s| Rotor {
-            site: *s,
-            inertia: Inertia::Spherical(0.1),
-            dipole_body: Some(Vector3::z()),
-            quadrupole_body: None,
-        })
-        .collect();
-    let boundary = Boundary::periodic_cutoff(Vector3::repeat(5.0), 2.1);
-    let potential =
-        MultipolePotential::new(&rotors, boundary, ExternalFields::NONE).expect("valid");
-    let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
+    let (potential, inertia) = dipole_lattice(5, 2.1);
     let mut run = ispec.build(Some(tspec)).expect("a valid pair");
     run.setup(&inertia, &potential, &random_states(&inertia, T, 14), 0.005)
         .expect("set up");
@@ -380,7 +349,7 @@ fn perpendicular_and_spin_temperatures(
         run.step(&potential);
     }
     let (mut perpendicular, mut spin) = (0.0, 0.0);
-    let mut omega = vec![Vector3::zeros(); rotors.len()];
+    let mut omega = vec![Vector3::zeros(); inertia.len()];
     for _ in 0..samples {
         for _ in 0..every {
             run.step(&potential);
@@ -391,7 +360,7 @@ fn perpendicular_and_spin_temperatures(
             spin += 0.5 * 0.1 * w.z * w.z;
         }
     }
-    let n = (samples * rotors.len()) as f64;
+    let n = (samples * inertia.len()) as f64;
     (2.0 * perpendicular / n, 2.0 * spin / n)
 }
 

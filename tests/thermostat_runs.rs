@@ -4,9 +4,11 @@
 //! noise stream included), the seed is recorded and reproduces the run, and
 //! a checkpoint of another thermostat is refused.
 
-use quatrot::run::{execute, Outputs, RunResult, CHECKPOINT_FILE};
-use quatrot::scene::{load, parse_toml, validate, Overrides};
+use quatrot::run::{execute, RunResult, CHECKPOINT_FILE};
+use quatrot::scene::{load, parse_toml, validate};
 use std::path::Path;
+
+mod common;
 
 /// Two interacting asymmetric dipoles; the thermostat and integrator are
 /// filled in.
@@ -75,19 +77,8 @@ fn scene_text(integrator: &str, thermostat: &str) -> String {
 }
 
 fn run(text: &str, steps: i64, restart: Option<&Path>, dir: &Path) -> RunResult {
-    let mut raw = parse_toml(text).expect("valid");
-    Overrides {
-        steps: Some(steps),
-        ..Overrides::default()
-    }
-    .apply(&mut raw)
-    .expect("overrides");
-    let scene = validate(&raw).expect("valid");
-    let outputs = Outputs {
-        dir: Some(dir.to_path_buf()),
-        keep: true,
-        control: None,
-    };
+    let (raw, scene) = common::scene_with(text, &common::steps(steps));
+    let outputs = common::outputs(Some(dir), true);
     execute(&scene, raw.definition(), &outputs, restart, None).expect("runs")
 }
 
@@ -148,11 +139,7 @@ fn checkpoint_of_another_thermostat_is_refused() {
     ] {
         let raw = parse_toml(&text).expect("valid");
         let scene = validate(&raw).expect("valid");
-        let outputs = Outputs {
-            dir: Some(other.path().to_path_buf()),
-            keep: false,
-            control: None,
-        };
+        let outputs = common::outputs(Some(other.path()), false);
         let err = execute(&scene, raw.definition(), &outputs, Some(&checkpoint), None)
             .expect_err("refused");
         assert!(err.to_string().contains(expected), "{err}");
@@ -236,16 +223,9 @@ fn mean_temperature(result: &RunResult, from: f64) -> f64 {
 /// without the thermostat settles above 1.15 (the drift issue 16 reports).
 #[test]
 fn canonical_builtin_holds_its_temperature() {
-    let overrides = Overrides {
-        steps: Some(4000),
-        ..Overrides::default()
-    };
-    let (raw, scene) = load("dipole_lattice_sc_langevin", &overrides).expect("a built-in");
-    let outputs = Outputs {
-        dir: None,
-        keep: true,
-        control: None,
-    };
+    let (raw, scene) =
+        load("dipole_lattice_sc_langevin", &common::steps(4000)).expect("a built-in");
+    let outputs = common::in_memory();
     let canonical = execute(&scene, raw.definition(), &outputs, None, None).expect("runs");
     let t = mean_temperature(&canonical, 2000.0);
     assert!((t - 1.0).abs() < 0.04, "mean temperature {t}");

@@ -39,7 +39,8 @@
 //! `<M>` itself enters `F` only at second order).
 
 use super::block_average::{block_average, BlockAverage};
-use super::error::{positive, AnalysisError};
+use super::error::AnalysisError;
+use crate::checks::finite_and_positive;
 use crate::checks::named_choices;
 use nalgebra::Vector3;
 use std::fmt;
@@ -115,8 +116,8 @@ pub fn dielectric_constant(
         }
         DielectricBoundary::Conducting | DielectricBoundary::Vacuum => {}
     }
-    let volume = positive("volume", volume)?;
-    let temperature = positive("temperature", temperature)?;
+    let volume = finite_and_positive("volume", volume)?;
+    let temperature = finite_and_positive("temperature", temperature)?;
     if dipoles.len() < 2 {
         return Err(AnalysisError::new(
             "dipoles",

@@ -4,15 +4,3 @@
 
 /// Input the analysis cannot use, or a quantity no formula gives.
 pub type AnalysisError = crate::checks::InputError;
-
-/// Checks that `value` (input `what`) is finite and > 0.
-pub(crate) fn positive(what: &str, value: f64) -> Result<f64, AnalysisError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(AnalysisError::new(
-            what,
-            format!("must be finite and > 0, got {value}"),
-        ))
-    }
-}

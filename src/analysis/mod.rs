@@ -31,5 +31,5 @@ pub use error::AnalysisError;
 pub use frames::Frames;
 pub use order::{order_parameters, FrameOrder};
 pub use time_correlation::{
-    orientational_correlations, vector_autocorrelation, OrientationalCorrelation,
+    lag_times, orientational_correlations, vector_autocorrelation, OrientationalCorrelation,
 };

@@ -13,7 +13,8 @@
 use super::autocorrelation::{Plan, PowerSum};
 use super::error::AnalysisError;
 use super::frames::Frames;
-use crate::observables::order::unit_axis;
+use crate::checks::finite_and_positive;
+use crate::observables::order::checked_unit_axis;
 use crate::quaternion::Quat;
 use nalgebra::{Unit, Vector3};
 use rayon::prelude::*;
@@ -25,6 +26,12 @@ pub struct OrientationalCorrelation {
     pub c1: Vec<f64>,
     /// `C2(k dt) = <P2(u(0).u(k dt))>`, `P2(x) = (3x^2 - 1)/2` (1 at lag 0).
     pub c2: Vec<f64>,
+}
+
+/// The times `k dt` of lags `0..lags` of frames `dt` apart (finite, > 0).
+pub fn lag_times(dt: f64, lags: usize) -> Result<Vec<f64>, AnalysisError> {
+    let dt = finite_and_positive("dt", dt)?;
+    Ok((0..lags).map(|k| k as f64 * dt).collect())
 }
 
 /// The largest lag: `max_lag` if given (must be below the frame count),
@@ -65,17 +72,7 @@ pub fn orientational_correlations(
     let axes = axes_body
         .iter()
         .enumerate()
-        .map(|(a, v)| {
-            unit_axis(v).map(Unit::into_inner).ok_or_else(|| {
-                AnalysisError::new(
-                    format!("axes_body[{a}]"),
-                    format!(
-                        "must be finite and nonzero, got [{}, {}, {}]",
-                        v.x, v.y, v.z
-                    ),
-                )
-            })
-        })
+        .map(|(a, v)| checked_unit_axis(&format!("axes_body[{a}]"), v).map(Unit::into_inner))
         .collect::<Result<Vec<_>, _>>()?;
     let plan = Plan::new(orientations.frames());
     let weight = 1.0 / orientations.rotors() as f64;
@@ -150,6 +147,21 @@ pub fn vector_autocorrelation(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Lag `k` is at time `k dt`; a time step that is not finite and
+    /// positive is refused by name.
+    #[test]
+    fn lag_times_are_multiples_of_a_positive_dt() {
+        assert_eq!(lag_times(0.5, 3).unwrap(), vec![0.0, 0.5, 1.0]);
+        assert_eq!(
+            lag_times(0.0, 3).unwrap_err().to_string(),
+            "dt: must be finite and > 0, got 0"
+        );
+        assert_eq!(
+            lag_times(f64::NAN, 3).unwrap_err().to_string(),
+            "dt: must be finite and > 0, got NaN"
+        );
+    }
 
     /// Rotors turning at constant rates about fixed space axes: the direct
     /// double sum over origins of `u(0).u(t)` and `P2` of it, for two axes.

@@ -3,6 +3,7 @@
 //! [`Row`]: energy drift and fluctuation, global error and its observed order,
 //! the largest stable time step, and the size of the eq 15 zeroth components.
 
+use crate::checks::{finite_and_positive, InputError};
 use crate::integrators::{GearAOptions, GearBOptions, IntegratorSpec, RotorState};
 use crate::observables::norm_velocity;
 use crate::potential::Potential;
@@ -38,6 +39,25 @@ pub struct Settings {
     pub t_stability: f64,
     /// Energy samples are taken every this many steps (>= 1).
     pub sample_every: u64,
+}
+
+impl Settings {
+    /// Checks the time step and the run lengths (each finite and > 0), then
+    /// the sampling interval (>= 1); the error names the field.
+    pub fn check(&self) -> Result<(), InputError> {
+        for (path, value) in [
+            ("dt", self.dt),
+            ("t_energy", self.t_energy),
+            ("t_error", self.t_error),
+            ("t_stability", self.t_stability),
+        ] {
+            let _ = finite_and_positive(path, value)?;
+        }
+        if self.sample_every == 0 {
+            return Err(InputError::new("sample_every", "must be >= 1, got 0"));
+        }
+        Ok(())
+    }
 }
 
 /// How much finer than the finest measured step the reference run is (its
@@ -319,4 +339,44 @@ pub fn correction_table(system: &System<'_>, settings: &Settings) -> Vec<Row> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The time step and each run length must be finite and > 0, the
+    /// sampling interval >= 1; the first bad one is named.
+    #[test]
+    fn settings_refuse_a_time_that_is_not_positive() {
+        let good = Settings {
+            dt: 0.02,
+            t_energy: 1.0,
+            t_error: 0.5,
+            t_stability: 0.5,
+            sample_every: 1,
+        };
+        assert_eq!(good.check(), Ok(()));
+        let bad = Settings { dt: 0.0, ..good };
+        assert_eq!(
+            bad.check().unwrap_err().to_string(),
+            "dt: must be finite and > 0, got 0"
+        );
+        let bad = Settings {
+            t_stability: f64::INFINITY,
+            ..good
+        };
+        assert_eq!(
+            bad.check().unwrap_err().to_string(),
+            "t_stability: must be finite and > 0, got inf"
+        );
+        let bad = Settings {
+            sample_every: 0,
+            ..good
+        };
+        assert_eq!(
+            bad.check().unwrap_err().to_string(),
+            "sample_every: must be >= 1, got 0"
+        );
+    }
 }

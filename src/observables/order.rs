@@ -10,6 +10,7 @@
 //! to 0 for isotropic axes as `N` grows (for finite `N` it is positive,
 //! `O(N^-1/2)`: the largest eigenvalue of a noisy zero tensor).
 
+use crate::checks::InputError;
 use crate::quaternion::Quat;
 use nalgebra::{Matrix3, Unit, Vector3};
 
@@ -33,6 +34,21 @@ pub fn unit_axis(v: &Vector3<f64>) -> Option<Unit<Vector3<f64>>> {
     } else {
         None
     }
+}
+
+/// [`unit_axis`] of an axis given as input at `path` (an analysis' body
+/// axes, the order's axis and direction, the axis of a rotation): the one
+/// check that an axis is finite and nonzero.
+pub fn checked_unit_axis(path: &str, v: &Vector3<f64>) -> Result<Unit<Vector3<f64>>, InputError> {
+    unit_axis(v).ok_or_else(|| {
+        InputError::new(
+            path,
+            format!(
+                "must be finite and nonzero, got [{}, {}, {}]",
+                v.x, v.y, v.z
+            ),
+        )
+    })
 }
 
 /// The space direction `u_i = R(Q_i) e` of the body axis `e` for each
@@ -139,5 +155,25 @@ mod tests {
         assert!((p1 - 0.5).abs() < 1e-15);
         assert!(unit_axis(&Vector3::zeros()).is_none());
         assert!(unit_axis(&Vector3::new(f64::NAN, 0.0, 1.0)).is_none());
+    }
+
+    /// An axis given as input is refused by name when it is zero or not
+    /// finite, and normalised otherwise.
+    #[test]
+    fn checked_axes_name_the_input() {
+        assert_eq!(
+            checked_unit_axis("axis", &Vector3::zeros())
+                .unwrap_err()
+                .to_string(),
+            "axis: must be finite and nonzero, got [0, 0, 0]"
+        );
+        assert_eq!(
+            checked_unit_axis("axes_body[1]", &Vector3::new(f64::INFINITY, 0.0, 1.0))
+                .unwrap_err()
+                .to_string(),
+            "axes_body[1]: must be finite and nonzero, got [inf, 0, 1]"
+        );
+        let u = checked_unit_axis("axis", &Vector3::new(0.0, 3.0, 4.0)).unwrap();
+        assert!((u.into_inner() - Vector3::new(0.0, 0.6, 0.8)).norm() < 1e-15);
     }
 }

@@ -7,16 +7,16 @@
 //! computation runs without the GIL; results are dicts of numpy arrays and
 //! floats.
 
-use super::args::{optional_integer, text};
+use super::args::{invalid, optional_integer, text};
 use super::arrays::{array, Numbers, Values};
 use crate::analysis::{
-    block_average as block_average_of, dielectric_constant as dielectric_of,
+    block_average as block_average_of, dielectric_constant as dielectric_of, lag_times,
     order_parameters as order_of, orientational_correlations as correlations_of,
     vector_autocorrelation, BlockAverage, DielectricBoundary, DielectricConstant, FrameOrder,
     Frames,
 };
 use crate::checks::from_name;
-use crate::observables::order::unit_axis;
+use crate::observables::order::checked_unit_axis;
 use crate::observables::polarization;
 use crate::quaternion::Quat;
 use nalgebra::{Unit, Vector3};
@@ -50,15 +50,6 @@ fn body_axes(axes: Option<&Bound<'_, PyAny>>) -> PyResult<(Vec<Vector3<f64>>, bo
 fn lag(max_lag: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     Ok(optional_integer(max_lag, "max_lag", 0, u64::MAX)?
         .map(|m| usize::try_from(m).unwrap_or(usize::MAX)))
-}
-
-fn lag_times(dt: f64, lags: usize) -> PyResult<Vec<f64>> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(PyValueError::new_err(format!(
-            "dt: must be finite and > 0, got {dt}"
-        )));
-    }
-    Ok((0..lags).map(|k| k as f64 * dt).collect())
 }
 
 /// orientational_correlations(orientations, dt, axes=None, max_lag=None) -> dict
@@ -134,13 +125,10 @@ fn angular_velocity_correlation<'py>(
     Ok(out)
 }
 
-fn unit(v: [f64; 3], name: &str) -> PyResult<Unit<Vector3<f64>>> {
-    unit_axis(&Vector3::from(v)).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "{name}: must be finite and nonzero, got [{}, {}, {}]",
-            v[0], v[1], v[2]
-        ))
-    })
+/// The axis `name` (one 3-vector), normalised.
+fn unit(axis: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Unit<Vector3<f64>>> {
+    let v = Numbers::new(axis, name, Values::Finite)?.single::<3>("(3,)")?;
+    Ok(checked_unit_axis(name, &Vector3::from(v))?)
 }
 
 /// order_parameters(orientations, axis=(0, 0, 1), direction=None) -> dict
@@ -165,20 +153,10 @@ fn order_parameters<'py>(
     let (q, leading) = Numbers::new(orientations, "orientations", Values::Quaternions)?
         .items::<4>(&[1, 2], "(n, 4) or (frames, n, 4)")?;
     let axis = match axis {
-        Some(a) => unit(
-            Numbers::new(a, "axis", Values::Finite)?.single::<3>("(3,)")?,
-            "axis",
-        )?,
+        Some(a) => unit(a, "axis")?,
         None => Vector3::z_axis(),
     };
-    let direction = direction
-        .map(|d| {
-            unit(
-                Numbers::new(d, "direction", Values::Finite)?.single::<3>("(3,)")?,
-                "direction",
-            )
-        })
-        .transpose()?;
+    let direction = direction.map(|d| unit(d, "direction")).transpose()?;
     let q: Vec<Quat> = q.into_iter().map(Quat).collect();
     let rotors = *leading.last().unwrap_or(&0);
     let frames = Frames::new(&q, rotors, "orientations")?;
@@ -249,9 +227,10 @@ fn total_dipole<'py>(
         None => vec![Vector3::from(mu[0]); rotors],
         Some(&n) if n == rotors => mu.into_iter().map(Vector3::from).collect(),
         Some(&n) => {
-            return Err(PyValueError::new_err(format!(
-                "dipoles_body: {n} dipoles for {rotors} rotors"
-            )))
+            return Err(invalid(
+                "dipoles_body",
+                format!("{n} dipoles for {rotors} rotors"),
+            ))
         }
     };
     let q: Vec<Quat> = q.into_iter().map(Quat).collect();

@@ -1,41 +1,59 @@
 //! Scalar arguments at the boundary: text (lone surrogates refused with the
 //! argument's name, not a `UnicodeEncodeError`), paths, integers in a range
 //! (no wrap, no panic, no `OverflowError`) and the memory a result would
-//! take, estimated before it is allocated.
+//! take, estimated before it is allocated; and the two errors of the
+//! boundary, built here only: an argument of the wrong type
+//! ([`expected`], [`wrong_type`]) and a bad value of an argument the
+//! library does not check itself ([`invalid`]: a shape, a keyword
+//! combination only Python has, a conversion out of range). What the
+//! library checks reaches Python through its own error (`mod.rs`).
 
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use crate::checks::InputError;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyInt, PyString};
 use std::path::PathBuf;
 
-/// The `TypeError` for argument `name` of the wrong type: `expected` says
-/// what it must be, the message adds the type it has.
-pub(crate) fn wrong_type(obj: &Bound<'_, PyAny>, name: &str, expected: &str) -> PyErr {
+/// The `TypeError` for argument `name` of the wrong type: `what` says what
+/// it must be (`steps: expected a sequence of integers`).
+pub(crate) fn expected(name: &str, what: &str) -> PyErr {
+    PyTypeError::new_err(format!("{name}: expected {what}"))
+}
+
+/// The `TypeError` for argument `name` of the wrong type: `what` says what
+/// it must be, the message adds the type `obj` has.
+pub(crate) fn wrong_type(obj: &Bound<'_, PyAny>, name: &str, what: &str) -> PyErr {
     let kind = obj
         .get_type()
         .name()
         .map_or_else(|_| "?".to_string(), |n| n.to_string());
-    PyTypeError::new_err(format!("{name}: expected {expected}, got {kind}"))
+    expected(name, &format!("{what}, got {kind}"))
 }
 
-/// The text of `obj` (argument `name`), or the error `error` builds from a
-/// message naming it.
-pub(crate) fn text_or(
-    obj: &Bound<'_, PyAny>,
-    name: &str,
-    error: fn(String) -> PyErr,
-) -> PyResult<String> {
+/// The `ValueError` for a bad value of argument `name` (`name: message`),
+/// through the library's input error and its one conversion.
+pub(crate) fn invalid(name: &str, message: impl Into<String>) -> PyErr {
+    InputError::new(name, message).into()
+}
+
+/// The error of a bad value of argument `name`, built from the name and
+/// the message: [`invalid`], or the module's `SceneError` for a scene.
+pub(crate) type BadValue = fn(&str, String) -> PyErr;
+
+/// The text of `obj` (argument `name`), or the error `error` builds for
+/// text that is not valid.
+pub(crate) fn text_or(obj: &Bound<'_, PyAny>, name: &str, error: BadValue) -> PyResult<String> {
     let s = obj
         .cast::<PyString>()
         .map_err(|_| wrong_type(obj, name, "a str"))?;
     s.to_str()
         .map(str::to_string)
-        .map_err(|_| error(format!("{name}: not valid text (a lone surrogate)")))
+        .map_err(|_| error(name, "not valid text (a lone surrogate)".to_string()))
 }
 
 /// The text of `obj` (argument `name`); bad text is a `ValueError`.
 pub(crate) fn text(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<String> {
-    text_or(obj, name, PyValueError::new_err)
+    text_or(obj, name, invalid)
 }
 
 /// The optional text argument `obj`.
@@ -48,16 +66,12 @@ pub(crate) fn optional_text(
 
 /// A file-system path (str or `os.PathLike`) for argument `name`; names
 /// that cannot be encoded are the error `error` builds.
-pub(crate) fn path_or(
-    obj: &Bound<'_, PyAny>,
-    name: &str,
-    error: fn(String) -> PyErr,
-) -> PyResult<PathBuf> {
+pub(crate) fn path_or(obj: &Bound<'_, PyAny>, name: &str, error: BadValue) -> PyResult<PathBuf> {
     obj.extract::<PathBuf>().map_err(|e| {
         if e.is_instance_of::<PyTypeError>(obj.py()) {
-            PyTypeError::new_err(format!("{name}: expected a path (str or os.PathLike)"))
+            expected(name, "a path (str or os.PathLike)")
         } else {
-            error(format!("{name}: not a valid file name (a lone surrogate)"))
+            error(name, "not a valid file name (a lone surrogate)".to_string())
         }
     })
 }
@@ -78,9 +92,10 @@ pub(crate) fn integer(obj: &Bound<'_, PyAny>, name: &str, min: u64, max: u64) ->
     };
     match index.extract::<u64>() {
         Ok(n) if (min..=max).contains(&n) => Ok(n),
-        _ => Err(PyValueError::new_err(format!(
-            "{name}: must be between {min} and {max}, got {index}"
-        ))),
+        _ => Err(invalid(
+            name,
+            format!("must be between {min} and {max}, got {index}"),
+        )),
     }
 }
 

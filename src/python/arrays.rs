@@ -9,12 +9,12 @@
 //! order with their shape. Results go back as arrays through [`array()`],
 //! or through [`collect`], which refuses values that overflowed.
 
-use super::args::wrong_type;
+use super::args::{invalid, wrong_type};
 use nalgebra::{Matrix3, Vector3};
 use numpy::ndarray::{ArrayD, ArrayViewD, Axis, Dimension, IxDyn};
 use numpy::prelude::*;
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 
 use crate::Quat;
@@ -67,11 +67,10 @@ fn unravel(mut k: usize, shape: &[usize]) -> Vec<usize> {
 /// `Values::Quaternions` the first zero quaternion, as an error naming it.
 fn check_values(view: &ArrayViewD<'_, f64>, name: &str, values: Values) -> PyResult<()> {
     if let Some((index, x)) = view.indexed_iter().find(|(_, x)| !x.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "{}: not finite ({})",
-            indexed(name, index.slice()),
-            non_finite(*x)
-        )));
+        return Err(invalid(
+            &indexed(name, index.slice()),
+            format!("not finite ({})", non_finite(*x)),
+        ));
     }
     let quaternions = values == Values::Quaternions && view.shape().last() == Some(&4);
     if quaternions {
@@ -82,10 +81,10 @@ fn check_values(view: &ArrayViewD<'_, f64>, name: &str, values: Values) -> PyRes
             .into_iter()
             .position(|q| q.iter().all(|x| *x == 0.0))
         {
-            return Err(PyValueError::new_err(format!(
-                "{}: quaternion is zero",
-                indexed(name, &unravel(k, leading))
-            )));
+            return Err(invalid(
+                &indexed(name, &unravel(k, leading)),
+                "quaternion is zero",
+            ));
         }
     }
     Ok(())
@@ -127,12 +126,8 @@ impl<'py> Items<'py> {
         if !(single || batched) {
             let mut batched = vec!["n".to_string()];
             batched.extend(item.iter().map(|d| d.to_string()));
-            return Err(PyValueError::new_err(format!(
-                "{name}: expected shape {} or {}, got {}",
-                shape_str(&batched),
-                shape_str(item),
-                shape_str(shape)
-            )));
+            let expected = format!("{} or {}", shape_str(&batched), shape_str(item));
+            return Err(wrong_shape(name, &expected, shape));
         }
         check_values(&array.as_array(), name, values)?;
         Ok(Items {
@@ -140,6 +135,16 @@ impl<'py> Items<'py> {
             array,
             single,
         })
+    }
+
+    /// [`Items::new`] of finite values for an optional argument.
+    pub(crate) fn optional(
+        obj: Option<&Bound<'py, PyAny>>,
+        name: &'static str,
+        item: &[usize],
+    ) -> PyResult<Option<Self>> {
+        obj.map(|o| Items::new(o, name, item, Values::Finite))
+            .transpose()
     }
 
     /// The number of items, `None` for a single item.
@@ -210,10 +215,7 @@ pub(crate) fn common_len(args: &[&Items<'_>]) -> PyResult<(usize, bool)> {
         if let Some(n) = arg.len() {
             match batch {
                 Some((m, other)) if m != n => {
-                    return Err(PyValueError::new_err(format!(
-                        "{}: {n} items, but {other} has {m}",
-                        arg.name
-                    )));
+                    return Err(invalid(arg.name, format!("{n} items, but {other} has {m}")));
                 }
                 _ => batch = Some((n, arg.name)),
             }
@@ -228,13 +230,17 @@ pub(crate) fn single<'py>(
     name: &'static str,
     item: &[usize],
 ) -> PyResult<Option<Items<'py>>> {
-    let Some(obj) = obj else { return Ok(None) };
-    let items = Items::new(obj, name, item, Values::Finite)?;
+    let Some(items) = Items::optional(obj, name, item)? else {
+        return Ok(None);
+    };
     if !common_len(&[&items])?.1 {
-        return Err(PyValueError::new_err(format!(
-            "{name}: expected a single item of shape {}, not a batch",
-            shape_str(item)
-        )));
+        return Err(invalid(
+            name,
+            format!(
+                "expected a single item of shape {}, not a batch",
+                shape_str(item)
+            ),
+        ));
     }
     Ok(Some(items))
 }
@@ -273,7 +279,7 @@ impl Numbers {
     ) -> PyResult<(Vec<[f64; W]>, Vec<usize>)> {
         let (last, leading) = self.shape.split_last().unwrap_or((&0, &[]));
         if *last != W || !ranks.contains(&leading.len()) {
-            return Err(self.wrong_shape(expected));
+            return Err(wrong_shape(self.name, expected, &self.shape));
         }
         let items = self
             .values
@@ -283,22 +289,12 @@ impl Numbers {
         Ok((items, leading.to_vec()))
     }
 
-    /// The error for a shape other than `expected`, naming the argument and
-    /// the shape found as Python prints it.
-    fn wrong_shape(&self, expected: &str) -> PyErr {
-        PyValueError::new_err(format!(
-            "{}: expected shape {expected}, got {}",
-            self.name,
-            shape_str(&self.shape)
-        ))
-    }
-
     /// A one-dimensional array `(n,)`.
     pub(crate) fn series(self) -> PyResult<Vec<f64>> {
         if self.shape.len() == 1 {
             Ok(self.values)
         } else {
-            Err(self.wrong_shape("(n,)"))
+            Err(wrong_shape(self.name, "(n,)", &self.shape))
         }
     }
 
@@ -308,13 +304,25 @@ impl Numbers {
     }
 }
 
+/// The error for argument `name` of a shape other than `expected` (spelled
+/// as Python prints shapes), `got` the shape it has.
+pub(crate) fn wrong_shape(name: &str, expected: &str, got: &[usize]) -> PyErr {
+    invalid(
+        name,
+        format!("expected shape {expected}, got {}", shape_str(got)),
+    )
+}
+
 /// The error for a result that is not finite for finite arguments: the
 /// arguments overflow float64 (`what` names the result and the item).
 pub(crate) fn overflow(what: &str, x: f64) -> PyErr {
-    PyValueError::new_err(format!(
-        "{what}: not finite ({}) for finite arguments: their magnitudes overflow float64",
-        non_finite(x)
-    ))
+    invalid(
+        what,
+        format!(
+            "not finite ({}) for finite arguments: their magnitudes overflow float64",
+            non_finite(x)
+        ),
+    )
 }
 
 /// The first non-finite value of `values` as an [`overflow`] error naming
@@ -335,8 +343,9 @@ pub(crate) fn array<'py>(
     shape: &[usize],
     values: Vec<f64>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    // The callers size `values` from `shape`: a mismatch is a bug here.
     let a = ArrayD::from_shape_vec(IxDyn(shape), values)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
 }
 

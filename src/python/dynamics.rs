@@ -10,7 +10,6 @@ use crate::integrators::setup_checks::{validate_setup, Moments};
 use crate::parallel::on_worker;
 use crate::potential::{ExternalFields, MultipolePotential};
 use crate::rotor::Inertia;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -57,12 +56,8 @@ fn gear_corrections_table<'py>(
     let moments = Items::new(inertia, "inertia", &[3], Values::Finite)?;
     let q = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
     let w = Items::new(omega_body, "omega_body", &[3], Values::Finite)?;
-    let dipoles = dipoles
-        .map(|d| Items::new(d, "dipoles", &[3], Values::Finite))
-        .transpose()?;
-    let quadrupoles = quadrupoles
-        .map(|t| Items::new(t, "quadrupoles", &[3, 3], Values::Finite))
-        .transpose()?;
+    let dipoles = Items::optional(dipoles, "dipoles", &[3])?;
+    let quadrupoles = Items::optional(quadrupoles, "quadrupoles", &[3, 3])?;
     let mut batch = vec![&sites, &moments, &q, &w];
     batch.extend(dipoles.iter().chain(quadrupoles.iter()));
     let (n, _) = common_len(&batch)?;
@@ -81,19 +76,15 @@ fn gear_corrections_table<'py>(
         field_gradient: None,
     };
     let potential = MultipolePotential::new(&rotors, boundary, external)?;
-    for (name, value) in [
-        ("dt", dt),
-        ("t_energy", t_energy),
-        ("t_error", t_error),
-        ("t_stability", t_stability),
-    ] {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "{name}: must be finite and > 0, got {value}"
-            )));
-        }
-    }
-    let sample_every = optional_integer(sample_every, "sample_every", 1, u64::MAX)?.unwrap_or(1);
+    let settings = Settings {
+        dt,
+        t_energy,
+        t_error,
+        t_stability,
+        sample_every: optional_integer(sample_every, "sample_every", 0, u64::MAX)?.unwrap_or(1),
+    };
+    settings.check()?;
+    let sample_every = settings.sample_every;
     // The energy samples of the longest run, for each of the configurations.
     let samples = (t_energy.max(t_error).max(t_stability) / dt / sample_every as f64).ceil();
     let bytes = (samples < 1e18).then(|| samples as u64 * SAMPLE_BYTES);
@@ -101,13 +92,6 @@ fn gear_corrections_table<'py>(
     // Validate the rotors and states once, so the experiment itself cannot fail.
     let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
     let _ = validate_setup(&inertia, &initial, dt, Moments::Positive)?;
-    let settings = Settings {
-        dt,
-        t_energy,
-        t_error,
-        t_stability,
-        sample_every,
-    };
     let table = py.detach(|| {
         on_worker(|| {
             let system = System {

@@ -1,12 +1,11 @@
 //! `quatrot.write_gsd`: a GSD trajectory (`crate::run::GsdWriter`) from
 //! numpy arrays, e.g. the in-memory trajectory `quatrot.run` returns.
 
-use super::args::{integer, path_or};
+use super::args::{expected, integer, invalid, path_or};
 use super::arrays::{Numbers, Values};
 use crate::quaternion::Quat;
-use crate::run::{GsdBox, GsdWriter};
+use crate::run::{GsdBox, GsdWriter, RunError};
 use nalgebra::Vector3;
-use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 /// write_gsd(path, sites, orientations, steps, box_lengths=None, margin=1.0)
@@ -29,56 +28,41 @@ fn write_gsd(
     box_lengths: Option<&Bound<'_, PyAny>>,
     margin: f64,
 ) -> PyResult<()> {
-    let path = path_or(path, "path", PyValueError::new_err)?;
+    let path = path_or(path, "path", invalid)?;
     let steps = steps
         .try_iter()
-        .map_err(|_| PyTypeError::new_err("steps: expected a sequence of integers"))?
+        .map_err(|_| expected("steps", "a sequence of integers"))?
         .enumerate()
         .map(|(k, step)| integer(&step?, &format!("steps[{k}]"), 0, u64::MAX))
         .collect::<PyResult<Vec<u64>>>()?;
     let (sites, _) = Numbers::new(sites, "sites", Values::Finite)?.items::<3>(&[1], "(n, 3)")?;
     let sites: Vec<Vector3<f64>> = sites.into_iter().map(Vector3::from).collect();
     if sites.is_empty() {
-        return Err(PyValueError::new_err("sites: needs at least one site"));
+        return Err(invalid("sites", "needs at least one site"));
     }
     let (q, leading) = Numbers::new(orientations, "orientations", Values::Quaternions)?
         .items::<4>(&[2], "(frames, n, 4)")?;
     if leading[1] != sites.len() {
-        return Err(PyValueError::new_err(format!(
-            "orientations: {} rotors per frame, but sites has {}",
-            leading[1],
-            sites.len()
-        )));
+        return Err(invalid(
+            "orientations",
+            format!(
+                "{} rotors per frame, but sites has {}",
+                leading[1],
+                sites.len()
+            ),
+        ));
     }
     if steps.len() != leading[0] {
-        return Err(PyValueError::new_err(format!(
-            "steps: {} steps for {} frames",
-            steps.len(),
-            leading[0]
-        )));
+        return Err(invalid(
+            "steps",
+            format!("{} steps for {} frames", steps.len(), leading[0]),
+        ));
     }
-    let cell = match box_lengths {
-        Some(b) => {
-            let (l, _) =
-                Numbers::new(b, "box_lengths", Values::Finite)?.items::<3>(&[0], "(3,)")?;
-            let l = Vector3::from(l[0]);
-            if !l.iter().all(|x| x.is_finite() && *x > 0.0) {
-                return Err(PyValueError::new_err(format!(
-                    "box_lengths: must be finite and > 0, got [{}, {}, {}]",
-                    l.x, l.y, l.z
-                )));
-            }
-            GsdBox::periodic(l)
-        }
-        None if margin.is_finite() && margin > 0.0 => GsdBox::enclosing(&sites, margin),
-        None => {
-            return Err(PyValueError::new_err(format!(
-                "margin: must be finite and > 0, got {margin}"
-            )))
-        }
-    };
+    let box_lengths = box_lengths
+        .map(|b| Numbers::new(b, "box_lengths", Values::Finite)?.single::<3>("(3,)"))
+        .transpose()?;
+    let cell = GsdBox::new(box_lengths.map(Vector3::from), &sites, margin)?;
     let q: Vec<Quat> = q.into_iter().map(Quat).collect();
-    let io_error = |e: std::io::Error| PyOSError::new_err(format!("{}: {e}", path.display()));
     py.detach(|| {
         let mut writer = GsdWriter::create(&path, &sites, &cell)?;
         for (frame, step) in q.chunks_exact(sites.len()).zip(&steps) {
@@ -86,7 +70,8 @@ fn write_gsd(
         }
         writer.flush()
     })
-    .map_err(io_error)
+    .map_err(|e| RunError::io(&path, e))?;
+    Ok(())
 }
 
 /// Adds `write_gsd` to the module.

@@ -3,8 +3,11 @@
 //! (`src/python/quatrot/__init__.py`). Each function is a thin wrapper: it
 //! converts its arguments once ([`arrays`] for array-likes, [`args`] for
 //! text, paths and integers), builds rotors in one place ([`rotors`]) and
-//! delegates to a plain function of the library; one place maps the
-//! library's input errors to Python exceptions.
+//! delegates to a plain function of the library. A fact the library
+//! checks is checked there only: its error reaches Python through one
+//! `From<...> for PyErr` per error type (here, and for a run's errors in
+//! [`run`]); the few errors of the boundary itself (a wrong type, a shape,
+//! a keyword combination only Python has) are built by [`args`]' helpers.
 
 use crate::checks::InputError;
 use crate::integrators::IntegratorError;

@@ -1,6 +1,6 @@
 //! `quatrot.multipole_evaluate`: the point-multipole potential from numpy arrays.
 
-use super::args::optional_text;
+use super::args::{invalid, optional_text};
 use super::arrays::{collect, common_len, overflow, single, Items, Values};
 use super::rotors::rotors;
 use crate::checks::from_name;
@@ -10,7 +10,6 @@ use crate::potential::{
 };
 use crate::quaternion::Quat;
 use nalgebra::{Matrix3, Vector3};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
@@ -30,13 +29,15 @@ pub(crate) fn boundary(
 ) -> PyResult<Boundary> {
     let Some(box_lengths) = box_lengths else {
         if cutoff.is_some() {
-            return Err(PyValueError::new_err(
-                "box_lengths, cutoff: give both for periodic boundaries, or neither for open",
+            return Err(invalid(
+                "box_lengths, cutoff",
+                "give both for periodic boundaries, or neither for open",
             ));
         }
         if sum.is_some() || accuracy.is_some() || surface.is_some() {
-            return Err(PyValueError::new_err(
-                "box_lengths: required with sum, accuracy or surface (periodic boundaries)",
+            return Err(invalid(
+                "box_lengths",
+                "required with sum, accuracy or surface (periodic boundaries)",
             ));
         }
         return Ok(Boundary::Open);
@@ -49,12 +50,11 @@ pub(crate) fn boundary(
         ("cutoff", Some(cutoff)) if accuracy.is_none() && surface.is_none() => {
             Ok(Boundary::periodic_cutoff(box_lengths, cutoff))
         }
-        ("cutoff", Some(_)) => Err(PyValueError::new_err(
-            "accuracy, surface: only for sum=\"ewald\", not with a cutoff",
+        ("cutoff", Some(_)) => Err(invalid(
+            "accuracy, surface",
+            "only for sum=\"ewald\", not with a cutoff",
         )),
-        ("cutoff", None) => Err(PyValueError::new_err(
-            "cutoff: required with sum=\"cutoff\"",
-        )),
+        ("cutoff", None) => Err(invalid("cutoff", "required with sum=\"cutoff\"")),
         ("ewald", None) => Ok(Boundary::Periodic {
             box_lengths,
             sum: PeriodicSum::Ewald {
@@ -62,16 +62,19 @@ pub(crate) fn boundary(
                 surface: surface.map_or(Ok(Surface::Conducting), |s| from_name("surface", s))?,
             },
         }),
-        ("ewald", Some(_)) => Err(PyValueError::new_err(
-            "cutoff: not with sum=\"ewald\" (its cutoffs follow from the accuracy)",
+        ("ewald", Some(_)) => Err(invalid(
+            "cutoff",
+            "not with sum=\"ewald\" (its cutoffs follow from the accuracy)",
         )),
-        ("", None) => Err(PyValueError::new_err(
-            "box_lengths, cutoff: give both for periodic boundaries, or neither for open \
+        ("", None) => Err(invalid(
+            "box_lengths, cutoff",
+            "give both for periodic boundaries, or neither for open \
              (or sum=\"ewald\" with box_lengths)",
         )),
-        (other, _) => Err(PyValueError::new_err(format!(
-            "sum: must be \"cutoff\" or \"ewald\", got \"{other}\""
-        ))),
+        (other, _) => Err(invalid(
+            "sum",
+            format!("must be \"cutoff\" or \"ewald\", got \"{other}\""),
+        )),
     }
 }
 
@@ -82,17 +85,21 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
         return Ok(l.vector(0));
     }
     let Ok(Some(m)) = single(Some(box_lengths), "box_lengths", &[3, 3]) else {
-        return Err(PyValueError::new_err(
-            "box_lengths: expected the box edges (3,) or the box vectors (3, 3)",
+        return Err(invalid(
+            "box_lengths",
+            "expected the box edges (3,) or the box vectors (3, 3)",
         ));
     };
     let m = m.matrix(0);
     let off_diagonal = (m - Matrix3::from_diagonal(&m.diagonal())).amax();
     if off_diagonal != 0.0 {
-        return Err(PyValueError::new_err(format!(
-            "box_lengths: the box must be orthorhombic (a diagonal matrix of box vectors), \
-             got off-diagonal entries up to {off_diagonal:e}"
-        )));
+        return Err(invalid(
+            "box_lengths",
+            format!(
+                "the box must be orthorhombic (a diagonal matrix of box vectors), \
+                 got off-diagonal entries up to {off_diagonal:e}"
+            ),
+        ));
     }
     Ok(m.diagonal())
 }
@@ -135,12 +142,8 @@ fn multipole_evaluate<'py>(
 ) -> PyResult<Bound<'py, PyTuple>> {
     let sites = Items::new(sites, "sites", &[3], Values::Finite)?;
     let orientations = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
-    let dipoles = dipoles_body
-        .map(|d| Items::new(d, "dipoles_body", &[3], Values::Finite))
-        .transpose()?;
-    let quadrupoles = quadrupoles_body
-        .map(|t| Items::new(t, "quadrupoles_body", &[3, 3], Values::Finite))
-        .transpose()?;
+    let dipoles = Items::optional(dipoles_body, "dipoles_body", &[3])?;
+    let quadrupoles = Items::optional(quadrupoles_body, "quadrupoles_body", &[3, 3])?;
     let mut per_rotor = vec![&sites, &orientations];
     per_rotor.extend(dipoles.iter());
     per_rotor.extend(quadrupoles.iter());

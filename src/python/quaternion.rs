@@ -4,12 +4,13 @@
 //! `(3,)`, `(3, 3)`, `()`) gives a single result. Every function converts
 //! and delegates to the library.
 
-use nalgebra::{Rotation3, Unit};
+use nalgebra::Rotation3;
 use numpy::PyArrayDyn;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+use super::args::invalid;
 use super::arrays::{collect, common_len, row_major, Items, Values};
+use crate::observables::order::checked_unit_axis;
 use crate::Quat;
 
 /// Largest `|R^T R - I|` and `|det R - 1|` accepted by the matrix conversions:
@@ -108,14 +109,7 @@ fn from_axis_angle<'py>(
         Items::new(angle, "angle", &S, Values::Finite)?,
     );
     collect(py, common_len(&[&axis, &angle])?, &Q, |i| {
-        let unit = Unit::try_new(axis.vector(i), 0.0)
-            .filter(|u| u.iter().all(|x| x.is_finite()))
-            .ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "{}: must be a nonzero finite vector",
-                    axis.label(i)
-                ))
-            })?;
+        let unit = checked_unit_axis(&axis.label(i), &axis.vector(i))?;
         Ok(Quat::from_axis_angle(&unit, angle.scalar(i)).0)
     })
 }
@@ -184,10 +178,12 @@ fn checked_rotation(m: &Items<'_>, i: usize, transpose: bool) -> PyResult<Quat> 
         m.matrix(i)
     };
     Quat::from_body_to_space_matrix(&matrix, ROTATION_TOLERANCE).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "{}: not a proper rotation matrix (needs |M^T M - I| and |det M - 1| <= {ROTATION_TOLERANCE:e})",
-            m.label(i)
-        ))
+        invalid(
+            &m.label(i),
+            format!(
+                "not a proper rotation matrix (needs |M^T M - I| and |det M - 1| <= {ROTATION_TOLERANCE:e})"
+            ),
+        )
     })
 }
 

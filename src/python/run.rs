@@ -7,8 +7,8 @@
 //! attribute. A scene dict is converted with its nesting bounded and its
 //! cycles refused.
 
-use super::args::{path_or, text_or, wrong_type};
-use crate::parallel::in_pool;
+use super::args::{invalid, path_or, text_or, wrong_type};
+use crate::parallel::{in_pool, thread_count as pool_size};
 use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
 use crate::scene::{load, load_table, load_text, Overrides, Scene, BUILTINS};
@@ -35,15 +35,26 @@ create_exception!(
     "A run blew up; `result` holds what it recorded."
 );
 
+/// The scene layer's error as the module's `SceneError`.
 fn scene_error(e: &crate::scene::SceneError) -> PyErr {
     SceneError::new_err(e.to_string())
 }
 
-fn run_error(e: RunError) -> PyErr {
-    match e {
-        RunError::Scene(e) => scene_error(&e),
-        RunError::Io { .. } => PyOSError::new_err(e.to_string()),
-        other => PyRuntimeError::new_err(other.to_string()),
+/// A `SceneError` for the bad value at `path` of a scene (or of an argument
+/// that overrides one), in the scene layer's form.
+fn field(path: &str, message: String) -> PyErr {
+    scene_error(&crate::scene::SceneError::field(path, message))
+}
+
+/// A run's error: an invalid scene is a `SceneError`, a file that cannot
+/// be read or written an `OSError`, anything else a `RuntimeError`.
+impl From<RunError> for PyErr {
+    fn from(e: RunError) -> PyErr {
+        match e {
+            RunError::Scene(e) => scene_error(&e),
+            RunError::Io { .. } => PyOSError::new_err(e.to_string()),
+            other => PyRuntimeError::new_err(other.to_string()),
+        }
     }
 }
 
@@ -72,24 +83,23 @@ impl ToToml {
     /// Converts `value`, found at `path`, naming the path on error.
     fn value(&mut self, value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
         if value.is_none() {
-            return Err(SceneError::new_err(format!(
-                "{}: None is not allowed (leave the key out)",
-                here(path)
-            )));
+            let message = "None is not allowed (leave the key out)";
+            return Err(field(here(path), message.to_string()));
         }
         if let Ok(b) = value.cast::<PyBool>() {
             return Ok(toml::Value::Boolean(b.is_true()));
         }
         if let Ok(i) = value.cast::<PyInt>() {
-            return i.extract::<i64>().map(toml::Value::Integer).map_err(|_| {
-                SceneError::new_err(format!("{}: integer out of range, got {i}", here(path)))
-            });
+            return i
+                .extract::<i64>()
+                .map(toml::Value::Integer)
+                .map_err(|_| field(here(path), format!("integer out of range, got {i}")));
         }
         if let Ok(f) = value.cast::<PyFloat>() {
             return Ok(toml::Value::Float(f.value()));
         }
         if value.is_instance_of::<PyString>() {
-            return text_or(value, here(path), SceneError::new_err).map(toml::Value::String);
+            return text_or(value, here(path), field).map(toml::Value::String);
         }
         let container = value.is_instance_of::<PyDict>()
             || value.is_instance_of::<PyList>()
@@ -104,11 +114,11 @@ impl ToToml {
             // numpy arrays and scalars.
             return self.value(&value.call_method0("tolist")?, path);
         }
-        Err(SceneError::new_err(format!(
-            "{}: unsupported value of type {}",
+        let kind = value.get_type().name()?;
+        Err(field(
             here(path),
-            value.get_type().name()?
-        )))
+            format!("unsupported value of type {kind}"),
+        ))
     }
 
     /// Opens the container `value` at `path`: refused if it is one of the
@@ -116,17 +126,12 @@ impl ToToml {
     fn enter(&mut self, value: &Bound<'_, PyAny>, path: &str) -> PyResult<()> {
         let id = value.as_ptr() as usize;
         if let Some((_, outer)) = self.open.iter().find(|(o, _)| *o == id) {
-            return Err(SceneError::new_err(format!(
-                "{}: refers to itself (it is {})",
-                here(path),
-                here(outer)
-            )));
+            let message = format!("refers to itself (it is {})", here(outer));
+            return Err(field(here(path), message));
         }
         if self.open.len() >= MAX_DEPTH {
-            return Err(SceneError::new_err(format!(
-                "{}: nested deeper than {MAX_DEPTH} levels",
-                here(path)
-            )));
+            let message = format!("nested deeper than {MAX_DEPTH} levels");
+            return Err(field(here(path), message));
         }
         self.open.push((id, path.to_string()));
         Ok(())
@@ -135,23 +140,7 @@ impl ToToml {
     /// Converts a dict, list or tuple.
     fn container(&mut self, value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
         if let Ok(d) = value.cast::<PyDict>() {
-            let mut table = toml::Table::new();
-            for (k, v) in d.iter() {
-                if !k.is_instance_of::<PyString>() {
-                    return Err(SceneError::new_err(format!(
-                        "{}: keys must be strings, got {k}",
-                        here(path)
-                    )));
-                }
-                let key = text_or(&k, &format!("{}: a key", here(path)), SceneError::new_err)?;
-                let sub = if path.is_empty() {
-                    key.clone()
-                } else {
-                    format!("{path}.{key}")
-                };
-                let _ = table.insert(key, self.value(&v, &sub)?);
-            }
-            return Ok(toml::Value::Table(table));
+            return self.table(d, path).map(toml::Value::Table);
         }
         let items = value
             .try_iter()?
@@ -160,18 +149,36 @@ impl ToToml {
             .collect::<PyResult<Vec<_>>>()?;
         Ok(toml::Value::Array(items))
     }
+
+    /// Converts the entries of the dict `d` (opened at `path`).
+    fn table(&mut self, d: &Bound<'_, PyDict>, path: &str) -> PyResult<toml::Table> {
+        let mut table = toml::Table::new();
+        for (k, v) in d.iter() {
+            if !k.is_instance_of::<PyString>() {
+                return Err(field(here(path), format!("keys must be strings, got {k}")));
+            }
+            let key = text_or(&k, &format!("{}: a key", here(path)), field)?;
+            let sub = if path.is_empty() {
+                key.clone()
+            } else {
+                format!("{path}.{key}")
+            };
+            let _ = table.insert(key, self.value(&v, &sub)?);
+        }
+        Ok(table)
+    }
 }
 
 /// TOML text if it has a newline or `=`, otherwise a built-in name or a path.
 fn load_scene(scene: &Bound<'_, PyAny>, overrides: &Overrides) -> PyResult<(RawScene, Scene)> {
     if let Ok(d) = scene.cast::<PyDict>() {
-        let toml::Value::Table(table) = ToToml::default().value(d.as_any(), "")? else {
-            return Err(SceneError::new_err("(top level): expected a table"));
-        };
+        let mut convert = ToToml::default();
+        convert.enter(d, "")?;
+        let table = convert.table(d, "")?;
         return load_table(table, overrides).map_err(|e| scene_error(&e));
     }
     if scene.is_instance_of::<PyString>() {
-        let text = &text_or(scene, "scene", SceneError::new_err)?;
+        let text = &text_or(scene, "scene", field)?;
         let loaded = if text.contains('\n') || text.contains('=') {
             load_text(text, overrides)
         } else {
@@ -179,9 +186,10 @@ fn load_scene(scene: &Bound<'_, PyAny>, overrides: &Overrides) -> PyResult<(RawS
         };
         return loaded.map_err(|e| scene_error(&e));
     }
-    let path = path_or(scene, "scene", SceneError::new_err).map_err(|e| {
+    let path = path_or(scene, "scene", field).map_err(|e| {
         if e.is_instance_of::<PyTypeError>(scene.py()) {
-            SceneError::new_err("scene: expected TOML text, a built-in name, a path or a dict")
+            let message = "expected TOML text, a built-in name, a path or a dict";
+            field("scene", message.to_string())
         } else {
             e
         }
@@ -300,14 +308,14 @@ fn run<'py>(
     on_progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let threads = threads.map(thread_count).transpose()?;
-    let path = |p: &Bound<'py, PyAny>, name| path_or(p, name, SceneError::new_err);
+    let path = |p: &Bound<'py, PyAny>, name| path_or(p, name, field);
     let out_dir = out_dir.map(|p| path(p, "out_dir")).transpose()?;
     let restart = restart.map(|p| path(p, "restart")).transpose()?;
     let overrides = Overrides {
         dt,
         steps: steps.map(step_count).transpose()?,
         integrator: integrator
-            .map(|i| text_or(i, "integrator", SceneError::new_err))
+            .map(|i| text_or(i, "integrator", field))
             .transpose()?,
     };
     let (raw, scene) = load_scene(scene, &overrides)?;
@@ -345,8 +353,7 @@ fn run<'py>(
     }
     let result = finished
         .ok_or_else(|| PyRuntimeError::new_err("the run ended without a result"))?
-        .map_err(|e| PyRuntimeError::new_err(format!("threads: {e}")))?
-        .map_err(run_error)?;
+        .map_err(|e| PyRuntimeError::new_err(format!("threads: {e}")))??;
     let message = result.stop.message();
     let stop = result.stop.clone();
     let dict = result_dict(py, &scene, result)?;
@@ -400,15 +407,12 @@ fn watch<T: Send>(
     }
 }
 
-/// The `threads` argument: an integer >= 1.
+/// The `threads` argument: an integer ([`pool_size`] checks its range).
 fn thread_count(threads: &Bound<'_, PyAny>) -> PyResult<NonZeroUsize> {
     let n: i64 = threads
         .extract()
-        .map_err(|_| PyValueError::new_err(format!("threads: must be >= 1, got {threads}")))?;
-    usize::try_from(n)
-        .ok()
-        .and_then(NonZeroUsize::new)
-        .ok_or_else(|| PyValueError::new_err(format!("threads: must be >= 1, got {n}")))
+        .map_err(|_| invalid("threads", format!("must be >= 1, got {threads}")))?;
+    Ok(pool_size(n).map_err(|e| e.at("threads"))?)
 }
 
 /// The `steps` argument: an integer the scene's `run.steps` can hold (the
@@ -418,7 +422,10 @@ fn step_count(steps: &Bound<'_, PyAny>) -> PyResult<i64> {
         return Err(wrong_type(steps, "steps", "an integer"));
     }
     steps.extract().map_err(|_| {
-        SceneError::new_err(format!("steps: must be at most {}, got {steps}", i64::MAX))
+        field(
+            "steps",
+            format!("must be at most {}, got {steps}", i64::MAX),
+        )
     })
 }
 

@@ -3,8 +3,8 @@
 //! from a run's output directory.
 
 use super::analysis::dielectric_dict;
+use super::args::{expected, invalid};
 use crate::run::{dielectric_of_run, dipole_series, read_run, InteractionsSummary, SeriesTable};
-use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use std::path::PathBuf;
@@ -15,48 +15,50 @@ fn from_result(
     py: Python<'_>,
     result: &Bound<'_, PyDict>,
 ) -> PyResult<(Option<InteractionsSummary>, Vec<SeriesTable>)> {
-    let missing = |key: &str| PyValueError::new_err(format!("run: no \"{key}\" in the dict"));
+    let missing = |key: &str| invalid("run", format!("no \"{key}\" in the dict"));
     let summary = result
         .get_item("summary")?
         .ok_or_else(|| missing("summary"))?;
     let interactions = summary
         .cast::<PyDict>()
-        .map_err(|_| PyTypeError::new_err("run[\"summary\"]: expected a dict"))?
+        .map_err(|_| expected("run[\"summary\"]", "a dict"))?
         .get_item("interactions")?;
     let text: String = py
         .import("json")?
         .call_method1("dumps", (interactions,))?
         .extract()?;
     let interactions: Option<InteractionsSummary> = serde_json::from_str(&text)
-        .map_err(|e| PyValueError::new_err(format!("run[\"summary\"][\"interactions\"]: {e}")))?;
+        .map_err(|e| invalid("run[\"summary\"][\"interactions\"]", e.to_string()))?;
     let series = result
         .get_item("series")?
         .ok_or_else(|| missing("series"))?;
     let series = series
         .cast::<PyDict>()
-        .map_err(|_| PyTypeError::new_err("run[\"series\"]: expected a dict"))?;
+        .map_err(|_| expected("run[\"series\"]", "a dict"))?;
     let mut tables = Vec::new();
     for (name, columns) in series.iter() {
         let name: String = name.extract()?;
-        let columns = columns.cast::<PyDict>().map_err(|_| {
-            PyTypeError::new_err(format!("run[\"series\"][\"{name}\"]: expected a dict"))
-        })?;
+        let columns = columns
+            .cast::<PyDict>()
+            .map_err(|_| expected(&format!("run[\"series\"][\"{name}\"]"), "a dict"))?;
         let mut names = Vec::new();
         let mut data: Vec<Vec<f64>> = Vec::new();
         for (column, values) in columns.iter() {
             names.push(column.extract::<String>()?);
             data.push(values.extract::<Vec<f64>>().map_err(|_| {
-                PyTypeError::new_err(format!(
-                    "run[\"series\"][\"{name}\"][\"{}\"]: expected numbers",
-                    names[names.len() - 1]
-                ))
+                let column = &names[names.len() - 1];
+                expected(
+                    &format!("run[\"series\"][\"{name}\"][\"{column}\"]"),
+                    "numbers",
+                )
             })?);
         }
         let rows = data.first().map_or(0, Vec::len);
         if data.iter().any(|d| d.len() != rows) {
-            return Err(PyValueError::new_err(format!(
-                "run[\"series\"][\"{name}\"]: columns of different lengths"
-            )));
+            return Err(invalid(
+                &format!("run[\"series\"][\"{name}\"]"),
+                "columns of different lengths",
+            ));
         }
         let values = (0..rows)
             .flat_map(|r| data.iter().map(move |d| d[r]))
@@ -95,10 +97,11 @@ fn run_dielectric_constant<'py>(
         from_result(py, result)?
     } else if run.is_instance_of::<PyString>() || run.hasattr("__fspath__")? {
         let dir: PathBuf = run.extract()?;
-        read_run(&dir).map_err(|e| PyOSError::new_err(e.to_string()))?
+        read_run(&dir)?
     } else {
-        return Err(PyTypeError::new_err(
-            "run: expected the dict quatrot.run returns or a run's output directory",
+        return Err(expected(
+            "run",
+            "the dict quatrot.run returns or a run's output directory",
         ));
     };
     let table = dipole_series(&tables, series)?;

@@ -33,6 +33,7 @@
 //! up to its last complete frame; a full index moves to the end of the file
 //! at twice the size, and only then does the header point to it.
 
+use crate::checks::{each, finite_and_positive, positive, InputError};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 use std::fs::{File, OpenOptions};
@@ -88,8 +89,29 @@ pub struct GsdBox {
 }
 
 impl GsdBox {
+    /// The box of a trajectory of rotors on `sites`: the periodic box
+    /// `[0, box_lengths)` when given (each edge finite and > 0, as a
+    /// periodic boundary's), else the enclosing box grown by `margin`
+    /// (finite and > 0). The error names `box_lengths[k]` or `margin`.
+    pub fn new(
+        box_lengths: Option<Vector3<f64>>,
+        sites: &[Vector3<f64>],
+        margin: f64,
+    ) -> Result<GsdBox, InputError> {
+        match box_lengths {
+            Some(l) => {
+                each(l.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
+                Ok(GsdBox::periodic(l))
+            }
+            None => Ok(GsdBox::enclosing(
+                sites,
+                finite_and_positive("margin", margin)?,
+            )),
+        }
+    }
+
     /// A periodic box `[0, lengths)` (the lattices' box).
-    pub fn periodic(lengths: Vector3<f64>) -> GsdBox {
+    fn periodic(lengths: Vector3<f64>) -> GsdBox {
         GsdBox {
             lengths,
             corner: Vector3::zeros(),
@@ -98,7 +120,7 @@ impl GsdBox {
 
     /// For an open cluster: the bounding box of `sites` grown by `margin`
     /// (> 0) on every side, so that no site is near a face.
-    pub fn enclosing(sites: &[Vector3<f64>], margin: f64) -> GsdBox {
+    fn enclosing(sites: &[Vector3<f64>], margin: f64) -> GsdBox {
         let lo = sites
             .iter()
             .fold(Vector3::repeat(f64::INFINITY), |m, s| m.inf(s));
@@ -463,6 +485,25 @@ mod tests {
                 assert!(p[a].abs() <= 0.5 * cell.lengths[a] - 0.5 + 1e-12);
             }
         }
+    }
+
+    /// A box edge or a margin that is not finite and > 0 is refused by
+    /// name; a given box is periodic, from the origin.
+    #[test]
+    fn bad_boxes_and_margins_are_refused() {
+        let sites = [Vector3::zeros()];
+        assert_eq!(
+            GsdBox::new(Some(Vector3::new(1.0, 0.0, 1.0)), &sites, 1.0)
+                .unwrap_err()
+                .to_string(),
+            "box_lengths[1]: must be > 0, got 0"
+        );
+        assert_eq!(
+            GsdBox::new(None, &sites, -1.0).unwrap_err().to_string(),
+            "margin: must be finite and > 0, got -1"
+        );
+        let cell = GsdBox::new(Some(Vector3::repeat(2.0)), &sites, -1.0).unwrap();
+        assert_eq!(cell, GsdBox::periodic(Vector3::repeat(2.0)));
     }
 
     /// A frame with the wrong number of orientations is refused.

@@ -29,7 +29,7 @@ pub struct TrajectoryFrames {
 }
 
 /// Margin around the sites of an open cluster in its GSD box (length
-/// units; GSD files always carry a box, [`GsdBox::enclosing`]).
+/// units; GSD files always carry a box, [`GsdBox::new`]).
 pub const GSD_OPEN_MARGIN: f64 = 1.0;
 
 /// Records trajectory frames.
@@ -90,10 +90,8 @@ impl TrajectoryObserver {
         match (files, spec.format) {
             (None, _) => {}
             (Some(f), TrajectoryFormat::Gsd) => {
-                let cell = match f.box_lengths {
-                    Some(l) => GsdBox::periodic(*l),
-                    None => GsdBox::enclosing(&observer.sites, GSD_OPEN_MARGIN),
-                };
+                let cell = GsdBox::new(f.box_lengths.copied(), &observer.sites, GSD_OPEN_MARGIN)
+                    .map_err(|e| RunError::Scene(e.into()))?;
                 let gsd = GsdWriter::create(f.gsd, &observer.sites, &cell)
                     .map_err(|e| RunError::io(f.gsd, e))?;
                 observer.gsd = Some((f.gsd.to_path_buf(), gsd));

@@ -1,14 +1,19 @@
 //! Helpers shared by the integration tests: seeded random inputs, the
-//! double-cover-aware distance, and the ASE/scipy fixture of
-//! `fixtures/conventions.json` (written by `validation/fixtures/gen_conventions.py`).
+//! double-cover-aware distance, the ASE/scipy fixture of
+//! `fixtures/conventions.json` (written by `validation/fixtures/gen_conventions.py`),
+//! and scenes read and run as the command line does.
 #![allow(dead_code)] // each test crate uses a different subset
 
 use nalgebra::{Matrix3, Vector3};
+use quatrot::run::Outputs;
+use quatrot::scene::raw::RawScene;
+use quatrot::scene::{parse_toml, validate, Overrides, Scene};
 use quatrot::Quat;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use serde::Deserialize;
+use std::path::Path;
 
 /// A reproducible generator for test inputs.
 pub fn rng(seed: u64) -> ChaCha8Rng {
@@ -141,4 +146,36 @@ pub fn mat(rows: &[[f64; 3]; 3]) -> Matrix3<f64> {
 /// A 3-array as a vector.
 pub fn vec3(v: &[f64; 3]) -> Vector3<f64> {
     Vector3::from(*v)
+}
+
+/// The scene of TOML `text` with `overrides` applied (as the command line's
+/// `--steps`, `--dt`, `--integrator`), and its raw form.
+pub fn scene_with(text: &str, overrides: &Overrides) -> (RawScene, Scene) {
+    let mut raw = parse_toml(text).expect("valid");
+    overrides.apply(&mut raw).expect("overrides");
+    let scene = validate(&raw).expect("valid");
+    (raw, scene)
+}
+
+/// Overrides of the run length only.
+pub fn steps(steps: i64) -> Overrides {
+    Overrides {
+        steps: Some(steps),
+        ..Overrides::default()
+    }
+}
+
+/// Outputs written to `dir` (`None`: no files), the series and trajectory
+/// kept in memory when `keep`; no stop control.
+pub fn outputs(dir: Option<&Path>, keep: bool) -> Outputs {
+    Outputs {
+        dir: dir.map(Path::to_path_buf),
+        keep,
+        control: None,
+    }
+}
+
+/// Outputs kept in memory only (no files).
+pub fn in_memory() -> Outputs {
+    outputs(None, true)
 }

@@ -75,6 +75,30 @@ impl System {
     }
 }
 
+/// Dipolar spherical tops (`I = 0.1`, a unit dipole along body z) on the
+/// `cells`^3 sites of a simple-cubic lattice of spacing 1, in its periodic
+/// box with the cutoff `cutoff`: their potential and inertia.
+pub fn dipole_lattice(cells: usize, cutoff: f64) -> (MultipolePotential, Vec<Inertia>) {
+    let lattice =
+        quatrot::lattice::Lattice::cubic(quatrot::lattice::LatticeKind::SimpleCubic, cells, 1.0)
+            .expect("a lattice");
+    let rotors: Vec<Rotor> = lattice
+        .sites
+        .iter()
+        .map(|s| Rotor {
+            site: *s,
+            inertia: Inertia::Spherical(0.1),
+            dipole_body: Some(Vector3::z()),
+            quadrupole_body: None,
+        })
+        .collect();
+    let boundary = Boundary::periodic_cutoff(lattice.box_lengths, cutoff);
+    let potential =
+        MultipolePotential::new(&rotors, boundary, ExternalFields::NONE).expect("valid");
+    let inertia = rotors.iter().map(|r| r.inertia).collect();
+    (potential, inertia)
+}
+
 /// How the replicas are run.
 #[derive(Clone, Copy, Debug)]
 pub struct Replicas {

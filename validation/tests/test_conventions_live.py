@@ -175,7 +175,7 @@ BAD = [
     (lambda: qr.from_body_to_space_matrix(np.zeros((3, 9))), ValueError, "r: expected shape (n, 3, 3) or (3, 3), got (3, 9)"),
     (lambda: qr.product(np.tile(Q, (5, 1)), np.tile(Q, (3, 1))), ValueError, "q: 3 items, but p has 5"),
     (lambda: qr.from_body_to_space_matrix(np.stack([np.eye(3), -np.eye(3)])), ValueError, "r[1]: not a proper rotation matrix"),
-    (lambda: qr.from_axis_angle(np.zeros(3), np.array(0.5)), ValueError, "axis: must be a nonzero finite vector"),
+    (lambda: qr.from_axis_angle(np.zeros(3), np.array(0.5)), ValueError, "axis: must be finite and nonzero, got [0, 0, 0]"),
     (lambda: qr.ln(np.array([np.nan, 0.0, 0.0, 0.0])), ValueError, "q[0]: not finite (nan)"),
     (lambda: qr.ln(np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]])), ValueError, "q[1]: quaternion is zero"),
     (lambda: qr.product(Q * 1e300, Q * 1e300), ValueError, "result[0]: not finite (inf) for finite arguments"),

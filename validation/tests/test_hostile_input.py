@@ -289,7 +289,7 @@ def test_scene_dict_keys_with_lone_surrogates_raise_scene_error():
         ("dlm_dipoles", dict(steps=-1), ValueError, "steps: must be between 0 and"),
         ("dlm_dipoles", dict(steps=1e12), TypeError, "steps: expected an integer, got float"),
         ("dlm_dipoles", dict(steps=True), TypeError, "steps: expected an integer, got bool"),
-        ("gear_corrections_table", dict(sample_every=0), ValueError, "sample_every: must be between 1 and"),
+        ("gear_corrections_table", dict(sample_every=0), ValueError, "sample_every: must be >= 1, got 0"),
         ("gear_corrections_table", dict(t_energy=1e300), ValueError, "t_energy, dt, sample_every: needs about 2^64 bytes or more of memory"),
         ("orientational_correlations", dict(max_lag=-1), ValueError, "max_lag: must be between 0 and"),
         ("angular_velocity_correlation", dict(max_lag=2**70), ValueError, "max_lag: must be between 0 and"),
