@@ -10,7 +10,8 @@ mod thermostat_common;
 
 use nalgebra::Vector3;
 use quatrot::integrators::{
-    DlmOptions, GearAOptions, Integrator, IntegratorSpec, NoSquishOptions, RotorState,
+    DlmOptions, GearAOptions, GearBOptions, Integrator, IntegratorSpec, NoSquishOptions,
+    RichardsonOptions, RotorState,
 };
 use quatrot::potential::{Boundary, ExternalFields, MultipolePotential, Potential};
 use quatrot::rotor::{Inertia, Rotor};
@@ -104,6 +105,34 @@ fn energies(run: &dyn Integrator, inertia: &[Inertia], potential: &dyn Potential
     let total = quatrot::observables::total_kinetic_energy(inertia, &omega)
         + potential.energy(run.orientations());
     (total, total + run.thermostat_energy())
+}
+
+/// Without a thermostat the conserved energy is the energy (docs/scenes.md:
+/// `conserved_energy` is `K + V` without one): every integrator built
+/// without a thermostat adds exactly 0 to it, at the start and at every step
+/// of a run.
+#[test]
+fn without_a_thermostat_the_conserved_energy_is_the_energy() {
+    let (inertia, potential) = cluster();
+    let initial = random_states(&inertia, T, 7);
+    let specs = [
+        IntegratorSpec::GearA(GearAOptions::default()),
+        IntegratorSpec::GearB(GearBOptions::default()),
+        IntegratorSpec::NoSquish(NoSquishOptions::default()),
+        IntegratorSpec::Dlm(DlmOptions::default()),
+        IntegratorSpec::Richardson(RichardsonOptions::default()),
+    ];
+    assert_eq!(specs.len(), IntegratorSpec::KINDS.len(), "every integrator");
+    for spec in specs {
+        let mut run = spec.build(None).expect("no thermostat to refuse");
+        run.setup(&inertia, &potential, &initial, 0.005)
+            .expect("set up");
+        for step in 0..=20 {
+            let (total, conserved) = energies(run.as_ref(), &inertia, &potential);
+            assert_eq!(conserved, total, "{} at step {step}", spec.name());
+            run.step(&potential);
+        }
+    }
 }
 
 /// Runs `steps` steps of `dt` from `initial` and returns the largest change
