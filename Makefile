@@ -61,31 +61,31 @@ bench: develop
 	$(PY) -m validation.bench.thermostats --out benchmarks
 
 # Mutation testing of the physics modules (scope and exclusions in
-# .cargo/mutants.toml; hours for the full set, so not part of `make test`).
-# Stage 1: cargo-mutants, pinned and installed into target/tools on first
-# use, runs the Rust tests on every mutant. Stage 2: the Python tests on the
-# mutants stage 1 missed, each with the extension rebuilt from the mutated
-# source. The report, mutants/REPORT.md, lists every survivor with its reason
-# from mutants/explanations.toml. MUTANTS_ARGS limits the run, e.g.
-# MUTANTS_ARGS="--in-diff change.diff" or "--shard 0/60 --sharding round-robin"
-# (cargo-mutants exits 2 for missed mutants and 3 for timeouts: both are
-# results; any other failure stops the target). MUTANTS_DIR separates the
-# outputs of shards run apart; `python -m mutants.report DIR/mutants.out ...
-# --report mutants/REPORT.md` merges them.
+# .cargo/mutants.toml; a day of this machine for the full set, so not part of
+# `make test`). mutants/staged.py takes each group of mutants/groups.toml
+# through cargo-mutants (pinned, installed into target/tools on first use)
+# with the group's focused Rust tests, then its unit tests, then the whole
+# Rust suite, each pass on what the one before missed; then the Python tests
+# on what every Rust test missed, with the extension rebuilt from the
+# mutated source. The report, mutants/REPORT.md, lists every survivor with
+# its reason from mutants/explanations.toml. The run resumes where it
+# stopped (outcomes kept in MUTANTS_DIR). MUTANTS_GROUPS limits it to some
+# groups, MUTANTS_ARGS passes cargo-mutants options to every pass, e.g.
+# MUTANTS_ARGS="--in-diff change.diff" for a change (with its own
+# MUTANTS_DIR), MUTANTS_JOBS sets cargo-mutants' parallel builds.
 MUTANTS_VERSION := 27.1.0
 CARGO_MUTANTS := target/tools/cargo-mutants-$(MUTANTS_VERSION)/bin/cargo-mutants
-MUTANTS_DIR ?= target/mutants-out
+MUTANTS_DIR ?= target/mutants-full
 MUTANTS_ARGS ?=
+MUTANTS_GROUPS ?=
+MUTANTS_JOBS ?= 2
 
 $(CARGO_MUTANTS):
 	cargo install --locked --root target/tools/cargo-mutants-$(MUTANTS_VERSION) cargo-mutants@$(MUTANTS_VERSION)
 
 mutants: $(CARGO_MUTANTS) $(STAMP_VENV)
-	$(CARGO_MUTANTS) mutants --output $(MUTANTS_DIR) $(MUTANTS_ARGS); status=$$?; \
-	  case $$status in 0|2|3) ;; *) exit $$status ;; esac
-	$(PY) -m mutants.python_stage --out $(MUTANTS_DIR)/mutants.out
-	$(PY) -m mutants.report $(MUTANTS_DIR)/mutants.out --report mutants/REPORT.md \
-	  --command "$(if $(MUTANTS_ARGS),$(MUTANTS_ARGS),all mutants)"
+	$(PY) -m mutants.staged --cargo-mutants $(CARGO_MUTANTS) --out $(MUTANTS_DIR) \
+	  --jobs $(MUTANTS_JOBS) --extra "$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g))
 
 clean:
 	rm -rf target $(VENV) $(RESULTS)

@@ -19,6 +19,7 @@ class Mutant:
     summary: str  # CaughtMutant, MissedMutant, Unviable, Timeout, Failure
     diff_path: Path | None  # absolute path of the mutant's diff
     seconds: float  # build and test time in stage 1
+    folder: Path  # the outcomes folder it was read from
 
 
 def read(out_dir: Path) -> list[Mutant]:
@@ -33,8 +34,15 @@ def read(out_dir: Path) -> list[Mutant]:
         m = scenario["Mutant"]
         diff = o.get("diff_path")
         seconds = sum(p["duration"] for p in o.get("phase_results", []))
-        mutants.append(Mutant(m["name"], m["file"], o["summary"], out_dir / diff if diff else None, seconds))
+        mutants.append(Mutant(m["name"], m["file"], o["summary"], out_dir / diff if diff else None, seconds, out_dir))
     return mutants
+
+
+def merged(out_dirs: list[Path]) -> list[Mutant]:
+    """The mutants of several outcome folders (the shards of a run, or its
+    passes in order: a pass with `--iterate` re-tests what the earlier ones
+    missed), a later folder's outcome of a mutant replacing an earlier one's."""
+    return list({m.name: m for d in out_dirs for m in read(d)}.values())
 
 
 def read_python_stage(out_dir: Path) -> dict:

@@ -9,7 +9,9 @@ the Python tests run with that directory first on the path. A failing run
 catches the mutant. The unmutated tree goes first, as cargo-mutants' baseline
 does: it must pass, and its duration sets the timeout.
 
-Results: ``<out>/python_stage.json``.
+Results: ``python_stage.json`` in the outcome folder each mutant comes from;
+a mutant that already has a result there is not tried again, so an
+interrupted stage resumes.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ import sys
 import time
 from pathlib import Path
 
-from mutants.outcomes import PYTHON_STAGE_FILE, Mutant, read
+from mutants.outcomes import PYTHON_STAGE_FILE, Mutant, merged, read_python_stage
 
 ROOT = Path(__file__).resolve().parent.parent
 PYTHON_TESTS = ["validation/tests"]
@@ -87,26 +89,26 @@ def _apply(tree: Path, mutant: Mutant) -> bool:
     return _run(["patch", "--quiet", "--forward", mutant.file, str(mutant.diff_path)], tree)
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, required=True, help="cargo-mutants' mutants.out directory")
-    args = parser.parse_args()
-    missed: list[Mutant] = [m for m in read(args.out) if m.summary == "MissedMutant"]
-    results: dict = {"baseline_seconds": None, "mutants": {}}
-    path = args.out / PYTHON_STAGE_FILE
+def run(out_dirs: list[Path]) -> int:
+    """The Python checks on every mutant the merged Rust outcomes of
+    ``out_dirs`` leave missed and that has no result yet; 0 unless the
+    unmutated tree fails them."""
+    out_dirs = [d.resolve() for d in out_dirs]
+    records = {d: read_python_stage(d) for d in out_dirs}
+    done = {name for r in records.values() for name in r["mutants"]}
+    missed: list[Mutant] = [m for m in merged(out_dirs) if m.summary == "MissedMutant" and m.name not in done]
     if not missed:
-        print("python stage: no mutant survived the Rust tests")
-        path.write_text(json.dumps(results, indent=1))
+        print("python stage: no mutant left to try")
         return 0
     scratch = ROOT / "target" / "mutants-python-scratch"
     start = time.monotonic()
     baseline = _build_and_test(scratch, _copy_tree(scratch), None)
-    results["baseline_seconds"] = time.monotonic() - start
+    baseline_seconds = time.monotonic() - start
     if baseline != "passed":
         print(f"python stage: the unmutated tree does not pass ({baseline})", file=sys.stderr)
         return 1
-    timeout = max(MINIMUM_TIMEOUT, TIMEOUT_MULTIPLIER * results["baseline_seconds"])
-    print(f"python stage: baseline {results['baseline_seconds']:.0f} s; {len(missed)} mutants, timeout {timeout:.0f} s each")
+    timeout = max(MINIMUM_TIMEOUT, TIMEOUT_MULTIPLIER * baseline_seconds)
+    print(f"python stage: baseline {baseline_seconds:.0f} s; {len(missed)} mutants, timeout {timeout:.0f} s each")
     for k, mutant in enumerate(missed, 1):
         start = time.monotonic()
         tree = _copy_tree(scratch)
@@ -115,10 +117,19 @@ def main() -> int:
         else:
             outcome = OUTCOMES[_build_and_test(scratch, tree, timeout)]
         seconds = time.monotonic() - start
-        results["mutants"][mutant.name] = {"outcome": outcome, "seconds": seconds}
+        record = records[mutant.folder]
+        record["baseline_seconds"] = baseline_seconds
+        record["mutants"][mutant.name] = {"outcome": outcome, "seconds": seconds}
         print(f"  [{k}/{len(missed)}] {outcome:9} {seconds:5.0f} s  {mutant.name}", flush=True)
-        path.write_text(json.dumps(results, indent=1))
+        (mutant.folder / PYTHON_STAGE_FILE).write_text(json.dumps(record, indent=1))
     return 0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("out_dirs", type=Path, nargs="+", help="cargo-mutants' outcome folders, in order")
+    args = parser.parse_args()
+    return run([d.resolve() for d in args.out_dirs])
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ import sys
 import tomllib
 from pathlib import Path
 
-from mutants.outcomes import Mutant, read, read_python_stage
+from mutants.outcomes import Mutant, merged, read_python_stage
 
 EXPLANATIONS = Path(__file__).resolve().parent / "explanations.toml"
 
@@ -39,19 +39,28 @@ def _fate(mutant: Mutant, python: dict) -> str:
     return "missed"
 
 
-def render(out_dirs: list[Path], command: str) -> tuple[str, int]:
+def render(out_dirs: list[Path], command: str, names: list[str] | None = None) -> tuple[str, int]:
     """The report's text and the number of unexplained survivors, from one
-    run's output directory or several: the shards of a run, or its passes
-    (a pass with `--iterate` re-tests what the earlier ones missed), where a
-    later directory's outcome of a mutant replaces an earlier one's."""
-    mutants = list({m.name: m for d in out_dirs for m in read(d)}.values())
+    run's outcome folder or several (merged as `outcomes.merged` does). With
+    ``names``, the mutants the source has now: outcomes of others (of lines
+    since changed) are left out and those not yet tested are counted."""
+    mutants = merged(out_dirs)
+    untested: collections.Counter = collections.Counter()
+    if names is not None:
+        current = set(names)
+        mutants = [m for m in mutants if m.name in current]
+        tested = {m.name for m in mutants}
+        for name in current - tested:
+            file = name.split(":", 1)[0]
+            untested[_module(file)] += 1
+            untested["all"] += 1
     stage = {"mutants": {}, "baseline_seconds": None}
     for d in out_dirs:
         s = read_python_stage(d)
         stage["mutants"].update(s["mutants"])
         stage["baseline_seconds"] = stage["baseline_seconds"] or s.get("baseline_seconds")
     explanations = tomllib.loads(EXPLANATIONS.read_text()).get("survivors", {})
-    version = json.loads((out_dirs[0] / "outcomes.json").read_text()).get("cargo_mutants_version", "?")
+    version = json.loads((out_dirs[0] / "outcomes.json").read_text()).get("cargo_mutants_version", "?") if out_dirs else "?"
     counts: dict[str, collections.Counter] = collections.defaultdict(collections.Counter)
     survivors, timeouts = [], []
     for m in mutants:
@@ -72,18 +81,18 @@ def render(out_dirs: list[Path], command: str) -> tuple[str, int]:
         "with the extension rebuilt from the mutated source. A timeout counts as caught (the mutant "
         "changed the behaviour enough to stall the suite); unviable mutants do not build and are not counted.",
         "",
-        "| module | mutants | unviable | caught by Rust | caught by Python | timeouts | missed | caught of viable |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+        "| module | mutants | not yet tested | unviable | caught by Rust | caught by Python | timeouts | missed | caught of viable tested |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
     ]
-    for module in sorted(k for k in counts if k != "all") + ["all"]:
+    for module in sorted(k for k in set(counts) | set(untested) if k != "all") + ["all"]:
         c = counts[module]
         viable = sum(c.values()) - c["unviable"]
         caught = c["caught"] + c["caught_python"] + c["timeout"]
         share = f"{100 * caught / viable:.1f} %" if viable else "-"
         label = f"**{module}**" if module == "all" else f"`{module}`"
         lines.append(
-            f"| {label} | {sum(c.values())} | {c['unviable']} | {c['caught']} | {c['caught_python']} | "
-            f"{c['timeout']} | {c['missed']} | {share} |"
+            f"| {label} | {sum(c.values()) + untested[module]} | {untested[module]} | {c['unviable']} | {c['caught']} | "
+            f"{c['caught_python']} | {c['timeout']} | {c['missed']} | {share} |"
         )
     unexplained = [m for m in survivors if m.name not in explanations]
     lines += ["", f"## Survivors ({len(survivors)}, {len(unexplained)} unexplained)", ""]
@@ -110,16 +119,21 @@ def render(out_dirs: list[Path], command: str) -> tuple[str, int]:
     return "\n".join(lines) + "\n", len(unexplained)
 
 
+def write(out_dirs: list[Path], path: Path, command: str, names: list[str] | None = None) -> int:
+    """Writes the report to ``path``; 0, as the run's results are in it."""
+    text, unexplained = render(out_dirs, command, names)
+    path.write_text(text)
+    print(f"report: {path} ({unexplained} unexplained survivors)")
+    return 0
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out_dirs", type=Path, nargs="+", help="cargo-mutants' mutants.out directories (shards, or passes in order)")
     parser.add_argument("--report", type=Path, required=True)
     parser.add_argument("--command", default="all mutants", help="how the run was limited, for the header")
     args = parser.parse_args()
-    text, unexplained = render(args.out_dirs, args.command)
-    args.report.write_text(text)
-    print(f"report: {args.report} ({unexplained} unexplained survivors)")
-    return 0
+    return write(args.out_dirs, args.report, args.command)
 
 
 if __name__ == "__main__":
