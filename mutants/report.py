@@ -132,8 +132,10 @@ def main() -> int:
     parser.add_argument("out_dirs", type=Path, nargs="+", help="cargo-mutants' mutants.out directories (shards, or passes in order)")
     parser.add_argument("--report", type=Path, required=True)
     parser.add_argument("--command", default="all mutants", help="how the run was limited, for the header")
+    parser.add_argument("--names", type=Path, help="the mutants the source has now (cargo-mutants --list), to count the untested")
     args = parser.parse_args()
-    return write(args.out_dirs, args.report, args.command)
+    names = args.names.read_text().split("\n") if args.names else None
+    return write(args.out_dirs, args.report, args.command, [n for n in names if n] if names else None)
 
 
 if __name__ == "__main__":

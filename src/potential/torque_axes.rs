@@ -97,4 +97,26 @@ mod tests {
             TorqueAxes::Never
         );
     }
+
+    /// Axial symmetry is judged relative to the largest entry, so the verdict
+    /// does not depend on the units of the quadrupole: an axial quadrupole
+    /// stays axial, and one 1e-6 off axial stays general, from 1e-8 to 1e8.
+    #[test]
+    fn the_symmetry_verdict_does_not_depend_on_units() {
+        let d = Vector3::new(0.0, 0.6, 0.8);
+        let axial = (d * d.transpose() * 3.0 - Matrix3::identity()) * 0.5;
+        let off = axial + Matrix3::from_diagonal(&Vector3::new(1e-6, -1e-6, 0.0));
+        for scale in [1e-8, 1.0, 1e8] {
+            assert_eq!(
+                multipole_torque_axes(Some(&d), Some(&(axial * scale))),
+                TorqueAxes::PerpendicularTo(d),
+                "axial at {scale}"
+            );
+            assert_eq!(
+                multipole_torque_axes(Some(&d), Some(&(off * scale))),
+                TorqueAxes::Any,
+                "off axial at {scale}"
+            );
+        }
+    }
 }
