@@ -72,20 +72,24 @@ bench: develop
 # stopped (outcomes kept in MUTANTS_DIR). MUTANTS_GROUPS limits it to some
 # groups, MUTANTS_ARGS passes cargo-mutants options to every pass, e.g.
 # MUTANTS_ARGS="--in-diff change.diff" for a change (with its own
-# MUTANTS_DIR), MUTANTS_JOBS sets cargo-mutants' parallel builds.
+# MUTANTS_DIR), MUTANTS_JOBS sets cargo-mutants' parallel builds, and
+# MUTANTS_RETEST=1 sends the missed mutants through every pass again (after
+# new tests).
 MUTANTS_VERSION := 27.1.0
 CARGO_MUTANTS := target/tools/cargo-mutants-$(MUTANTS_VERSION)/bin/cargo-mutants
 MUTANTS_DIR ?= target/mutants-full
 MUTANTS_ARGS ?=
 MUTANTS_GROUPS ?=
 MUTANTS_JOBS ?= 2
+MUTANTS_RETEST ?=
 
 $(CARGO_MUTANTS):
 	cargo install --locked --root target/tools/cargo-mutants-$(MUTANTS_VERSION) cargo-mutants@$(MUTANTS_VERSION)
 
 mutants: $(CARGO_MUTANTS) $(STAMP_VENV)
 	$(PY) -m mutants.staged --cargo-mutants $(CARGO_MUTANTS) --out $(MUTANTS_DIR) \
-	  --jobs $(MUTANTS_JOBS) --extra "$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g))
+	  --jobs $(MUTANTS_JOBS) --extra "$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g)) \
+	  $(if $(MUTANTS_RETEST),--retest-missed)
 
 clean:
 	rm -rf target $(VENV) $(RESULTS)

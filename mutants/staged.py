@@ -14,8 +14,12 @@ change's mutants run apart) the same way.
 A pass is recorded as done with the list of mutants it covered; an
 interrupted run, started again, resumes where it stopped, and a pass whose
 mutants have changed since (the source changed) runs again on the new and
-the missed ones. So the full set, a day of one machine, can be run a piece
-at a time: ``--group NAME`` limits a run to some groups.
+the missed ones. A mutant a pass missed is not tested again by that pass or
+a narrower one (its tests are a subset), even when the run was interrupted:
+the pass under way is recorded before cargo-mutants starts. After new tests,
+``--retest-missed`` forgets which passes missed what. So the full set, a day
+of one machine, can be run a piece at a time: ``--group NAME`` limits a run
+to some groups.
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mutants import python_stage, report
-from mutants.outcomes import PYTHON_STAGE_FILE, Mutant, merged
+from mutants.outcomes import PYTHON_STAGE_FILE, Mutant, merged, read
 
 ROOT = Path(__file__).resolve().parent.parent
 GROUPS = Path(__file__).resolve().parent / "groups.toml"
@@ -128,14 +132,40 @@ class GroupRun:
         self.dir.mkdir(parents=True, exist_ok=True)
         self.state_path.write_text(json.dumps(state, indent=1))
 
+    def forget_missed(self) -> None:
+        """Forgets which passes missed which mutants and which passes are
+        done, so that the missed ones meet every pass again (after new tests)."""
+        state = self._state()
+        for key in ("missed_by", "running", *PASSES):
+            state.pop(key, None)
+        self._save(state)
+
+    def _record_missed(self, state: dict, label: str) -> None:
+        """Notes the mutants the last cargo-mutants run (pass `label`)
+        missed, keeping the widest pass that missed each."""
+        current = self.dir / "mutants.out"
+        if not (current / "outcomes.json").exists():
+            return
+        missed_by = state.setdefault("missed_by", {})
+        rank = list(PASSES)
+        for m in read(current):
+            earlier = missed_by.get(m.name)
+            if m.summary == "MissedMutant" and (earlier is None or rank.index(earlier) < rank.index(label)):
+                missed_by[m.name] = label
+
     def run(self) -> None:
         """The group's passes that are not done for its current mutants."""
         names = self.mutant_names()
         state = self._state()
+        if "running" in state:  # an interrupted pass: count what it missed
+            self._record_missed(state, state.pop("running"))
+            self._save(state)
+        rank = list(PASSES)
         for label, targets in PASSES.items():
             if state.get(label) == names:
                 continue
-            settled = self.settled()
+            missed_by = state.get("missed_by", {})
+            settled = self.settled() | {n for n, by in missed_by.items() if rank.index(by) >= rank.index(label)}
             still = [n for n in names if n not in settled]
             if not still:
                 print(f"{self.group.name}: {label}: nothing left to test", flush=True)
@@ -150,9 +180,12 @@ class GroupRun:
                 cargo_args = [f"--cargo-arg={a}" for a in targets(self.group.tests)]
                 argv = self._argv("--output", str(self.dir), "-j", str(self.jobs), *cargo_args, "--iterate")
                 print("  " + shlex.join(argv), flush=True)
+                state["running"] = label
+                self._save(state)
                 status = subprocess.run(argv, cwd=ROOT).returncode
                 if status not in RESULTS:
                     raise SystemExit(f"{self.group.name}: {label}: cargo-mutants failed (exit {status})")
+                self._record_missed(state, state.pop("running"))
             state[label] = names
             self._save(state)
 
@@ -171,6 +204,8 @@ def main() -> int:
     parser.add_argument("--rust-only", action="store_true", help="leave out the Python stage")
     parser.add_argument("--import", dest="imports", type=Path, action="append", default=[],
                         help="another run's outcome folder whose results count (kept once)")
+    parser.add_argument("--retest-missed", action="store_true",
+                        help="test the missed mutants through every pass again (after new tests)")
     parser.add_argument("--report", type=Path, default=ROOT / "mutants" / "REPORT.md")
     args = parser.parse_args()
     every = groups()
@@ -180,6 +215,8 @@ def main() -> int:
     extra = shlex.split(args.extra)
     runs = [GroupRun(args.cargo_mutants, args.out, g, every, extra, args.jobs) for g in chosen]
     for run in runs:
+        if args.retest_missed:
+            run.forget_missed()
         for folder in args.imports:
             run.import_outcomes(folder)
         run.run()

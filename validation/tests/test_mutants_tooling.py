@@ -79,3 +79,79 @@ def test_an_unknown_group_is_refused(monkeypatch, unknown):
     monkeypatch.setattr("sys.argv", argv)
     with pytest.raises(SystemExit, match="unknown group"):
         staged.main()
+
+
+FAKE_CARGO_MUTANTS = '''#!{python}
+"""Stands in for cargo-mutants: lists the mutants of names.json, and on a
+pass writes outcomes for the ones not in previously_caught.txt, each caught
+by the first pass named for it in fates.json (else missed), logging them."""
+import json, sys
+from pathlib import Path
+here = Path(__file__).parent
+names = json.loads((here / "names.json").read_text())
+if "--list" in sys.argv:
+    print("\\n".join(names))
+    sys.exit(0)
+out = Path(sys.argv[sys.argv.index("--output") + 1]) / "mutants.out"
+skip = set((out / "previously_caught.txt").read_text().split("\\n"))
+cargo = [a for a in sys.argv if a.startswith("--cargo-arg=")]
+label = "suite" if not cargo else ("unit" if "--cargo-arg=--lib" in cargo else "focused")
+fates = json.loads((here / "fates.json").read_text())
+tested = [n for n in names if n not in skip]
+with open(here / "log.txt", "a") as log:
+    log.write(json.dumps([label, tested]) + "\\n")
+outcomes = [{{"scenario": {{"Mutant": {{"name": n, "file": "src/quaternion.rs"}}}},
+             "summary": "CaughtMutant" if label in fates.get(n, []) else "MissedMutant",
+             "phase_results": []}} for n in tested]
+out.mkdir(parents=True, exist_ok=True)
+(out / "outcomes.json").write_text(json.dumps({{"outcomes": outcomes}}))
+sys.exit(2 if any(o["summary"] == "MissedMutant" for o in outcomes) else 0)
+'''
+
+
+def _fake_cargo_mutants(tmp_path: Path, names: list[str], fates: dict[str, list[str]]) -> Path:
+    import stat
+    import sys
+
+    fake = tmp_path / "cargo-mutants"
+    fake.write_text(FAKE_CARGO_MUTANTS.format(python=sys.executable))
+    fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
+    (tmp_path / "names.json").write_text(json.dumps(names))
+    (tmp_path / "fates.json").write_text(json.dumps(fates))
+    return fake
+
+
+def _log(tmp_path: Path) -> list[list]:
+    lines = (tmp_path / "log.txt").read_text().splitlines() if (tmp_path / "log.txt").exists() else []
+    (tmp_path / "log.txt").unlink(missing_ok=True)
+    return [json.loads(line) for line in lines]
+
+
+def test_each_pass_tests_only_what_the_narrower_ones_missed_and_a_missed_mutant_is_not_tested_again(tmp_path):
+    a, b, c, d = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 5))
+    fake = _fake_cargo_mutants(tmp_path, [a, b, c], {a: ["focused", "unit", "suite"], b: ["unit", "suite"]})
+    group = staged.Group(name="quaternion", files=["src/quaternion.rs"], tests=["t"])
+    run = staged.GroupRun(fake, tmp_path / "out", group, [group], [], 1)
+    run.run()
+    assert _log(tmp_path) == [["focused", [a, b, c]], ["unit", [b, c]], ["suite", [c]]]
+    # A new mutant reopens every pass; c, missed by the whole suite, is not
+    # tested again by any of them.
+    (tmp_path / "names.json").write_text(json.dumps([a, b, c, d]))
+    run.run()
+    assert _log(tmp_path) == [["focused", [d]], ["unit", [d]], ["suite", [d]]]
+    # After new tests, --retest-missed sends the missed ones through again.
+    run.forget_missed()
+    run.run()
+    assert _log(tmp_path) == [["focused", [c, d]], ["unit", [c, d]], ["suite", [c, d]]]
+
+
+def test_an_interrupted_pass_resumes_without_testing_again_what_it_missed(tmp_path):
+    a, b, c = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 4))
+    fake = _fake_cargo_mutants(tmp_path, [a, b, c], {a: ["focused", "unit", "suite"], c: ["unit", "suite"]})
+    group = staged.Group(name="quaternion", files=["src/quaternion.rs"], tests=["t"])
+    run = staged.GroupRun(fake, tmp_path / "out", group, [group], [], 1)
+    # The focused pass was stopped after testing a (caught) and b (missed).
+    _outcomes(tmp_path / "out" / "quaternion" / "mutants.out", {a: "CaughtMutant", b: "MissedMutant"})
+    (tmp_path / "out" / "quaternion" / "state.json").write_text(json.dumps({"running": "focused"}))
+    run.run()
+    assert _log(tmp_path) == [["focused", [c]], ["unit", [b, c]], ["suite", [b]]]
