@@ -149,3 +149,35 @@ proptest! {
         prop_assert!((a.determinant() - n2 * n2 * n2).abs() < TIGHT * n2 * n2 * n2);
     }
 }
+
+proptest! {
+    /// `try_normalize` of a non-zero finite `Q` is the unit quaternion along
+    /// it, whatever the scale (down to subnormal-free tiny and up to huge
+    /// norms whose square still fits in a double).
+    #[test]
+    fn normalising_gives_the_unit_quaternion_along_q(q in unit_quat(), log_scale in -150.0f64..150.0) {
+        let scale = 10f64.powf(log_scale);
+        let unit = (q * scale).try_normalize().expect("non-zero and finite");
+        prop_assert!((unit.norm() - 1.0).abs() < TIGHT);
+        prop_assert!(max_diff(&unit, &q) < TIGHT);
+    }
+}
+
+/// A zero or non-finite `Q` has no direction: `try_normalize` refuses it
+/// (instead of returning NaN components), and `is_finite` tells the
+/// non-finite ones apart.
+#[test]
+fn zero_and_non_finite_quaternions_are_refused() {
+    assert!(Quat::new(0.0, 0.0, 0.0, 0.0).try_normalize().is_none());
+    assert!(Quat::new(0.0, 0.0, 0.0, 0.0).is_finite());
+    for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+        for k in 0..4 {
+            let mut c = [0.5; 4];
+            c[k] = bad;
+            let q = Quat(c);
+            assert!(q.try_normalize().is_none(), "{q:?} normalised");
+            assert!(!q.is_finite(), "{q:?} taken for finite");
+        }
+    }
+    assert!(Quat::new(0.5, -0.5, 0.5, 0.5).is_finite());
+}
