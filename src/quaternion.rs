@@ -472,6 +472,23 @@ mod tests {
         assert_eq!(q * Quat::IDENTITY, q);
     }
 
+    /// `wrap_angle` maps every angle to the one in `(-pi, pi]` that differs
+    /// from it by a multiple of `2 pi`, the ends included: `-pi` becomes `pi`.
+    #[test]
+    fn angles_wrap_into_the_half_open_interval() {
+        use std::f64::consts::PI;
+        assert_eq!(wrap_angle(PI), PI);
+        assert_eq!(wrap_angle(-PI), PI);
+        assert_eq!(wrap_angle(0.0), 0.0);
+        for k in -3..=3 {
+            for a in [-3.0, -1.0, 0.25, 2.5, 3.1] {
+                let w = wrap_angle(a + 2.0 * PI * f64::from(k));
+                assert!(w > -PI && w <= PI, "{w}");
+                assert!((w - a).abs() < 1e-14, "{a} + {k} turns wrapped to {w}");
+            }
+        }
+    }
+
     /// The series branch of `exp` agrees with libm's `sin` and `cos` to a few
     /// ulps at every angle below its threshold and across it, and stays unit.
     #[test]

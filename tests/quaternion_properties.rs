@@ -151,6 +151,32 @@ proptest! {
 }
 
 proptest! {
+    /// The component-wise operations agree with each other: `p += q` is
+    /// `p + q`, `p - q` is `p + (-q)`, and indexing reads the components.
+    #[test]
+    fn sums_and_differences_are_component_wise(p in quat(), q in quat()) {
+        let mut sum = p;
+        sum += q;
+        for k in 0..4 {
+            prop_assert_eq!(sum[k], p.0[k] + q.0[k]);
+            prop_assert_eq!((p - q)[k], p.0[k] - q.0[k]);
+            prop_assert_eq!((-q)[k], -q.0[k]);
+        }
+    }
+
+    /// `angle_to` is the angle of the rotation from one orientation to the
+    /// other, `|v|` for `P` and `exp(v) P` with `|v| <= pi`, whichever sign
+    /// either quaternion has.
+    #[test]
+    fn angle_between_orientations_is_the_rotation_angle(p in unit_quat(), v in vector(1.8)) {
+        prop_assume!(v.norm() <= PI);
+        let q = Quat::exp(&v) * p;
+        for (a, b) in [(p, q), (q, p), (-p, q), (p, -q)] {
+            prop_assert!((a.angle_to(&b) - v.norm()).abs() < ANGLES, "{} vs {}", a.angle_to(&b), v.norm());
+        }
+        prop_assert!(p.angle_to(&p) < TIGHT);
+    }
+
     /// `try_normalize` of a non-zero finite `Q` is the unit quaternion along
     /// it, whatever the scale (down to subnormal-free tiny and up to huge
     /// norms whose square still fits in a double).
