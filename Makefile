@@ -13,7 +13,7 @@ export PATH := $(abspath $(VENV))/bin:$(PATH)
 export LD_LIBRARY_PATH := $(abspath $(VENV))/lib:$(LD_LIBRARY_PATH)
 RESULTS ?= results
 
-.PHONY: all test validate fixtures bench develop lint rust-test py-test mutants clean
+.PHONY: all test validate fixtures bench develop lint rust-test py-test mutants mutants-report clean
 
 all: test
 
@@ -61,20 +61,22 @@ bench: develop
 	$(PY) -m validation.bench.thermostats --out benchmarks
 
 # Mutation testing of the physics modules (scope and exclusions in
-# .cargo/mutants.toml; a day of this machine for the full set, so not part of
-# `make test`). mutants/staged.py takes each group of mutants/groups.toml
-# through cargo-mutants (pinned, installed into target/tools on first use)
-# with the group's focused Rust tests, then its unit tests, then the whole
-# Rust suite, each pass on what the one before missed; then the Python tests
-# on what every Rust test missed, with the extension rebuilt from the
-# mutated source. The report, mutants/REPORT.md, lists every survivor with
-# its reason from mutants/explanations.toml. The run resumes where it
-# stopped (outcomes kept in MUTANTS_DIR). MUTANTS_GROUPS limits it to some
+# .cargo/mutants.toml; most of a day of this machine for the full set, so not
+# part of `make test`). mutants/staged.py takes each group of
+# mutants/groups.toml through cargo-mutants (pinned, installed into
+# target/tools on first use) with the group's focused Rust tests, then its
+# unit tests, then the whole Rust suite, each pass on what the one before
+# missed; then the Python tests on what every Rust test missed, with the
+# extension rebuilt from the mutated source. Every outcome is recorded as it
+# comes in mutants/outcomes/<group>.json, committed with the project, so a run
+# stopped anywhere resumes there, on this machine or another. The report,
+# mutants/REPORT.md, counts every group and lists every survivor with its
+# reason from mutants/explanations.toml. MUTANTS_GROUPS limits a run to some
 # groups, MUTANTS_ARGS passes cargo-mutants options to every pass, e.g.
-# MUTANTS_ARGS="--in-diff change.diff" for a change (with its own
-# MUTANTS_DIR), MUTANTS_JOBS sets cargo-mutants' parallel builds, and
-# MUTANTS_RETEST=1 sends the missed mutants through every pass again (after
-# new tests).
+# MUTANTS_ARGS="--in-diff change.diff" for a change, MUTANTS_JOBS sets the
+# work trees run side by side, and MUTANTS_RETEST=1 sends the missed mutants
+# through every pass again (after new tests). `make mutants-report` writes
+# the report from the recorded outcomes without running anything.
 MUTANTS_VERSION := 27.1.0
 CARGO_MUTANTS := target/tools/cargo-mutants-$(MUTANTS_VERSION)/bin/cargo-mutants
 MUTANTS_DIR ?= target/mutants-full
@@ -82,14 +84,17 @@ MUTANTS_ARGS ?=
 MUTANTS_GROUPS ?=
 MUTANTS_JOBS ?= 2
 MUTANTS_RETEST ?=
+STAGED := $(PY) -m mutants.staged --cargo-mutants $(CARGO_MUTANTS) --out $(MUTANTS_DIR)
 
 $(CARGO_MUTANTS):
 	cargo install --locked --root target/tools/cargo-mutants-$(MUTANTS_VERSION) cargo-mutants@$(MUTANTS_VERSION)
 
 mutants: $(CARGO_MUTANTS) $(STAMP_VENV)
-	$(PY) -m mutants.staged --cargo-mutants $(CARGO_MUTANTS) --out $(MUTANTS_DIR) \
-	  --jobs $(MUTANTS_JOBS) --extra "$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g)) \
+	$(STAGED) --jobs $(MUTANTS_JOBS) --extra "$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g)) \
 	  $(if $(MUTANTS_RETEST),--retest-missed)
+
+mutants-report: $(CARGO_MUTANTS) $(STAMP_VENV)
+	$(STAGED) --report-only
 
 clean:
 	rm -rf target $(VENV) $(RESULTS)

@@ -3,23 +3,21 @@ of ``mutants/groups.toml`` (focused tests, then unit tests, then the whole
 Rust suite), then the Python stage on what the Rust tests miss, then the
 report.
 
-Each group has its own cargo-mutants output folder under ``--out``. A pass
-runs cargo-mutants with ``--iterate`` on the folder the pass before left, so
-it tests only what is still missed (and any mutant not tested yet): the
-driver lists every mutant its kept outcomes settle (caught or unviable) for
-cargo-mutants to skip. Before each run the folder's outcomes are kept under
-``history/`` (cargo-mutants replaces ``mutants.out`` on every run), and the
-report merges them in order; ``--import`` adds another run's outcomes (a
-change's mutants run apart) the same way.
-A pass is recorded as done with the list of mutants it covered; an
-interrupted run, started again, resumes where it stopped, and a pass whose
-mutants have changed since (the source changed) runs again on the new and
-the missed ones. A mutant a pass missed is not tested again by that pass or
-a narrower one (its tests are a subset), even when the run was interrupted:
-the pass under way is recorded before cargo-mutants starts. After new tests,
-``--retest-missed`` forgets which passes missed what. So the full set, a day
-of one machine, can be run a piece at a time: ``--group NAME`` limits a run
-to some groups.
+What became of each mutant is kept in ``mutants/outcomes/<group>.json``
+(``mutants/ledger.py``), a file committed with the project: a pass tests
+only the mutants of the group that no pass has settled (caught, unviable or
+timed out) and that no pass as wide or wider has missed, and it records
+each outcome as cargo-mutants reports it, so a run stopped at any point (a
+session's end, another machine) resumes where it stopped. A mutant whose
+code or context changed is tested again. ``--retest-missed`` forgets the
+misses (after new tests). ``--group NAME`` limits a run to some groups.
+
+cargo-mutants mutates in place (``--in-place``) in ``--jobs`` work trees of
+its own under ``target/mutants-trees``, each a copy of the tracked files
+whose build stays warm from pass to pass and group to group, each taking
+one round-robin shard of the pass's mutants; a copy is brought up to date
+by rewriting only the files that differ, so cargo rebuilds only what
+changed.
 """
 
 from __future__ import annotations
@@ -29,27 +27,50 @@ import fnmatch
 import json
 import shlex
 import shutil
+import signal
 import subprocess
 import sys
+import time
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 from mutants import python_stage, report
-from mutants.outcomes import PYTHON_STAGE_FILE, Mutant, merged, read
+from mutants.ledger import PASSES, Ledger, diffs, hashes
+from mutants.worktree import sync_tree
 
 ROOT = Path(__file__).resolve().parent.parent
 GROUPS = Path(__file__).resolve().parent / "groups.toml"
 CONFIG = ROOT / ".cargo" / "mutants.toml"
-# The passes, cheapest first: cargo's target arguments from the group's tests.
-PASSES = {
+TREES = ROOT / "target" / "mutants-trees"
+# cargo's target arguments of each Rust pass, from the group's tests.
+TARGETS = {
     "focused": lambda tests: [f"--test={t}" for t in tests],
     "unit": lambda tests: ["--lib", *(f"--test={t}" for t in tests)],
     "suite": lambda tests: [],
 }
+assert tuple(TARGETS) == PASSES[:-1]
 # cargo-mutants' exit codes that are results: none missed, some missed,
 # some timed out.
 RESULTS = (0, 2, 3)
+# How often a running pass's outcomes are written to the ledger, and how
+# often the driver looks whether its cargo-mutants processes have ended.
+HARVEST_SECONDS = 30.0
+POLL_SECONDS = 1.0
+
+
+def rooted(extra: list[str]) -> list[str]:
+    """The extra cargo-mutants options with the file of ``--in-diff`` made
+    absolute: the passes run in the work trees, not in the source tree."""
+    out, follows = [], False
+    for arg in extra:
+        if follows:
+            arg = str((ROOT / arg).resolve())
+        elif arg.startswith("--in-diff="):
+            arg = "--in-diff=" + str((ROOT / arg.split("=", 1)[1]).resolve())
+        follows = arg == "--in-diff"
+        out.append(arg)
+    return out
 
 
 @dataclass
@@ -74,136 +95,105 @@ def groups() -> list[Group]:
 
 
 class GroupRun:
-    """One group's output folder: its cargo-mutants runs and their history."""
+    """One group's passes, recorded in its ledger."""
 
-    def __init__(self, cargo_mutants: Path, out: Path, group: Group, others: list[Group], extra: list[str], jobs: int):
-        self.cargo_mutants, self.group, self.extra, self.jobs = cargo_mutants, group, extra, jobs
+    def __init__(self, cargo_mutants: Path, out: Path, group: Group, others: list[Group], extra: list[str], jobs: int,
+                 ledger: Ledger | None = None, trees: Path = TREES):
+        self.cargo_mutants, self.group, self.extra, self.jobs = cargo_mutants.resolve(), group, extra, jobs
         # The configuration's examine_globs add to --file, so the group is
         # chosen by leaving the other groups' files out.
         self.excluded = [glob for other in others if other is not group for glob in other.files]
-        self.dir = out / group.name
-        self.state_path = self.dir / "state.json"
+        self.dir = out.resolve() / group.name
+        self.ledger = ledger or Ledger.of_group(group.name)
+        self.trees = [trees / str(k) for k in range(jobs)]
 
     def _argv(self, *args: str) -> list[str]:
         excluded = [f"--exclude={glob}" for glob in self.excluded]
-        return [str(self.cargo_mutants), "mutants", *excluded, *self.extra, *args]
+        return [str(self.cargo_mutants), "mutants", *excluded, *args]
 
-    def mutant_names(self) -> list[str]:
-        """The mutants the group has now (cargo-mutants' list, no build)."""
-        listed = subprocess.run(self._argv("--list"), cwd=ROOT, check=True, capture_output=True, text=True)
+    def listing(self) -> dict[str, str]:
+        """Every mutant the group has now, name to diff (no build)."""
+        listed = subprocess.run(self._argv("--list", "--json"), cwd=ROOT, check=True, capture_output=True, text=True)
+        return diffs(json.loads(listed.stdout))
+
+    def chosen(self) -> list[str]:
+        """The mutants this run may test: all of the group's, or those the
+        extra options (e.g. ``--in-diff``) choose."""
+        listed = subprocess.run(self._argv(*self.extra, "--list"), cwd=ROOT, check=True, capture_output=True, text=True)
         return sorted(filter(None, listed.stdout.splitlines()))
 
-    def folders(self) -> list[Path]:
-        """The kept outcomes in order, then the current ones."""
-        kept = sorted((self.dir / "history").glob("*")) if (self.dir / "history").exists() else []
-        current = self.dir / "mutants.out"
-        return kept + ([current] if (current / "outcomes.json").exists() else [])
+    def to_test(self, label: str, keys: dict[str, str], chosen: list[str]) -> list[str]:
+        """The chosen mutants pass ``label`` must try: not settled, and not
+        missed by it or a wider pass."""
+        current = self.ledger.current(keys)
+        return [n for n in chosen if n not in current or not (current[n].settled() or current[n].missed_by_at_least(label))]
 
-    def _keep(self, label: str, current: Path | None = None) -> None:
-        """Copies the current outcomes (not the build logs), or another
-        folder's, into history/."""
-        current = current or self.dir / "mutants.out"
-        if not (current / "outcomes.json").exists():
-            return
-        history = self.dir / "history"
-        target = history / f"{len(list(history.glob('*'))) if history.exists() else 0:03d}-{label}"
-        target.mkdir(parents=True)
-        for name in ("outcomes.json", PYTHON_STAGE_FILE):
-            if (current / name).exists():
-                shutil.copy2(current / name, target / name)
-        if (current / "diff").exists():
-            shutil.copytree(current / "diff", target / "diff")
-
-    def import_outcomes(self, folder: Path) -> None:
-        """Counts another run's outcomes (e.g. of a change's mutants) as kept
-        ones of this group, once."""
-        state = self._state()
-        key = str(folder.resolve())
-        if key in state.get("imported", []):
-            return
-        self._keep("imported", folder)
-        state.setdefault("imported", []).append(key)
-        self._save(state)
-
-    def _state(self) -> dict:
-        return json.loads(self.state_path.read_text()) if self.state_path.exists() else {}
-
-    def _save(self, state: dict) -> None:
-        self.dir.mkdir(parents=True, exist_ok=True)
-        self.state_path.write_text(json.dumps(state, indent=1))
-
-    def forget_missed(self) -> None:
-        """Forgets which passes missed which mutants and which passes are
-        done, so that the missed ones meet every pass again (after new tests)."""
-        state = self._state()
-        for key in ("missed_by", "running", *PASSES):
-            state.pop(key, None)
-        self._save(state)
-
-    def _record_missed(self, state: dict, label: str) -> None:
-        """Notes the mutants the last cargo-mutants run (pass `label`)
-        missed, keeping the widest pass that missed each."""
-        current = self.dir / "mutants.out"
-        if not (current / "outcomes.json").exists():
-            return
-        missed_by = state.setdefault("missed_by", {})
-        rank = list(PASSES)
-        for m in read(current):
-            earlier = missed_by.get(m.name)
-            if m.summary == "MissedMutant" and (earlier is None or rank.index(earlier) < rank.index(label)):
-                missed_by[m.name] = label
-
-    def run(self) -> None:
-        """The group's passes that are not done for its current mutants."""
-        names = self.mutant_names()
-        state = self._state()
-        if "running" in state:  # an interrupted pass: count what it missed
-            self._record_missed(state, state.pop("running"))
-            self._save(state)
-        rank = list(PASSES)
-        for label, targets in PASSES.items():
-            if state.get(label) == names:
-                continue
-            missed_by = state.get("missed_by", {})
-            settled = self.settled() | {n for n, by in missed_by.items() if rank.index(by) >= rank.index(label)}
-            still = [n for n in names if n not in settled]
+    def run(self, keys: dict[str, str]) -> None:
+        """The group's Rust passes, each on what the ones before left;
+        ``keys``, the group's mutants now, name to diff hash."""
+        chosen = self.chosen()
+        self.ledger.save(keys)  # drops the outcomes of mutants since changed
+        for label, targets in TARGETS.items():
+            still = self.to_test(label, keys, chosen)
             if not still:
                 print(f"{self.group.name}: {label}: nothing left to test", flush=True)
-            else:
-                print(f"{self.group.name}: {label}: {len(still)} mutants", flush=True)
-                self._keep(f"before-{label}")
-                # cargo-mutants' --iterate skips the names in this file (and
-                # in its last run's caught and unviable lists).
-                current = self.dir / "mutants.out"
-                current.mkdir(parents=True, exist_ok=True)
-                (current / "previously_caught.txt").write_text("".join(f"{n}\n" for n in sorted(settled)))
-                cargo_args = [f"--cargo-arg={a}" for a in targets(self.group.tests)]
-                argv = self._argv("--output", str(self.dir), "-j", str(self.jobs), *cargo_args, "--iterate")
-                print("  " + shlex.join(argv), flush=True)
-                state["running"] = label
-                self._save(state)
-                status = subprocess.run(argv, cwd=ROOT).returncode
-                if status not in RESULTS:
-                    raise SystemExit(f"{self.group.name}: {label}: cargo-mutants failed (exit {status})")
-                self._record_missed(state, state.pop("running"))
-            state[label] = names
-            self._save(state)
+                continue
+            print(f"{self.group.name}: {label}: {len(still)} mutants", flush=True)
+            self._pass(label, targets(self.group.tests), sorted(set(keys) - set(still)))
 
-    def settled(self) -> set[str]:
-        """The mutants a kept run caught or found unviable."""
-        return {m.name for m in merged(self.folders()) if m.summary in ("CaughtMutant", "Unviable", "Failure")}
+    def _pass(self, label: str, targets: list[str], skip: list[str]) -> None:
+        """One cargo-mutants process a work tree, each on its shard of the
+        mutants not in ``skip``, their outcomes written to the ledger as
+        they come."""
+        processes, outs = [], []
+        for k, tree in enumerate(self.trees):
+            sync_tree(tree)
+            out = self.dir / f"shard-{k}"
+            shutil.rmtree(out, ignore_errors=True)
+            # cargo-mutants' --iterate skips the names in this file.
+            (out / "mutants.out").mkdir(parents=True)
+            (out / "mutants.out" / "previously_caught.txt").write_text("".join(f"{n}\n" for n in skip))
+            argv = self._argv(*self.extra, "--in-place", "--output", str(out.resolve()), "--iterate",
+                              f"--shard={k}/{self.jobs}", "--sharding=round-robin",
+                              *(f"--cargo-arg={a}" for a in targets))
+            print("  " + shlex.join(argv), flush=True)
+            with open(out / "driver.log", "w") as log:
+                processes.append(subprocess.Popen(argv, cwd=tree, stdout=log, stderr=subprocess.STDOUT))
+            outs.append(out / "mutants.out")
+        try:
+            harvested = time.monotonic()
+            while any(p.poll() is None for p in processes):
+                time.sleep(POLL_SECONDS)
+                if time.monotonic() - harvested >= HARVEST_SECONDS:
+                    self._harvest(outs, label)
+                    harvested = time.monotonic()
+        finally:
+            for p in processes:  # stopped early: cargo-mutants restores the source on an interrupt
+                if p.poll() is None:
+                    p.send_signal(signal.SIGINT)
+                    p.wait()
+            self._harvest(outs, label)
+        for k, p in enumerate(processes):
+            if p.returncode not in RESULTS:
+                raise SystemExit(f"{self.group.name}: {label}: cargo-mutants failed (exit {p.returncode}, {outs[k].parent}/driver.log)")
+
+    def _harvest(self, outs: list[Path], label: str) -> None:
+        for out in outs:
+            self.ledger.harvest(out, label)
+        self.ledger.save()
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cargo-mutants", type=Path, required=True, help="the pinned cargo-mutants binary")
-    parser.add_argument("--out", type=Path, required=True, help="output folder (one subfolder per group)")
+    parser.add_argument("--out", type=Path, required=True, help="cargo-mutants' output folders (one subfolder per group)")
     parser.add_argument("--group", action="append", help="run only these groups (default: all)")
-    parser.add_argument("--jobs", type=int, default=1, help="cargo-mutants' parallel builds")
+    parser.add_argument("--jobs", type=int, default=1, help="work trees, each running cargo-mutants on a shard")
     parser.add_argument("--extra", default="", help="more cargo-mutants options, e.g. '--in-diff change.diff'")
     parser.add_argument("--rust-only", action="store_true", help="leave out the Python stage")
-    parser.add_argument("--import", dest="imports", type=Path, action="append", default=[],
-                        help="another run's outcome folder whose results count (kept once)")
+    parser.add_argument("--report-only", action="store_true", help="write the report from the ledgers, run nothing")
+    parser.add_argument("--import", dest="imports", action="append", default=[], metavar="FOLDER=PASS",
+                        help="record an earlier run's mutants.out folder as pass PASS of every chosen group")
     parser.add_argument("--retest-missed", action="store_true",
                         help="test the missed mutants through every pass again (after new tests)")
     parser.add_argument("--report", type=Path, default=ROOT / "mutants" / "REPORT.md")
@@ -212,22 +202,34 @@ def main() -> int:
     chosen = [g for g in every if not args.group or g.name in args.group]
     if args.group and len(chosen) != len(set(args.group)):
         raise SystemExit(f"unknown group in {args.group}; the groups are in {GROUPS}")
-    extra = shlex.split(args.extra)
-    runs = [GroupRun(args.cargo_mutants, args.out, g, every, extra, args.jobs) for g in chosen]
+    if args.jobs < 1:
+        raise SystemExit(f"--jobs must be at least 1, got {args.jobs}")
+    runs = [GroupRun(args.cargo_mutants, args.out, g, every, rooted(shlex.split(args.extra)), args.jobs) for g in chosen]
+    listings = {run.group.name: run.listing() for run in runs}
+    keys = {name: hashes(d) for name, d in listings.items()}
     for run in runs:
+        for spec in args.imports:
+            folder, _, label = spec.rpartition("=")
+            if label not in PASSES:
+                raise SystemExit(f"--import {spec}: the pass must be one of {', '.join(PASSES)}")
+            run.ledger.harvest(Path(folder), label)
+            run.ledger.save(keys[run.group.name])
         if args.retest_missed:
-            run.forget_missed()
-        for folder in args.imports:
-            run.import_outcomes(folder)
-        run.run()
-    folders = [f for run in runs for f in run.folders()]
-    names = [n for run in runs for n in run.mutant_names()]
-    if not args.rust_only:
-        status = python_stage.run(folders)
+            run.ledger.forget_missed()
+            run.ledger.save()
+        if not args.report_only:
+            run.run(keys[run.group.name])
+    if not (args.rust_only or args.report_only):
+        status = python_stage.run([(run.ledger, listings[run.group.name]) for run in runs])
         if status:
             return status
-    described = f"groups {', '.join(g.name for g in chosen)}" + (f", {args.extra}" if args.extra else "")
-    return report.write(folders, args.report, described, names)
+    # The report covers every group, run now or before.
+    ledgers = {run.group.name: run.ledger for run in runs}
+    for g in every:
+        if g.name not in ledgers:
+            other = GroupRun(args.cargo_mutants, args.out, g, every, [], 1)
+            ledgers[g.name], keys[g.name] = other.ledger, hashes(other.listing())
+    return report.write([(ledgers[g.name], keys[g.name]) for g in every], args.report)
 
 
 if __name__ == "__main__":

@@ -1,34 +1,47 @@
 """The mutation-testing tooling (`make mutants`): its groups cover the
-physics files, and its report merges runs and passes as documented. The runs
+physics files, and its ledger, driver and report keep, resume and count runs as documented. The runs
 themselves take hours and are not part of `make test`."""
 
 from __future__ import annotations
 
 import json
+import stat
+import sys
+import time
 import tomllib
 from pathlib import Path
 
 import pytest
 
-from mutants import report, staged
+from mutants import ledger, report, staged, worktree
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _outcomes(folder: Path, fates: dict[str, str]) -> Path:
-    """A cargo-mutants outcome folder with the given summaries."""
-    folder.mkdir(parents=True)
+def _mutants_out(folder: Path, fates: dict[str, str], diffs: dict[str, str] | None = None, torn: bool = False) -> Path:
+    """A cargo-mutants output folder (mutants.json with the diffs,
+    outcomes.json with the summaries); ``torn``: outcomes.json caught in
+    the middle of a rewrite."""
+    folder.mkdir(parents=True, exist_ok=True)
+    diffs = diffs or {}
+    listing = [{"name": n, "diff": diffs.get(n, f"diff of {n}")} for n in fates]
+    (folder / "mutants.json").write_text(json.dumps(listing))
     outcomes = [{"scenario": "Baseline", "summary": "Success", "phase_results": []}]
-    for name, summary in fates.items():
-        outcomes.append(
-            {
-                "scenario": {"Mutant": {"name": name, "file": name.split(":", 1)[0]}},
-                "summary": summary,
-                "phase_results": [{"duration": 10.0}],
-            }
-        )
-    (folder / "outcomes.json").write_text(json.dumps({"outcomes": outcomes, "cargo_mutants_version": "27.1.0"}))
+    outcomes += [
+        {"scenario": {"Mutant": {"name": n, "file": n.split(":", 1)[0]}}, "summary": s, "phase_results": [{"duration": 10.0}]}
+        for n, s in fates.items()
+    ]
+    text = json.dumps({"outcomes": outcomes, "cargo_mutants_version": "27.1.0"})
+    (folder / "outcomes.json").write_text(text[: len(text) // 2] if torn else text)
     return folder
+
+
+def _keys(*names: str, changed: str | None = None) -> dict[str, str]:
+    """The current mutants, name to diff hash (``changed``: its code changed)."""
+    return {n: ledger.diff_hash(f"diff of {n}" + (" (changed)" if n == changed else "")) for n in names}
+
+
+A, B, C, D = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 5))
 
 
 def test_every_examined_file_is_in_exactly_one_group():
@@ -43,34 +56,65 @@ def test_every_focused_test_target_exists():
             assert (ROOT / "tests" / f"{target}.rs").is_file(), f"{group.name}: no test target {target}"
 
 
-def test_a_later_pass_replaces_an_earlier_outcome_and_stale_mutants_are_left_out(tmp_path):
-    a, b, c, d = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 5))
-    first = _outcomes(tmp_path / "first", {a: "MissedMutant", b: "CaughtMutant", c: "Unviable"})
-    second = _outcomes(tmp_path / "second", {a: "CaughtMutant"})
-    text, unexplained = report.render([first, second], "test")
+def test_a_wider_pass_settles_a_miss_a_narrower_miss_replaces_nothing_and_a_settled_outcome_stands(tmp_path):
+    book = ledger.Ledger(tmp_path / "g.json")
+    key = ledger.diff_hash("x")
+    book.record(A, key, "missed", "unit")
+    book.record(A, key, "missed", "focused")
+    assert book.entries[A].pass_ == "unit"
+    book.record(A, key, "caught", "suite")
+    assert (book.entries[A].outcome, book.entries[A].pass_) == ("caught", "suite")
+    book.record(A, key, "missed", "python")
+    assert book.entries[A].outcome == "caught"
+    # The same name with other code is another mutant.
+    book.record(A, ledger.diff_hash("y"), "missed", "focused")
+    assert (book.entries[A].outcome, book.entries[A].diff) == ("missed", ledger.diff_hash("y"))
+    with pytest.raises(ValueError, match="unknown outcome"):
+        book.record(B, key, "survived", "focused")
+
+
+def test_the_ledger_round_trips_and_drops_mutants_whose_code_changed(tmp_path):
+    book = ledger.Ledger(tmp_path / "g.json")
+    book.harvest(_mutants_out(tmp_path / "out", {A: "CaughtMutant", B: "Unviable", C: "MissedMutant"}), "focused")
+    book.save()
+    again = ledger.Ledger(tmp_path / "g.json")
+    assert again.entries == book.entries and again.cargo_mutants_version == "27.1.0"
+    assert again.entries[A].seconds == 10.0
+    again.save(_keys(A, C, changed=C))
+    assert set(ledger.Ledger(tmp_path / "g.json").entries) == {A}
+
+
+def test_a_half_written_outcomes_file_is_read_at_the_next_harvest(tmp_path):
+    book = ledger.Ledger(tmp_path / "g.json")
+    out = _mutants_out(tmp_path / "out", {A: "CaughtMutant"}, torn=True)
+    assert book.harvest(out, "focused") == 0 and not book.entries
+    _mutants_out(out, {A: "CaughtMutant"})
+    assert book.harvest(out, "focused") == 1 and book.entries[A].outcome == "caught"
+
+
+def test_the_report_counts_from_the_ledgers_and_leaves_out_changed_code(tmp_path):
+    book = ledger.Ledger(tmp_path / "g.json")
+    book.harvest(_mutants_out(tmp_path / "f", {A: "MissedMutant", B: "CaughtMutant", C: "Unviable", D: "MissedMutant"}), "focused")
+    book.harvest(_mutants_out(tmp_path / "s", {A: "MissedMutant"}), "suite")
+    book.harvest(_mutants_out(tmp_path / "p", {A: "CaughtMutant"}), "python")
+    # A: caught by Python; B: caught; C: unviable; D: missed by the focused
+    # tests only (pending).
+    text, unexplained = report.render([(book, _keys(A, B, C, D))])
     assert unexplained == 0
-    assert "| **all** | 3 | 0 | 1 | 2 | 0 | 0 | 0 | 100.0 % |" in text
-    # The source now has b and d: c is stale, d not yet tested.
-    text, _ = report.render([first, second], "test", names=[b, d])
-    assert "| **all** | 2 | 1 | 0 | 1 | 0 | 0 | 0 | 100.0 % |" in text
+    assert "| **all** | 4 | 1 | 1 | 1 | 1 | 0 | 0 | 100.0 % |" in text
+    # B's code changed since: pending again.
+    text, _ = report.render([(book, _keys(A, B, C, D, changed=B))])
+    assert "| **all** | 4 | 2 | 1 | 0 | 1 | 0 | 0 | 100.0 % |" in text
 
 
 def test_a_survivor_without_a_recorded_reason_is_counted_unexplained(tmp_path):
     name = "src/quaternion.rs:9999:1: replace nothing with something"
-    text, unexplained = report.render([_outcomes(tmp_path / "run", {name: "MissedMutant"})], "test")
+    book = ledger.Ledger(tmp_path / "g.json")
+    book.harvest(_mutants_out(tmp_path / "s", {name: "MissedMutant"}), "suite")
+    text, unexplained = report.render([(book, _keys(name))])
     assert unexplained == 1
-    assert f"| `{name}` | **unexplained** |" in text
-
-
-def test_imported_and_kept_outcomes_settle_mutants_for_the_next_pass(tmp_path):
-    group = staged.Group(name="quaternion", files=["src/quaternion.rs"], tests=[])
-    run = staged.GroupRun(Path("cargo-mutants"), tmp_path / "out", group, [group], [], 1)
-    caught, unviable, missed = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 4))
-    run.import_outcomes(_outcomes(tmp_path / "change", {caught: "CaughtMutant", missed: "MissedMutant"}))
-    run.import_outcomes(tmp_path / "change")  # kept once
-    assert len(list((tmp_path / "out" / "quaternion" / "history").iterdir())) == 1
-    _outcomes(tmp_path / "out" / "quaternion" / "mutants.out", {unviable: "Unviable"})
-    assert run.settled() == {caught, unviable}
+    assert f"| `{name}` | Rust (Python not run) | **unexplained** |" in text
+    assert "| **all** | 1 | 0 | 0 | 0 | 0 | 0 | 1 | 0.0 % |" in text
 
 
 @pytest.mark.parametrize("unknown", [["no_such_group"], ["quaternion", "no_such_group"]])
@@ -81,77 +125,133 @@ def test_an_unknown_group_is_refused(monkeypatch, unknown):
         staged.main()
 
 
+def test_the_file_of_in_diff_is_made_absolute_for_the_work_trees():
+    absolute = str(ROOT / "change.diff")
+    assert staged.rooted(["--in-diff", "change.diff", "-v"]) == ["--in-diff", absolute, "-v"]
+    assert staged.rooted(["--in-diff=change.diff"]) == [f"--in-diff={absolute}"]
+    assert staged.rooted(["--in-diff", absolute]) == ["--in-diff", absolute]
+
+
+def test_a_work_tree_is_brought_up_to_date_and_a_restored_file_is_newer_than_its_build(tmp_path):
+    tree = worktree.sync_tree(tmp_path / "tree")
+    for name in ("Cargo.toml", "src/quaternion.rs", "mutants/groups.toml"):
+        assert (tree / name).read_bytes() == (ROOT / name).read_bytes()
+    untouched = (tree / "Cargo.toml").stat().st_mtime_ns
+    mutated = tree / "src" / "quaternion.rs"
+    mutated.write_text("mutated")
+    built = time.time_ns()  # a build after the mutant
+    time.sleep(0.01)
+    worktree.sync_tree(tree)
+    assert mutated.read_bytes() == (ROOT / "src" / "quaternion.rs").read_bytes()
+    assert mutated.stat().st_mtime_ns > built, "a restored file older than the build would keep the mutant's build"
+    assert (tree / "Cargo.toml").stat().st_mtime_ns == untouched
+
+
 FAKE_CARGO_MUTANTS = '''#!{python}
-"""Stands in for cargo-mutants: lists the mutants of names.json, and on a
-pass writes outcomes for the ones not in previously_caught.txt, each caught
-by the first pass named for it in fates.json (else missed), logging them."""
+"""Stands in for cargo-mutants: lists the mutants of names.json (with
+--json, each with its diff from diffs.json), and on a pass in a work tree
+writes mutants.json and outcomes.json for its shard of the mutants not in
+previously_caught.txt, each caught by the first pass named for it in
+fates.json (else missed), logging them; with stop.json, it ends (as a
+killed run would) after that many mutants."""
 import json, sys
 from pathlib import Path
 here = Path(__file__).parent
 names = json.loads((here / "names.json").read_text())
+diffs = json.loads((here / "diffs.json").read_text())
 if "--list" in sys.argv:
-    print("\\n".join(names))
+    if "--json" in sys.argv:
+        print(json.dumps([{{"name": n, "diff": diffs.get(n, "diff of " + n)}} for n in names]))
+    else:
+        print("\\n".join(names))
     sys.exit(0)
+assert "--in-place" in sys.argv
 out = Path(sys.argv[sys.argv.index("--output") + 1]) / "mutants.out"
 skip = set((out / "previously_caught.txt").read_text().split("\\n"))
+k, n = map(int, next(a for a in sys.argv if a.startswith("--shard=")).split("=")[1].split("/"))
 cargo = [a for a in sys.argv if a.startswith("--cargo-arg=")]
 label = "suite" if not cargo else ("unit" if "--cargo-arg=--lib" in cargo else "focused")
 fates = json.loads((here / "fates.json").read_text())
-tested = [n for n in names if n not in skip]
+tested = [m for m in names if m not in skip][k::n]
+stop = here / "stop.json"
+if stop.exists():
+    tested = tested[: json.loads(stop.read_text())]
 with open(here / "log.txt", "a") as log:
     log.write(json.dumps([label, tested]) + "\\n")
-outcomes = [{{"scenario": {{"Mutant": {{"name": n, "file": "src/quaternion.rs"}}}},
-             "summary": "CaughtMutant" if label in fates.get(n, []) else "MissedMutant",
-             "phase_results": []}} for n in tested]
-out.mkdir(parents=True, exist_ok=True)
+(out / "mutants.json").write_text(json.dumps([{{"name": m, "diff": diffs.get(m, "diff of " + m)}} for m in tested]))
+outcomes = [{{"scenario": {{"Mutant": {{"name": m, "file": "src/quaternion.rs"}}}},
+             "summary": "CaughtMutant" if label in fates.get(m, []) else "MissedMutant",
+             "phase_results": [{{"duration": 1.0}}]}} for m in tested]
 (out / "outcomes.json").write_text(json.dumps({{"outcomes": outcomes}}))
+if stop.exists():
+    sys.exit(137)
 sys.exit(2 if any(o["summary"] == "MissedMutant" for o in outcomes) else 0)
 '''
 
 
-def _fake_cargo_mutants(tmp_path: Path, names: list[str], fates: dict[str, list[str]]) -> Path:
-    import stat
-    import sys
+class Fake:
+    """A stand-in cargo-mutants and a group run driven by it, in two work trees."""
 
-    fake = tmp_path / "cargo-mutants"
-    fake.write_text(FAKE_CARGO_MUTANTS.format(python=sys.executable))
-    fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
-    (tmp_path / "names.json").write_text(json.dumps(names))
-    (tmp_path / "fates.json").write_text(json.dumps(fates))
-    return fake
+    def __init__(self, tmp_path: Path, monkeypatch, names: list[str], fates: dict[str, list[str]]):
+        self.dir = tmp_path
+        fake = tmp_path / "cargo-mutants"
+        fake.write_text(FAKE_CARGO_MUTANTS.format(python=sys.executable))
+        fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
+        self.set(names=names, fates=fates, diffs={})
+        monkeypatch.setattr(staged, "sync_tree", lambda tree: tree.mkdir(parents=True, exist_ok=True))
+        monkeypatch.setattr(staged, "POLL_SECONDS", 0.01)
+        group = staged.Group(name="quaternion", files=["src/quaternion.rs"], tests=["t"])
+        self.book = ledger.Ledger(tmp_path / "quaternion.json")
+        self.run = staged.GroupRun(fake, tmp_path / "out", group, [group], [], 2, self.book, tmp_path / "trees")
+
+    def set(self, **files) -> None:
+        for name, value in files.items():
+            (self.dir / f"{name}.json").write_text(json.dumps(value))
+
+    def go(self) -> list[list]:
+        """Runs the passes; what each cargo-mutants process tested."""
+        self.run.run(ledger.hashes(self.run.listing()))
+        return self.log()
+
+    def log(self) -> list[list]:
+        """What each cargo-mutants process tested since the last look."""
+        log = self.dir / "log.txt"
+        lines = log.read_text().splitlines() if log.exists() else []
+        log.unlink(missing_ok=True)
+        return [json.loads(line) for line in lines]
 
 
-def _log(tmp_path: Path) -> list[list]:
-    lines = (tmp_path / "log.txt").read_text().splitlines() if (tmp_path / "log.txt").exists() else []
-    (tmp_path / "log.txt").unlink(missing_ok=True)
-    return [json.loads(line) for line in lines]
+def _passes(log: list[list]) -> list[tuple[str, list[str]]]:
+    """The log's shards put together: each pass and what it tested."""
+    merged: dict[str, list[str]] = {}
+    for label, tested in log:
+        merged.setdefault(label, []).extend(tested)
+    return [(label, sorted(tested)) for label, tested in merged.items()]
 
 
-def test_each_pass_tests_only_what_the_narrower_ones_missed_and_a_missed_mutant_is_not_tested_again(tmp_path):
-    a, b, c, d = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 5))
-    fake = _fake_cargo_mutants(tmp_path, [a, b, c], {a: ["focused", "unit", "suite"], b: ["unit", "suite"]})
-    group = staged.Group(name="quaternion", files=["src/quaternion.rs"], tests=["t"])
-    run = staged.GroupRun(fake, tmp_path / "out", group, [group], [], 1)
-    run.run()
-    assert _log(tmp_path) == [["focused", [a, b, c]], ["unit", [b, c]], ["suite", [c]]]
-    # A new mutant reopens every pass; c, missed by the whole suite, is not
-    # tested again by any of them.
-    (tmp_path / "names.json").write_text(json.dumps([a, b, c, d]))
-    run.run()
-    assert _log(tmp_path) == [["focused", [d]], ["unit", [d]], ["suite", [d]]]
+def test_each_pass_tests_only_what_the_narrower_ones_missed_and_a_missed_mutant_is_not_tested_again(tmp_path, monkeypatch):
+    fake = Fake(tmp_path, monkeypatch, [A, B, C], {A: ["focused", "unit", "suite"], B: ["unit", "suite"]})
+    log = fake.go()
+    assert _passes(log) == [("focused", [A, B, C]), ("unit", [B, C]), ("suite", [C])]
+    assert len(log) == 6, "one process a work tree and pass"
+    assert {n: (e.outcome, e.pass_) for n, e in fake.book.entries.items()} == {
+        A: ("caught", "focused"), B: ("caught", "unit"), C: ("missed", "suite")}
+    # A new mutant opens every pass again; C, missed by the whole suite, is
+    # not tested again by any of them; a mutant whose code changed is new.
+    fake.set(names=[A, B, C, D], diffs={A: "A's code changed"})
+    assert _passes(fake.go()) == [("focused", [A, D]), ("unit", [D]), ("suite", [D])]
     # After new tests, --retest-missed sends the missed ones through again.
-    run.forget_missed()
-    run.run()
-    assert _log(tmp_path) == [["focused", [c, d]], ["unit", [c, d]], ["suite", [c, d]]]
+    fake.book.forget_missed()
+    assert _passes(fake.go()) == [("focused", [C, D]), ("unit", [C, D]), ("suite", [C, D])]
+    assert _passes(fake.go()) == []
 
 
-def test_an_interrupted_pass_resumes_without_testing_again_what_it_missed(tmp_path):
-    a, b, c = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 4))
-    fake = _fake_cargo_mutants(tmp_path, [a, b, c], {a: ["focused", "unit", "suite"], c: ["unit", "suite"]})
-    group = staged.Group(name="quaternion", files=["src/quaternion.rs"], tests=["t"])
-    run = staged.GroupRun(fake, tmp_path / "out", group, [group], [], 1)
-    # The focused pass was stopped after testing a (caught) and b (missed).
-    _outcomes(tmp_path / "out" / "quaternion" / "mutants.out", {a: "CaughtMutant", b: "MissedMutant"})
-    (tmp_path / "out" / "quaternion" / "state.json").write_text(json.dumps({"running": "focused"}))
-    run.run()
-    assert _log(tmp_path) == [["focused", [c]], ["unit", [b, c]], ["suite", [b]]]
+def test_an_interrupted_pass_keeps_what_it_tested_and_resumes_with_the_rest(tmp_path, monkeypatch):
+    fake = Fake(tmp_path, monkeypatch, [A, B, C, D], {A: ["focused", "unit", "suite"], C: ["unit", "suite"]})
+    fake.set(stop=1)  # each shard's process dies after its first mutant
+    with pytest.raises(SystemExit, match="cargo-mutants failed"):
+        fake.go()
+    assert _passes(fake.log()) == [("focused", [A, B])]
+    assert {n: e.outcome for n, e in fake.book.entries.items()} == {A: "caught", B: "missed"}
+    (tmp_path / "stop.json").unlink()
+    assert _passes(fake.go()) == [("focused", [C, D]), ("unit", [B, C, D]), ("suite", [B, D])]
