@@ -168,9 +168,9 @@ class GroupRun:
                     self._harvest(outs, label)
                     harvested = time.monotonic()
         finally:
-            for p in processes:  # stopped early: cargo-mutants restores the source on an interrupt
+            for p in processes:  # stopped early (a mutated file left in a tree is restored by its next sync)
                 if p.poll() is None:
-                    p.send_signal(signal.SIGINT)
+                    p.terminate()
                     p.wait()
             self._harvest(outs, label)
         for k, p in enumerate(processes):
@@ -198,6 +198,9 @@ def main() -> int:
                         help="test the missed mutants through every pass again (after new tests)")
     parser.add_argument("--report", type=Path, default=ROOT / "mutants" / "REPORT.md")
     args = parser.parse_args()
+    # A run stopped by SIGTERM (or SIGINT, which a shell's background job
+    # ignores) stops its cargo-mutants processes and keeps their outcomes.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(128 + signal.SIGTERM))
     every = groups()
     chosen = [g for g in every if not args.group or g.name in args.group]
     if args.group and len(chosen) != len(set(args.group)):

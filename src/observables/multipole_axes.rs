@@ -147,6 +147,21 @@ mod tests {
         assert_eq!(quadrupole_axis(&Matrix3::zeros()), Ok(None));
     }
 
+    /// A tie is judged relative to the largest eigenvalue, so the verdict
+    /// does not depend on units: a linear quadrupole has its axis and a
+    /// tie is refused at scales 1e-8 to 1e8.
+    #[test]
+    fn the_axis_verdict_does_not_depend_on_units() {
+        let e = Vector3::new(1.0, 2.0, -2.0) / 3.0;
+        let linear = (e * e.transpose() * 3.0 - Matrix3::identity()) * 0.5;
+        let tie = Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 0.0));
+        for scale in [1e-8, 1.0, 1e8] {
+            let axis = quadrupole_axis(&(linear * scale)).unwrap().unwrap();
+            assert!((axis.into_inner() - e).norm() < 1e-14, "at {scale}");
+            assert!(quadrupole_axis(&(tie * scale)).is_err(), "tie at {scale}");
+        }
+    }
+
     /// Only rotors with a nonzero multipole carry an axis; the space axes
     /// follow their rotors' orientations (not scaled by |Q|).
     #[test]
@@ -160,6 +175,9 @@ mod tests {
         ];
         let dipoles = CarriedAxes::of_dipoles(&rotors);
         assert_eq!(dipoles.rotors, [0, 3]);
+        assert_eq!((dipoles.len(), dipoles.is_empty()), (2, false));
+        let none = CarriedAxes::of_dipoles(&rotors[1..3]);
+        assert_eq!((none.len(), none.is_empty()), (0, true));
         let quadrupoles = CarriedAxes::of_quadrupoles(&rotors).unwrap();
         assert_eq!(quadrupoles.rotors, [1, 3]);
         let turn = Quat::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2);

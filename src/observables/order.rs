@@ -122,6 +122,40 @@ mod tests {
         assert!((order.q_tensor.trace()).abs() < 1e-14);
     }
 
+    /// The director's sign whatever sign the eigen-solver picks: along the
+    /// mean axis for a polar set (P1 > 0, also when the mean axis has a
+    /// negative first component); for an apolar set, whose mean axis is
+    /// zero, with its first nonzero component positive.
+    #[test]
+    fn the_director_points_along_the_mean_axis_or_else_its_first_component_is_positive() {
+        // Directions on a spiral over the sphere, and some with zero components.
+        let spiral = (0..40).map(|k| {
+            let z = 1.0 - (2 * k + 1) as f64 / 40.0;
+            let phi = 2.399963 * k as f64;
+            let r = (1.0 - z * z).sqrt();
+            Vector3::new(r * phi.cos(), r * phi.sin(), z)
+        });
+        let special = [
+            Vector3::new(0.0, -0.6, 0.8),
+            Vector3::new(0.0, 0.6, -0.8),
+            Vector3::new(-0.6, 0.0, -0.8),
+            Vector3::new(0.0, 0.0, -1.0),
+            -Vector3::x(),
+        ];
+        for u in spiral.chain(special) {
+            let polar = nematic_order(&[u, u, u]).unwrap();
+            assert!((polar.director.into_inner() - u).norm() < 1e-14, "{u:?}");
+            assert!((polar.p1 - 1.0).abs() < 1e-14, "{u:?}");
+            let apolar = nematic_order(&[u, -u]).unwrap();
+            let first = u.iter().copied().find(|x| *x != 0.0).unwrap();
+            let expected = u * first.signum();
+            assert!(
+                (apolar.director.into_inner() - expected).norm() < 1e-14,
+                "{u:?}"
+            );
+        }
+    }
+
     /// Axes spread evenly in a plane (the six directions +-x, +-y, (x+-y)/sqrt2
     /// ...): Q has eigenvalues (1/4, 1/4, -1/2), so P2 = 1/4 with the
     /// director in the plane; the three Cartesian axes give Q = 0.
