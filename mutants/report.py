@@ -88,6 +88,11 @@ def render(groups: list[tuple[Ledger, dict[str, str]]]) -> tuple[str, int]:
         for name, entry in sorted(survivors):
             reason = explanations.get(name, "**unexplained**")
             lines.append(f"| `{name}` | {'Rust and Python' if entry.pass_ == 'python' else 'Rust (Python not run)'} | {reason} |")
+    surviving = {name for name, _ in survivors}
+    stale = sorted(n for n in explanations if n not in surviving)
+    if stale:
+        lines += ["", f"## Explanations with no survivor ({len(stale)}: the mutant is caught, changed or not yet through every pass)", ""]
+        lines += [f"- `{name}`" for name in stale]
     if timeouts:
         lines += ["", f"## Timeouts ({len(timeouts)})", ""] + [f"- `{name}`" for name in sorted(timeouts)]
     if seconds:

@@ -255,3 +255,15 @@ def test_an_interrupted_pass_keeps_what_it_tested_and_resumes_with_the_rest(tmp_
     assert {n: e.outcome for n, e in fake.book.entries.items()} == {A: "caught", B: "missed"}
     (tmp_path / "stop.json").unlink()
     assert _passes(fake.go()) == [("focused", [C, D]), ("unit", [B, C, D]), ("suite", [B, D])]
+
+
+def test_an_explanation_whose_mutant_no_longer_survives_is_listed_for_pruning(tmp_path, monkeypatch):
+    explanations = tmp_path / "explanations.toml"
+    explanations.write_text(f'[survivors]\n"{A}" = "equivalent"\n"{B}" = "equivalent"\n')
+    monkeypatch.setattr(report, "EXPLANATIONS", explanations)
+    book = ledger.Ledger(tmp_path / "g.json")
+    book.harvest(_mutants_out(tmp_path / "s", {A: "MissedMutant", B: "CaughtMutant"}), "suite")
+    text, unexplained = report.render([(book, _keys(A, B))])
+    assert unexplained == 0
+    assert f"| `{A}` | Rust (Python not run) | equivalent |" in text
+    assert f"## Explanations with no survivor (1: " in text and f"- `{B}`" in text
