@@ -122,7 +122,9 @@ class Ledger:
         """Writes the file (sorted, one entry a line for readable diffs);
         with ``hashes``, the entries of mutants the source no longer has are
         dropped."""
-        entries = self.current(hashes) if hashes is not None else self.entries
+        if hashes is not None:
+            self.entries = self.current(hashes)
+        entries = self.entries
         self.path.parent.mkdir(parents=True, exist_ok=True)
         lines = [
             f"  {json.dumps(name)}: {json.dumps({k.rstrip('_'): v for k, v in asdict(e).items() if v is not None})}"

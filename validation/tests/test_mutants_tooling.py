@@ -82,6 +82,9 @@ def test_the_ledger_round_trips_and_drops_mutants_whose_code_changed(tmp_path):
     assert again.entries[A].seconds == 10.0
     again.save(_keys(A, C, changed=C))
     assert set(ledger.Ledger(tmp_path / "g.json").entries) == {A}
+    # Dropped for good: a later save without the listing does not bring them back.
+    again.save()
+    assert set(ledger.Ledger(tmp_path / "g.json").entries) == {A}
 
 
 def test_a_half_written_outcomes_file_is_read_at_the_next_harvest(tmp_path):
