@@ -270,3 +270,43 @@ def test_an_explanation_whose_mutant_no_longer_survives_is_listed_for_pruning(tm
     assert unexplained == 0
     assert f"| `{A}` | Rust (Python not run) | equivalent |" in text
     assert f"## Explanations with no survivor (1: " in text and f"- `{B}`" in text
+
+
+def test_the_python_stage_tries_each_mutant_the_whole_rust_suite_missed_and_records_it(tmp_path, monkeypatch):
+    from mutants import python_stage
+
+    tree = tmp_path / "tree"
+    original = "fn f() -> f64 {\n    let a = 1.0;\n    a * 2.0\n}\n"
+
+    def fresh_tree(_):
+        (tree / "src").mkdir(parents=True, exist_ok=True)
+        (tree / "src" / "quaternion.rs").write_text(original)
+        return tree
+
+    def build_and_test(_scratch, built, _timeout):
+        """The Python tests fail when the mutated line is there."""
+        return "failed" if "a / 2.0" in (built / "src" / "quaternion.rs").read_text() else "passed"
+
+    monkeypatch.setattr(python_stage, "sync_tree", fresh_tree)
+    monkeypatch.setattr(python_stage, "_build_and_test", build_and_test)
+    # A cargo-mutants diff: the file on the --- line, the mutant on the +++ line.
+    diff = (
+        "--- src/quaternion.rs\n+++ replace * with / in f\n@@ -1,4 +1,4 @@\n fn f() -> f64 {\n"
+        "     let a = 1.0;\n-    a * 2.0\n+    a / 2.0\n }\n"
+    )
+    listing = {A: diff, B: "diff of B", C: "diff of C"}
+    book = ledger.Ledger(tmp_path / "g.json")
+    book.record(A, ledger.diff_hash(diff), "missed", "suite")
+    book.record(B, ledger.diff_hash("diff of B"), "missed", "focused")  # not through every Rust pass yet
+    book.record(C, ledger.diff_hash("diff of C"), "caught", "unit")
+    assert python_stage.run([(book, listing)]) == 0
+    assert (book.entries[A].outcome, book.entries[A].pass_) == ("caught", "python")
+    assert (book.entries[B].outcome, book.entries[B].pass_) == ("missed", "focused")
+    assert ledger.Ledger(tmp_path / "g.json").entries[A].outcome == "caught", "written as it comes"
+    tried = []
+    monkeypatch.setattr(python_stage, "_build_and_test", lambda *a: tried.append(a) or "passed")
+    assert python_stage.run([(book, listing)]) == 0 and not tried, "a mutant with a Python result is not tried again"
+    # A diff that no longer applies is an error, not a silent miss.
+    book.record(D, ledger.diff_hash(diff.replace("a * 2.0", "b * 2.0")), "missed", "suite")
+    with pytest.raises(SystemExit, match="does not apply"):
+        python_stage.run([(book, {D: diff.replace("a * 2.0", "b * 2.0")})])
