@@ -5,6 +5,7 @@ PanicException or an abort)."""
 
 import _thread
 import json
+import signal
 import threading
 import time
 import tomllib
@@ -19,7 +20,17 @@ import quatrot
 PROMPT_SECONDS = 30.0
 
 
-def test_ctrl_c_stops_the_run_and_keeps_the_partial_result(tmp_path):
+@pytest.fixture
+def ctrl_c_handled():
+    """Python's own Ctrl-C handler for the test: a shell's background job
+    (a suite started with `&` or nohup) inherits SIGINT ignored, where
+    interrupt_main does nothing and the 1e7-step run would go on for hours."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_ctrl_c_stops_the_run_and_keeps_the_partial_result(tmp_path, ctrl_c_handled):
     scene = tomllib.loads(quatrot.builtin_scenes()["dipole_lattice_sc"])
     del scene["record"]["trajectory"]
     steps = 10**7
