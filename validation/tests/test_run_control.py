@@ -63,9 +63,12 @@ def test_progress_true_without_tqdm_writes_a_line(capfd, monkeypatch):
 
 CHILD = textwrap.dedent(
     """
-    import json, sys
+    import json, signal, sys
     import quatrot
 
+    # Ctrl-C as a terminal delivers it, also when this suite runs as a
+    # shell's background job (which starts its children with SIGINT ignored).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     started = False
 
     def on_progress(step, total):
