@@ -45,6 +45,16 @@ fn correction_table_rows_follow_theory() {
             row.max_norm_velocity,
             row.max_norm_force
         );
+        // Only scheme B stores the quaternion force N of eq 12: scheme A
+        // (body torques, eq 15b by construction) reports no `Q.N` at all,
+        // not a zero it never computed.
+        assert_eq!(
+            row.max_norm_force.is_some(),
+            matches!(row.variant, Variant::B(_)),
+            "{}: |Q.N| {:?}",
+            row.label,
+            row.max_norm_force
+        );
         let projected = match row.variant {
             Variant::A => true,
             Variant::B(options) => options.project_torque,

@@ -264,6 +264,34 @@ mod tests {
         }
     }
 
+    /// A chunk has as many rotors as its values, and the per-rotor passes
+    /// cut it into tasks of `ROTORS_PER_TASK` rotors with every derivative
+    /// cut at the same rotor (a chunk that reported no rotors would run as
+    /// one task, on one thread).
+    #[test]
+    fn chunks_count_their_rotors_and_cut_every_derivative_together() {
+        use super::super::rotor_chunks::{for_each_rotor_chunk, ROTORS_PER_TASK};
+        let n = 2 * ROTORS_PER_TASK + 5;
+        let mut y = Nordsieck::<f64, 3>::zeros(n);
+        for (k, r_k) in y.r.iter_mut().enumerate() {
+            for (i, value) in r_k.iter_mut().enumerate() {
+                *value = (k * n + i) as f64;
+            }
+        }
+        assert_eq!(y.as_chunk().rotors(), n);
+        let sizes = std::sync::Mutex::new(Vec::new());
+        for_each_rotor_chunk(y.as_chunk(), |chunk| {
+            let first = chunk.r[0][0] as usize;
+            for (k, r_k) in chunk.r.iter().enumerate() {
+                assert_eq!(r_k[0], (k * n + first) as f64, "derivative {k}");
+            }
+            sizes.lock().expect("not poisoned").push(chunk.rotors());
+        });
+        let mut sizes = sizes.into_inner().expect("not poisoned");
+        sizes.sort();
+        assert_eq!(sizes, [5, ROTORS_PER_TASK, ROTORS_PER_TASK]);
+    }
+
     /// The flat round trip is exact.
     #[test]
     fn flat_round_trip() {

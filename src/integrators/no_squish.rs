@@ -134,3 +134,44 @@ impl Splitting for NoSquishOptions {
         omega_from_momentum(&momentum.angular_momentum_body(q), moments)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The half kick is `P += half * 2 Q*(0, A(Q) n_s)` as its doc states,
+    /// for a non-unit `Q` too (where `A(Q)` of eq 7 is `|Q|^2` times a
+    /// rotation): the product form's factor `|Q|^2` is exact, not a rounding
+    /// of 1.
+    #[test]
+    fn the_half_kick_is_the_body_torque_form_for_any_norm() {
+        let q = Quat::new(0.9, -0.3, 0.5, 0.7); // |Q|^2 = 1.64
+        let torque_space = Vector3::new(0.4, -1.1, 0.6);
+        let (start, half) = (Quat::new(0.1, 0.2, -0.3, 0.4), 0.025);
+        let mut momentum = start;
+        <NoSquishOptions as Splitting>::kick(&mut momentum, &q, &torque_space, half);
+        let torque_body = q.space_to_body_matrix() * torque_space;
+        let expected = start + q * Quat::pure(&torque_body) * (2.0 * half);
+        for k in 0..4 {
+            assert!(
+                (momentum[k] - expected[k]).abs() < 1e-15,
+                "component {k}: {momentum:?} against {expected:?}"
+            );
+        }
+    }
+
+    /// `substeps` takes every count from 1 to [`MAX_SUBSTEPS`] and refuses
+    /// the next one with a message naming the bound.
+    #[test]
+    fn substeps_are_accepted_up_to_the_bound_and_refused_beyond_it() {
+        let read = |n: u32| toml::from_str::<NoSquishOptions>(&format!("substeps = {n}"));
+        for n in [1, MAX_SUBSTEPS] {
+            let options = read(n).expect("a count within the bounds");
+            assert_eq!(options.substeps.get(), n);
+        }
+        let refused = read(MAX_SUBSTEPS + 1)
+            .expect_err("one past the bound")
+            .to_string();
+        assert!(refused.contains("must be <= 10000, got 10001"), "{refused}");
+    }
+}
