@@ -32,6 +32,7 @@ use nalgebra::Vector3;
 use quatrot::integrators::gear::{
     second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT, FIRST_ORDER_5,
 };
+use quatrot::integrators::FirstCorrector;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A reduced fraction `num / den` with `den > 0`.
@@ -289,6 +290,20 @@ fn corrector_tables_follow_from_the_order_conditions() {
         stormer,
         second_order_6(C0_POSITION_ONLY),
     );
+    // The scene's two choices of scheme B's c0 (`first_corrector`) are the
+    // derived values, named by their fractions.
+    for (choice, derived) in [
+        (FirstCorrector::VelocityDependent, with_velocity[0]),
+        (FirstCorrector::PositionOnly, stormer[0]),
+    ] {
+        assert_eq!(choice.as_str(), format!("{}/{}", derived.num, derived.den));
+        assert_eq!(
+            choice.value().to_bits(),
+            derived.to_f64().to_bits(),
+            "{}",
+            choice.as_str()
+        );
+    }
 }
 
 /// The same formulas give Gear's other published first-order tables
