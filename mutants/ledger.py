@@ -3,19 +3,22 @@
 of one machine, accumulates across sessions and machines (cargo-mutants'
 own output lives under ``target/`` and goes with the machine).
 
-A mutant is keyed by cargo-mutants' name and the SHA-256 of its diff (the
-changed line with three lines of context each side): a mutant whose name is
-the same but whose code or context changed is a new mutant, and its old
-outcome no longer counts. Each entry holds the outcome (``caught``,
-``unviable``, ``timeout`` or ``missed``), the widest pass that reached it
-(``focused`` < ``unit`` < ``suite`` < ``python``, a pass's tests include the
-one before's) and the seconds cargo-mutants spent on it.
+A mutant is keyed by its place-free identity: the SHA-256 of cargo-mutants'
+name without its line and column (file, function, change) and of its diff
+(the changed line with its context) without the ``@@`` line-number headers.
+A mutant whose code or context changed is a new mutant, and its old outcome
+no longer counts; a mutant that only moved (lines added or removed above
+it) keeps its outcome, recorded under its new name. Each entry holds the
+outcome (``caught``, ``unviable``, ``timeout`` or ``missed``), the widest
+pass that reached it (``focused`` < ``unit`` < ``suite`` < ``python``, a
+pass's tests include the one before's) and the seconds cargo-mutants spent on it.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import re
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -28,9 +31,24 @@ SETTLED = ("caught", "unviable", "timeout")
 SUMMARIES = {"CaughtMutant": "caught", "MissedMutant": "missed", "Unviable": "unviable", "Failure": "unviable", "Timeout": "timeout"}
 
 
-def diff_hash(diff: str) -> str:
-    """The key of a mutant's code: the SHA-256 of its diff, shortened."""
-    return hashlib.sha256(diff.encode()).hexdigest()[:16]
+# The line and column in a cargo-mutants name ("file:line:col: change").
+PLACE = re.compile(r"^([^:]+):(\d+):(\d+): ")
+
+
+def _place(name: str) -> tuple[str, int, int, str]:
+    """A name's file, line, column and change, for ordering by place."""
+    found = PLACE.match(name)
+    if found is None:
+        raise ValueError(f"not a cargo-mutants mutant name (file:line:col: change): {name!r}")
+    return found[1], int(found[2]), int(found[3]), name[found.end():]
+
+
+def mutant_key(name: str, diff: str) -> str:
+    """A mutant's place-free key: the SHA-256, shortened, of its name without
+    line and column and of its diff without the ``@@`` line-number headers."""
+    file, _, _, change = _place(name)
+    body = "".join(line for line in diff.splitlines(keepends=True) if not line.startswith("@@"))
+    return hashlib.sha256(f"{file}: {change}\n{body}".encode()).hexdigest()[:16]
 
 
 def diffs(mutants_json: list[dict]) -> dict[str, str]:
@@ -40,8 +58,15 @@ def diffs(mutants_json: list[dict]) -> dict[str, str]:
 
 
 def hashes(named_diffs: dict[str, str]) -> dict[str, str]:
-    """Name to diff hash."""
-    return {name: diff_hash(diff) for name, diff in named_diffs.items()}
+    """Name to key (``mutant_key``). Mutants alike in all but place (the same
+    change with the same context twice in a file) are told apart by their
+    order in the file: the second's key gets "#2", and so on."""
+    keys, seen = {}, {}
+    for name in sorted(named_diffs, key=_place):
+        key = mutant_key(name, named_diffs[name])
+        seen[key] = seen.get(key, 0) + 1
+        keys[name] = key if seen[key] == 1 else f"{key}#{seen[key]}"
+    return keys
 
 
 @dataclass
@@ -87,22 +112,30 @@ class Ledger:
         self.entries[name] = Entry(outcome, label, diff, seconds)
 
     def current(self, hashes: dict[str, str]) -> dict[str, Entry]:
-        """The entries of the mutants the source has now (name and code)."""
-        return {n: e for n, e in self.entries.items() if hashes.get(n) == e.diff}
+        """The entries of the mutants the source has now (name to key), under
+        their names now: a mutant that moved keeps its outcome."""
+        names = {key: name for name, key in hashes.items()}
+        found = {names[e.diff]: e for e in self.entries.values() if e.diff in names}
+        # An entry under the name it has now wins over one it had before.
+        found.update({n: e for n, e in self.entries.items() if hashes.get(n) == e.diff})
+        return found
 
     def forget_missed(self) -> None:
         """Drops every miss, so that the missed mutants meet every pass again
         (after new tests)."""
         self.entries = {n: e for n, e in self.entries.items() if e.outcome != "missed"}
 
-    def harvest(self, out: Path, label: str) -> int:
+    def harvest(self, out: Path, label: str, group: dict[str, str] | None = None) -> int:
         """Records what a cargo-mutants output folder (``mutants.out``) says,
-        as pass ``label``. cargo-mutants rewrites its ``outcomes.json`` as
-        each mutant ends, so a running pass can be read (a file caught in
-        the middle of a rewrite is read at the next call). The number of
-        mutants read."""
+        as pass ``label``; ``group``, the keys of all the group's mutants
+        now (a shard lists only some, and the order of mutants alike but for
+        their place is the group's). cargo-mutants rewrites its
+        ``outcomes.json`` as each mutant ends, so a running pass can be read
+        (a file caught in the middle of a rewrite is read at the next call).
+        The number of mutants read."""
+        group = group or {}
         try:
-            keys = hashes(diffs(json.loads((out / "mutants.json").read_text())))
+            keys = {n: mutant_key(n, d) for n, d in diffs(json.loads((out / "mutants.json").read_text())).items()}
             data = json.loads((out / "outcomes.json").read_text())
         except (FileNotFoundError, json.JSONDecodeError):
             return 0
@@ -114,7 +147,8 @@ class Ledger:
                 continue
             name = scenario["Mutant"]["name"]
             seconds = round(sum(p["duration"] for p in o.get("phase_results", [])), 1)
-            self.record(name, keys[name], SUMMARIES[o["summary"]], label, seconds)
+            key = group.get(name, keys[name])
+            self.record(name, key if key.split("#")[0] == keys[name] else keys[name], SUMMARIES[o["summary"]], label, seconds)
             seen += 1
         return seen
 

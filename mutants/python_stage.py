@@ -23,7 +23,7 @@ import sys
 import time
 from pathlib import Path
 
-from mutants.ledger import Ledger, diff_hash, hashes
+from mutants.ledger import Ledger, hashes
 from mutants.worktree import sync_tree
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -82,10 +82,11 @@ def run(groups: list[tuple[Ledger, dict[str, str]]]) -> int:
     mutants now, name to diff) that the whole Rust suite missed and that
     has no Python result yet; each outcome written to the ledger as pass
     ``python``. 0 unless the unmutated tree fails them."""
+    keyed = [(ledger, listing, hashes(listing)) for ledger, listing in groups]
     missed = [
-        (ledger, name, listing[name])
-        for ledger, listing in groups
-        for name, entry in sorted(ledger.current(hashes(listing)).items())
+        (ledger, name, listing[name], keys[name])
+        for ledger, listing, keys in keyed
+        for name, entry in sorted(ledger.current(keys).items())
         if entry.outcome == "missed" and entry.pass_ == "suite"
     ]
     if not missed:
@@ -100,14 +101,14 @@ def run(groups: list[tuple[Ledger, dict[str, str]]]) -> int:
         return 1
     timeout = max(MINIMUM_TIMEOUT, TIMEOUT_MULTIPLIER * baseline_seconds)
     print(f"python stage: baseline {baseline_seconds:.0f} s; {len(missed)} mutants, timeout {timeout:.0f} s each")
-    for k, (ledger, name, diff) in enumerate(missed, 1):
+    for k, (ledger, name, diff, key) in enumerate(missed, 1):
         start = time.monotonic()
         tree = sync_tree(scratch / "tree")
         if not _apply(tree, name, diff):
             raise SystemExit(f"python stage: the diff of {name} does not apply to the source")
         outcome = OUTCOMES[_build_and_test(scratch, tree, timeout)]
         seconds = time.monotonic() - start
-        ledger.record(name, diff_hash(diff), outcome, "python", round(seconds, 1))
+        ledger.record(name, key, outcome, "python", round(seconds, 1))
         ledger.save()
         print(f"  [{k}/{len(missed)}] {outcome:9} {seconds:5.0f} s  {name}", flush=True)
     return 0

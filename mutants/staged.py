@@ -106,6 +106,7 @@ class GroupRun:
         self.dir = out.resolve() / group.name
         self.ledger = ledger or Ledger.of_group(group.name)
         self.trees = [trees / str(k) for k in range(jobs)]
+        self.keys: dict[str, str] = {}  # the group's mutants now, name to key (set by run)
 
     def _argv(self, *args: str) -> list[str]:
         excluded = [f"--exclude={glob}" for glob in self.excluded]
@@ -132,6 +133,7 @@ class GroupRun:
         """The group's Rust passes, each on what the ones before left;
         ``keys``, the group's mutants now, name to diff hash."""
         chosen = self.chosen()
+        self.keys = keys
         self.ledger.save(keys)  # drops the outcomes of mutants since changed
         for label, targets in TARGETS.items():
             still = self.to_test(label, keys, chosen)
@@ -179,7 +181,7 @@ class GroupRun:
 
     def _harvest(self, outs: list[Path], label: str) -> None:
         for out in outs:
-            self.ledger.harvest(out, label)
+            self.ledger.harvest(out, label, self.keys)
         self.ledger.save()
 
 
@@ -215,7 +217,7 @@ def main() -> int:
             folder, _, label = spec.rpartition("=")
             if label not in PASSES:
                 raise SystemExit(f"--import {spec}: the pass must be one of {', '.join(PASSES)}")
-            run.ledger.harvest(Path(folder), label)
+            run.ledger.harvest(Path(folder), label, keys[run.group.name])
             run.ledger.save(keys[run.group.name])
         if args.retest_missed:
             run.ledger.forget_missed()

@@ -141,16 +141,6 @@ impl<S: Splitting, T: KickThermostat> Kicked<S, T> {
             state: KickState::default(),
         }
     }
-
-    /// The options.
-    pub fn options(&self) -> &S {
-        &self.splitting
-    }
-
-    /// The thermostat.
-    pub fn thermostat(&self) -> &T {
-        &self.thermostat
-    }
 }
 
 impl<S: Splitting, T: KickThermostat> Integrator for Kicked<S, T> {

@@ -188,11 +188,6 @@ impl GearA {
         Ok(gear)
     }
 
-    /// The options.
-    pub fn options(&self) -> &GearAOptions {
-        &self.options
-    }
-
     /// One step (a)-(f) of the note, monomorphised on the kind of top; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
     fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {

@@ -199,11 +199,6 @@ impl GearB {
         }
     }
 
-    /// The options.
-    pub fn options(&self) -> &GearBOptions {
-        &self.options
-    }
-
     /// One step (a)-(c) of the note plus the switched corrections; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
     fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {

@@ -38,7 +38,7 @@ def _mutants_out(folder: Path, fates: dict[str, str], diffs: dict[str, str] | No
 
 def _keys(*names: str, changed: str | None = None) -> dict[str, str]:
     """The current mutants, name to diff hash (``changed``: its code changed)."""
-    return {n: ledger.diff_hash(f"diff of {n}" + (" (changed)" if n == changed else "")) for n in names}
+    return ledger.hashes({n: f"diff of {n}" + (" (changed)" if n == changed else "") for n in names})
 
 
 A, B, C, D = (f"src/quaternion.rs:{k}:1: replace x" for k in range(1, 5))
@@ -58,7 +58,7 @@ def test_every_focused_test_target_exists():
 
 def test_a_wider_pass_settles_a_miss_a_narrower_miss_replaces_nothing_and_a_settled_outcome_stands(tmp_path):
     book = ledger.Ledger(tmp_path / "g.json")
-    key = ledger.diff_hash("x")
+    key = ledger.mutant_key(A, "x")
     book.record(A, key, "missed", "unit")
     book.record(A, key, "missed", "focused")
     assert book.entries[A].pass_ == "unit"
@@ -67,8 +67,8 @@ def test_a_wider_pass_settles_a_miss_a_narrower_miss_replaces_nothing_and_a_sett
     book.record(A, key, "missed", "python")
     assert book.entries[A].outcome == "caught"
     # The same name with other code is another mutant.
-    book.record(A, ledger.diff_hash("y"), "missed", "focused")
-    assert (book.entries[A].outcome, book.entries[A].diff) == ("missed", ledger.diff_hash("y"))
+    book.record(A, ledger.mutant_key(A, "y"), "missed", "focused")
+    assert (book.entries[A].outcome, book.entries[A].diff) == ("missed", ledger.mutant_key(A, "y"))
     with pytest.raises(ValueError, match="unknown outcome"):
         book.record(B, key, "survived", "focused")
 
@@ -85,6 +85,36 @@ def test_the_ledger_round_trips_and_drops_mutants_whose_code_changed(tmp_path):
     # Dropped for good: a later save without the listing does not bring them back.
     again.save()
     assert set(ledger.Ledger(tmp_path / "g.json").entries) == {A}
+
+
+MOVED = "--- src/quaternion.rs\n+++ replace * with / in f\n@@ -{line},4 +{line},4 @@\n fn f() -> f64 {{\n-    a * 2.0\n+    a / 2.0\n }}\n"
+
+
+def test_a_mutant_that_only_moved_keeps_its_outcome_under_its_new_name(tmp_path):
+    before, after = "src/quaternion.rs:3:7: replace * with / in f", "src/quaternion.rs:5:7: replace * with / in f"
+    book = ledger.Ledger(tmp_path / "g.json")
+    book.harvest(_mutants_out(tmp_path / "out", {before: "CaughtMutant"}, {before: MOVED.format(line=1)}), "focused")
+    # Two lines added above f: the same change in the same code, two lines down.
+    moved = ledger.hashes({after: MOVED.format(line=3)})
+    assert book.current(moved)[after].outcome == "caught"
+    book.save(moved)
+    assert set(ledger.Ledger(tmp_path / "g.json").entries) == {after}
+    # Its code changed: a new mutant, whatever its place.
+    changed = ledger.hashes({after: MOVED.format(line=3).replace("a * 2.0", "b * 2.0")})
+    assert book.current(changed) == {}
+
+
+def test_mutants_alike_but_for_their_place_are_told_apart_in_the_order_of_the_file(tmp_path):
+    first, second = "src/quaternion.rs:9:7: replace * with / in f", "src/quaternion.rs:10:7: replace * with / in f"
+    same = MOVED.format(line=1)
+    keys = ledger.hashes({second: same, first: same})
+    assert keys[second] == keys[first] + "#2"
+    # A shard that tested only the second records it as the second.
+    book = ledger.Ledger(tmp_path / "g.json")
+    book.harvest(_mutants_out(tmp_path / "out", {second: "CaughtMutant"}, {second: same}), "focused", keys)
+    assert set(book.current(keys)) == {second}
+    with pytest.raises(ValueError, match="not a cargo-mutants mutant name"):
+        ledger.mutant_key("replace * with / in f", same)
 
 
 def test_a_half_written_outcomes_file_is_read_at_the_next_harvest(tmp_path):
@@ -296,9 +326,9 @@ def test_the_python_stage_tries_each_mutant_the_whole_rust_suite_missed_and_reco
     )
     listing = {A: diff, B: "diff of B", C: "diff of C"}
     book = ledger.Ledger(tmp_path / "g.json")
-    book.record(A, ledger.diff_hash(diff), "missed", "suite")
-    book.record(B, ledger.diff_hash("diff of B"), "missed", "focused")  # not through every Rust pass yet
-    book.record(C, ledger.diff_hash("diff of C"), "caught", "unit")
+    book.record(A, ledger.mutant_key(A, diff), "missed", "suite")
+    book.record(B, ledger.mutant_key(B, "diff of B"), "missed", "focused")  # not through every Rust pass yet
+    book.record(C, ledger.mutant_key(C, "diff of C"), "caught", "unit")
     assert python_stage.run([(book, listing)]) == 0
     assert (book.entries[A].outcome, book.entries[A].pass_) == ("caught", "python")
     assert (book.entries[B].outcome, book.entries[B].pass_) == ("missed", "focused")
@@ -307,6 +337,6 @@ def test_the_python_stage_tries_each_mutant_the_whole_rust_suite_missed_and_reco
     monkeypatch.setattr(python_stage, "_build_and_test", lambda *a: tried.append(a) or "passed")
     assert python_stage.run([(book, listing)]) == 0 and not tried, "a mutant with a Python result is not tried again"
     # A diff that no longer applies is an error, not a silent miss.
-    book.record(D, ledger.diff_hash(diff.replace("a * 2.0", "b * 2.0")), "missed", "suite")
+    book.record(D, ledger.mutant_key(D, diff.replace("a * 2.0", "b * 2.0")), "missed", "suite")
     with pytest.raises(SystemExit, match="does not apply"):
         python_stage.run([(book, {D: diff.replace("a * 2.0", "b * 2.0")})])
