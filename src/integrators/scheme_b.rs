@@ -6,8 +6,8 @@
 //! `Q'' = 1/2 Q'*W_b + 1/2 Q*W_b'` and `W_b = 2 Q~*Q'` for unit `Q`):
 //!
 //! `Q'' = Q'*Q~*Q' + 1/2 Q*(n0/I0, w_b')`, with `w_b = 2 vec(Q~*Q')`,
-//! `I w_b' = n_b - w_b x (I w_b)` (Euler) and `(n0, n_b) = 1/2 Q~*N` (eq 13
-//! inverted), `N = -dV/dQ` the unconstrained gradient of eq 14.
+//! `I w_b' = n_b - w_b x (I w_b)` (Euler) and `(n0, n_b) = Q~*N/(2|Q|^2)`
+//! (eq 13 inverted, for any `|Q|`), `N = -dV/dQ` the gradient of eq 14.
 //!
 //! For a spherical top this is `Q'' = Q'*Q~*Q' + 1/4 N/I` (the printed eq 12
 //! has `Q'*Q'*Q'` and `1/2 N`: ERRATA.md), computed without any body-frame
@@ -397,5 +397,48 @@ mod tests {
         let d = acceleration::<General>(&m, &q, &q_dot, &force)
             - acceleration::<Spherical>(&m, &q, &q_dot, &force);
         assert!(d.norm() < 1e-15, "{d:?}");
+    }
+
+    /// The body torque is eq 13 inverted exactly, `(n0, n_b) = Q~*N/(2|Q|^2)`,
+    /// also for a non-unit `Q`: at rest (`Q' = 0`, no velocity term, no
+    /// gyroscopic term) a force `N = 2 Q*(n0, n_b)` gives
+    /// `Q'' = 1/2 Q*(n0/I0, n_b/I)` whatever `|Q|`.
+    #[test]
+    fn body_torque_inverts_eq13_for_a_non_unit_quaternion() {
+        let m = PrincipalMoments::new(Vector3::new(1.3, 2.1, 0.7));
+        let q = Quat::new(0.42, -0.7, 0.84, 0.28); // |Q|^2 = 1.4^2 * 0.74
+        assert!((q.norm_squared() - 1.0).abs() > 0.4);
+        let torque = Quat::new(0.25, -0.6, 0.3, 1.1);
+        let force = q * torque * 2.0;
+        let expected =
+            q * Quat::new(
+                torque.scalar() * m.inverse_mean,
+                torque.vector().x * m.inverse.x,
+                torque.vector().y * m.inverse.y,
+                torque.vector().z * m.inverse.z,
+            ) * 0.5;
+        let d = acceleration::<General>(&m, &q, &Quat::new(0.0, 0.0, 0.0, 0.0), &force) - expected;
+        assert!(d.norm() < 1e-15 * expected.norm(), "{d:?}");
+    }
+
+    /// The norm-derivative projection holds for a non-unit `Q` too: the
+    /// constraints `sum_{j=0..k} r_j.r_{k-j} = 0` are quadratic, so a scaled
+    /// exact vector keeps them, and a perturbed scaled one regains them.
+    #[test]
+    fn norm_derivative_constraints_hold_for_a_non_unit_quaternion() {
+        let scale = 1.3;
+        let mut r = exact_free_spherical(0.1).map(|x| x * scale);
+        for (k, x) in r.iter_mut().enumerate().skip(1) {
+            *x += Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
+        }
+        for k in 1..6 {
+            enforce_norm_derivative(&mut r, k);
+        }
+        let residuals = constraint_residuals(&r);
+        assert!(
+            residuals[1..].iter().all(|x| x.abs() < 1e-15),
+            "{residuals:?}"
+        );
+        assert_eq!(r[0], exact_free_spherical(0.1)[0] * scale);
     }
 }
