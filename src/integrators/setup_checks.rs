@@ -118,4 +118,28 @@ mod tests {
             "{err}"
         );
     }
+
+    /// A negative, infinite or NaN moment is refused, with the rotor index
+    /// and the moments, whatever the scheme accepts of zero moments.
+    #[test]
+    fn rejects_negative_and_non_finite_moments() {
+        let initial = [RotorState {
+            orientation: Quat::IDENTITY,
+            omega_body: Vector3::zeros(),
+        }; 2];
+        for bad in [-1.0, f64::INFINITY, f64::NAN] {
+            let inertia = [
+                Inertia::Spherical(1.0),
+                Inertia::Principal(Vector3::new(1.0, bad, 1.0)),
+            ];
+            for moments in [Moments::MayBeZero, Moments::Positive] {
+                let err = validate_setup(&inertia, &initial, 0.1, moments).unwrap_err();
+                assert!(
+                    matches!(err, IntegratorError::Unsupported { rotor: 1, .. }),
+                    "{bad}: {err}"
+                );
+                assert!(err.to_string().contains("finite, >= 0"), "{bad}: {err}");
+            }
+        }
+    }
 }
