@@ -796,3 +796,52 @@ fn bad_inputs_name_the_problem() {
         "box_lengths[1]: must be > 0, got 0"
     );
 }
+
+/// `energy_and_gradient` (the one-pass form the benchmarks and library users
+/// call) gives the energy of `energy` and adds the gradient of
+/// `accumulate_gradient` into what the buffer holds: every multipole case
+/// (its own implementation), free rotors and a potential that keeps the
+/// trait's default (`V = sum_i q0_i^2 q1_i`, gradient `(2 q0 q1, q0^2, 0, 0)`).
+#[test]
+fn energy_and_gradient_equals_the_separate_evaluations() {
+    struct Cubic;
+    impl Potential for Cubic {
+        fn energy(&self, q: &[Quat]) -> f64 {
+            q.iter().map(|q| q.0[0] * q.0[0] * q.0[1]).sum()
+        }
+        fn accumulate_gradient(&self, q: &[Quat], g: &mut [Quat]) {
+            for (q, g) in q.iter().zip(g) {
+                *g += Quat::new(2.0 * q.0[0] * q.0[1], q.0[0] * q.0[0], 0.0, 0.0);
+            }
+        }
+        fn accumulate_torques(&self, _: &[Quat], _: &mut [Vector3<f64>]) {}
+    }
+    let mut r = rng(91);
+    let check = |name: &str, p: &dyn Potential, q: &[Quat], r: &mut rand_chacha::ChaCha8Rng| {
+        let start: Vec<Quat> = q.iter().map(|_| random_orientation(r)).collect();
+        let mut both = start.clone();
+        let energy = p.energy_and_gradient(q, &mut both);
+        let mut alone = vec![Quat::ZERO; q.len()];
+        p.accumulate_gradient(q, &mut alone);
+        let expected = p.energy(q);
+        assert!(
+            (energy - expected).abs() <= 1e-14 * expected.abs(),
+            "{name}: energy {energy} vs {expected}"
+        );
+        let scale = alone.iter().map(|g| g.norm()).fold(1.0, f64::max);
+        for (k, ((b, a), s)) in both.iter().zip(&alone).zip(&start).enumerate() {
+            let d = (*b - (*a + *s)).norm();
+            assert!(d <= 1e-14 * scale, "{name}: rotor {k}: gradient off by {d}");
+        }
+    };
+    for case in all_cases() {
+        check(case.name, &case.potential(), &case.orientations, &mut r);
+    }
+    let q: Vec<Quat> = (0..4).map(|_| random_orientation(&mut r)).collect();
+    assert!(
+        Cubic.energy(&q).abs() > 0.01,
+        "a test potential with an energy"
+    );
+    check("trait default", &Cubic, &q, &mut r);
+    check("free rotors", &quatrot::potential::Free, &q, &mut r);
+}
