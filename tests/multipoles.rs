@@ -845,3 +845,21 @@ fn energy_and_gradient_equals_the_separate_evaluations() {
     check("trait default", &Cubic, &q, &mut r);
     check("free rotors", &quatrot::potential::Free, &q, &mut r);
 }
+
+/// Free rotors: no energy, nothing added to the gradient or the torques, and
+/// never a torque (so every axis's spin is conserved).
+#[test]
+fn free_rotors_feel_nothing() {
+    let mut r = rng(92);
+    let q: Vec<Quat> = (0..3).map(|_| random_orientation(&mut r)).collect();
+    let free = quatrot::potential::Free;
+    assert_eq!(free.energy(&q), 0.0);
+    let start = Quat::new(0.1, -0.2, 0.3, 0.4);
+    let mut gradient = vec![start; 3];
+    free.accumulate_gradient(&q, &mut gradient);
+    assert_eq!(gradient, vec![start; 3]);
+    let mut torques = vec![Vector3::new(1.0, 2.0, 3.0); 3];
+    free.accumulate_torques(&q, &mut torques);
+    assert_eq!(torques, vec![Vector3::new(1.0, 2.0, 3.0); 3]);
+    assert_eq!(free.torque_axes(1), quatrot::potential::TorqueAxes::Never);
+}
