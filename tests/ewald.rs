@@ -523,3 +523,58 @@ fn bad_ewald_input_names_the_field() {
         "{e}"
     );
 }
+
+/// The direct Ewald sum's real-space list holds every pair within the real
+/// cutoff, periodic images and a site's own images included, each once: on
+/// a simple-cubic lattice of spacing 1, `n N / 2` pairs with `N` the lattice
+/// points within `r_c` of the origin (counted here, the origin left out).
+#[test]
+fn direct_ewald_real_space_pairs_are_the_lattice_points_within_the_cutoff() {
+    let lattice = Lattice::cubic(LatticeKind::SimpleCubic, 4, 1.0).unwrap();
+    let rotors: Vec<Rotor> = lattice
+        .sites
+        .iter()
+        .map(|s| Rotor {
+            site: *s,
+            inertia: Inertia::Spherical(1.0),
+            dipole_body: Some(Vector3::z()),
+            quadrupole_body: None,
+        })
+        .collect();
+    for accuracy in [1e-4, 1e-8] {
+        let boundary = Boundary::Periodic {
+            box_lengths: lattice.box_lengths,
+            sum: PeriodicSum::Ewald {
+                accuracy,
+                surface: Surface::Conducting,
+            },
+        };
+        let p = MultipolePotential::with_method(
+            &rotors,
+            boundary,
+            ExternalFields::NONE,
+            SumMethod::Direct,
+        )
+        .unwrap();
+        let rc = p.ewald_parameters().unwrap().real_cutoff;
+        let reach = rc.ceil() as i32;
+        let mut within = 0;
+        for x in -reach..=reach {
+            for y in -reach..=reach {
+                for z in -reach..=reach {
+                    let r2 = (x * x + y * y + z * z) as f64;
+                    within += usize::from(r2 > 0.0 && r2 < rc * rc);
+                }
+            }
+        }
+        assert!(
+            within > 6,
+            "accuracy {accuracy}: r_c {rc} reaches past the neighbours"
+        );
+        assert_eq!(
+            p.pair_count(),
+            rotors.len() * within / 2,
+            "accuracy {accuracy}, r_c {rc}"
+        );
+    }
+}
