@@ -534,12 +534,7 @@ fn direct_ewald_real_space_pairs_are_the_lattice_points_within_the_cutoff() {
     let rotors: Vec<Rotor> = lattice
         .sites
         .iter()
-        .map(|s| Rotor {
-            site: *s,
-            inertia: Inertia::Spherical(1.0),
-            dipole_body: Some(Vector3::z()),
-            quadrupole_body: None,
-        })
+        .map(|s| dipole_rotor(*s, Vector3::z()))
         .collect();
     for accuracy in [1e-4, 1e-8] {
         let boundary = Boundary::Periodic {

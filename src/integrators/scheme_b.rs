@@ -355,6 +355,25 @@ mod tests {
         r
     }
 
+    /// Perturbs the derivatives of `r` (`r_k` by a fixed quaternion times
+    /// `0.1^k`), projects them one after the other and requires every
+    /// constraint to hold again, with `Q = r_0` untouched.
+    fn assert_constraints_regained(mut r: [Quat; 6]) {
+        let q = r[0];
+        for (k, x) in r.iter_mut().enumerate().skip(1) {
+            *x += Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
+        }
+        for k in 1..6 {
+            enforce_norm_derivative(&mut r, k);
+        }
+        let residuals = constraint_residuals(&r);
+        assert!(
+            residuals[1..].iter().all(|x| x.abs() < 1e-15),
+            "{residuals:?}"
+        );
+        assert_eq!(r[0], q);
+    }
+
     /// The higher-derivative correction leaves an exact unit-norm Nordsieck
     /// vector unchanged, and makes a perturbed one satisfy every constraint.
     #[test]
@@ -372,18 +391,7 @@ mod tests {
         for (a, b) in r.iter().zip(&exact) {
             assert!((*a - *b).norm() < 1e-16);
         }
-        let mut perturbed = exact;
-        for (k, x) in perturbed.iter_mut().enumerate().skip(1) {
-            *x += Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
-        }
-        for k in 1..6 {
-            enforce_norm_derivative(&mut perturbed, k);
-        }
-        let residuals = constraint_residuals(&perturbed);
-        assert!(
-            residuals[1..].iter().all(|x| x.abs() < 1e-15),
-            "{residuals:?}"
-        );
+        assert_constraints_regained(exact);
     }
 
     /// The general-top right-hand side reduces to the spherical one for equal
@@ -426,19 +434,6 @@ mod tests {
     /// exact vector keeps them, and a perturbed scaled one regains them.
     #[test]
     fn norm_derivative_constraints_hold_for_a_non_unit_quaternion() {
-        let scale = 1.3;
-        let mut r = exact_free_spherical(0.1).map(|x| x * scale);
-        for (k, x) in r.iter_mut().enumerate().skip(1) {
-            *x += Quat::new(0.3, -0.1, 0.2, 0.05) * 0.1f64.powi(k as i32);
-        }
-        for k in 1..6 {
-            enforce_norm_derivative(&mut r, k);
-        }
-        let residuals = constraint_residuals(&r);
-        assert!(
-            residuals[1..].iter().all(|x| x.abs() < 1e-15),
-            "{residuals:?}"
-        );
-        assert_eq!(r[0], exact_free_spherical(0.1)[0] * scale);
+        assert_constraints_regained(exact_free_spherical(0.1).map(|x| x * 1.3));
     }
 }
