@@ -53,10 +53,19 @@ assert tuple(TARGETS) == PASSES[:-1]
 # cargo-mutants' exit codes that are results: none missed, some missed,
 # some timed out.
 RESULTS = (0, 2, 3)
+# cargo-mutants' exit code when the unmutated tree does not build or pass.
+BASELINE_FAILED = 4
 # How often a running pass's outcomes are written to the ledger, and how
 # often the driver looks whether its cargo-mutants processes have ended.
 HARVEST_SECONDS = 30.0
 POLL_SECONDS = 1.0
+
+
+def clean_build(tree: Path) -> None:
+    """Removes the project's own build products of the mutation profile from
+    a work tree (its dependencies stay built)."""
+    profile = tomllib.loads(CONFIG.read_text())["profile"]
+    subprocess.run(["cargo", "clean", "--quiet", "-p", "quatrot", "--profile", profile], cwd=tree, check=True)
 
 
 def rooted(extra: list[str]) -> list[str]:
@@ -146,9 +155,31 @@ class GroupRun:
     def _pass(self, label: str, targets: list[str], skip: list[str]) -> None:
         """One cargo-mutants process a work tree, each on its shard of the
         mutants not in ``skip``, their outcomes written to the ledger as
-        they come."""
-        processes, outs = [], []
-        for k, tree in enumerate(self.trees):
+        they come. A shard whose unmutated baseline does not build or pass is run
+        once more after its tree's own build is cleaned: in a tree kept warm
+        for hours the incremental cache can go stale (seen: the link of a
+        test failing on an undefined ``anon.*.llvm`` symbol of the library),
+        while a source that does not build or pass fails again and stops the
+        run."""
+        failed = self._shards(label, targets, skip, range(self.jobs))
+        stale = [k for k, code in failed.items() if code == BASELINE_FAILED]
+        if stale:
+            for k in stale:
+                log = self.dir / f"shard-{k}" / "driver.log"
+                log.replace(self.dir / f"shard-{k}-baseline-failed.log")
+                print(f"  shard {k}: the baseline failed; cleaning {self.trees[k]} and trying again", flush=True)
+                clean_build(self.trees[k])
+            retried = self._shards(label, targets, skip, stale)
+            failed = {k: code for k, code in failed.items() if k not in stale} | retried
+        for k, code in sorted(failed.items()):
+            raise SystemExit(f"{self.group.name}: {label}: cargo-mutants failed (exit {code}, {self.dir}/shard-{k}/driver.log)")
+
+    def _shards(self, label: str, targets: list[str], skip: list[str], shards) -> dict[int, int]:
+        """Runs cargo-mutants on ``shards`` side by side; the exit codes of
+        those that did not end with a result."""
+        processes, outs = {}, []
+        for k in shards:
+            tree = self.trees[k]
             sync_tree(tree)
             out = self.dir / f"shard-{k}"
             shutil.rmtree(out, ignore_errors=True)
@@ -160,24 +191,22 @@ class GroupRun:
                               *(f"--cargo-arg={a}" for a in targets))
             print("  " + shlex.join(argv), flush=True)
             with open(out / "driver.log", "w") as log:
-                processes.append(subprocess.Popen(argv, cwd=tree, stdout=log, stderr=subprocess.STDOUT))
+                processes[k] = subprocess.Popen(argv, cwd=tree, stdout=log, stderr=subprocess.STDOUT)
             outs.append(out / "mutants.out")
         try:
             harvested = time.monotonic()
-            while any(p.poll() is None for p in processes):
+            while any(p.poll() is None for p in processes.values()):
                 time.sleep(POLL_SECONDS)
                 if time.monotonic() - harvested >= HARVEST_SECONDS:
                     self._harvest(outs, label)
                     harvested = time.monotonic()
         finally:
-            for p in processes:  # stopped early (a mutated file left in a tree is restored by its next sync)
+            for p in processes.values():  # stopped early (a mutated file left in a tree is restored by its next sync)
                 if p.poll() is None:
                     p.terminate()
                     p.wait()
             self._harvest(outs, label)
-        for k, p in enumerate(processes):
-            if p.returncode not in RESULTS:
-                raise SystemExit(f"{self.group.name}: {label}: cargo-mutants failed (exit {p.returncode}, {outs[k].parent}/driver.log)")
+        return {k: p.returncode for k, p in processes.items() if p.returncode not in RESULTS}
 
     def _harvest(self, outs: list[Path], label: str) -> None:
         for out in outs:
