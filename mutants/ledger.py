@@ -147,8 +147,10 @@ class Ledger:
                 continue
             name = scenario["Mutant"]["name"]
             seconds = round(sum(p["duration"] for p in o.get("phase_results", [])), 1)
-            key = group.get(name, keys[name])
-            self.record(name, key if key.split("#")[0] == keys[name] else keys[name], SUMMARIES[o["summary"]], label, seconds)
+            own, listed = keys[name], group.get(name, keys[name])
+            # The group's key (ordinal included) while the code is the one listed.
+            key = listed if listed.split("#")[0] == own else own
+            self.record(name, key, SUMMARIES[o["summary"]], label, seconds)
             seen += 1
         return seen
 
