@@ -403,6 +403,19 @@ mod tests {
     /// ~1e4 terms that cancel to a few percent of their absolute sum.
     const ROUND_OFF: f64 = 1e-13;
 
+    /// `V = 1/2 sum_i (-mu_i . E_i + Theta_i : W_i)` from the site fields.
+    fn energy(multipoles: &SpaceMultipoles, f: &SiteFields) -> f64 {
+        (0..f.field.len())
+            .map(|i| {
+                let mu = &multipoles.dipoles[i];
+                let e = &f.field[i];
+                -(mu[0] * e[0] + mu[1] * e[1] + mu[2] * e[2])
+                    + multipoles.quadrupoles[i].dot(&f.quadrupole_conjugate[i])
+            })
+            .sum::<f64>()
+            * 0.5
+    }
+
     /// The Ewald sum does not depend on the splitting parameter: energies
     /// and fields of irregular sites with dipoles and quadrupoles at three
     /// `alpha`, with converged cutoffs, in both surfaces.
@@ -430,17 +443,7 @@ mod tests {
                 })
                 .collect(),
         };
-        let energy = |f: &SiteFields| {
-            (0..n)
-                .map(|i| {
-                    let mu = &multipoles.dipoles[i];
-                    let e = &f.field[i];
-                    -(mu[0] * e[0] + mu[1] * e[1] + mu[2] * e[2])
-                        + multipoles.quadrupoles[i].dot(&f.quadrupole_conjugate[i])
-                })
-                .sum::<f64>()
-                * 0.5
-        };
+        let energy = |f: &SiteFields| energy(&multipoles, f);
         for surface in [Surface::Conducting, Surface::Vacuum] {
             let evaluate = |alpha: f64| {
                 let parameters = EwaldParameters {
@@ -484,5 +487,113 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The reciprocal sum runs over the closed sphere `0 < |k| <= k_c` and
+    /// nothing else (module doc): two dipoles in a 2 x 2.5 x 3 box with
+    /// `k_c = 2 pi / L_x` exactly, so that `(+-1, 0, 0)` lie on the sphere
+    /// and the other vectors of the index box `{-1, 0, 1}^3` outside it.
+    /// With no real-space pair (`r_c` below every distance) and conducting
+    /// surroundings the energy is the textbook dipolar Ewald sum (Allen &
+    /// Tildesley, Gaussian units), reciprocal term summed here over the
+    /// whole sphere: `(2 pi / V) sum_k exp(-k^2 / 4 alpha^2) / k^2
+    /// |sum_j (mu_j . k) exp(i k . r_j)|^2 - (2 alpha^3 / 3 sqrt(pi)) sum_j
+    /// mu_j^2`. Both sums are a few terms of order 1: round-off.
+    #[test]
+    fn reciprocal_sum_runs_over_the_closed_sphere_of_wave_vectors() {
+        let box_lengths = Vector3::new(2.0, 2.5, 3.0);
+        let sites = [Vector3::new(0.3, 0.4, 0.5), Vector3::new(1.3, 1.5, 2.1)];
+        let dipoles = [Vector3::new(0.3, -0.8, 0.5), Vector3::new(-0.6, 0.2, 0.9)];
+        let (alpha, kc) = (1.5, 2.0 * PI / box_lengths.x);
+        let parameters = EwaldParameters {
+            alpha,
+            real_cutoff: 0.2,
+            reciprocal_cutoff: kc,
+            real_estimate: 0.0,
+            reciprocal_estimate: 0.0,
+        };
+        let sum = EwaldSum::with_parameters(&sites, box_lengths, parameters, Surface::Conducting)
+            .unwrap();
+        assert_eq!(sum.real_pairs(), 0);
+        let multipoles = SpaceMultipoles {
+            dipoles: dipoles
+                .iter()
+                .map(|m| Lanes([m.x, m.y, m.z, 0.0]))
+                .collect(),
+            quadrupoles: vec![Matrix3::zeros(); 2],
+        };
+        let v = energy(
+            &multipoles,
+            &sum.fields::<DipolesAndQuadrupoles>(&multipoles),
+        );
+        let mut reciprocal = 0.0;
+        let mut inside = 0;
+        for index in
+            (-1..=1).flat_map(|h| (-1..=1).flat_map(move |k| (-1..=1).map(move |l| [h, k, l])))
+        {
+            let k = Vector3::from_fn(|a, _| 2.0 * PI * index[a] as f64 / box_lengths[a]);
+            let k2 = k.norm_squared();
+            if k2 == 0.0 || k2 > kc * kc {
+                continue;
+            }
+            inside += 1;
+            let s: Complex<f64> = (0..2)
+                .map(|j| Complex::from_polar(dipoles[j].dot(&k), k.dot(&sites[j])))
+                .sum();
+            reciprocal += (-k2 / (4.0 * alpha * alpha)).exp() / k2 * s.norm_sqr();
+        }
+        assert_eq!(inside, 6, "(+-1, 0, 0), (0, +-1, 0), (0, 0, +-1)");
+        let volume = box_lengths.product();
+        let self_term = -2.0 * alpha.powi(3) / (3.0 * PI.sqrt())
+            * dipoles.iter().map(|m| m.norm_squared()).sum::<f64>();
+        let expected = 2.0 * PI / volume * reciprocal + self_term;
+        assert!((v - expected).abs() < 1e-14, "{v} vs {expected}");
+    }
+
+    /// The wave vectors are enumerated over the index box `|h_a| <= k_c L_a
+    /// / 2 pi`, `n = prod (2 m_a + 1) / 2` of them in the half space (the
+    /// sphere is found inside it), and [`MAX_WAVE_VECTORS`] bounds that
+    /// half-space count: in a unit cube `m = 108` (`n = 5.1e6`, above half
+    /// the limit: a count of the whole box would refuse it) is built, `m =
+    /// 136` (`n = 1.017e7`) is refused before it is built, with its size.
+    /// (`n` is an odd number halved, never equal to the limit.)
+    #[test]
+    fn the_wave_vector_limit_bounds_the_half_index_box() {
+        let sites = [Vector3::new(0.1, 0.2, 0.3), Vector3::new(0.6, 0.7, 0.8)];
+        let build = |m: f64| {
+            let parameters = EwaldParameters {
+                alpha: 1.0,
+                real_cutoff: 0.2,
+                reciprocal_cutoff: 2.0 * PI * (m + 0.5),
+                real_estimate: 0.0,
+                reciprocal_estimate: 0.0,
+            };
+            let half_box = (2.0 * m + 1.0_f64).powi(3) / 2.0;
+            let sum = EwaldSum::with_parameters(
+                &sites,
+                Vector3::repeat(1.0),
+                parameters,
+                Surface::Conducting,
+            );
+            (half_box, sum.map(|s| s.waves.len()))
+        };
+        let (half_box, built) = build(108.0);
+        assert!(half_box > MAX_WAVE_VECTORS as f64 / 2.0 && half_box < MAX_WAVE_VECTORS as f64);
+        let waves = built.unwrap();
+        // The sphere fills pi/6 of the index box.
+        assert!(
+            (waves as f64 / half_box - PI / 6.0).abs() < 1e-2,
+            "{waves} of {half_box}"
+        );
+        let (half_box, refused) = build(136.0);
+        assert!(half_box > MAX_WAVE_VECTORS as f64);
+        let e = refused.unwrap_err();
+        assert_eq!(e.path, "accuracy", "{e}");
+        assert!(
+            e.message.contains(&format!(
+                "needs about {half_box:.2e} reciprocal-space wave vectors"
+            )),
+            "{e}"
+        );
     }
 }
