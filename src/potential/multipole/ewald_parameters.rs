@@ -156,4 +156,28 @@ mod tests {
             previous = Some(p);
         }
     }
+
+    /// The interaction tensor between multipoles of orders `l1` and `l2`
+    /// (dipole 1, quadrupole 2) has rank `l1 + l2`: the ranks needed are
+    /// those of every pair of carried orders, each once, in increasing order.
+    #[test]
+    fn ranks_are_the_sums_of_the_carried_orders() {
+        for (dipoles, quadrupoles) in [(true, false), (false, true), (true, true), (false, false)] {
+            let orders: Vec<i32> = [(dipoles, 1), (quadrupoles, 2)]
+                .iter()
+                .filter_map(|&(carried, l)| carried.then_some(l))
+                .collect();
+            let mut expected: Vec<i32> = orders
+                .iter()
+                .flat_map(|l1| orders.iter().map(move |l2| l1 + l2))
+                .collect();
+            expected.sort_unstable();
+            expected.dedup();
+            assert_eq!(
+                ranks(dipoles, quadrupoles),
+                expected,
+                "dipoles {dipoles}, quadrupoles {quadrupoles}"
+            );
+        }
+    }
 }
