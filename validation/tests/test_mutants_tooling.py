@@ -204,13 +204,13 @@ skip = set((out / "previously_caught.txt").read_text().split("\\n"))
 k, n = map(int, next(a for a in sys.argv if a.startswith("--shard=")).split("=")[1].split("/"))
 cargo = [a for a in sys.argv if a.startswith("--cargo-arg=")]
 label = "suite" if not cargo else ("unit" if "--cargo-arg=--lib" in cargo else "focused")
-baseline = here / "baseline_failures.json"  # shard -> how many more times its baseline fails
-if baseline.exists():
-    left = json.loads(baseline.read_text())
-    if left.get(str(k), 0) > 0:
-        left[str(k)] -= 1
-        baseline.write_text(json.dumps(left))
-        sys.exit(4)
+# How many more times shard k's baseline fails: a file of its own, since
+# the shards run side by side (one file shared by both raced: a shard read
+# it while the other rewrote it).
+baseline = here / f"baseline_failures_{{k}}.json"
+if baseline.exists() and json.loads(baseline.read_text()) > 0:
+    baseline.write_text(json.dumps(json.loads(baseline.read_text()) - 1))
+    sys.exit(4)
 fates = json.loads((here / "fates.json").read_text())
 tested = [m for m in names if m not in skip][k::n]
 stop = here / "stop.json"
@@ -353,13 +353,13 @@ def test_the_python_stage_tries_each_mutant_the_whole_rust_suite_missed_and_reco
 
 def test_a_shard_whose_baseline_fails_is_cleaned_and_run_again_once(tmp_path, monkeypatch):
     fake = Fake(tmp_path, monkeypatch, [A, B, C, D], {A: ["focused", "unit", "suite"], B: ["focused"]})
-    fake.set(baseline_failures={"1": 1})  # a stale cache in tree 1: its first baseline fails
+    fake.set(baseline_failures_1=1)  # a stale cache in tree 1: its first baseline fails
     assert _passes(fake.go()) == [("focused", [A, B, C, D]), ("unit", [C, D]), ("suite", [C, D])]
     assert fake.cleaned == [tmp_path / "trees" / "1"]
     assert (tmp_path / "out" / "quaternion" / "shard-1-baseline-failed.log").exists()
     # A source that does not build fails again after the cleaning: the run stops.
     fake.book.forget_missed()
-    fake.set(baseline_failures={"0": 2})
+    fake.set(baseline_failures_0=2)
     with pytest.raises(SystemExit, match="cargo-mutants failed \\(exit 4"):
         fake.go()
     assert fake.cleaned[-1] == tmp_path / "trees" / "0"
