@@ -208,8 +208,9 @@ label = "suite" if not cargo else ("unit" if "--cargo-arg=--lib" in cargo else "
 # the shards run side by side (one file shared by both raced: a shard read
 # it while the other rewrote it).
 baseline = here / f"baseline_failures_{{k}}.json"
-if baseline.exists() and json.loads(baseline.read_text()) > 0:
-    baseline.write_text(json.dumps(json.loads(baseline.read_text()) - 1))
+left = json.loads(baseline.read_text()) if baseline.exists() else 0
+if left > 0:
+    baseline.write_text(json.dumps(left - 1))
     sys.exit(4)
 fates = json.loads((here / "fates.json").read_text())
 tested = [m for m in names if m not in skip][k::n]
