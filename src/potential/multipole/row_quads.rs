@@ -38,8 +38,9 @@ pub(crate) const MAX_OVERHEAD: f64 = 0.125;
 /// Ghost source of a missing entry: a zero dipole.
 const NO_ROTOR: u32 = u32::MAX;
 
-/// Offsets closer than this (length unit) sort as equal within a row (only
-/// the speed depends on it, not the result).
+/// Offsets closer than this fraction of the shortest pair distance sort as
+/// equal within a row (only the speed depends on it, not the result; a
+/// fraction, so that the table is the same in any length unit).
 const OFFSET_KEY_RESOLUTION: f64 = 1e-6;
 
 /// The six entries of a symmetric dipole tensor (aligned so that none
@@ -125,13 +126,15 @@ impl RowQuads {
         tensors.push(SymmetricTensor::default());
 
         // Directed rows: (offset key, partner, tensor), sorted by offset.
+        let resolution =
+            OFFSET_KEY_RESOLUTION / pairs.geometry.iter().fold(0.0, |m: f64, g| m.max(g.inv_r));
         let mut rows: Vec<Vec<([i64; 3], u32, u32)>> = vec![Vec::new(); rotors];
         for (i, row) in pairs.start.windows(2).enumerate() {
             for p in row[0]..row[1] {
                 let j = pairs.partner[p] as usize;
                 let g = pairs.geometry_index[p] as usize;
                 let geometry = &pairs.geometry[g];
-                let offset = geometry.unit / (geometry.inv_r * OFFSET_KEY_RESOLUTION);
+                let offset = geometry.unit / (geometry.inv_r * resolution);
                 let key: [i64; 3] = offset.map(|x| x.round() as i64).into();
                 rows[i].push((key, j as u32, tensor_index[g]));
                 rows[j].push((key.map(|x| -x), i as u32, tensor_index[g]));
@@ -490,5 +493,27 @@ mod tests {
         let pairs = PairTable::build(&sites, periodic(4, 1.9)).unwrap();
         assert!(pairs.len() > 100);
         assert!(RowQuads::build(&pairs).is_none());
+    }
+
+    /// The table is the same in any length unit: the 10^3 lattice with cutoff
+    /// 1.5 (nearest and next-nearest neighbours) scaled by 1e-7 (a spacing
+    /// below the old absolute key resolution of 1e-6, which merged every
+    /// offset and lost the quad kernel) and 1e7 regroups its pairs slot for
+    /// slot as at spacing 1, with the quad kernel selected.
+    #[test]
+    fn the_table_does_not_depend_on_the_length_unit() {
+        let table = |scale: f64| {
+            let sites: Vec<_> = simple_cubic(10, &[]).iter().map(|s| s * scale).collect();
+            let pairs =
+                PairTable::build(&sites, Some((Vector3::repeat(10.0 * scale), 1.5 * scale)));
+            let quads = RowQuads::build(&pairs.unwrap()).expect("the quad kernel is selected");
+            let slots: Vec<_> = quads.slots.iter().map(|s| (s.tensor, s.partner)).collect();
+            (quads.start, slots, quads.ghosts)
+        };
+        let unit = table(1.0);
+        assert!(!unit.2.is_empty());
+        for scale in [1e-7, 1e7] {
+            assert!(table(scale) == unit, "scale {scale}");
+        }
     }
 }
