@@ -516,4 +516,18 @@ mod tests {
             assert!(table(scale) == unit, "scale {scale}");
         }
     }
+
+    /// Two layers of four sites, one above the other (periodic lattice of
+    /// spacings 3, 12 and 1): every slot of both quads reads four consecutive
+    /// partners, so the table needs no ghost entry, and the extended arrays
+    /// are the dipoles themselves (plus the trailing zeros).
+    #[test]
+    fn consecutive_partners_need_no_ghosts() {
+        let sites: Vec<_> = (0..8)
+            .map(|k| Vector3::new(3.0 * (k % 4) as f64, 0.0, (k / 4) as f64))
+            .collect();
+        let quads = check_against_half_list(&sites, Some((Vector3::new(12.0, 12.0, 2.0), 1.5)));
+        assert!(quads.ghosts.is_empty());
+        assert_eq!(quads.quads(), 2);
+    }
 }
