@@ -120,10 +120,12 @@ class Ledger:
         found.update({n: e for n, e in self.entries.items() if hashes.get(n) == e.diff})
         return found
 
-    def forget_missed(self) -> None:
-        """Drops every miss, so that the missed mutants meet every pass again
-        (after new tests)."""
-        self.entries = {n: e for n, e in self.entries.items() if e.outcome != "missed"}
+    def forget_missed(self, keys: set[str] | None = None) -> None:
+        """Drops the misses of the mutants with these keys (every miss
+        without keys), so that they meet every pass again (after new tests)."""
+        self.entries = {
+            n: e for n, e in self.entries.items() if e.outcome != "missed" or (keys is not None and e.diff not in keys)
+        }
 
     def harvest(self, out: Path, label: str, group: dict[str, str] | None = None) -> int:
         """Records what a cargo-mutants output folder (``mutants.out``) says,

@@ -10,7 +10,8 @@ timed out) and that no pass as wide or wider has missed, and it records
 each outcome as cargo-mutants reports it, so a run stopped at any point (a
 session's end, another machine) resumes where it stopped. A mutant whose
 code or context changed is tested again. ``--retest-missed`` forgets the
-misses (after new tests). ``--group NAME`` limits a run to some groups.
+misses of the mutants the run chooses (after new tests; ``--extra`` options
+such as ``--exclude`` or ``--in-diff`` narrow it). ``--group NAME`` limits a run to some groups.
 
 cargo-mutants mutates in place (``--in-place``) in ``--jobs`` work trees of
 its own under ``target/mutants-trees``, each a copy of the tracked files
@@ -226,7 +227,7 @@ def main() -> int:
     parser.add_argument("--import", dest="imports", action="append", default=[], metavar="FOLDER=PASS",
                         help="record an earlier run's mutants.out folder as pass PASS of every chosen group")
     parser.add_argument("--retest-missed", action="store_true",
-                        help="test the missed mutants through every pass again (after new tests)")
+                        help="test the missed mutants this run chooses through every pass again (after new tests)")
     parser.add_argument("--report", type=Path, default=ROOT / "mutants" / "REPORT.md")
     args = parser.parse_args()
     # A run stopped by SIGTERM (or SIGINT, which a shell's background job
@@ -249,7 +250,7 @@ def main() -> int:
             run.ledger.harvest(Path(folder), label, keys[run.group.name])
             run.ledger.save(keys[run.group.name])
         if args.retest_missed:
-            run.ledger.forget_missed()
+            run.ledger.forget_missed({keys[run.group.name][n] for n in run.chosen()})
             run.ledger.save()
         if not args.report_only:
             run.run(keys[run.group.name])

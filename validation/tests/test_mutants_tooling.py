@@ -364,3 +364,14 @@ def test_a_shard_whose_baseline_fails_is_cleaned_and_run_again_once(tmp_path, mo
     with pytest.raises(SystemExit, match="cargo-mutants failed \\(exit 4"):
         fake.go()
     assert fake.cleaned[-1] == tmp_path / "trees" / "0"
+
+
+def test_forgetting_misses_keeps_those_of_mutants_not_chosen(tmp_path):
+    book = ledger.Ledger(tmp_path / "g.json")
+    for name, outcome in ((A, "missed"), (B, "missed"), (C, "caught")):
+        book.record(name, ledger.mutant_key(name, "diff of " + name), outcome, "suite")
+    book.forget_missed({ledger.mutant_key(A, "diff of " + A), ledger.mutant_key(C, "diff of " + C)})
+    assert {n: e.outcome for n, e in book.entries.items()} == {B: "missed", C: "caught"}
+    book.forget_missed()
+    assert {n: e.outcome for n, e in book.entries.items()} == {C: "caught"}
+
