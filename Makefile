@@ -79,7 +79,7 @@ bench: develop
 # groups, MUTANTS_ARGS passes cargo-mutants options to every pass, e.g.
 # MUTANTS_ARGS="--in-diff change.diff" for a change, MUTANTS_JOBS sets the
 # work trees run side by side, and MUTANTS_RETEST=1 sends the missed mutants
-# through every pass again (after new tests). `make mutants-report` writes
+# the run chooses through every pass again (after new tests). `make mutants-report` writes
 # the report from the recorded outcomes without running anything.
 MUTANTS_VERSION := 27.1.0
 CARGO_MUTANTS := target/tools/cargo-mutants-$(MUTANTS_VERSION)/bin/cargo-mutants
