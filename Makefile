@@ -94,7 +94,7 @@ $(CARGO_MUTANTS):
 	cargo install --locked --root target/tools/cargo-mutants-$(MUTANTS_VERSION) cargo-mutants@$(MUTANTS_VERSION)
 
 mutants: $(CARGO_MUTANTS) $(STAMP_VENV)
-	$(STAGED) --jobs $(MUTANTS_JOBS) --extra "$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g)) \
+	$(STAGED) --jobs $(MUTANTS_JOBS) --extra="$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g)) \
 	  $(if $(MUTANTS_RETEST),--retest-missed)
 
 mutants-report: $(CARGO_MUTANTS) $(STAMP_VENV)

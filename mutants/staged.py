@@ -239,7 +239,12 @@ def main() -> int:
         raise SystemExit(f"unknown group in {args.group}; the groups are in {GROUPS}")
     if args.jobs < 1:
         raise SystemExit(f"--jobs must be at least 1, got {args.jobs}")
-    runs = [GroupRun(args.cargo_mutants, args.out, g, every, rooted(shlex.split(args.extra)), args.jobs) for g in chosen]
+    extra = shlex.split(args.extra)
+    if any(a in ("-f", "--file") or a.startswith("--file=") for a in extra):
+        # cargo-mutants adds --file to the configured examine_globs: it would
+        # choose every file, and --retest-missed would forget every miss.
+        raise SystemExit("--extra: --file does not narrow a run (it adds to examine_globs); use --re or --exclude")
+    runs = [GroupRun(args.cargo_mutants, args.out, g, every, rooted(extra), args.jobs) for g in chosen]
     listings = {run.group.name: run.listing() for run in runs}
     keys = {name: hashes(d) for name, d in listings.items()}
     for run in runs:

@@ -375,3 +375,12 @@ def test_forgetting_misses_keeps_those_of_mutants_not_chosen(tmp_path):
     book.forget_missed()
     assert {n: e.outcome for n, e in book.entries.items()} == {C: "caught"}
 
+
+@pytest.mark.parametrize("narrowing", ["--file src/quaternion.rs", "-f src/quaternion.rs", "--file=src/quaternion.rs"])
+def test_a_file_option_is_refused_as_it_would_choose_every_file(monkeypatch, narrowing):
+    # --extra=VALUE, as the Makefile passes it (a value that starts with a
+    # dash and has no space would be taken for an option of its own).
+    monkeypatch.setattr("sys.argv", ["staged", "--cargo-mutants", "x", "--out", "y", f"--extra={narrowing}"])
+    with pytest.raises(SystemExit, match="use --re or --exclude"):
+        staged.main()
+
