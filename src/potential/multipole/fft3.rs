@@ -278,13 +278,15 @@ mod tests {
         ];
         let phase = |k: &[usize; 3], x: usize, y: usize, z: usize| {
             2.0 * PI
-                * ((k[0] * x) as f64 / 48.0 + (k[1] * y) as f64 / 40.0 + (k[2] * z) as f64 / 64.0)
+                * ((k[0] * x) as f64 / n[0] as f64
+                    + (k[1] * y) as f64 / n[1] as f64
+                    + (k[2] * z) as f64 / n[2] as f64)
         };
         let mut field = vec![0.0; total];
         for (x, y, z) in
-            (0..48).flat_map(|x| (0..40).flat_map(move |y| (0..64).map(move |z| (x, y, z))))
+            (0..n[0]).flat_map(|x| (0..n[1]).flat_map(move |y| (0..n[2]).map(move |z| (x, y, z))))
         {
-            field[(x * 40 + y) * 64 + z] = waves
+            field[(x * n[1] + y) * n[2] + z] = waves
                 .iter()
                 .map(|(k, a, phi)| a * (phase(k, x, y, z) + phi).cos())
                 .sum();
@@ -294,7 +296,7 @@ mod tests {
             let half = total as f64 * a / 2.0;
             expected[plan.spectrum_index(k)] += C64::from_polar(half, phi);
             if k[2] == 0 {
-                let minus = [(48 - k[0]) % 48, (40 - k[1]) % 40, 0];
+                let minus = [(n[0] - k[0]) % n[0], (n[1] - k[1]) % n[1], 0];
                 expected[plan.spectrum_index(minus)] += C64::from_polar(half, -phi);
             }
         }
