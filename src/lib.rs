@@ -41,6 +41,8 @@
 #![warn(unused_qualifications, unused_results, rust_2018_idioms)]
 #![deny(unused_must_use)]
 
+#[cfg(test)]
+mod allocation_meter;
 pub mod analysis;
 pub mod checks;
 pub mod cli;
