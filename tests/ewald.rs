@@ -239,7 +239,7 @@ fn vacuum_minus_conducting_is_the_surface_term() {
 }
 
 /// The lattices of the path comparisons: random multipoles of every kind,
-/// with vacancies, on sc, bcc and fcc.
+/// with vacancies, on sc, bcc and fcc, cells longer and shorter than 1.
 fn lattice_systems() -> Vec<(&'static str, Vec<Rotor>, Vector3<f64>)> {
     let mut r = rng(41);
     let mut out = Vec::new();
@@ -282,6 +282,18 @@ fn lattice_systems() -> Vec<(&'static str, Vec<Rotor>, Vector3<f64>)> {
             .map(|s| random_rotor(&mut r, *s, true, false))
             .collect(),
         sc_box,
+    ));
+    // Cells shorter than the length unit: a lattice sum that mixed up
+    // lengths and inverse lengths (r / c against r c) would agree at 1.
+    let small = Lattice::cubic(LatticeKind::Bcc, 3, 0.55).unwrap();
+    out.push((
+        "bcc 3^3 of spacing 0.55, dipoles and quadrupoles",
+        small
+            .sites
+            .iter()
+            .map(|s| random_rotor(&mut r, *s, true, true))
+            .collect(),
+        small.box_lengths,
     ));
     out
 }

@@ -402,8 +402,7 @@ fn check_distinct_slots(grid: &LatticeGrid) -> Result<(), PotentialError> {
 
 /// Bytes of one site's fields as an evaluation returns them ([`SiteFields`]).
 fn output_bytes_per_site(dipoles: bool, quadrupoles: bool) -> usize {
-    dipoles as usize * size_of::<Lanes>()
-        + quadrupoles as usize * size_of::<Matrix3<f64>>()
+    dipoles as usize * size_of::<Lanes>() + quadrupoles as usize * size_of::<Matrix3<f64>>()
 }
 
 /// Bytes of the kernel, of one evaluation's buffers (`output` those of the
