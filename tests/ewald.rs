@@ -239,7 +239,7 @@ fn vacuum_minus_conducting_is_the_surface_term() {
 }
 
 /// The lattices of the path comparisons: random multipoles of every kind,
-/// with vacancies, on sc, bcc and fcc, cells longer and shorter than 1.
+/// with vacancies, on sc, bcc and fcc, cells from 0.55 to 7.5 long.
 fn lattice_systems() -> Vec<(&'static str, Vec<Rotor>, Vector3<f64>)> {
     let mut r = rng(41);
     let mut out = Vec::new();
@@ -261,10 +261,11 @@ fn lattice_systems() -> Vec<(&'static str, Vec<Rotor>, Vector3<f64>)> {
             .collect(),
         bcc.box_lengths,
     ));
-    let (sc, sc_box) = simple_cubic([4, 5, 3], 1.0);
+    // Cells longer than 2 pi: reciprocal steps 2 pi / c below 1.
+    let (sc, sc_box) = simple_cubic([4, 5, 3], 7.5);
     let mixed = [(true, false), (false, true), (true, true)];
     out.push((
-        "sc 4x5x3, mixed multipoles, two vacancies",
+        "sc 4x5x3 of spacing 7.5, mixed multipoles, two vacancies",
         sc.iter()
             .enumerate()
             .filter(|(k, _)| *k != 7 && *k != 33)
