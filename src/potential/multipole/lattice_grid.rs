@@ -191,4 +191,104 @@ mod tests {
         sites[7].y += 1e-6;
         assert!(detect(&sites, &lattice.box_lengths).is_none());
     }
+
+    /// Every site is its slot: the first site plus its cell's corner plus
+    /// its basis offset, modulo the box, with every basis offset inside one
+    /// cell; sites in reverse order (so the first site seen of a basis
+    /// offset need not lie in cell 0), shifted, with a vacancy.
+    #[test]
+    fn slots_and_basis_rebuild_every_site() {
+        for kind in [LatticeKind::SimpleCubic, LatticeKind::Bcc, LatticeKind::Fcc] {
+            let lattice = Lattice::cubic(kind, 3, 1.3).unwrap();
+            let l = lattice.box_lengths;
+            let shift = Vector3::new(-0.4, 2.2, 0.9);
+            let mut sites: Vec<_> = lattice.sites.iter().rev().map(|s| s + shift).collect();
+            let _removed = sites.remove(4);
+            let grid = detect(&sites, &l).expect("a lattice");
+            let c = grid.cell_lengths;
+            for offset in &grid.basis {
+                assert!(
+                    (0..3).all(|a| offset[a] >= 0.0 && offset[a] < c[a] * (1.0 - 1e-9)),
+                    "{kind:?}: {offset:?}"
+                );
+            }
+            for (site, &(cell, b)) in sites.iter().zip(&grid.slots) {
+                let [_, my, mz] = grid.cells;
+                let m = Vector3::new(
+                    (cell / (my * mz)) as f64,
+                    ((cell / mz) % my) as f64,
+                    (cell % mz) as f64,
+                );
+                let rebuilt = sites[0] + m.component_mul(&c) + grid.basis[b];
+                let boxes = (site - rebuilt).component_div(&l);
+                assert!(
+                    boxes.iter().all(|x| (x - x.round()).abs() < 1e-12),
+                    "{kind:?}: {site:?} from {rebuilt:?}"
+                );
+            }
+        }
+    }
+
+    /// Coordinates within `LATTICE_TOLERANCE` of the box edge of a grid point
+    /// are on it, farther ones are not: a plane of sites moved by 0.5e-10 of
+    /// the edge stays on the lattice, one moved by 2e-10 breaks it; a site at
+    /// round-off below a grid point across the box face counts as that grid
+    /// point, also in a diluted lattice (12 sites on 64 slots, every grid
+    /// coordinate used) that a grid of twice the steps would take beyond 8
+    /// slots a site.
+    #[test]
+    fn the_tolerance_is_a_fraction_of_the_box_edge() {
+        let lattice = Lattice::cubic(LatticeKind::SimpleCubic, 5, 1.3).unwrap();
+        let l = lattice.box_lengths;
+        // A whole plane moved (one site alone would merge with its plane's
+        // coordinate before the grid is tried).
+        let moved = |fraction: f64| {
+            let mut sites = lattice.sites.clone();
+            for s in sites.iter_mut().filter(|s| (s.y - 2.6).abs() < 1e-9) {
+                s.y += fraction * l.y;
+            }
+            detect(&sites, &l)
+        };
+        let grid = moved(0.5 * LATTICE_TOLERANCE).expect("a lattice within the tolerance");
+        assert_eq!((grid.cells, grid.basis.len()), ([5, 5, 5], 1));
+        assert!(moved(2.0 * LATTICE_TOLERANCE).is_none());
+        let mut diluted: Vec<Vector3<f64>> = (0..4)
+            .flat_map(|i| {
+                [
+                    (i, i, i),
+                    (i, (i + 1) % 4, (i + 2) % 4),
+                    (i, (i + 2) % 4, (i + 1) % 4),
+                ]
+                .map(|(x, y, z)| Vector3::new(x as f64, y as f64, z as f64))
+            })
+            .collect();
+        let l = Vector3::repeat(4.0);
+        let exact = detect(&diluted, &l).expect("a diluted lattice");
+        assert_eq!(diluted[1], Vector3::new(0.0, 1.0, 2.0));
+        diluted[1].x = -1e-13;
+        let grid = detect(&diluted, &l).expect("round-off across the face is on the grid");
+        assert_eq!(
+            (grid.cells, grid.basis.len()),
+            (exact.cells, exact.basis.len())
+        );
+    }
+
+    /// Sites whose slots would outnumber them more than `MAX_EMPTY_FACTOR`
+    /// times are not a lattice: two sites 1/16 of the edge apart (16 slots,
+    /// 8 a site) are one, 1/17 apart are not; two sites on a 4 x 4 x 1 grid
+    /// are one, on a 4 x 4 x 2 grid (32 slots) not.
+    #[test]
+    fn at_most_eight_slots_a_site() {
+        let l = Vector3::new(3.0, 2.0, 5.0);
+        let pair = |x: f64, y: f64, z: f64| {
+            detect(
+                &[Vector3::zeros(), Vector3::new(x * l.x, y * l.y, z * l.z)],
+                &l,
+            )
+        };
+        assert_eq!(pair(1.0 / 16.0, 0.0, 0.0).expect("16 slots").slots.len(), 2);
+        assert!(pair(1.0 / 17.0, 0.0, 0.0).is_none());
+        assert!(pair(0.25, 0.25, 0.0).is_some());
+        assert!(pair(0.25, 0.25, 0.5).is_none());
+    }
 }
