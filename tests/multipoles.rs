@@ -653,7 +653,8 @@ fn openmm_quadrupole_conversion_is_a_factor_three() {
     );
 }
 
-/// The 10^3 periodic sc lattice with cutoff 3.1 has 61,000 pairs sharing 122 geometries.
+/// The 10^3 periodic sc lattice with cutoff 3.1 has 61,000 pairs sharing
+/// 122 geometries; as an open cluster, 499,500 pairs.
 #[test]
 fn periodic_lattice_pair_count() {
     let lattice = Lattice::cubic(LatticeKind::SimpleCubic, 10, 1.0).unwrap();
@@ -675,6 +676,9 @@ fn periodic_lattice_pair_count() {
     .unwrap();
     assert_eq!(p.pair_count(), 61_000);
     assert_eq!(p.geometry_count(), 122);
+    // An open cluster of the same sites: every pair once, n (n - 1) / 2.
+    let open = MultipolePotential::new(&rotors, Boundary::Open, ExternalFields::NONE).unwrap();
+    assert_eq!(open.pair_count(), 1000 * 999 / 2);
     assert_eq!(
         Lattice::cubic(LatticeKind::Bcc, 3, 1.0)
             .unwrap()

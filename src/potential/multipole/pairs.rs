@@ -546,4 +546,38 @@ mod tests {
         assert_eq!(by_grid, by_table);
         assert_eq!(by_grid.path, "rotors[3].site and rotors[50].site");
     }
+
+    /// The blocks cover the rows in order, and each holds the pairs of its
+    /// share of the total to within one row: rows of 1 to 40 pairs (and
+    /// empty ones) in 1 to 7 blocks, more blocks than rows, no rows.
+    #[test]
+    fn blocks_split_the_pairs_evenly() {
+        let counts: Vec<usize> = (0..50)
+            .map(|i| (i * 37 % 41) * (i % 5 != 2) as usize)
+            .collect();
+        let mut start = vec![0];
+        for c in &counts {
+            start.push(start.last().unwrap() + c);
+        }
+        let (total, longest) = (start[50], *counts.iter().max().unwrap());
+        for blocks in 1..=7 {
+            let ranges = balanced_blocks(&start, blocks);
+            assert_eq!(ranges.len(), blocks);
+            assert_eq!((ranges[0].start, ranges[blocks - 1].end), (0, 50));
+            for (b, r) in ranges.iter().enumerate() {
+                if b > 0 {
+                    assert_eq!(r.start, ranges[b - 1].end);
+                }
+                // The pairs before the block's end are its share, to a row.
+                let share = total * (b + 1) / blocks;
+                assert!(
+                    start[r.end] >= share && start[r.end] < share + longest.max(1),
+                    "{blocks} blocks: {b}: {r:?}"
+                );
+            }
+        }
+        let few = balanced_blocks(&[0, 3, 5], 4);
+        assert_eq!(few, vec![0..1, 1..2]);
+        assert_eq!(balanced_blocks(&[0], 3), vec![0..0]);
+    }
 }
