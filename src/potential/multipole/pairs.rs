@@ -580,4 +580,39 @@ mod tests {
         assert_eq!(few, vec![0..1, 1..2]);
         assert_eq!(balanced_blocks(&[0], 3), vec![0..0]);
     }
+
+    /// The grid finds the coincident pair the full table finds (the first
+    /// in row order), whichever of the 26 neighbouring cells (of width
+    /// `COINCIDENT`) holds the later site; of three coincident sites, the
+    /// pair of the first two.
+    #[test]
+    fn coincident_sites_are_found_in_every_neighbouring_cell() {
+        let spread = scatter(30, &Vector3::new(3.0, 4.0, 5.0));
+        for d in 0..27 {
+            let dir = Vector3::new(
+                (d / 9) as f64 - 1.0,
+                ((d / 3) % 3) as f64 - 1.0,
+                (d % 3) as f64 - 1.0,
+            );
+            if dir == Vector3::zeros() {
+                continue;
+            }
+            // Near the face (or the middle) of cell 3 that `dir` points through.
+            let base = dir.map(|x| (3.5 + 0.49 * x) * COINCIDENT);
+            let mut sites = spread.clone();
+            sites[6] = base;
+            sites[21] = base + dir.normalize() * (0.6 * COINCIDENT);
+            let cell = |s: &Vector3<f64>| s.map(|x| (x / COINCIDENT).floor());
+            assert_eq!(cell(&sites[21]) - cell(&sites[6]), dir);
+            let by_table = PairTable::build(&sites, None).unwrap_err();
+            assert_eq!(by_table.path, "rotors[6].site and rotors[21].site");
+            assert_eq!(OpenPairs::new(&sites).unwrap_err(), by_table, "{dir:?}");
+        }
+        let mut three = spread.clone();
+        three[20] = three[5];
+        three[11] = three[5] + Vector3::new(0.0, 0.0, 0.5 * COINCIDENT);
+        let by_table = PairTable::build(&three, None).unwrap_err();
+        assert_eq!(by_table.path, "rotors[5].site and rotors[11].site");
+        assert_eq!(OpenPairs::new(&three).unwrap_err(), by_table);
+    }
 }
