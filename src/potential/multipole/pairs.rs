@@ -608,7 +608,10 @@ mod tests {
             assert_eq!(by_table.path, "rotors[6].site and rotors[21].site");
             assert_eq!(OpenPairs::new(&sites).unwrap_err(), by_table, "{dir:?}");
         }
+        // The later site in site 5's own cell, scanned before the earlier
+        // one in the next cell along z.
         let mut three = spread.clone();
+        three[5] = Vector3::new(3.5, 3.5, 3.9) * COINCIDENT;
         three[20] = three[5];
         three[11] = three[5] + Vector3::new(0.0, 0.0, 0.5 * COINCIDENT);
         let by_table = PairTable::build(&three, None).unwrap_err();
