@@ -29,12 +29,14 @@ develop: $(STAMP_VENV)
 
 # cargo doc with warnings denied: the public docs (broken links, and links
 # from public items to private ones), then every item's docs (broken links
-# in private items).
+# in private items). Checked under the release profile, as the tests build:
+# its proc macros and build scripts are compiled unoptimised and once for
+# both (the dev profile optimises every dependency, proc macros included).
 lint:
 	cargo fmt --all -- --check
-	cargo clippy --all-targets --features python -- -D warnings
-	RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features python
-	RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features python --document-private-items
+	cargo clippy --release --all-targets --features python -- -D warnings
+	RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --features python
+	RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --features python --document-private-items
 
 rust-test:
 	cargo test --release
