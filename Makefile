@@ -80,7 +80,7 @@ bench: develop
 # reason from mutants/explanations.toml. MUTANTS_GROUPS limits a run to some
 # groups, MUTANTS_ARGS passes cargo-mutants options to every pass, e.g.
 # MUTANTS_ARGS="--in-diff change.diff" for a change, MUTANTS_JOBS sets the
-# work trees run side by side, and MUTANTS_RETEST=1 sends the missed mutants
+# work trees (and Python-stage workers) run side by side, and MUTANTS_RETEST=1 sends the missed mutants
 # the run chooses through every pass again (after new tests). `make mutants-report` writes
 # the report from the recorded outcomes without running anything.
 MUTANTS_VERSION := 27.1.0

@@ -3,11 +3,15 @@ against the quick Python checks.
 
 For each mutant cargo-mutants reports as missed, the tracked source tree is
 copied to a scratch directory, the mutant's diff applied, the extension built
-from it (maturin, release, one cargo target directory for all mutants so that
-only quatrot itself is rebuilt), installed into a scratch site directory, and
-the Python tests run with that directory first on the path. A failing run
+from it (maturin, release), installed into a scratch site directory, and the
+Python tests run with that directory first on the path. A failing run
 catches the mutant. The unmutated tree goes first, as cargo-mutants' baseline
 does: it must pass, and its duration sets the timeout.
+
+With ``--jobs`` above 1, as many workers take mutants from one queue, each in
+its own scratch directory with its own cargo target directory (kept between
+runs, so that only quatrot itself is rebuilt): one worker's Python tests,
+single-threaded, run while another builds.
 
 Results go to the group's ledger (``mutants/ledger.py``) as pass
 ``python``; a mutant that already has one is not tried again, so an
@@ -17,10 +21,13 @@ interrupted stage resumes.
 from __future__ import annotations
 
 import os
+import queue
 import shutil
 import subprocess
 import sys
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from mutants.ledger import Ledger, hashes
@@ -43,12 +50,13 @@ def _run(argv: list[str], cwd: Path, env: dict | None = None, timeout: float | N
 
 
 def _build_and_test(scratch: Path, tree: Path, timeout: float | None) -> str:
-    """Builds the extension from ``tree`` and runs the Python tests against it:
-    "passed", "failed", "unviable" (no build) or "timeout"."""
+    """Builds the extension from ``tree`` and runs the Python tests against it,
+    in the worker's ``scratch`` directory: "passed", "failed", "unviable" (no
+    build) or "timeout"."""
     wheels, site = scratch / "wheels", scratch / "site"
     for d in (wheels, site):
         shutil.rmtree(d, ignore_errors=True)
-    env = dict(os.environ, CARGO_TARGET_DIR=str(ROOT / "target" / "mutants-python"))
+    env = dict(os.environ, CARGO_TARGET_DIR=str(scratch / "target"))
     deadline = None if timeout is None else time.monotonic() + timeout
 
     def left() -> float | None:
@@ -77,11 +85,12 @@ def _apply(tree: Path, name: str, diff: str) -> bool:
     return result.returncode == 0
 
 
-def run(groups: list[tuple[Ledger, dict[str, str]]]) -> int:
+def run(groups: list[tuple[Ledger, dict[str, str]]], jobs: int = 1) -> int:
     """The Python checks on every mutant of each group (its ledger, and its
     mutants now, name to diff) that the whole Rust suite missed and that
-    has no Python result yet; each outcome written to the ledger as pass
-    ``python``. 0 unless the unmutated tree fails them."""
+    has no Python result yet, by ``jobs`` workers; each outcome written to
+    the ledger as pass ``python`` as it comes. 0 unless the unmutated tree
+    fails them."""
     keyed = [(ledger, listing, hashes(listing)) for ledger, listing in groups]
     missed = [
         (ledger, name, listing[name], keys[name])
@@ -92,23 +101,41 @@ def run(groups: list[tuple[Ledger, dict[str, str]]]) -> int:
     if not missed:
         print("python stage: no mutant left to try")
         return 0
-    scratch = ROOT / "target" / "mutants-python-scratch"
+    scratches = [ROOT / "target" / "mutants-python-scratch" / str(k) for k in range(jobs)]
     start = time.monotonic()
-    baseline = _build_and_test(scratch, sync_tree(scratch / "tree"), None)
+    baseline = _build_and_test(scratches[0], sync_tree(scratches[0] / "tree"), None)
     baseline_seconds = time.monotonic() - start
     if baseline != "passed":
         print(f"python stage: the unmutated tree does not pass ({baseline})", file=sys.stderr)
         return 1
     timeout = max(MINIMUM_TIMEOUT, TIMEOUT_MULTIPLIER * baseline_seconds)
-    print(f"python stage: baseline {baseline_seconds:.0f} s; {len(missed)} mutants, timeout {timeout:.0f} s each")
-    for k, (ledger, name, diff, key) in enumerate(missed, 1):
-        start = time.monotonic()
-        tree = sync_tree(scratch / "tree")
-        if not _apply(tree, name, diff):
-            raise SystemExit(f"python stage: the diff of {name} does not apply to the source")
-        outcome = OUTCOMES[_build_and_test(scratch, tree, timeout)]
-        seconds = time.monotonic() - start
-        ledger.record(name, key, outcome, "python", round(seconds, 1))
-        ledger.save()
-        print(f"  [{k}/{len(missed)}] {outcome:9} {seconds:5.0f} s  {name}", flush=True)
+    print(f"python stage: baseline {baseline_seconds:.0f} s; {len(missed)} mutants, {jobs} workers, "
+          f"timeout {timeout:.0f} s each")
+    waiting: queue.SimpleQueue = queue.SimpleQueue()
+    for k, item in enumerate(missed, 1):
+        waiting.put((k, item))
+    recording, stop = threading.Lock(), threading.Event()
+
+    def work(scratch: Path) -> None:
+        while not stop.is_set():
+            try:
+                k, (ledger, name, diff, key) = waiting.get_nowait()
+            except queue.Empty:
+                return
+            start = time.monotonic()
+            tree = sync_tree(scratch / "tree")
+            if not _apply(tree, name, diff):
+                stop.set()
+                raise SystemExit(f"python stage: the diff of {name} does not apply to the source")
+            outcome = OUTCOMES[_build_and_test(scratch, tree, timeout)]
+            seconds = time.monotonic() - start
+            with recording:
+                ledger.record(name, key, outcome, "python", round(seconds, 1))
+                ledger.save()
+                print(f"  [{k}/{len(missed)}] {outcome:9} {seconds:5.0f} s  {name}", flush=True)
+
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        workers = [pool.submit(work, scratch) for scratch in scratches]
+    for worker in workers:
+        worker.result()
     return 0

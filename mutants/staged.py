@@ -220,7 +220,7 @@ def main() -> int:
     parser.add_argument("--cargo-mutants", type=Path, required=True, help="the pinned cargo-mutants binary")
     parser.add_argument("--out", type=Path, required=True, help="cargo-mutants' output folders (one subfolder per group)")
     parser.add_argument("--group", action="append", help="run only these groups (default: all)")
-    parser.add_argument("--jobs", type=int, default=1, help="work trees, each running cargo-mutants on a shard")
+    parser.add_argument("--jobs", type=int, default=1, help="work trees, each running cargo-mutants on a shard; as many Python-stage workers")
     parser.add_argument("--extra", default="", help="more cargo-mutants options, e.g. '--in-diff change.diff'")
     parser.add_argument("--rust-only", action="store_true", help="leave out the Python stage")
     parser.add_argument("--report-only", action="store_true", help="write the report from the ledgers, run nothing")
@@ -260,7 +260,7 @@ def main() -> int:
         if not args.report_only:
             run.run(keys[run.group.name])
     if not (args.rust_only or args.report_only):
-        status = python_stage.run([(run.ledger, listings[run.group.name]) for run in runs])
+        status = python_stage.run([(run.ledger, listings[run.group.name]) for run in runs], args.jobs)
         if status:
             return status
     # The report covers every group, run now or before.

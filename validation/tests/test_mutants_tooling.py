@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import stat
 import sys
+import threading
 import time
 import tomllib
 from pathlib import Path
@@ -350,6 +351,49 @@ def test_the_python_stage_tries_each_mutant_the_whole_rust_suite_missed_and_reco
     book.record(D, ledger.mutant_key(D, diff.replace("a * 2.0", "b * 2.0")), "missed", "suite")
     with pytest.raises(SystemExit, match="does not apply"):
         python_stage.run([(book, {D: diff.replace("a * 2.0", "b * 2.0")})])
+
+
+def test_python_stage_workers_share_one_queue_each_in_its_own_scratch_directory(tmp_path, monkeypatch):
+    from mutants import python_stage
+
+    original = "fn f() -> f64 {\n    a * 2.0\n}\n"
+    diff = "--- src/quaternion.rs\n+++ replace * with / in f\n@@ -1,3 +1,3 @@\n fn f() -> f64 {\n-    a * 2.0\n+    a / 2.0\n }\n"
+
+    def fresh_tree(tree):
+        (tree / "src").mkdir(parents=True, exist_ok=True)
+        (tree / "src" / "quaternion.rs").write_text(original)
+        return tree
+
+    lock, running, most, scratches = threading.Lock(), [0], [0], []
+
+    def build_and_test(scratch, built, _timeout):
+        """Mutated trees fail; each call holds its worker a moment so that both run."""
+        with lock:
+            running[0] += 1
+            most[0] = max(most[0], running[0])
+            scratches.append(scratch)
+        time.sleep(0.2)
+        with lock:
+            running[0] -= 1
+        return "failed" if "a / 2.0" in (built / "src" / "quaternion.rs").read_text() else "passed"
+
+    monkeypatch.setattr(python_stage, "ROOT", tmp_path)
+    monkeypatch.setattr(python_stage, "sync_tree", fresh_tree)
+    monkeypatch.setattr(python_stage, "_build_and_test", build_and_test)
+    names = [f"src/quaternion.rs:2:{k}: replace * with / in f (mutant {k})" for k in range(1, 7)]
+    book = ledger.Ledger(tmp_path / "g.json")
+    for n in names:
+        book.record(n, ledger.mutant_key(n, diff), "missed", "suite")
+    assert python_stage.run([(book, {n: diff for n in names})], jobs=2) == 0
+    assert all((book.entries[n].outcome, book.entries[n].pass_) == ("caught", "python") for n in names)
+    assert len(scratches) == 1 + len(names), "the baseline, then each mutant once"
+    assert len(set(scratches)) == 2 and most[0] == 2, "two workers, side by side, in two scratch directories"
+    assert all(str(tmp_path / "target") in str(s) for s in scratches), "scratch under the project's target"
+    # A diff that no longer applies stops the run with its name, from whichever worker meets it.
+    broken = diff.replace("a * 2.0", "b * 2.0")
+    book.record(D, ledger.mutant_key(D, broken), "missed", "suite")
+    with pytest.raises(SystemExit, match="does not apply"):
+        python_stage.run([(book, {D: broken})], jobs=2)
 
 
 def test_a_shard_whose_baseline_fails_is_cleaned_and_run_again_once(tmp_path, monkeypatch):
