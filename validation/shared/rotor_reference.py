@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from validation.lammps_dipoles import space_to_body
+from validation.shared.lammps_driver import space_to_body
 
 RTOL = 1e-12
 ATOL = 1e-14
