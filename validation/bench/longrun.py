@@ -57,14 +57,14 @@ def main(argv=None) -> int:
     sections = ["# The correction experiment at production lengths\n"]
     figures = {}
     with grid.connect(args.scheduler) as client:
-        experiment = []
+        systems_run = []
         for s in experiment.systems_for(ctx, long=True):
             print(f"correction experiment, {s.name} ...", flush=True)
             points = experiment.run_system(s, steps, args.sweeps / "experiment", client)
             _, lines = experiment.verdicts(s, points, steps)
             sections += [experiment.table(s, points, steps), "Verdicts:\n", "\n".join(lines) + "\n"]
-            experiment.append((s, points, steps))
-        figures["stability"] = experiment.plot(experiment, args.out).name
+            systems_run.append((s, points, steps))
+        figures["stability"] = experiment.plot(systems_run, args.out).name
         outcomes = []
         for study in at_length.studies(ctx, long=True):
             print(f"accuracy at length, {study.name}: {study.steps} steps ...", flush=True)
@@ -77,7 +77,7 @@ def main(argv=None) -> int:
         "seconds": seconds,
         "experiment": [
             {"system": s.name, "steps": n, "points": [{k: v for k, v in dataclasses.asdict(p).items() if k not in ("series", "outputs")} for p in points]}
-            for s, points, n in experiment
+            for s, points, n in systems_run
         ],
         "accuracy": [
             {"study": o.study.name, "dt0": o.study.dt0, "steps": o.study.steps, "cost_per_step": o.cost, "dts": o.dts,
