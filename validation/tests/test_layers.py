@@ -13,11 +13,16 @@ relative):
 * the tests may import anything.
 
 And no two module files under `validation/` share a name (``__init__.py`` and
-``__main__.py`` aside), so a name says which module it is."""
+``__main__.py`` aside), so a name says which module it is; and every module
+imports, the entry points of `make bench` and `make fixtures` included, which
+no other test runs."""
 
 import ast
+import importlib
 from collections import defaultdict
 from pathlib import Path
+
+import pytest
 
 VALIDATION = Path(__file__).resolve().parents[1]
 
@@ -79,6 +84,17 @@ def shared_names(root: Path) -> dict[str, list[str]]:
         if path.name not in SPECIAL:
             places[path.name].append(str(path.relative_to(root)))
     return {name: where for name, where in places.items() if len(where) > 1}
+
+
+def module_names(root: Path) -> list[str]:
+    """Every module of `validation` outside its tests, as a dotted name."""
+    paths = [p for p in sorted(root.rglob("*.py")) if p.relative_to(root).parts[0] != "tests"]
+    return [".".join(("validation", *p.relative_to(root).with_suffix("").parts)).removesuffix(".__init__") for p in paths]
+
+
+@pytest.mark.parametrize("name", module_names(VALIDATION))
+def test_every_module_imports(name):
+    importlib.import_module(name)
 
 
 def test_every_package_has_a_layer():
