@@ -153,7 +153,7 @@ def test_threads_fixes_the_pool_of_a_run():
     assert not np.array_equal(energy[1], energy[2])
     np.testing.assert_allclose(energy[1], energy[2], rtol=1e-12)
     for bad in (0, -1):
-        with pytest.raises(ValueError, match=rf"^threads: must be >= 1, got {bad}$"):
+        with pytest.raises(ValueError, match=rf"^threads: must be between 1 and 1024, got {bad}$"):
             quatrot.run("dipole_in_field", threads=bad)
 
 
