@@ -8,7 +8,7 @@
 //! recorded with `M` (the kinetic temperature of an NVE run).
 
 use super::error::RunError;
-use super::scene_run::SUMMARY_FILE;
+use super::folder::SUMMARY_FILE;
 use super::series::SeriesTable;
 use super::summary::InteractionsSummary;
 use crate::analysis::{dielectric_constant, DielectricBoundary, DielectricConstant};

@@ -4,7 +4,9 @@
 
 use super::checkpoint::{Checkpoint, CheckpointWriter, Identity};
 use super::error::RunError;
-use super::folder::{write_atomically, OutputFolder};
+use super::folder::{
+    write_atomically, OutputFolder, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE,
+};
 use super::resume::{kept_summary_name, plan, Placement};
 use super::series::{CsvTarget, SeriesObserver, SeriesTable};
 use super::summary::{InteractionsSummary, Summary};
@@ -18,17 +20,6 @@ use crate::simulation::{
 };
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-
-/// Name of the summary file in the output directory.
-pub const SUMMARY_FILE: &str = "summary.json";
-/// Name of the checkpoint file in the output directory.
-pub const CHECKPOINT_FILE: &str = "checkpoint.json";
-/// Name of the trajectory file in the output directory.
-pub const DCD_FILE: &str = "trajectory.dcd";
-/// Name of the trajectory's topology file in the output directory.
-pub const PDB_FILE: &str = "topology.pdb";
-/// Name of the GSD trajectory file in the output directory.
-pub const GSD_FILE: &str = "trajectory.gsd";
 
 /// Where a run's outputs go.
 #[derive(Clone, Debug, Default)]
