@@ -13,8 +13,7 @@ use super::series::SeriesTable;
 use super::summary::InteractionsSummary;
 use crate::analysis::{dielectric_constant, DielectricBoundary, DielectricConstant};
 use crate::checks::InputError;
-use crate::potential::Surface;
-use crate::scene::raw::SumKind;
+use crate::potential::{SumKind, Surface};
 use nalgebra::Vector3;
 use std::path::Path;
 

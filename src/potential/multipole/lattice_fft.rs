@@ -27,7 +27,7 @@
 //! The memory is estimated before anything is allocated and refused above
 //! [`MAX_FFT_BYTES`] or the memory limit of [`crate::memory`].
 
-use super::ewald_parameters::{self, EwaldParameters};
+use super::ewald_parameters::{Cost, EwaldParameters};
 use super::ewald_terms::{
     mode_weight, pair_fields, radial, self_conjugate_per_quadrupole, self_field_per_dipole,
     surface_field_per_dipole,
@@ -35,7 +35,8 @@ use super::ewald_terms::{
 use super::fft3::RealFft3;
 use super::kernels::{Lanes, MultipoleKind, SiteFields, SpaceMultipoles};
 use super::lattice_grid::LatticeGrid;
-use super::{PotentialError, Surface};
+use super::periodic_sum::ChosenSum;
+use super::{PeriodicSum, PotentialError, Surface};
 use nalgebra::{Matrix3, Vector3};
 use rustfft::num_complex::Complex;
 use std::f64::consts::PI;
@@ -45,15 +46,6 @@ type C64 = Complex<f64>;
 /// The most memory (bytes) the FFT lattice sum may hold: its kernel, the
 /// buffers of one evaluation and those of the kernel's construction.
 pub const MAX_FFT_BYTES: usize = 1 << 30;
-
-/// Which lattice tensor is transformed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum LatticeTensor {
-    /// The bare tensor over every image within the cutoff.
-    Cutoff(f64),
-    /// The Ewald sum for `accuracy`, with `surface`.
-    Ewald { accuracy: f64, surface: Surface },
-}
 
 /// The source components (unit multipoles) of a system carrying dipoles
 /// and/or quadrupoles: `mu = e_x, e_y, e_z`, then the traceless
@@ -136,161 +128,75 @@ pub(crate) struct LatticeFft {
 }
 
 impl LatticeFft {
-    /// Builds the transformed lattice tensor, after checking its memory.
+    /// The cost model of the kernel on `grid` in `box_lengths` (see
+    /// [`Cost::LatticeFft`]), for [`super::PeriodicSum::choose`].
+    pub fn cost(grid: &LatticeGrid, box_lengths: &Vector3<f64>) -> Cost {
+        let b = grid.basis.len();
+        Cost::LatticeFft {
+            basis_pairs: (b * b) as f64,
+            cell_volume: box_lengths.product() / grid.cell_count() as f64,
+            spectrum: RealFft3::spectrum_len_of(grid.cells) as f64,
+        }
+    }
+
+    /// Builds the transformed lattice tensor of `sum` (its Ewald parameters
+    /// chosen with [`Self::cost`]), after checking its memory.
     pub fn new(
         grid: LatticeGrid,
         box_lengths: &Vector3<f64>,
-        tensor: LatticeTensor,
+        sum: ChosenSum,
         (dipoles, quadrupoles): (bool, bool),
     ) -> Result<Self, PotentialError> {
         check_distinct_slots(&grid)?;
-        let sources = 3 * dipoles as usize + 5 * quadrupoles as usize;
-        let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
-        let b = grid.basis.len();
-        let cells = grid.cell_count();
-        let plan = RealFft3::new(grid.cells);
-        let spectrum = plan.spectrum_len();
-        let output = grid.slots.len() * output_bytes_per_site(dipoles, quadrupoles);
-        let bytes = memory_bytes(b, cells, spectrum, sources, fields, output);
-        if bytes > MAX_FFT_BYTES as f64 {
-            return Err(PotentialError::new(
-                "rotors",
-                format!(
-                    "the FFT lattice sum of these {} rotors ({} x {} x {} cells of {b} sites, \
-                     {sources} multipole and {fields} field components) needs about {:.2} GB, \
-                     more than the limit {:.2} GB",
-                    grid.slots.len(),
-                    grid.cells[0],
-                    grid.cells[1],
-                    grid.cells[2],
-                    bytes / 1e9,
-                    MAX_FFT_BYTES as f64 / 1e9
-                ),
-            ));
-        }
-        crate::memory::check("rotors", bytes).map_err(|e| {
-            PotentialError::new(
-                "rotors",
-                format!(
-                    "the FFT lattice sum of these {} rotors ({} x {} x {} cells of {b} sites) {}",
-                    grid.slots.len(),
-                    grid.cells[0],
-                    grid.cells[1],
-                    grid.cells[2],
-                    e.message
-                ),
-            )
-        })?;
-        let volume = box_lengths.product();
-        let cell_volume = volume / cells as f64;
-        let (reach, parameters) = match tensor {
-            LatticeTensor::Cutoff(cutoff) => (cutoff, None),
-            LatticeTensor::Ewald { accuracy, .. } => {
-                let density = grid.slots.len() as f64 / volume;
-                let per_pair = (b * b) as f64;
-                let p = ewald_parameters::choose(
-                    accuracy,
-                    density,
-                    &ewald_parameters::ranks(dipoles, quadrupoles),
-                    |rc, kc| {
-                        per_pair
-                            * (4.0 * PI / 3.0 * rc.powi(3) / cell_volume
-                                + spectrum as f64 * cell_volume * kc.powi(3) / (6.0 * PI * PI))
-                    },
-                );
-                (p.real_cutoff, Some(p))
-            }
+        let shape = KernelShape {
+            basis: grid.basis.len(),
+            sources: 3 * dipoles as usize + 5 * quadrupoles as usize,
+            fields: 3 * dipoles as usize + 6 * quadrupoles as usize,
         };
-        let alpha = parameters.map_or(0.0, |p| p.alpha);
+        let plan = RealFft3::new(grid.cells);
+        check_memory(&grid, &plan, &shape, (dipoles, quadrupoles))?;
         let units = unit_sources(dipoles, quadrupoles);
-        let block = sources * fields;
-        let mut kernel = vec![C64::default(); spectrum * b * b * block];
-        let mut real = vec![0.0; cells];
-        let mut transformed = vec![C64::default(); spectrum];
-        let mut work = vec![C64::default(); spectrum];
-        let scale = 1.0 / cells as f64;
-        for (target, s_t) in grid.basis.iter().enumerate() {
-            for (source, s_s) in grid.basis.iter().enumerate() {
-                let shift = s_t - s_s;
-                // Real-space (or truncated) tensor on the cell grid, per (f, c).
-                let mut tensor_grid = vec![0.0; block * cells];
-                for_lattice_vectors(&grid, &shift, reach, |cell, r| {
-                    let rb = radial(alpha, r.norm());
-                    for (c, (mu, theta)) in units.iter().enumerate() {
-                        let (e, w) = pair_fields(r, &rb, Some(mu), Some(theta));
-                        for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
-                            .into_iter()
-                            .enumerate()
-                        {
-                            tensor_grid[(f * sources + c) * cells + cell] += v;
-                        }
-                    }
-                });
-                if target == source && parameters.is_some() {
-                    let (a3, a5) = (
-                        self_field_per_dipole(alpha),
-                        self_conjugate_per_quadrupole(alpha),
-                    );
-                    for (c, (mu, theta)) in units.iter().enumerate() {
-                        let (e, w) = (mu * a3, theta * a5);
-                        for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
-                            .into_iter()
-                            .enumerate()
-                        {
-                            tensor_grid[(f * sources + c) * cells] += v;
-                        }
-                    }
-                }
-                for fc in 0..block {
-                    real.copy_from_slice(&tensor_grid[fc * cells..(fc + 1) * cells]);
-                    plan.forward(&mut real, &mut transformed, &mut work);
-                    let (f, c) = (fc / sources, fc % sources);
-                    for (q, value) in transformed.iter().enumerate() {
-                        let at = kernel_index(q, (target, f), (source, c), b, sources, fields);
-                        kernel[at] = value * scale;
-                    }
-                }
-                if let Some(p) = parameters {
+        let b = shape.basis;
+        let mut kernel = vec![C64::default(); plan.spectrum_len() * b * b * shape.block()];
+        for target in 0..b {
+            for source in 0..b {
+                let shift = grid.basis[target] - grid.basis[source];
+                let pair = (target, source, &shift);
+                let tensor = real_space_tensor(&grid, &sum, &units, (dipoles, quadrupoles), pair);
+                add_transformed(&mut kernel, &plan, &shape, tensor, (target, source));
+                if let Some(parameters) = sum.parameters {
                     add_reciprocal(
                         &mut kernel,
                         &plan,
                         &grid,
                         box_lengths,
-                        &p,
+                        &parameters,
                         &units,
                         (dipoles, quadrupoles),
-                        (target, source, &shift),
+                        pair,
                     );
                 }
             }
         }
-        if let LatticeTensor::Ewald {
-            surface: Surface::Vacuum,
-            ..
-        } = tensor
+        if let (
+            PeriodicSum::Ewald {
+                surface: Surface::Vacuum,
+                ..
+            },
+            true,
+        ) = (sum.sum, dipoles)
         {
-            if dipoles {
-                let value = surface_field_per_dipole(volume);
-                for target in 0..b {
-                    for source in 0..b {
-                        for a in 0..3 {
-                            kernel
-                                [kernel_index(0, (target, a), (source, a), b, sources, fields)] +=
-                                value;
-                        }
-                    }
-                }
-            }
+            add_vacuum_surface(&mut kernel, &shape, box_lengths.product());
         }
         Ok(LatticeFft {
             grid,
             plan,
             dipoles,
             quadrupoles,
-            sources,
-            fields,
+            sources: shape.sources,
+            fields: shape.fields,
             kernel,
-            parameters,
+            parameters: sum.parameters,
         })
     }
 
@@ -386,6 +292,154 @@ fn kernel_index(
     ((q * b + target) * fields + f) * b * sources + source * sources + c
 }
 
+/// The sizes of the kernel: `basis` offsets, `sources` multipole and
+/// `fields` field components (see [`kernel_index`]).
+struct KernelShape {
+    basis: usize,
+    sources: usize,
+    fields: usize,
+}
+
+impl KernelShape {
+    /// Entries of one basis pair's block at one frequency.
+    fn block(&self) -> usize {
+        self.sources * self.fields
+    }
+
+    /// [`kernel_index`] in this shape.
+    fn index(&self, q: usize, target: (usize, usize), source: (usize, usize)) -> usize {
+        kernel_index(q, target, source, self.basis, self.sources, self.fields)
+    }
+}
+
+/// Refuses a sum whose kernel and buffers would exceed [`MAX_FFT_BYTES`]
+/// or the memory limit of [`crate::memory`] (path `rotors`).
+fn check_memory(
+    grid: &LatticeGrid,
+    plan: &RealFft3,
+    shape: &KernelShape,
+    (dipoles, quadrupoles): (bool, bool),
+) -> Result<(), PotentialError> {
+    let KernelShape {
+        basis: b,
+        sources,
+        fields,
+    } = *shape;
+    let output = grid.slots.len() * output_bytes_per_site(dipoles, quadrupoles);
+    let bytes = memory_bytes(
+        b,
+        grid.cell_count(),
+        plan.spectrum_len(),
+        sources,
+        fields,
+        output,
+    );
+    let [mx, my, mz] = grid.cells;
+    if bytes > MAX_FFT_BYTES as f64 {
+        return Err(PotentialError::new(
+            "rotors",
+            format!(
+                "the FFT lattice sum of these {} rotors ({mx} x {my} x {mz} cells of {b} sites, \
+                 {sources} multipole and {fields} field components) needs about {:.2} GB, \
+                 more than the limit {:.2} GB",
+                grid.slots.len(),
+                bytes / 1e9,
+                MAX_FFT_BYTES as f64 / 1e9
+            ),
+        ));
+    }
+    crate::memory::check("rotors", bytes).map_err(|e| {
+        PotentialError::new(
+            "rotors",
+            format!(
+                "the FFT lattice sum of these {} rotors ({mx} x {my} x {mz} cells of {b} sites) {}",
+                grid.slots.len(),
+                e.message
+            ),
+        )
+    })
+}
+
+/// The real-space (or truncated) tensor of the basis pair `(target,
+/// source)` at offset `shift` on the cell grid, as `[f][c][cell]`: every
+/// lattice vector within the sum's reach, plus the Ewald self term on the
+/// diagonal pairs.
+fn real_space_tensor(
+    grid: &LatticeGrid,
+    sum: &ChosenSum,
+    units: &[(Vector3<f64>, Matrix3<f64>)],
+    (dipoles, quadrupoles): (bool, bool),
+    (target, source, shift): (usize, usize, &Vector3<f64>),
+) -> Vec<f64> {
+    let cells = grid.cell_count();
+    let sources = units.len();
+    let alpha = sum.parameters.map_or(0.0, |p| p.alpha);
+    let mut tensor = vec![0.0; sources * (3 * dipoles as usize + 6 * quadrupoles as usize) * cells];
+    let mut add = |cell: usize, c: usize, e: &Vector3<f64>, w: &Matrix3<f64>| {
+        for (f, v) in field_components(dipoles, quadrupoles, e, w)
+            .into_iter()
+            .enumerate()
+        {
+            tensor[(f * sources + c) * cells + cell] += v;
+        }
+    };
+    for_lattice_vectors(grid, shift, sum.reach, |cell, r| {
+        let rb = radial(alpha, r.norm());
+        for (c, (mu, theta)) in units.iter().enumerate() {
+            let (e, w) = pair_fields(r, &rb, Some(mu), Some(theta));
+            add(cell, c, &e, &w);
+        }
+    });
+    if target == source && sum.parameters.is_some() {
+        let (a3, a5) = (
+            self_field_per_dipole(alpha),
+            self_conjugate_per_quadrupole(alpha),
+        );
+        for (c, (mu, theta)) in units.iter().enumerate() {
+            add(0, c, &(mu * a3), &(theta * a5));
+        }
+    }
+    tensor
+}
+
+/// Transforms each `(f, c)` grid of a basis pair's `tensor` and stores it,
+/// divided by the number of cells, in the kernel.
+fn add_transformed(
+    kernel: &mut [C64],
+    plan: &RealFft3,
+    shape: &KernelShape,
+    tensor: Vec<f64>,
+    (target, source): (usize, usize),
+) {
+    let spectrum = plan.spectrum_len();
+    let cells = tensor.len() / shape.block();
+    let scale = 1.0 / cells as f64;
+    let mut real = vec![0.0; cells];
+    let mut transformed = vec![C64::default(); spectrum];
+    let mut work = vec![C64::default(); spectrum];
+    for (fc, grid) in tensor.chunks_exact(cells).enumerate() {
+        real.copy_from_slice(grid);
+        plan.forward(&mut real, &mut transformed, &mut work);
+        let (f, c) = (fc / shape.sources, fc % shape.sources);
+        for (q, value) in transformed.iter().enumerate() {
+            kernel[shape.index(q, (target, f), (source, c))] = value * scale;
+        }
+    }
+}
+
+/// Adds the vacuum surface term `-4 pi / (3 V)` (as a field per dipole) to
+/// the dipole-field block of every basis pair at `q = 0`.
+fn add_vacuum_surface(kernel: &mut [C64], shape: &KernelShape, volume: f64) {
+    let value = surface_field_per_dipole(volume);
+    for target in 0..shape.basis {
+        for source in 0..shape.basis {
+            for a in 0..3 {
+                kernel[shape.index(0, (target, a), (source, a))] += value;
+            }
+        }
+    }
+}
+
 /// Refuses two sites in one slot (the same site up to a lattice vector).
 fn check_distinct_slots(grid: &LatticeGrid) -> Result<(), PotentialError> {
     let mut occupant = std::collections::HashMap::new();
@@ -477,9 +531,7 @@ fn add_reciprocal(
     let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
     let sources = units.len();
     let [nx, ny, nz] = plan.dims();
-    let kc = p.reciprocal_cutoff;
     let volume = box_lengths.product();
-    let c = &grid.cell_lengths;
     // The frequency index folded into (-n/2, n/2], so that k = q + K is
     // formed without cancellation (any representative of q modulo the
     // cells' reciprocal lattice gives the same wave vectors k).
@@ -499,48 +551,55 @@ fn add_reciprocal(
                     2.0 * PI * jz as f64 / box_lengths.z,
                 );
                 let index = plan.spectrum_index([jx, jy, jz]);
-                let range = |a: usize| {
-                    let step = 2.0 * PI / c[a];
-                    (((-kc - q[a]) / step).ceil() as i64)..=(((kc - q[a]) / step).floor() as i64)
-                };
-                for hx in range(0) {
-                    for hy in range(1) {
-                        for hz in range(2) {
-                            let k = q + Vector3::new(
-                                2.0 * PI * hx as f64 / c.x,
-                                2.0 * PI * hy as f64 / c.y,
-                                2.0 * PI * hz as f64 / c.z,
-                            );
-                            let k2 = k.norm_squared();
-                            if k2 == 0.0 || k2 > kc * kc {
-                                continue;
-                            }
-                            let weight = 4.0 * PI / volume * mode_weight(p.alpha, k2);
-                            let phase = C64::from_polar(weight, k.dot(shift));
-                            let kk = k * k.transpose();
-                            for (ci, (mu, theta)) in units.iter().enumerate() {
-                                // phi = -i mu.k - 1/3 k.Theta.k; E = -i k phi; W = -1/3 k k^T phi.
-                                let phi = C64::new(-k.dot(&(theta * k)) / 3.0, -mu.dot(&k));
-                                let e = k.map(|x| C64::new(0.0, -x) * phi);
-                                let w = kk.map(|x| C64::new(-x / 3.0, 0.0) * phi);
-                                for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
-                                    .into_iter()
-                                    .enumerate()
-                                {
-                                    let at = kernel_index(
-                                        index,
-                                        (target, f),
-                                        (source, ci),
-                                        b,
-                                        sources,
-                                        fields,
-                                    );
-                                    kernel[at] += v * phase;
-                                }
-                            }
+                for_reciprocal_vectors(&q, p.reciprocal_cutoff, &grid.cell_lengths, |k, k2| {
+                    let weight = 4.0 * PI / volume * mode_weight(p.alpha, k2);
+                    let phase = C64::from_polar(weight, k.dot(shift));
+                    let kk = k * k.transpose();
+                    for (ci, (mu, theta)) in units.iter().enumerate() {
+                        // phi = -i mu.k - 1/3 k.Theta.k; E = -i k phi; W = -1/3 k k^T phi.
+                        let phi = C64::new(-k.dot(&(theta * k)) / 3.0, -mu.dot(k));
+                        let e = k.map(|x| C64::new(0.0, -x) * phi);
+                        let w = kk.map(|x| C64::new(-x / 3.0, 0.0) * phi);
+                        for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
+                            .into_iter()
+                            .enumerate()
+                        {
+                            let at =
+                                kernel_index(index, (target, f), (source, ci), b, sources, fields);
+                            kernel[at] += v * phase;
                         }
                     }
+                });
+            }
+        }
+    }
+}
+
+/// Calls `f(k, |k|^2)` for every wave vector `k = q + K` (`K` of the
+/// reciprocal lattice of the cells of edges `c`) with `0 < |k| <= kc`.
+fn for_reciprocal_vectors(
+    q: &Vector3<f64>,
+    kc: f64,
+    c: &Vector3<f64>,
+    mut f: impl FnMut(&Vector3<f64>, f64),
+) {
+    let range = |a: usize| {
+        let step = 2.0 * PI / c[a];
+        (((-kc - q[a]) / step).ceil() as i64)..=(((kc - q[a]) / step).floor() as i64)
+    };
+    for hx in range(0) {
+        for hy in range(1) {
+            for hz in range(2) {
+                let k = q + Vector3::new(
+                    2.0 * PI * hx as f64 / c.x,
+                    2.0 * PI * hy as f64 / c.y,
+                    2.0 * PI * hz as f64 / c.z,
+                );
+                let k2 = k.norm_squared();
+                if k2 == 0.0 || k2 > kc * kc {
+                    continue;
                 }
+                f(&k, k2);
             }
         }
     }
@@ -576,7 +635,8 @@ mod tests {
             },
         };
         let kinds = (K::DIPOLES, K::QUADRUPOLES);
-        let tensor = LatticeTensor::Cutoff(2.0);
+        let cost = LatticeFft::cost(&grid, &lattice.box_lengths);
+        let tensor = PeriodicSum::Cutoff { cutoff: 2.0 }.choose(0.0, kinds, cost);
         let (sum, built_peak, held) =
             peak_above_start(|| LatticeFft::new(grid, &lattice.box_lengths, tensor, kinds));
         let sum = sum.unwrap();
@@ -690,12 +750,14 @@ mod tests {
             };
             for surface in [Surface::Conducting, Surface::Vacuum] {
                 let grid = detect(&sites, &lattice.box_lengths).unwrap();
-                let tensor = LatticeTensor::Ewald {
+                let density = n as f64 / lattice.box_lengths.product();
+                let cost = LatticeFft::cost(&grid, &lattice.box_lengths);
+                let sum = PeriodicSum::Ewald {
                     accuracy: 1e-3,
                     surface,
-                };
-                let fft =
-                    LatticeFft::new(grid, &lattice.box_lengths, tensor, (true, true)).unwrap();
+                }
+                .choose(density, (true, true), cost);
+                let fft = LatticeFft::new(grid, &lattice.box_lengths, sum, (true, true)).unwrap();
                 let parameters = fft.parameters().unwrap();
                 let direct =
                     EwaldSum::with_parameters(&sites, lattice.box_lengths, parameters, surface)

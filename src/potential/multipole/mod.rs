@@ -16,14 +16,16 @@ mod kernels;
 mod lattice_fft;
 mod lattice_grid;
 mod pairs;
+mod periodic_sum;
 mod potential;
 mod row_quads;
 
-pub use boundary::{Boundary, PeriodicSum, Surface, BYTES_PER_PAIR, DEFAULT_ACCURACY, MAX_PAIRS};
+pub use boundary::{Boundary, BYTES_PER_PAIR, MAX_PAIRS};
 pub use error::PotentialError;
 pub use ewald::MAX_WAVE_VECTORS;
 pub use ewald_parameters::EwaldParameters;
 pub use external::ExternalFields;
 pub use lattice_fft::MAX_FFT_BYTES;
 pub use lattice_grid::{LatticeGrid, LATTICE_TOLERANCE};
+pub use periodic_sum::{PeriodicSum, SumKind, SumOptions, Surface, DEFAULT_ACCURACY};
 pub use potential::{MultipolePotential, SumMethod, SumPath};

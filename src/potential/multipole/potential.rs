@@ -6,11 +6,11 @@ use super::kernels::{
     accumulate_pair_fields, Dipoles, DipolesAndQuadrupoles, Lanes, MultipoleKind, Quadrupoles,
     SiteFields, SpaceMultipoles,
 };
-use super::lattice_fft::{LatticeFft, LatticeTensor};
+use super::lattice_fft::LatticeFft;
 use super::lattice_grid::{self, LatticeGrid};
 use super::pairs::{balanced_blocks, OpenPairs, PairRows, PairTable};
 use super::row_quads::RowQuads;
-use super::{Boundary, EwaldParameters, ExternalFields, PeriodicSum, PotentialError};
+use super::{Boundary, EwaldParameters, ExternalFields, PeriodicSum, PotentialError, SumKind};
 use crate::checks::named_choices;
 use crate::potential::{multipole_torque_axes, Potential, TorqueAxes};
 use crate::quaternion::Quat;
@@ -507,24 +507,24 @@ impl FieldSum {
             }
             return Ok(FieldSum::Open(OpenPairs::new(sites)?));
         };
-        let (tensor, cutoff) = match sum {
-            PeriodicSum::Cutoff { cutoff } => (LatticeTensor::Cutoff(cutoff), Some(cutoff)),
-            PeriodicSum::Ewald { accuracy, surface } => {
-                (LatticeTensor::Ewald { accuracy, surface }, None)
-            }
-        };
         if sites.is_empty() {
-            return pair_sum((box_lengths, cutoff.unwrap_or(0.0)));
+            let cutoff = match sum {
+                PeriodicSum::Cutoff { cutoff } => cutoff,
+                PeriodicSum::Ewald { .. } => 0.0,
+            };
+            return pair_sum((box_lengths, cutoff));
         }
         let fft = match method {
             SumMethod::LatticeFft => true,
-            SumMethod::Auto => cutoff.is_none(),
+            SumMethod::Auto => sum.kind() == SumKind::Ewald,
             SumMethod::Direct => false,
         };
+        let density = sites.len() as f64 / box_lengths.product();
         if fft {
             match lattice_grid::detect(sites, &box_lengths) {
                 Some(grid) => {
-                    let sum = LatticeFft::new(grid, &box_lengths, tensor, kinds)?;
+                    let chosen = sum.choose(density, kinds, LatticeFft::cost(&grid, &box_lengths));
+                    let sum = LatticeFft::new(grid, &box_lengths, chosen, kinds)?;
                     return Ok(FieldSum::LatticeFft(Box::new(sum)));
                 }
                 None if method == SumMethod::LatticeFft => {
@@ -538,11 +538,17 @@ impl FieldSum {
                 None => {}
             }
         }
-        match sum {
-            PeriodicSum::Cutoff { cutoff } => pair_sum((box_lengths, cutoff)),
-            PeriodicSum::Ewald { accuracy, surface } => Ok(FieldSum::Ewald(Box::new(
-                EwaldSum::new(sites, box_lengths, accuracy, surface, kinds)?,
-            ))),
+        let chosen = sum.choose(density, kinds, EwaldSum::cost(sites.len(), &box_lengths));
+        match (chosen.sum, chosen.parameters) {
+            (PeriodicSum::Ewald { surface, .. }, Some(parameters)) => {
+                Ok(FieldSum::Ewald(Box::new(EwaldSum::with_parameters(
+                    sites,
+                    box_lengths,
+                    parameters,
+                    surface,
+                )?)))
+            }
+            _ => pair_sum((box_lengths, chosen.reach)),
         }
     }
 }
