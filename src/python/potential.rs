@@ -65,7 +65,7 @@ fn give_both() -> PyErr {
 }
 
 /// The options of the sum from the keywords (`sum` and `surface` by name).
-pub(crate) fn sum_options(
+fn sum_options(
     sum: Option<&Bound<'_, PyAny>>,
     cutoff: Option<f64>,
     accuracy: Option<f64>,

@@ -95,6 +95,16 @@ def test_ewald_keyword_lorentz_energy_and_details():
     assert len(quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=np.array([3.0, 3, 3]), cutoff=1.5)) == 3
 
 
+def test_a_box_alone_is_the_ewald_sum_as_in_scenes():
+    """box_lengths without cutoff or sum is the Ewald sum at its default
+    accuracy (1e-12), as a periodic scene boundary without sum is: the
+    Lorentz energy -(2 pi/3) n mu^2 per dipole of an aligned sc lattice."""
+    sites, q, mu = _lattice_args()
+    e, _, _, info = quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=np.array([3.0, 3, 3]), details=True)
+    assert info["path"] == "ewald_lattice_fft"
+    assert e / 27 == pytest.approx(-2 * np.pi / 3, rel=1e-11)
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [
