@@ -38,11 +38,11 @@ pub(super) fn build_kernel(
             let shift = grid.basis[target] - grid.basis[source];
             let pair = (target, source, &shift);
             let tensor = real_space_tensor(grid, sum, &units, (dipoles, quadrupoles), pair);
-            add_transformed(&mut kernel, plan, &shape, tensor, (target, source));
+            add_transformed(&mut kernel, plan, shape, tensor, (target, source));
             if let Some(parameters) = sum.parameters {
                 add_reciprocal(
                     &mut kernel,
-                    &plan,
+                    plan,
                     grid,
                     box_lengths,
                     &parameters,
@@ -61,7 +61,7 @@ pub(super) fn build_kernel(
         true,
     ) = (sum.sum, dipoles)
     {
-        add_vacuum_surface(&mut kernel, &shape, box_lengths.product());
+        add_vacuum_surface(&mut kernel, shape, box_lengths.product());
     }
     kernel
 }
