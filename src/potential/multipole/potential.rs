@@ -42,7 +42,7 @@ enum Carried {
 /// `mu_s x E - 2 vec(Theta_s W)` with `vec(M)_c = eps_abc M_ab`.
 ///
 /// Periodic boxes are summed with a plain cutoff or by Ewald (see
-/// [`PeriodicSum`]): on any sites directly, on a lattice by FFT ([`SumMethod`],
+/// [`super::PeriodicSum`]): on any sites directly, on a lattice by FFT ([`SumMethod`],
 /// [`SumPath`]); either way the sum gives the fields `E` and `W` at the
 /// sites, and the gradient and torques follow from them as above.
 ///
