@@ -40,7 +40,8 @@ use nalgebra::{Matrix3, Vector3};
 /// buffers of one evaluation and those of the kernel's construction.
 pub const MAX_FFT_BYTES: usize = 1 << 30;
 
-/// The source components of one space-frame multipole (order of [`unit_sources`]).
+/// The source components of one space-frame multipole (in the order of the
+/// kernel's unit sources, `lattice_kernel.rs`).
 fn source_components(
     dipoles: bool,
     mu: &Lanes,
@@ -60,7 +61,8 @@ pub(crate) struct LatticeFft {
     quadrupoles: bool,
     sources: usize,
     fields: usize,
-    /// `K^ / N_cells` per frequency, as `[b][f][b'][c]` (see [`kernel_index`]).
+    /// `K^ / N_cells` per frequency, as `[b][f][b'][c]`
+    /// (see [`super::lattice_kernel::kernel_index`]).
     kernel: Vec<C64>,
     parameters: Option<EwaldParameters>,
 }
