@@ -71,7 +71,8 @@ impl FieldSum {
         if fft {
             match lattice_grid::detect(sites, &box_lengths) {
                 Some(grid) => {
-                    let chosen = sum.choose(density, kinds, LatticeFft::cost(&grid, &box_lengths));
+                    let cost = LatticeFft::cost(&grid, &box_lengths);
+                    let chosen = sum.choose(density, kinds, cost, &box_lengths)?;
                     let sum = LatticeFft::new(grid, &box_lengths, chosen, kinds)?;
                     return Ok(FieldSum::LatticeFft(Box::new(sum)));
                 }
@@ -86,7 +87,8 @@ impl FieldSum {
                 None => {}
             }
         }
-        let chosen = sum.choose(density, kinds, EwaldSum::cost(sites.len(), &box_lengths));
+        let cost = EwaldSum::cost(sites.len(), &box_lengths);
+        let chosen = sum.choose(density, kinds, cost, &box_lengths)?;
         match (chosen.sum, chosen.parameters) {
             (PeriodicSum::Ewald { surface, .. }, Some(parameters)) => {
                 Ok(FieldSum::Ewald(Box::new(EwaldSum::with_parameters(

@@ -312,7 +312,9 @@ mod tests {
         };
         let kinds = (K::DIPOLES, K::QUADRUPOLES);
         let cost = LatticeFft::cost(&grid, &lattice.box_lengths);
-        let tensor = PeriodicSum::Cutoff { cutoff: 2.0 }.choose(0.0, kinds, cost);
+        let tensor = PeriodicSum::Cutoff { cutoff: 2.0 }
+            .choose(0.0, kinds, cost, &lattice.box_lengths)
+            .unwrap();
         let (sum, built_peak, held) =
             peak_above_start(|| LatticeFft::new(grid, &lattice.box_lengths, tensor, kinds));
         let sum = sum.unwrap();
@@ -437,7 +439,8 @@ mod tests {
                     accuracy: 1e-3,
                     surface,
                 }
-                .choose(density, (true, true), cost);
+                .choose(density, (true, true), cost, &lattice.box_lengths)
+                .unwrap();
                 let fft = LatticeFft::new(grid, &lattice.box_lengths, sum, (true, true)).unwrap();
                 let parameters = fft.parameters().unwrap();
                 let direct =

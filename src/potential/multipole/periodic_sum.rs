@@ -10,7 +10,8 @@
 
 use super::ewald_parameters::{self, Cost, EwaldParameters};
 use super::PotentialError;
-use crate::checks::{named_choices, positive};
+use crate::checks::{named_choices, num, positive};
+use nalgebra::Vector3;
 
 /// The default relative accuracy of the Ewald sum.
 pub const DEFAULT_ACCURACY: f64 = 1e-12;
@@ -184,14 +185,23 @@ impl PeriodicSum {
 
     /// The sum with its Ewald parameters chosen for the accuracy, at the
     /// number density `density`, for the multipole kinds `(dipoles,
-    /// quadrupoles)` carried and the `cost` of the way of summing.
-    pub(crate) fn choose(&self, density: f64, kinds: (bool, bool), cost: Cost) -> ChosenSum {
+    /// quadrupoles)` carried and the `cost` of the way of summing; refused
+    /// (naming `box_lengths`) when the lattice vectors within the cutoffs
+    /// of the box `box_lengths` are too many to enumerate
+    /// ([`MAX_LATTICE_VECTORS`]).
+    pub(crate) fn choose(
+        &self,
+        density: f64,
+        kinds: (bool, bool),
+        cost: Cost,
+        box_lengths: &Vector3<f64>,
+    ) -> Result<ChosenSum, PotentialError> {
         match *self {
-            PeriodicSum::Cutoff { cutoff } => ChosenSum {
+            PeriodicSum::Cutoff { cutoff } => Ok(ChosenSum {
                 sum: *self,
                 reach: cutoff,
                 parameters: None,
-            },
+            }),
             PeriodicSum::Ewald { accuracy, .. } => {
                 let parameters = ewald_parameters::choose(
                     accuracy,
@@ -199,15 +209,62 @@ impl PeriodicSum {
                     &ewald_parameters::ranks(kinds.0, kinds.1),
                     |rc, kc| cost.of(rc, kc),
                 );
-                ChosenSum {
+                let spacing = box_lengths.map(|l| std::f64::consts::TAU / l);
+                enumerable("real-space", parameters.real_cutoff, box_lengths, accuracy)?;
+                enumerable(
+                    "reciprocal",
+                    parameters.reciprocal_cutoff,
+                    &spacing,
+                    accuracy,
+                )?;
+                Ok(ChosenSum {
                     sum: *self,
                     reach: parameters.real_cutoff,
                     parameters: Some(parameters),
-                }
+                })
             }
         }
     }
 }
+
+/// The most lattice vectors (real or reciprocal) an Ewald sum may
+/// enumerate within its cutoff, counted over the cutoff's bounding box
+/// (about 2 s of building at the limit): a cubic box of 1,000 sites needs
+/// about 1e4 at 1e-12; a box 1e11 times longer than wide needed 1e9 and ran
+/// for hours.
+pub const MAX_LATTICE_VECTORS: f64 = 2e6;
+
+/// Refuses a `cutoff` whose bounding box holds more than
+/// [`MAX_LATTICE_VECTORS`] points of the lattice of `spacing` (the box, or
+/// the reciprocal lattice `2 pi / L`), before any is enumerated.
+fn enumerable(
+    space: &str,
+    cutoff: f64,
+    spacing: &Vector3<f64>,
+    accuracy: f64,
+) -> Result<(), PotentialError> {
+    let count: f64 = spacing
+        .iter()
+        .map(|l| 2.0 * (cutoff / l).floor() + 1.0)
+        .product();
+    if count <= MAX_LATTICE_VECTORS {
+        return Ok(());
+    }
+    Err(PotentialError::new(
+        "box_lengths",
+        format!(
+            "the Ewald sum at accuracy {} needs about {} {space} lattice vectors within its cutoff {} \
+             (a box much longer than wide needs many), more than the {} it may enumerate; use a \
+             less elongated box, fewer sites or sum = \"cutoff\"",
+            num(accuracy),
+            num(count),
+            num(cutoff),
+            num(MAX_LATTICE_VECTORS)
+        ),
+    ))
+}
+
+impl PeriodicSum {}
 
 #[cfg(test)]
 mod tests {
