@@ -138,9 +138,7 @@ mod tests {
             orientation: Quat::IDENTITY,
             omega_body: omega,
         }];
-        let mut dlm = IntegratorSpec::Dlm(DlmOptions::default())
-            .build(None)
-            .expect("no thermostat to refuse");
+        let mut dlm = IntegratorSpec::Dlm(DlmOptions::default()).build();
         let s = every_step(
             dlm.as_mut(),
             &[Inertia::Spherical(0.1)],

@@ -4,6 +4,7 @@
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
+use crate::thermostat_hook::BadCheckpoint;
 use nalgebra::Vector3;
 
 /// Orientation and body-fixed angular velocity of one rotor.
@@ -34,8 +35,15 @@ pub enum IntegratorError {
     BadTimeStep(f64),
 }
 
+/// A thermostat's part of a checkpoint that does not fit.
+impl From<BadCheckpoint> for IntegratorError {
+    fn from(e: BadCheckpoint) -> Self {
+        IntegratorError::BadCheckpoint(e.0)
+    }
+}
+
 /// A time-stepping scheme for rigid rotors (object safe: runs hold a
-/// `Box<dyn Integrator>` from [`super::IntegratorSpec::build`]).
+/// `Box<dyn Integrator>` from [`crate::dynamics::build`]).
 pub trait Integrator: Send {
     /// A short stable name (as used in scene files), e.g. `"gear_a"`.
     fn name(&self) -> &'static str;

@@ -25,13 +25,10 @@ use super::spec::IntegratorOptions;
 use super::startup::{start, GearStart, StartChain, Startup};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
-use crate::checks::InputError;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostats::{
-    CoupledDegrees, NoseHooverChain, NoseHooverOptions, Spin, ThermostatSpec,
-};
+use crate::thermostat_hook::{ChainEquations, CoupledDegrees, Spin};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -58,23 +55,9 @@ impl Default for GearAOptions {
 impl IntegratorOptions for GearAOptions {
     const NAME: &'static str = "gear_a";
 
-    /// Scheme A alone, or with a Nose-Hoover chain ([`GearA::with_nose_hoover`]);
-    /// refuses the stochastic thermostats: a predictor-corrector needs a
-    /// smooth trajectory.
-    fn build(
-        &self,
-        thermostat: Option<&ThermostatSpec>,
-    ) -> Result<Box<dyn Integrator>, InputError> {
-        match thermostat {
-            None => Ok(Box::new(GearA::new(*self))),
-            Some(ThermostatSpec::NoseHoover(chain)) => {
-                Ok(Box::new(GearA::with_nose_hoover(*self, *chain)?))
-            }
-            Some(t) => Err(t.refused(
-                Self::NAME,
-                "a predictor-corrector needs a smooth trajectory",
-            )),
-        }
+    /// Scheme A alone ([`GearA::with_chain`] adds a thermostat chain).
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(GearA::new(*self))
     }
 }
 
@@ -88,25 +71,24 @@ pub struct GearA {
     q: Nordsieck<Quat, 5>,
     omega_body: Nordsieck<Vector3<f64>, 5>,
     torque_space: Vec<Vector3<f64>>,
-    /// The Nose-Hoover chain integrated with the rotors, if any.
+    /// The thermostat chain integrated with the rotors, if any.
     thermostat: Option<GearChain>,
     /// Per rotor, the spin the chain leaves out (all `None` without one).
     spins: Vec<Option<Spin>>,
 }
 
-/// A Nose-Hoover chain in scheme A: the extended equations of
-/// [`crate::thermostats::NoseHooverChain`] (friction `-p_1/Q_1 w_b` in
-/// Euler's equations on the thermostatted components, a conserved spin of
-/// [`CoupledDegrees`] left out; the chain's own equations) integrated by the same
-/// 5-value first-order Gear predictor-corrector, the chain's right-hand sides
+/// A thermostat chain in scheme A: the extended equations of a
+/// [`ChainEquations`] (friction `-p_1/Q_1 w_b` in Euler's equations on the
+/// thermostatted components, a conserved spin of [`CoupledDegrees`] left
+/// out; the chain's own equations) integrated by the same 5-value
+/// first-order Gear predictor-corrector, the chain's right-hand sides
 /// evaluated at the predicted values (the kinetic energy from the predicted
 /// `w_b`), as the rotors' are.
 #[derive(Clone, Debug)]
 struct GearChain {
-    options: NoseHooverOptions,
     /// The chain's masses, and its current positions and momenta (copied
     /// from `positions.r[0]`, `momenta.r[0]` after each step).
-    chain: NoseHooverChain,
+    chain: Box<dyn ChainEquations>,
     /// The degrees of freedom it acts on, and the principal moments.
     coupled: CoupledDegrees,
     principal: Vec<Vector3<f64>>,
@@ -145,8 +127,7 @@ impl GearChain {
 
     /// The chain's current values from the Nordsieck vectors.
     fn sync(&mut self) {
-        self.chain.positions.copy_from_slice(&self.positions.r[0]);
-        self.chain.momenta.copy_from_slice(&self.momenta.r[0]);
+        self.chain.set(&self.positions.r[0], &self.momenta.r[0]);
     }
 }
 
@@ -166,18 +147,13 @@ impl GearA {
         }
     }
 
-    /// Scheme A with a Nose-Hoover chain of checked options `chain`: the
-    /// extended equations by the same predictor-corrector (and the same
+    /// Scheme A with the thermostat chain `chain` (a Nose-Hoover chain):
+    /// the extended equations by the same predictor-corrector (and the same
     /// start-up, which integrates the chain too).
-    pub fn with_nose_hoover(
-        options: GearAOptions,
-        chain: NoseHooverOptions,
-    ) -> Result<Self, InputError> {
-        chain.check()?;
+    pub fn with_chain(options: GearAOptions, chain: Box<dyn ChainEquations>) -> Self {
         let mut gear = GearA::new(options);
         gear.thermostat = Some(GearChain {
-            options: chain,
-            chain: NoseHooverChain::new(&chain, 0),
+            chain,
             coupled: CoupledDegrees::default(),
             principal: Vec::new(),
             positions: Nordsieck::zeros(0),
@@ -185,7 +161,7 @@ impl GearA {
             positions_dot: Vec::new(),
             momenta_dot: Vec::new(),
         });
-        Ok(gear)
+        gear
     }
 
     /// One step (a)-(f) of the note, monomorphised on the kind of top; the
@@ -270,10 +246,10 @@ impl Integrator for GearA {
         if let Some(t) = &mut self.thermostat {
             t.principal = inertia.iter().map(Inertia::principal).collect();
             t.coupled = CoupledDegrees::new(&t.principal, potential);
-            t.chain = NoseHooverChain::new(&t.options, t.coupled.dof);
+            t.chain.reset(t.coupled.dof);
         }
         let chain = self.thermostat.as_ref().map(|t| StartChain {
-            chain: &t.chain,
+            chain: t.chain.as_ref(),
             coupled: &t.coupled,
         });
         let GearStart {

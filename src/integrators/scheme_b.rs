@@ -41,12 +41,11 @@ use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
 use super::startup::{start, GearStart, Startup};
 use super::{Integrator, IntegratorError, RotorState};
-use crate::checks::{named_choices, InputError};
+use crate::checks::named_choices;
 use crate::observables::norm_force;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -113,16 +112,8 @@ impl Default for GearBOptions {
 impl IntegratorOptions for GearBOptions {
     const NAME: &'static str = "gear_b";
 
-    /// Refuses every thermostat: scheme B integrates eq 12 in `Q` alone and
-    /// has no angular momenta for a thermostat to act on.
-    fn build(
-        &self,
-        thermostat: Option<&ThermostatSpec>,
-    ) -> Result<Box<dyn Integrator>, InputError> {
-        match thermostat {
-            None => Ok(Box::new(GearB::new(*self))),
-            Some(t) => Err(t.refused(Self::NAME, "scheme B has no angular momenta to thermostat")),
-        }
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(GearB::new(*self))
     }
 }
 
