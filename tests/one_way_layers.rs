@@ -7,7 +7,9 @@ use std::path::Path;
 
 /// Every `.rs` file under `src/<folder>`, with its text.
 fn sources(folder: &str) -> Vec<(String, String)> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src").join(folder);
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("src")
+        .join(folder);
     let mut out = Vec::new();
     let mut pending = vec![root];
     while let Some(dir) = pending.pop() {
@@ -44,13 +46,19 @@ fn offenders(folder: &str, forbidden: &[&str]) -> Vec<String> {
 
 #[test]
 fn integrators_do_not_import_the_thermostats() {
-    let found = offenders("integrators", &["crate::thermostats", "use crate::dynamics"]);
+    let found = offenders(
+        "integrators",
+        &["crate::thermostats", "use crate::dynamics"],
+    );
     assert!(found.is_empty(), "{found:#?}");
 }
 
 #[test]
 fn thermostats_do_not_import_the_integrators() {
-    let found = offenders("thermostats", &["crate::integrators", "use crate::dynamics"]);
+    let found = offenders(
+        "thermostats",
+        &["crate::integrators", "use crate::dynamics"],
+    );
     assert!(found.is_empty(), "{found:#?}");
 }
 

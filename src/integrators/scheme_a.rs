@@ -19,10 +19,10 @@
 
 use super::checkpoint::checkpoint_data;
 use super::gear::{Nordsieck, FIRST_ORDER_5};
-use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::rigid_body::TopKind;
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
-use super::startup::{start, GearStart, StartChain, Startup};
+use super::startup::{start, GearFrame, GearStart, StartChain, Startup, TopStep};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
@@ -41,6 +41,72 @@ pub struct GearAOptions {
     pub renormalise: bool,
     /// How the higher derivatives are set at t = 0 (default consistent).
     pub startup: Startup,
+}
+
+impl TopStep for GearA {
+    fn frame(&self) -> &GearFrame {
+        &self.frame
+    }
+
+    /// One step (a)-(f) of the note, monomorphised on the kind of top; the
+    /// per-rotor work runs over chunks of rotors across the rayon pool.
+    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
+        let h = self.frame.dt;
+        let renormalise = self.options.renormalise;
+        // (a), (b): predict.
+        let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
+        for_each_rotor_chunk(rotors, |(mut q, mut omega_body)| {
+            q.predict();
+            omega_body.predict();
+        });
+        // (c): torque at the predicted Q; the chain, corrected with the
+        // kinetic energy of the predicted w_b, gives the predicted friction.
+        evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
+        let friction = self
+            .thermostat
+            .as_mut()
+            .map(|t| t.step(&self.omega_body.r[0], h));
+        let rotors = (
+            self.q.as_chunk(),
+            self.omega_body.as_chunk(),
+            &self.torque_space[..],
+            &self.frame.moments[..],
+            &self.spins[..],
+        );
+        for_each_rotor_chunk(
+            rotors,
+            |(mut q, mut omega_body, torque_space, moments, spins)| {
+                for i in 0..moments.len() {
+                    let q_i = q.r[0][i];
+                    // (d): correct w_b with Euler's equations at the predicted values.
+                    let n_b = torque_body(&q_i, &torque_space[i]);
+                    let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
+                    let w_dot = match friction {
+                        Some(f) => {
+                            let w = omega_body.r[0][i];
+                            let coupled = match &spins[i] {
+                                Some(s) => w - s.axis * s.axis.dot(&w),
+                                None => w,
+                            };
+                            w_dot - coupled * f
+                        }
+                        None => w_dot,
+                    };
+                    let delta_w = w_dot * h - omega_body.r[1][i];
+                    omega_body.correct(i, &FIRST_ORDER_5, delta_w);
+                    // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
+                    let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
+                    let delta_q = q_dot * h - q.r[1][i];
+                    q.correct(i, &FIRST_ORDER_5, delta_q);
+                }
+                if renormalise {
+                    for q in q.r[0].iter_mut() {
+                        *q = *q * (1.0 / q.norm());
+                    }
+                }
+            },
+        );
+    }
 }
 
 impl Default for GearAOptions {
@@ -65,9 +131,7 @@ impl IntegratorOptions for GearAOptions {
 #[derive(Clone, Debug)]
 pub struct GearA {
     options: GearAOptions,
-    dt: f64,
-    moments: Vec<PrincipalMoments>,
-    spherical: bool,
+    frame: GearFrame,
     q: Nordsieck<Quat, 5>,
     omega_body: Nordsieck<Vector3<f64>, 5>,
     torque_space: Vec<Vector3<f64>>,
@@ -136,9 +200,7 @@ impl GearA {
     pub fn new(options: GearAOptions) -> Self {
         GearA {
             options,
-            dt: 0.0,
-            moments: Vec::new(),
-            spherical: true,
+            frame: GearFrame::default(),
             q: Nordsieck::zeros(0),
             omega_body: Nordsieck::zeros(0),
             torque_space: Vec::new(),
@@ -162,66 +224,6 @@ impl GearA {
             momenta_dot: Vec::new(),
         });
         gear
-    }
-
-    /// One step (a)-(f) of the note, monomorphised on the kind of top; the
-    /// per-rotor work runs over chunks of rotors across the rayon pool.
-    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
-        let h = self.dt;
-        let renormalise = self.options.renormalise;
-        // (a), (b): predict.
-        let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
-        for_each_rotor_chunk(rotors, |(mut q, mut omega_body)| {
-            q.predict();
-            omega_body.predict();
-        });
-        // (c): torque at the predicted Q; the chain, corrected with the
-        // kinetic energy of the predicted w_b, gives the predicted friction.
-        evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
-        let friction = self
-            .thermostat
-            .as_mut()
-            .map(|t| t.step(&self.omega_body.r[0], h));
-        let rotors = (
-            self.q.as_chunk(),
-            self.omega_body.as_chunk(),
-            &self.torque_space[..],
-            &self.moments[..],
-            &self.spins[..],
-        );
-        for_each_rotor_chunk(
-            rotors,
-            |(mut q, mut omega_body, torque_space, moments, spins)| {
-                for i in 0..moments.len() {
-                    let q_i = q.r[0][i];
-                    // (d): correct w_b with Euler's equations at the predicted values.
-                    let n_b = torque_body(&q_i, &torque_space[i]);
-                    let w_dot = K::omega_dot_body(&moments[i], &omega_body.r[0][i], &n_b);
-                    let w_dot = match friction {
-                        Some(f) => {
-                            let w = omega_body.r[0][i];
-                            let coupled = match &spins[i] {
-                                Some(s) => w - s.axis * s.axis.dot(&w),
-                                None => w,
-                            };
-                            w_dot - coupled * f
-                        }
-                        None => w_dot,
-                    };
-                    let delta_w = w_dot * h - omega_body.r[1][i];
-                    omega_body.correct(i, &FIRST_ORDER_5, delta_w);
-                    // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
-                    let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
-                    let delta_q = q_dot * h - q.r[1][i];
-                    q.correct(i, &FIRST_ORDER_5, delta_q);
-                }
-                if renormalise {
-                    for q in q.r[0].iter_mut() {
-                        *q = *q * (1.0 / q.norm());
-                    }
-                }
-            },
-        );
     }
 }
 
@@ -252,17 +254,12 @@ impl Integrator for GearA {
             chain: t.chain.as_ref(),
             coupled: &t.coupled,
         });
-        let GearStart {
-            moments,
-            spherical,
-            derivatives,
-        } = start(self.options.startup, inertia, potential, initial, chain, dt)?;
-        self.dt = dt;
+        let GearStart { frame, derivatives } =
+            start(self.options.startup, inertia, potential, initial, chain, dt)?;
         self.q = derivatives.q.truncated();
         self.omega_body = derivatives.omega_body.truncated();
         self.torque_space = vec![Vector3::zeros(); derivatives.q.len()];
-        self.moments = moments;
-        self.spherical = spherical;
+        self.frame = frame;
         self.spins = match &self.thermostat {
             Some(t) => t.coupled.spins.clone(),
             None => vec![None; initial.len()],
@@ -278,11 +275,7 @@ impl Integrator for GearA {
     }
 
     fn step(&mut self, potential: &dyn Potential) {
-        if self.spherical {
-            self.step_with::<Spherical>(potential);
-        } else {
-            self.step_with::<General>(potential);
-        }
+        self.step_by_top(potential);
     }
 
     fn orientations(&self) -> &[Quat] {
@@ -296,7 +289,7 @@ impl Integrator for GearA {
     /// Layout: `[dt, Q..., w_b...]` (Nordsieck vectors), then the chain's
     /// positions and momenta (Nordsieck vectors) when there is one.
     fn checkpoint(&self) -> Vec<f64> {
-        let mut out = vec![self.dt];
+        let mut out = vec![self.frame.dt];
         self.q.write_flat(&mut out);
         self.omega_body.write_flat(&mut out);
         if let Some(t) = &self.thermostat {
@@ -312,7 +305,7 @@ impl Integrator for GearA {
             .as_ref()
             .map_or(0, |t| t.positions.flat_len() + t.momenta.flat_len());
         let len = self.q.flat_len() + self.omega_body.flat_len() + chain_len;
-        let data = checkpoint_data(state, self.dt, len)?;
+        let data = checkpoint_data(state, self.frame.dt, len)?;
         let rest = self.q.read_flat(data);
         let rest = self.omega_body.read_flat(rest);
         if let Some(t) = &mut self.thermostat {

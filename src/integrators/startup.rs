@@ -315,13 +315,41 @@ pub fn initial_derivatives<K: TopKind>(
     out
 }
 
-/// What a Gear scheme's setup computes from its arguments.
-pub struct GearStart {
+/// What a Gear scheme keeps from its setup besides its Nordsieck vectors.
+#[derive(Clone, Debug, Default)]
+pub struct GearFrame {
+    /// The time step.
+    pub dt: f64,
     /// The principal moments of every rotor.
     pub moments: Vec<PrincipalMoments>,
     /// True when every rotor is a spherical top (the step is then
     /// monomorphised on [`Spherical`], otherwise on [`General`]).
     pub spherical: bool,
+}
+
+/// A Gear scheme's step, monomorphised on the kind of top.
+pub trait TopStep {
+    /// What the scheme kept from its setup.
+    fn frame(&self) -> &GearFrame;
+
+    /// One step for rotors of kind `K`.
+    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential);
+
+    /// One step, on [`Spherical`] when every rotor is a spherical top and
+    /// on [`General`] otherwise.
+    fn step_by_top(&mut self, potential: &dyn Potential) {
+        if self.frame().spherical {
+            self.step_with::<Spherical>(potential);
+        } else {
+            self.step_with::<General>(potential);
+        }
+    }
+}
+
+/// What a Gear scheme's setup computes from its arguments.
+pub struct GearStart {
+    /// The step, the principal moments and the kind of top.
+    pub frame: GearFrame,
     /// The scaled derivatives at t = 0, from the normalised initial states.
     pub derivatives: InitialDerivatives,
 }
@@ -350,8 +378,11 @@ pub fn start(
         initial_derivatives::<General>(startup, &moments, potential, &valid.initial, chain, dt)
     };
     Ok(GearStart {
-        moments,
-        spherical,
+        frame: GearFrame {
+            dt,
+            moments,
+            spherical,
+        },
         derivatives,
     })
 }
