@@ -61,7 +61,6 @@ fn run(every: u64, stop_at: u64, end_step: u64) -> (Stop, u64, Vec<u64>, bool, u
         finished: false,
     };
     let options = RunOptions {
-        dt: 0.01,
         start_step: 0,
         end_step,
         checks: None,

@@ -98,7 +98,6 @@ pub fn every_step(
         },
     };
     let options = RunOptions {
-        dt,
         start_step: 0,
         end_step: steps,
         checks: None,

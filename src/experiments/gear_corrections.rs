@@ -223,7 +223,6 @@ fn trace(variant: Variant, system: &System<'_>, dt: f64, t_end: f64, sample_ever
         return t;
     }
     let options = RunOptions {
-        dt,
         start_step: 0,
         end_step: (t_end / dt).round() as u64,
         // Checked at the samples only.

@@ -61,6 +61,10 @@ pub trait Integrator: Send {
     /// Advances all rotors by one time step.
     fn step(&mut self, potential: &dyn Potential);
 
+    /// The time step it was set up with: the one `dt` of a run (the run
+    /// loop's times and the trajectory's header read it here).
+    fn dt(&self) -> f64;
+
     /// The current orientations (not necessarily exactly unit, depending on
     /// the scheme's switches).
     fn orientations(&self) -> &[Quat];
@@ -71,7 +75,9 @@ pub trait Integrator: Send {
 
     /// The complete internal state (everything `step` reads), flattened, for
     /// checkpoints: `restore` of it after `setup` with the same rotors and
-    /// `dt` must make the following steps bit-for-bit identical.
+    /// `dt` must make the following steps bit-for-bit identical (the caller
+    /// makes sure of both: a run compares its checkpoint's identity, `dt`
+    /// included, before restoring).
     fn checkpoint(&self) -> Vec<f64>;
 
     /// Restores a state written by [`Integrator::checkpoint`].

@@ -107,6 +107,10 @@ impl<S: Splitting, T: Thermostat> Integrator for Kicked<S, T> {
         self.thermostat.step(&mut step, potential);
     }
 
+    fn dt(&self) -> f64 {
+        self.state.dt
+    }
+
     fn orientations(&self) -> &[Quat] {
         &self.state.orientation
     }
