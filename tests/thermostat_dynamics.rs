@@ -140,7 +140,7 @@ fn energy_changes(
     steps: usize,
 ) -> (f64, f64) {
     let (inertia, potential) = cluster();
-    let mut run = quatrot::dynamics::try_build(&ispec, Some(tspec)).expect("a valid pair");
+    let mut run = quatrot::dynamics::try_build(ispec, Some(tspec)).expect("a valid pair");
     run.setup(&inertia, &potential, initial, dt)
         .expect("set up");
     let (total0, conserved0) = energies(run.as_ref(), &inertia, &potential);
@@ -200,7 +200,7 @@ fn orientations_at(
     t_end: f64,
 ) -> Vec<quatrot::Quat> {
     let (inertia, potential) = cluster();
-    let mut run = quatrot::dynamics::try_build(&ispec, Some(tspec)).expect("a valid pair");
+    let mut run = quatrot::dynamics::try_build(ispec, Some(tspec)).expect("a valid pair");
     run.setup(&inertia, &potential, initial, dt)
         .expect("set up");
     for _ in 0..(t_end / dt).round() as usize {
@@ -369,7 +369,7 @@ fn perpendicular_and_spin_temperatures(
     samples: usize,
 ) -> (f64, f64, f64) {
     let (potential, inertia) = dipole_lattice(5, 2.1);
-    let mut run = quatrot::dynamics::try_build(&ispec, Some(tspec)).expect("a valid pair");
+    let mut run = quatrot::dynamics::try_build(ispec, Some(tspec)).expect("a valid pair");
     run.setup(&inertia, &potential, &random_states(&inertia, T, 14), 0.005)
         .expect("set up");
     let mut omega = vec![Vector3::zeros(); inertia.len()];
