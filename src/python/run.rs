@@ -7,8 +7,8 @@
 //! attribute. A scene dict is converted with its nesting bounded and its
 //! cycles refused.
 
-use super::args::{invalid, path_or, text_or, wrong_type};
-use crate::parallel::{in_pool, thread_count as pool_size};
+use super::args::{integer, invalid, path_or, text_or, wrong_type};
+use crate::parallel::in_pool;
 use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
 use crate::scene::{load, load_table, load_text, Overrides, Scene, BUILTINS};
@@ -52,6 +52,8 @@ impl From<RunError> for PyErr {
     fn from(e: RunError) -> PyErr {
         match e {
             RunError::Scene(e) => scene_error(&e),
+            // Built from the scene: coincident sites, sizes of the sums.
+            RunError::Potential(_) => SceneError::new_err(e.to_string()),
             RunError::Io { .. } => PyOSError::new_err(e.to_string()),
             other => PyRuntimeError::new_err(other.to_string()),
         }
@@ -310,6 +312,13 @@ fn run<'py>(
     let threads = threads.map(thread_count).transpose()?;
     let path = |p: &Bound<'py, PyAny>, name| path_or(p, name, field);
     let out_dir = out_dir.map(|p| path(p, "out_dir")).transpose()?;
+    if out_dir.as_ref().is_some_and(|d| d.as_os_str().is_empty()) {
+        return Err(field(
+            "out_dir",
+            "must be a folder's path, got an empty one (use \".\" for the current directory)"
+                .to_string(),
+        ));
+    }
     let restart = restart.map(|p| path(p, "restart")).transpose()?;
     let overrides = Overrides {
         dt,
@@ -407,12 +416,13 @@ fn watch<T: Send>(
     }
 }
 
-/// The `threads` argument: an integer ([`pool_size`] checks its range).
+/// The `threads` argument: an integer from 1 to
+/// [`crate::parallel::MAX_THREADS`].
 fn thread_count(threads: &Bound<'_, PyAny>) -> PyResult<NonZeroUsize> {
-    let n: i64 = threads
-        .extract()
-        .map_err(|_| invalid("threads", format!("must be >= 1, got {threads}")))?;
-    Ok(pool_size(n).map_err(|e| e.at("threads"))?)
+    let max = crate::parallel::MAX_THREADS;
+    let n = integer(threads, "threads", 1, max as u64)?;
+    NonZeroUsize::new(usize::try_from(n).unwrap_or(max))
+        .ok_or_else(|| invalid("threads", format!("must be between 1 and {max}, got {n}")))
 }
 
 /// The `steps` argument: an integer the scene's `run.steps` can hold (the
@@ -445,5 +455,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builtin_scenes, m)?)?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("BlowUpError", m.py().get_type::<BlowUpError>())?;
+    m.add("MAX_THREADS", crate::parallel::MAX_THREADS)?;
     Ok(())
 }
