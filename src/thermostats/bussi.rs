@@ -28,7 +28,7 @@
 //! have no direction to scale and are left at rest.
 //!
 //! Heat: the changes `K' - K` are summed over the run; `K + V - heat` is
-//! conserved up to the splitting error. The numbers come from [`Noise`]
+//! conserved up to the splitting error. The numbers come from [`super::noise::Noise`]
 //! (reproducible from the seed; a checkpoint stores the position).
 
 use super::noise::HeatNoise;

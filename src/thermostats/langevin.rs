@@ -22,7 +22,7 @@
 //! `xi_k` standard normal, so it leaves the Maxwell density `exp(-K/T)`
 //! exactly invariant whatever `dt`; axes with zero moment carry nothing and
 //! draw nothing. The noise is drawn rotor by rotor, axis by axis, from
-//! [`Noise`] (reproducible from the seed; a checkpoint stores the position).
+//! [`super::noise::Noise`] (reproducible from the seed; a checkpoint stores the position).
 //!
 //! Heat: the O step's change of the kinetic energy is summed over the run;
 //! `K + V - heat` is conserved up to the splitting error (its drift is

@@ -10,11 +10,11 @@ use serde::{Deserialize, Deserializer, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum ThermostatSpec {
-    /// Langevin dynamics per principal axis ([`Langevin`]).
+    /// Langevin dynamics per principal axis ([`super::Langevin`]).
     Langevin(LangevinOptions),
-    /// Stochastic velocity rescaling ([`Bussi`]).
+    /// Stochastic velocity rescaling ([`super::Bussi`]).
     Bussi(BussiOptions),
-    /// Nose-Hoover chains ([`NoseHoover`]; scheme A integrates them too).
+    /// Nose-Hoover chains ([`super::NoseHoover`]; scheme A integrates them too).
     NoseHoover(NoseHooverOptions),
 }
 
