@@ -3,9 +3,7 @@
 //! the checks of a checkpoint handed back to `restore`.
 //!
 //! Layouts: the baselines write their per-rotor arrays back to back (no
-//! header); the Gear schemes write `[dt, Nordsieck vectors...]` (the `dt`
-//! a record only: a run compares its checkpoint's `dt`, once, with the
-//! checkpoint's identity before restoring).
+//! header); the Gear schemes write `[dt, Nordsieck vectors...]`.
 
 use super::IntegratorError;
 use crate::quaternion::Quat;
@@ -83,13 +81,15 @@ pub fn check_length(state: &[f64], rotors: usize, per_rotor: usize) -> Result<()
     Ok(())
 }
 
-/// Checks the data length of a Gear checkpoint laid out as
-/// `[dt, data...]`, and returns the data.
-pub fn checkpoint_data(state: &[f64], data_len: usize) -> Result<&[f64], IntegratorError> {
+/// Checks a Gear checkpoint laid out as `[dt, data...]` against the scheme's
+/// `dt` (bit for bit) and data length, and returns the data.
+pub fn checkpoint_data(state: &[f64], dt: f64, data_len: usize) -> Result<&[f64], IntegratorError> {
     match state.split_first() {
-        Some((_, data)) if data.len() == data_len => Ok(data),
-        Some((_, data)) => Err(IntegratorError::BadCheckpoint(format!(
-            "expected dt and {data_len} values, got dt and {} values",
+        Some((saved_dt, data)) if data.len() == data_len && saved_dt.to_bits() == dt.to_bits() => {
+            Ok(data)
+        }
+        Some((saved_dt, data)) => Err(IntegratorError::BadCheckpoint(format!(
+            "expected dt = {dt} and {data_len} values, got dt = {saved_dt} and {} values",
             data.len()
         ))),
         None => Err(IntegratorError::BadCheckpoint("empty".into())),

@@ -75,9 +75,7 @@ pub trait Integrator: Send {
 
     /// The complete internal state (everything `step` reads), flattened, for
     /// checkpoints: `restore` of it after `setup` with the same rotors and
-    /// `dt` must make the following steps bit-for-bit identical (the caller
-    /// makes sure of both: a run compares its checkpoint's identity, `dt`
-    /// included, before restoring).
+    /// `dt` must make the following steps bit-for-bit identical.
     fn checkpoint(&self) -> Vec<f64>;
 
     /// Restores a state written by [`Integrator::checkpoint`].
