@@ -100,10 +100,15 @@ fn options() -> OpenOptions {
     options
 }
 
-/// Creates (or truncates) the file at `path` for writing, refusing a
-/// symbolic link there.
+/// Creates (or truncates) the file at `path` for reading and writing,
+/// refusing a symbolic link there: every output is created through here.
 pub fn create_file(path: &Path) -> std::io::Result<File> {
-    options().write(true).create(true).truncate(true).open(path)
+    options()
+        .read(true)
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .open(path)
 }
 
 /// Opens the existing file at `path` for reading and writing, refusing a

@@ -156,7 +156,14 @@ def _connect(client: distributed.Client | str | None, workers: int) -> Iterator[
     elif client is None:
         with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}), _sigint_ignored():
             cluster = distributed.LocalCluster(
-                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                # No dashboard; the scheduler's HTTP routes (health, metrics)
+                # on a free loopback port, not Dask's default 8787, which
+                # another cluster may hold (a warning on stderr) or expose.
+                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
             )
         with cluster, distributed.Client(cluster) as c:
             try:
