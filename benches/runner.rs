@@ -35,7 +35,6 @@ const INTERLEAVED_STEPS: u64 = 20;
 /// evaluates no energy at the start for the energy error.
 fn options(scene: &Scene, start: u64, end: u64, reference: Option<EnergyReference>) -> RunOptions {
     RunOptions {
-        dt: scene.dt,
         start_step: start,
         end_step: end,
         checks: Some(BlowUpChecks {

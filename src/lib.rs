@@ -14,8 +14,11 @@
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, [`integrators::IntegratorSpec`]
 //!   (the one dispatch), Allen's schemes A and B, the baselines.
+//! * [`thermostat_hook`]: what a thermostat sees of an integrator's step and
+//!   what an integrator asks of a thermostat (below both).
 //! * [`thermostats`]: Langevin, Bussi and Nose-Hoover chains on the
 //!   rotational degrees of freedom, inside the integrators' steps.
+//! * [`dynamics`]: an integrator paired with its thermostat (above both).
 //! * [`observables`]: energies, norm errors and angular velocities of a state;
 //!   the total dipole and the orientational order of a configuration.
 //! * [`analysis`]: post-processing of recorded series and trajectories
@@ -46,6 +49,7 @@ mod allocation_meter;
 pub mod analysis;
 pub mod checks;
 pub mod cli;
+pub mod dynamics;
 pub mod experiments;
 pub mod integrators;
 pub mod lattice;
@@ -59,6 +63,7 @@ pub mod run;
 pub mod scene;
 pub mod simulation;
 pub mod stats;
+pub mod thermostat_hook;
 pub mod thermostats;
 
 #[cfg(feature = "python")]

@@ -123,7 +123,7 @@ fn make(name: &str) -> AnyIntegrator {
         "richardson" => IntegratorSpec::Richardson(RichardsonOptions {}),
         other => panic!("unknown test integrator {other}"),
     };
-    AnyIntegrator(spec.build(None).expect("no thermostat to refuse"))
+    AnyIntegrator(spec.build())
 }
 
 /// An integrator of any kind, built by [`IntegratorSpec::build`].

@@ -123,7 +123,7 @@ fn run_variant(
     mut observe: impl FnMut(&dyn Integrator),
 ) -> bool {
     let t = table();
-    let mut integrator = variant.spec().build(None).expect("no thermostat");
+    let mut integrator = variant.spec().build();
     if integrator
         .setup(&[t.reference.inertia], &t.field, &[t.reference.initial], dt)
         .is_err()

@@ -49,9 +49,7 @@ fn run(every: u64, stop_at: u64, end_step: u64) -> (Stop, u64, Vec<u64>, bool, u
         orientation: Quat::IDENTITY,
         omega_body: Vector3::new(0.1, 0.2, 0.3),
     }];
-    let mut integrator = IntegratorSpec::NoSquish(NoSquishOptions::default())
-        .build(None)
-        .expect("no thermostat to refuse");
+    let mut integrator = IntegratorSpec::NoSquish(NoSquishOptions::default()).build();
     integrator
         .setup(&inertia, &Free, &initial, 0.01)
         .expect("valid setup");
@@ -63,7 +61,6 @@ fn run(every: u64, stop_at: u64, end_step: u64) -> (Stop, u64, Vec<u64>, bool, u
         finished: false,
     };
     let options = RunOptions {
-        dt: 0.01,
         start_step: 0,
         end_step,
         checks: None,

@@ -150,6 +150,9 @@ impl<I: Integrator> Integrator for Poisoned<I> {
             self.orientations[self.rotor] = Quat([f64::NAN; 4]);
         }
     }
+    fn dt(&self) -> f64 {
+        self.inner.dt()
+    }
     fn orientations(&self) -> &[Quat] {
         &self.orientations
     }

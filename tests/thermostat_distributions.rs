@@ -452,7 +452,7 @@ fn bussi_tau_sets_the_exact_relaxation() {
 
 /// A dipole on a spherical top keeps its spin about the dipole (no torque
 /// about it); the global thermostats leave that spin alone
-/// ([`quatrot::thermostats::CoupledDegrees`]). Scaling it with the rest
+/// ([`quatrot::thermostat_hook::CoupledDegrees`]). Scaling it with the rest
 /// kept the ratio of the spin to the conserved field component `L_z`, and the
 /// rotor never reached the canonical distribution (`cos(theta)` p-values
 /// ~1e-27 at 4000 replicas). Now `cos(theta)` and the angular velocities are

@@ -119,7 +119,7 @@ fn without_a_thermostat_the_conserved_energy_is_the_energy() {
         .map(|kind| serde_json::from_value(serde_json::json!({ "kind": kind })).expect("defaults"))
         .collect();
     for spec in specs {
-        let mut run = spec.build(None).expect("no thermostat to refuse");
+        let mut run = spec.build();
         run.setup(&inertia, &potential, &initial, 0.005)
             .expect("set up");
         for step in 0..=20 {
@@ -140,7 +140,7 @@ fn energy_changes(
     steps: usize,
 ) -> (f64, f64) {
     let (inertia, potential) = cluster();
-    let mut run = ispec.build(Some(tspec)).expect("a valid pair");
+    let mut run = quatrot::dynamics::try_build(ispec, Some(tspec)).expect("a valid pair");
     run.setup(&inertia, &potential, initial, dt)
         .expect("set up");
     let (total0, conserved0) = energies(run.as_ref(), &inertia, &potential);
@@ -200,7 +200,7 @@ fn orientations_at(
     t_end: f64,
 ) -> Vec<quatrot::Quat> {
     let (inertia, potential) = cluster();
-    let mut run = ispec.build(Some(tspec)).expect("a valid pair");
+    let mut run = quatrot::dynamics::try_build(ispec, Some(tspec)).expect("a valid pair");
     run.setup(&inertia, &potential, initial, dt)
         .expect("set up");
     for _ in 0..(t_end / dt).round() as usize {
@@ -269,7 +269,7 @@ fn restart_from_checkpoint_is_bit_for_bit() {
     let initial = random_states(&inertia, T, 8);
     for (name, ispec, tspec) in pairs(12) {
         let fresh = || {
-            let mut run = ispec.build(Some(&tspec)).expect("a valid pair");
+            let mut run = quatrot::dynamics::try_build(&ispec, Some(&tspec)).expect("a valid pair");
             run.setup(&inertia, &potential, &initial, 0.005)
                 .expect("set up");
             run
@@ -297,7 +297,7 @@ fn restart_from_checkpoint_is_bit_for_bit() {
         } else {
             nose_hoover(3)
         };
-        let mut wrong = ispec.build(Some(&other)).expect("a valid pair");
+        let mut wrong = quatrot::dynamics::try_build(&ispec, Some(&other)).expect("a valid pair");
         wrong
             .setup(&inertia, &potential, &initial, 0.005)
             .expect("set up");
@@ -319,7 +319,7 @@ fn runs_are_reproducible_and_independent_of_the_thread_count() {
                 .find(|(n, _, _)| *n == name)
                 .expect("the same pair")
                 .2;
-            let mut run = ispec.build(Some(&tspec)).expect("a valid pair");
+            let mut run = quatrot::dynamics::try_build(&ispec, Some(&tspec)).expect("a valid pair");
             run.setup(&inertia, &potential, &initial, 0.005)
                 .expect("set up");
             for _ in 0..50 {
@@ -341,7 +341,8 @@ fn runs_are_reproducible_and_independent_of_the_thread_count() {
                 .build()
                 .expect("a pool");
             pool.install(|| {
-                let mut run = ispec.build(Some(&tspec)).expect("a valid pair");
+                let mut run =
+                    quatrot::dynamics::try_build(&ispec, Some(&tspec)).expect("a valid pair");
                 run.setup(&inertia, &potential, &initial, 0.005)
                     .expect("set up");
                 for _ in 0..5 {
@@ -368,7 +369,7 @@ fn perpendicular_and_spin_temperatures(
     samples: usize,
 ) -> (f64, f64, f64) {
     let (potential, inertia) = dipole_lattice(5, 2.1);
-    let mut run = ispec.build(Some(tspec)).expect("a valid pair");
+    let mut run = quatrot::dynamics::try_build(ispec, Some(tspec)).expect("a valid pair");
     run.setup(&inertia, &potential, &random_states(&inertia, T, 14), 0.005)
         .expect("set up");
     let mut omega = vec![Vector3::zeros(); inertia.len()];

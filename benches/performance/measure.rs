@@ -125,7 +125,7 @@ fn counted<P: Potential>(
     let result = run_scene(
         scene,
         serde_json::Value::Null,
-        scene.integrator.build(scene.thermostat.as_ref())?.as_mut(),
+        quatrot::dynamics::try_build(&scene.integrator, scene.thermostat.as_ref())?.as_mut(),
         ScenePotential::plain(&counting),
         &outputs,
         None,

@@ -98,7 +98,6 @@ pub fn every_step(
         },
     };
     let options = RunOptions {
-        dt,
         start_step: 0,
         end_step: steps,
         checks: None,
@@ -138,9 +137,7 @@ mod tests {
             orientation: Quat::IDENTITY,
             omega_body: omega,
         }];
-        let mut dlm = IntegratorSpec::Dlm(DlmOptions::default())
-            .build(None)
-            .expect("no thermostat to refuse");
+        let mut dlm = IntegratorSpec::Dlm(DlmOptions::default()).build();
         let s = every_step(
             dlm.as_mut(),
             &[Inertia::Spherical(0.1)],

@@ -215,10 +215,7 @@ fn trace(variant: Variant, system: &System<'_>, dt: f64, t_end: f64, sample_ever
         norms: NormDiagnostics::default(),
         finite: false,
     };
-    // Without a thermostat nothing is refused.
-    let Ok(mut integrator) = variant.spec().build(None) else {
-        return t;
-    };
+    let mut integrator = variant.spec().build();
     if integrator
         .setup(system.inertia, system.potential, system.initial, dt)
         .is_err()
@@ -226,7 +223,6 @@ fn trace(variant: Variant, system: &System<'_>, dt: f64, t_end: f64, sample_ever
         return t;
     }
     let options = RunOptions {
-        dt,
         start_step: 0,
         end_step: (t_end / dt).round() as u64,
         // Checked at the samples only.

@@ -22,9 +22,7 @@ use super::free_rotation::{free_flow, omega_from_momentum, SphericalTops};
 use super::kick::{Kicked, Splitting};
 use super::spec::IntegratorOptions;
 use super::Integrator;
-use crate::checks::InputError;
 use crate::quaternion::Quat;
-use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -46,11 +44,8 @@ pub struct DlmOptions {
 impl IntegratorOptions for DlmOptions {
     const NAME: &'static str = "dlm";
 
-    fn build(
-        &self,
-        thermostat: Option<&ThermostatSpec>,
-    ) -> Result<Box<dyn Integrator>, InputError> {
-        crate::thermostats::build_kicked(*self, thermostat)
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(Dlm::new(*self))
     }
 }
 

@@ -4,6 +4,7 @@
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
+use crate::thermostat_hook::BadCheckpoint;
 use nalgebra::Vector3;
 
 /// Orientation and body-fixed angular velocity of one rotor.
@@ -34,8 +35,15 @@ pub enum IntegratorError {
     BadTimeStep(f64),
 }
 
+/// A thermostat's part of a checkpoint that does not fit.
+impl From<BadCheckpoint> for IntegratorError {
+    fn from(e: BadCheckpoint) -> Self {
+        IntegratorError::BadCheckpoint(e.0)
+    }
+}
+
 /// A time-stepping scheme for rigid rotors (object safe: runs hold a
-/// `Box<dyn Integrator>` from [`super::IntegratorSpec::build`]).
+/// `Box<dyn Integrator>` from [`crate::dynamics::build`]).
 pub trait Integrator: Send {
     /// A short stable name (as used in scene files), e.g. `"gear_a"`.
     fn name(&self) -> &'static str;
@@ -52,6 +60,10 @@ pub trait Integrator: Send {
 
     /// Advances all rotors by one time step.
     fn step(&mut self, potential: &dyn Potential);
+
+    /// The time step it was set up with: the one `dt` of a run (the run
+    /// loop's times and the trajectory's header read it here).
+    fn dt(&self) -> f64;
 
     /// The current orientations (not necessarily exactly unit, depending on
     /// the scheme's switches).

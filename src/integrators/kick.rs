@@ -11,10 +11,11 @@
 //! pool (`rotor_chunks`); each rotor's update reads only its own state, so
 //! results do not depend on the number of threads.
 //!
-//! A [`KickThermostat`] arranges the step: [`Nve`] is the plain step above;
-//! the thermostats of [`crate::thermostats`] add their operators around it
-//! or between two half rotations, each as its own type, so the step stays
-//! monomorphised.
+//! A [`Thermostat`] of [`crate::thermostat_hook`] arranges the step: [`Nve`]
+//! is the plain step above; a thermostat adds its operators around it or
+//! between two half rotations, each as its own type, so the step stays
+//! monomorphised. It sees the step through [`KickStep`], this module's
+//! [`SplitDynamics`].
 
 use super::checkpoint::{check_length, read_values, write_values, Components};
 use super::rotor_chunks::for_each_rotor_chunk;
@@ -25,6 +26,7 @@ use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
+use crate::thermostat_hook::{Nve, SplitDynamics, Thermostat, ThermostatState};
 use nalgebra::Vector3;
 use std::fmt::Debug;
 
@@ -50,76 +52,13 @@ pub trait Splitting: IntegratorOptions + Clone + Debug + Send + Sync + 'static {
     fn omega_body(momentum: &Self::Momentum, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64>;
 }
 
-/// How a step of a kick-based baseline is arranged, and the state that
-/// arrangement carries besides the rotors': no thermostat ([`Nve`]) or one
-/// of [`crate::thermostats`].
-pub trait KickThermostat: Clone + Debug + Send + 'static {
-    /// Sizes what the thermostat keeps per rotor (principal moments
-    /// `moments`, zero moments allowed, in `potential`) for steps of `dt`,
-    /// and resets its state.
-    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, dt: f64);
-
-    /// One whole step of `state.dt`.
-    fn step<S: Splitting>(
-        &mut self,
-        splitting: &S,
-        state: &mut KickState<S::Momentum>,
-        potential: &dyn Potential,
-    );
-
-    /// The thermostat's share of the conserved energy
-    /// ([`Integrator::thermostat_energy`]).
-    fn energy(&self) -> f64;
-
-    /// The number of values [`KickThermostat::write_checkpoint`] appends.
-    fn checkpoint_len(&self) -> usize;
-
-    /// Appends the thermostat's state.
-    fn write_checkpoint(&self, out: &mut Vec<f64>);
-
-    /// Reads back the thermostat's state (`data` holds exactly
-    /// [`KickThermostat::checkpoint_len`] values).
-    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError>;
-}
-
-/// No thermostat: the step of the module doc, at constant energy.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Nve;
-
-impl KickThermostat for Nve {
-    fn setup(&mut self, _: &[Vector3<f64>], _: &dyn Potential, _: f64) {}
-
-    fn step<S: Splitting>(
-        &mut self,
-        splitting: &S,
-        state: &mut KickState<S::Momentum>,
-        potential: &dyn Potential,
-    ) {
-        state.kick_rotate_kick(splitting, potential);
-    }
-
-    fn energy(&self) -> f64 {
-        0.0
-    }
-
-    fn checkpoint_len(&self) -> usize {
-        0
-    }
-
-    fn write_checkpoint(&self, _: &mut Vec<f64>) {}
-
-    fn read_checkpoint(&mut self, _: &[f64]) -> Result<(), IntegratorError> {
-        Ok(())
-    }
-}
-
 /// A kick-based baseline: half kick, [`Splitting::rotate`], torques, half
 /// kick, with the operators of the thermostat `T` (none by default). Stores
 /// per rotor `Q` (4), the momentum variable and the space-fixed torque at
 /// `Q` (3, reused by the next step's first kick), plus the principal moments
 /// (3), and the thermostat's state. One potential evaluation per step.
 #[derive(Clone, Debug, Default)]
-pub struct Kicked<S: Splitting, T: KickThermostat = Nve> {
+pub struct Kicked<S: Splitting, T: Thermostat = Nve> {
     splitting: S,
     thermostat: T,
     state: KickState<S::Momentum>,
@@ -132,7 +71,7 @@ impl<S: Splitting> Kicked<S> {
     }
 }
 
-impl<S: Splitting, T: KickThermostat> Kicked<S, T> {
+impl<S: Splitting, T: Thermostat> Kicked<S, T> {
     /// The baseline with these options and the thermostat `thermostat`.
     pub fn with_thermostat(options: S, thermostat: T) -> Self {
         Kicked {
@@ -143,7 +82,7 @@ impl<S: Splitting, T: KickThermostat> Kicked<S, T> {
     }
 }
 
-impl<S: Splitting, T: KickThermostat> Integrator for Kicked<S, T> {
+impl<S: Splitting, T: Thermostat> Integrator for Kicked<S, T> {
     fn name(&self) -> &'static str {
         S::NAME
     }
@@ -161,8 +100,15 @@ impl<S: Splitting, T: KickThermostat> Integrator for Kicked<S, T> {
     }
 
     fn step(&mut self, potential: &dyn Potential) {
-        self.thermostat
-            .step(&self.splitting, &mut self.state, potential);
+        let mut step = KickStep {
+            splitting: &self.splitting,
+            state: &mut self.state,
+        };
+        self.thermostat.step(&mut step, potential);
+    }
+
+    fn dt(&self) -> f64 {
+        self.state.dt
     }
 
     fn orientations(&self) -> &[Quat] {
@@ -178,43 +124,43 @@ impl<S: Splitting, T: KickThermostat> Integrator for Kicked<S, T> {
     /// thermostat's state (none without one).
     fn checkpoint(&self) -> Vec<f64> {
         let mut out = self.state.checkpoint();
-        self.thermostat.write_checkpoint(&mut out);
+        self.thermostat.state().write_checkpoint(&mut out);
         out
     }
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
         let rotors = self.state.checkpoint_len().min(state.len());
         let (rotors, thermostat) = state.split_at(rotors);
-        if thermostat.len() != self.thermostat.checkpoint_len() {
+        let expected = self.thermostat.state().checkpoint_len();
+        if thermostat.len() != expected {
             return Err(IntegratorError::BadCheckpoint(format!(
-                "expected {} thermostat values after the rotors' {}, got {}",
-                self.thermostat.checkpoint_len(),
+                "expected {expected} thermostat values after the rotors' {}, got {}",
                 rotors.len(),
                 thermostat.len()
             )));
         }
         self.state.restore(rotors)?;
-        self.thermostat.read_checkpoint(thermostat)
+        Ok(self.thermostat.state_mut().read_checkpoint(thermostat)?)
     }
 
     fn thermostat_energy(&self) -> f64 {
-        self.thermostat.energy()
+        self.thermostat.state().energy()
     }
 }
 
 /// The per-rotor arrays of a kick-based baseline, sized once at setup.
 #[derive(Clone, Debug)]
-pub struct KickState<M> {
+struct KickState<M> {
     /// The time step.
-    pub dt: f64,
+    dt: f64,
     /// Principal moments `(I1, I2, I3)` per rotor (zero moments allowed).
-    pub inertia: Vec<Vector3<f64>>,
+    inertia: Vec<Vector3<f64>>,
     /// Unit orientations.
-    pub orientation: Vec<Quat>,
+    orientation: Vec<Quat>,
     /// The momentum variable (`L_b`, `L_s` or the conjugate `P`).
-    pub momentum: Vec<M>,
+    momentum: Vec<M>,
     /// Space-fixed torques at `orientation`.
-    pub torque_space: Vec<Vector3<f64>>,
+    torque_space: Vec<Vector3<f64>>,
 }
 
 impl<M> Default for KickState<M> {
@@ -234,7 +180,7 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
     /// Validates the setup arguments, normalises the orientations, sets each
     /// momentum from the unit orientation and the body angular momentum
     /// `L_b = I w_b`, and evaluates the torques.
-    pub fn new(
+    fn new(
         inertia: &[Inertia],
         potential: &dyn Potential,
         initial: &[RotorState],
@@ -261,70 +207,8 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
         Ok(state)
     }
 
-    /// The step without a thermostat: half kick, the splitting's rotation
-    /// over `dt`, torques at the new orientations, half kick.
-    pub fn kick_rotate_kick<S: Splitting<Momentum = M>>(
-        &mut self,
-        splitting: &S,
-        potential: &dyn Potential,
-    ) {
-        self.half_kick(S::kick);
-        self.rotate(splitting, self.dt);
-        self.evaluate_torques(potential);
-        self.half_kick(S::kick);
-    }
-
-    /// The splitting's orientation update over `duration` for every rotor.
-    pub fn rotate<S: Splitting<Momentum = M>>(&mut self, splitting: &S, duration: f64) {
-        self.update(|q, p, i| splitting.rotate(q, p, i, duration));
-    }
-
-    /// The total kinetic energy `sum_i 1/2 w_b . I w_b`, summed in rotor
-    /// order (one thread, so the sum does not depend on the thread count).
-    pub fn kinetic_energy<S: Splitting<Momentum = M>>(&self) -> f64 {
-        self.momentum
-            .iter()
-            .zip(&self.orientation)
-            .zip(&self.inertia)
-            .map(|((p, q), i)| {
-                let w = S::omega_body(p, q, i);
-                0.5 * w.dot(&i.component_mul(&w))
-            })
-            .sum()
-    }
-
-    /// Multiplies every momentum by `factor` (every angular momentum, in
-    /// either frame, and the conjugate `P` alike).
-    pub fn scale_momenta(&mut self, factor: f64) {
-        for p in &mut self.momentum {
-            for c in p.components_mut() {
-                *c *= factor;
-            }
-        }
-    }
-
-    /// Calls `f(rotor, w_b, moments)` for every rotor in order (one thread)
-    /// and sets its momentum from the body angular velocity `f` leaves
-    /// (`L_b = I w_b`; nothing about axes with zero moment).
-    pub fn update_omega_body<S: Splitting<Momentum = M>>(
-        &mut self,
-        mut f: impl FnMut(usize, &mut Vector3<f64>, &Vector3<f64>),
-    ) {
-        for (rotor, ((p, q), i)) in self
-            .momentum
-            .iter_mut()
-            .zip(&self.orientation)
-            .zip(&self.inertia)
-            .enumerate()
-        {
-            let mut w = S::omega_body(p, q, i);
-            f(rotor, &mut w, i);
-            *p = S::momentum(q, &w.component_mul(i));
-        }
-    }
-
     /// Half kick: `kick(momentum, Q, n_s, dt/2)` for every rotor.
-    pub fn half_kick(&mut self, kick: impl Fn(&mut M, &Quat, &Vector3<f64>, f64) + Sync) {
+    fn half_kick(&mut self, kick: impl Fn(&mut M, &Quat, &Vector3<f64>, f64) + Sync) {
         let half = 0.5 * self.dt;
         let rotors = (
             &mut self.momentum[..],
@@ -341,7 +225,7 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
     /// `update(Q, momentum, moments)` for every rotor (the orientation
     /// update). A pass of its own: fused into the kick's pass, each rotor's
     /// chain of dependent operations grew and a NO_SQUISH step took 10 % longer.
-    pub fn update(&mut self, update: impl Fn(&mut Quat, &mut M, &Vector3<f64>) + Sync) {
+    fn update(&mut self, update: impl Fn(&mut Quat, &mut M, &Vector3<f64>) + Sync) {
         let rotors = (
             &mut self.orientation[..],
             &mut self.momentum[..],
@@ -355,13 +239,13 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
     }
 
     /// The torques at the current orientations.
-    pub fn evaluate_torques(&mut self, potential: &dyn Potential) {
+    fn evaluate_torques(&mut self, potential: &dyn Potential) {
         evaluate_torques(potential, &self.orientation, &mut self.torque_space);
     }
 
     /// Writes `f(momentum, Q, moments)` for every rotor (the body angular
     /// velocity).
-    pub fn omega_body(
+    fn omega_body(
         &self,
         out: &mut [Vector3<f64>],
         f: impl Fn(&M, &Quat, &Vector3<f64>) -> Vector3<f64>,
@@ -377,13 +261,13 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
     }
 
     /// The length of [`KickState::checkpoint`]'s output.
-    pub fn checkpoint_len(&self) -> usize {
+    fn checkpoint_len(&self) -> usize {
         self.orientation.len() * (Quat::LEN + M::LEN + 3)
     }
 
     /// Layout: all `Q` (4 each), then all momenta (`P`: 4 each, `L`: 3 each),
     /// then all space-fixed torques (3 each).
-    pub fn checkpoint(&self) -> Vec<f64> {
+    fn checkpoint(&self) -> Vec<f64> {
         let mut out = Vec::with_capacity(self.checkpoint_len());
         write_values(&self.orientation, &mut out);
         write_values(&self.momentum, &mut out);
@@ -393,11 +277,92 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
 
     /// Reads back [`KickState::checkpoint`]'s output after checking that it
     /// holds exactly that many finite values.
-    pub fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
+    fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
         check_length(state, self.orientation.len(), Quat::LEN + M::LEN + 3)?;
         let rest = read_values(state, &mut self.orientation);
         let rest = read_values(rest, &mut self.momentum);
         let _ = read_values(rest, &mut self.torque_space);
         Ok(())
+    }
+}
+
+/// One step of a kick-based baseline as a thermostat sees it: the
+/// splitting's pieces over the rotors' state.
+#[derive(Debug)]
+pub struct KickStep<'a, S: Splitting> {
+    splitting: &'a S,
+    state: &'a mut KickState<S::Momentum>,
+}
+
+impl<S: Splitting> SplitDynamics for KickStep<'_, S> {
+    fn dt(&self) -> f64 {
+        self.state.dt
+    }
+
+    fn half_kick(&mut self) {
+        self.state.half_kick(S::kick);
+    }
+
+    fn free_flow(&mut self, duration: f64) {
+        let splitting = self.splitting;
+        self.state
+            .update(|q, p, i| splitting.rotate(q, p, i, duration));
+    }
+
+    fn evaluate_torques(&mut self, potential: &dyn Potential) {
+        self.state.evaluate_torques(potential);
+    }
+
+    /// Summed in rotor order on one thread, so the sum does not depend on
+    /// the thread count.
+    fn kinetic_energy(&self) -> f64 {
+        let state = &self.state;
+        state
+            .momentum
+            .iter()
+            .zip(&state.orientation)
+            .zip(&state.inertia)
+            .map(|((p, q), i)| {
+                let w = S::omega_body(p, q, i);
+                0.5 * w.dot(&i.component_mul(&w))
+            })
+            .sum()
+    }
+
+    fn for_each_omega_body(&self, mut f: impl FnMut(usize, &Vector3<f64>, &Vector3<f64>)) {
+        let state = &self.state;
+        for (rotor, ((p, q), i)) in state
+            .momentum
+            .iter()
+            .zip(&state.orientation)
+            .zip(&state.inertia)
+            .enumerate()
+        {
+            f(rotor, &S::omega_body(p, q, i), i);
+        }
+    }
+
+    /// Every angular momentum, in either frame, and the conjugate `P` alike.
+    fn scale_momenta(&mut self, factor: f64) {
+        for p in &mut self.state.momentum {
+            for c in p.components_mut() {
+                *c *= factor;
+            }
+        }
+    }
+
+    fn update_omega_body(&mut self, mut f: impl FnMut(usize, &mut Vector3<f64>, &Vector3<f64>)) {
+        let state = &mut *self.state;
+        for (rotor, ((p, q), i)) in state
+            .momentum
+            .iter_mut()
+            .zip(&state.orientation)
+            .zip(&state.inertia)
+            .enumerate()
+        {
+            let mut w = S::omega_body(p, q, i);
+            f(rotor, &mut w, i);
+            *p = S::momentum(q, &w.component_mul(i));
+        }
     }
 }

@@ -6,16 +6,19 @@
 //! and then advanced one step at a time without allocating. The trait is
 //! object safe (the potential arrives as `&dyn Potential`, one virtual call
 //! per evaluation); the per-rotor loops inside each step are monomorphised.
-//! [`IntegratorSpec`] (an enum of the option structs) builds any of them:
-//! the one dispatch from a choice of integrator to a running one.
+//! [`IntegratorSpec`] (an enum of the option structs) builds any of them
+//! without a thermostat: the one dispatch from a choice of integrator to a
+//! running one ([`crate::dynamics`] adds the thermostat).
 //!
 //! * Baselines (the methods MD codes use today): [`NoSquish`], [`Dlm`] and
 //!   [`Richardson`], one [`Kicked`] integrator each over its [`Splitting`]
 //!   (`kick`: per-rotor state, kick, checkpoint and every method of the
 //!   trait), with the free-rotation flows of [`free_rotation`]; NO_SQUISH
-//!   and DLM with a thermostat of [`crate::thermostats`] ([`KickThermostat`]).
+//!   and DLM offer their step to a thermostat ([`KickStep`], the
+//!   [`crate::thermostat_hook::SplitDynamics`] of the hook).
 //! * The note's Gear schemes: [`GearA`] (`scheme_a`) and [`GearB`]
-//!   (`scheme_b`), built on the Nordsieck machinery of [`gear`], the Euler
+//!   (`scheme_b`; scheme A also with the extended equations of a
+//!   [`crate::thermostat_hook::ChainEquations`]), built on the Nordsieck machinery of [`gear`], the Euler
 //!   equations and eq 12 of [`rigid_body`] and the start-up of [`startup`].
 //! * Shared pieces: [`setup_checks`] (argument validation, all five),
 //!   `torque` (torques into a reused buffer, body-frame components),
@@ -42,7 +45,7 @@ mod torque;
 pub use dlm::{Dlm, DlmOptions};
 pub use free_rotation::SphericalTops;
 pub use integrator::{Integrator, IntegratorError, RotorState};
-pub use kick::{KickState, KickThermostat, Kicked, Nve, Splitting};
+pub use kick::{KickStep, Kicked, Splitting};
 pub use no_squish::{NoSquish, NoSquishOptions, MAX_SUBSTEPS};
 pub use richardson::{Richardson, RichardsonOptions};
 pub use scheme_a::{GearA, GearAOptions};

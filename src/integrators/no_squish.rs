@@ -23,9 +23,7 @@ use super::free_rotation::{free_flow, omega_from_momentum, BodyMomentum, Spheric
 use super::kick::{Kicked, Splitting};
 use super::spec::IntegratorOptions;
 use super::Integrator;
-use crate::checks::InputError;
 use crate::quaternion::Quat;
-use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
@@ -93,11 +91,8 @@ impl Default for NoSquishOptions {
 impl IntegratorOptions for NoSquishOptions {
     const NAME: &'static str = "no_squish";
 
-    fn build(
-        &self,
-        thermostat: Option<&ThermostatSpec>,
-    ) -> Result<Box<dyn Integrator>, InputError> {
-        crate::thermostats::build_kicked(*self, thermostat)
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(NoSquish::new(*self))
     }
 }
 

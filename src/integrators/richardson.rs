@@ -23,9 +23,7 @@ use super::free_rotation::omega_from_momentum;
 use super::kick::{Kicked, Splitting};
 use super::spec::IntegratorOptions;
 use super::Integrator;
-use crate::checks::InputError;
 use crate::quaternion::Quat;
-use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -55,16 +53,8 @@ fn euler(q: &Quat, omega_space: &Vector3<f64>, h: f64) -> Quat {
 impl IntegratorOptions for RichardsonOptions {
     const NAME: &'static str = "richardson";
 
-    /// Refuses every thermostat: the update is neither time reversible nor
-    /// symplectic, so a thermostat's splitting error would not be controlled.
-    fn build(
-        &self,
-        thermostat: Option<&ThermostatSpec>,
-    ) -> Result<Box<dyn Integrator>, InputError> {
-        match thermostat {
-            None => Ok(Box::new(Richardson::new(*self))),
-            Some(t) => Err(t.refused(Self::NAME, "not time reversible")),
-        }
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(Richardson::new(*self))
     }
 }
 

@@ -19,19 +19,16 @@
 
 use super::checkpoint::checkpoint_data;
 use super::gear::{Nordsieck, FIRST_ORDER_5};
-use super::rigid_body::{General, PrincipalMoments, Spherical, TopKind};
+use super::rigid_body::TopKind;
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
-use super::startup::{start, GearStart, StartChain, Startup};
+use super::startup::{start, GearFrame, GearStart, StartChain, Startup, TopStep};
 use super::torque::{evaluate_torques, torque_body};
 use super::{Integrator, IntegratorError, RotorState};
-use crate::checks::InputError;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostats::{
-    CoupledDegrees, NoseHooverChain, NoseHooverOptions, Spin, ThermostatSpec,
-};
+use crate::thermostat_hook::{ChainEquations, CoupledDegrees, Spin};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -46,152 +43,15 @@ pub struct GearAOptions {
     pub startup: Startup,
 }
 
-impl Default for GearAOptions {
-    fn default() -> Self {
-        GearAOptions {
-            renormalise: true,
-            startup: Startup::Consistent,
-        }
-    }
-}
-
-impl IntegratorOptions for GearAOptions {
-    const NAME: &'static str = "gear_a";
-
-    /// Scheme A alone, or with a Nose-Hoover chain ([`GearA::with_nose_hoover`]);
-    /// refuses the stochastic thermostats: a predictor-corrector needs a
-    /// smooth trajectory.
-    fn build(
-        &self,
-        thermostat: Option<&ThermostatSpec>,
-    ) -> Result<Box<dyn Integrator>, InputError> {
-        match thermostat {
-            None => Ok(Box::new(GearA::new(*self))),
-            Some(ThermostatSpec::NoseHoover(chain)) => {
-                Ok(Box::new(GearA::with_nose_hoover(*self, *chain)?))
-            }
-            Some(t) => Err(t.refused(
-                Self::NAME,
-                "a predictor-corrector needs a smooth trajectory",
-            )),
-        }
-    }
-}
-
-/// Scheme A: coupled 5-value Gear correctors for eqs 10 and 11 (module doc).
-#[derive(Clone, Debug)]
-pub struct GearA {
-    options: GearAOptions,
-    dt: f64,
-    moments: Vec<PrincipalMoments>,
-    spherical: bool,
-    q: Nordsieck<Quat, 5>,
-    omega_body: Nordsieck<Vector3<f64>, 5>,
-    torque_space: Vec<Vector3<f64>>,
-    /// The Nose-Hoover chain integrated with the rotors, if any.
-    thermostat: Option<GearChain>,
-    /// Per rotor, the spin the chain leaves out (all `None` without one).
-    spins: Vec<Option<Spin>>,
-}
-
-/// A Nose-Hoover chain in scheme A: the extended equations of
-/// [`crate::thermostats::NoseHooverChain`] (friction `-p_1/Q_1 w_b` in
-/// Euler's equations on the thermostatted components, a conserved spin of
-/// [`CoupledDegrees`] left out; the chain's own equations) integrated by the same
-/// 5-value first-order Gear predictor-corrector, the chain's right-hand sides
-/// evaluated at the predicted values (the kinetic energy from the predicted
-/// `w_b`), as the rotors' are.
-#[derive(Clone, Debug)]
-struct GearChain {
-    options: NoseHooverOptions,
-    /// The chain's masses, and its current positions and momenta (copied
-    /// from `positions.r[0]`, `momenta.r[0]` after each step).
-    chain: NoseHooverChain,
-    /// The degrees of freedom it acts on, and the principal moments.
-    coupled: CoupledDegrees,
-    principal: Vec<Vector3<f64>>,
-    positions: Nordsieck<f64, 5>,
-    momenta: Nordsieck<f64, 5>,
-    /// Scratch: the chain's rates.
-    positions_dot: Vec<f64>,
-    momenta_dot: Vec<f64>,
-}
-
-impl GearChain {
-    /// Predicts, evaluates the rates at the predicted values (the
-    /// thermostatted kinetic energy from the predicted `omega_body`) and
-    /// corrects; returns the predicted friction `p_1/Q_1` on the rotors.
-    fn step(&mut self, omega_body: &[Vector3<f64>], h: f64) -> f64 {
-        let kinetic = self.coupled.kinetic_energy_of(&self.principal, omega_body);
-        self.positions.predict();
-        self.momenta.predict();
-        let predicted = &self.momenta.r[0];
-        let friction = self.chain.friction(predicted);
-        self.chain.rates(
-            predicted,
-            kinetic,
-            &mut self.positions_dot,
-            &mut self.momenta_dot,
-        );
-        for j in 0..self.chain.len() {
-            let delta = self.positions_dot[j] * h - self.positions.r[1][j];
-            self.positions.correct(j, &FIRST_ORDER_5, delta);
-            let delta = self.momenta_dot[j] * h - self.momenta.r[1][j];
-            self.momenta.correct(j, &FIRST_ORDER_5, delta);
-        }
-        self.sync();
-        friction
-    }
-
-    /// The chain's current values from the Nordsieck vectors.
-    fn sync(&mut self) {
-        self.chain.positions.copy_from_slice(&self.positions.r[0]);
-        self.chain.momenta.copy_from_slice(&self.momenta.r[0]);
-    }
-}
-
-impl GearA {
-    /// A scheme-A integrator with the given options (set up before stepping).
-    pub fn new(options: GearAOptions) -> Self {
-        GearA {
-            options,
-            dt: 0.0,
-            moments: Vec::new(),
-            spherical: true,
-            q: Nordsieck::zeros(0),
-            omega_body: Nordsieck::zeros(0),
-            torque_space: Vec::new(),
-            thermostat: None,
-            spins: Vec::new(),
-        }
-    }
-
-    /// Scheme A with a Nose-Hoover chain of checked options `chain`: the
-    /// extended equations by the same predictor-corrector (and the same
-    /// start-up, which integrates the chain too).
-    pub fn with_nose_hoover(
-        options: GearAOptions,
-        chain: NoseHooverOptions,
-    ) -> Result<Self, InputError> {
-        chain.check()?;
-        let mut gear = GearA::new(options);
-        gear.thermostat = Some(GearChain {
-            options: chain,
-            chain: NoseHooverChain::new(&chain, 0),
-            coupled: CoupledDegrees::default(),
-            principal: Vec::new(),
-            positions: Nordsieck::zeros(0),
-            momenta: Nordsieck::zeros(0),
-            positions_dot: Vec::new(),
-            momenta_dot: Vec::new(),
-        });
-        Ok(gear)
+impl TopStep for GearA {
+    fn frame(&self) -> &GearFrame {
+        &self.frame
     }
 
     /// One step (a)-(f) of the note, monomorphised on the kind of top; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
     fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
-        let h = self.dt;
+        let h = self.frame.dt;
         let renormalise = self.options.renormalise;
         // (a), (b): predict.
         let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
@@ -210,7 +70,7 @@ impl GearA {
             self.q.as_chunk(),
             self.omega_body.as_chunk(),
             &self.torque_space[..],
-            &self.moments[..],
+            &self.frame.moments[..],
             &self.spins[..],
         );
         for_each_rotor_chunk(
@@ -249,6 +109,124 @@ impl GearA {
     }
 }
 
+impl Default for GearAOptions {
+    fn default() -> Self {
+        GearAOptions {
+            renormalise: true,
+            startup: Startup::Consistent,
+        }
+    }
+}
+
+impl IntegratorOptions for GearAOptions {
+    const NAME: &'static str = "gear_a";
+
+    /// Scheme A alone ([`GearA::with_chain`] adds a thermostat chain).
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(GearA::new(*self))
+    }
+}
+
+/// Scheme A: coupled 5-value Gear correctors for eqs 10 and 11 (module doc).
+#[derive(Clone, Debug)]
+pub struct GearA {
+    options: GearAOptions,
+    frame: GearFrame,
+    q: Nordsieck<Quat, 5>,
+    omega_body: Nordsieck<Vector3<f64>, 5>,
+    torque_space: Vec<Vector3<f64>>,
+    /// The thermostat chain integrated with the rotors, if any.
+    thermostat: Option<GearChain>,
+    /// Per rotor, the spin the chain leaves out (all `None` without one).
+    spins: Vec<Option<Spin>>,
+}
+
+/// A thermostat chain in scheme A: the extended equations of a
+/// [`ChainEquations`] (friction `-p_1/Q_1 w_b` in Euler's equations on the
+/// thermostatted components, a conserved spin of [`CoupledDegrees`] left
+/// out; the chain's own equations) integrated by the same 5-value
+/// first-order Gear predictor-corrector, the chain's right-hand sides
+/// evaluated at the predicted values (the kinetic energy from the predicted
+/// `w_b`), as the rotors' are.
+#[derive(Clone, Debug)]
+struct GearChain {
+    /// The chain's masses, and its current positions and momenta (copied
+    /// from `positions.r[0]`, `momenta.r[0]` after each step).
+    chain: Box<dyn ChainEquations>,
+    /// The degrees of freedom it acts on, and the principal moments.
+    coupled: CoupledDegrees,
+    principal: Vec<Vector3<f64>>,
+    positions: Nordsieck<f64, 5>,
+    momenta: Nordsieck<f64, 5>,
+    /// Scratch: the chain's rates.
+    positions_dot: Vec<f64>,
+    momenta_dot: Vec<f64>,
+}
+
+impl GearChain {
+    /// Predicts, evaluates the rates at the predicted values (the
+    /// thermostatted kinetic energy from the predicted `omega_body`) and
+    /// corrects; returns the predicted friction `p_1/Q_1` on the rotors.
+    fn step(&mut self, omega_body: &[Vector3<f64>], h: f64) -> f64 {
+        let kinetic = self.coupled.kinetic_energy_of(&self.principal, omega_body);
+        self.positions.predict();
+        self.momenta.predict();
+        let predicted = &self.momenta.r[0];
+        let friction = self.chain.friction(predicted);
+        self.chain.rates(
+            predicted,
+            kinetic,
+            &mut self.positions_dot,
+            &mut self.momenta_dot,
+        );
+        for j in 0..self.chain.len() {
+            let delta = self.positions_dot[j] * h - self.positions.r[1][j];
+            self.positions.correct(j, &FIRST_ORDER_5, delta);
+            let delta = self.momenta_dot[j] * h - self.momenta.r[1][j];
+            self.momenta.correct(j, &FIRST_ORDER_5, delta);
+        }
+        self.sync();
+        friction
+    }
+
+    /// The chain's current values from the Nordsieck vectors.
+    fn sync(&mut self) {
+        self.chain.set(&self.positions.r[0], &self.momenta.r[0]);
+    }
+}
+
+impl GearA {
+    /// A scheme-A integrator with the given options (set up before stepping).
+    pub fn new(options: GearAOptions) -> Self {
+        GearA {
+            options,
+            frame: GearFrame::default(),
+            q: Nordsieck::zeros(0),
+            omega_body: Nordsieck::zeros(0),
+            torque_space: Vec::new(),
+            thermostat: None,
+            spins: Vec::new(),
+        }
+    }
+
+    /// Scheme A with the thermostat chain `chain` (a Nose-Hoover chain):
+    /// the extended equations by the same predictor-corrector (and the same
+    /// start-up, which integrates the chain too).
+    pub fn with_chain(options: GearAOptions, chain: Box<dyn ChainEquations>) -> Self {
+        let mut gear = GearA::new(options);
+        gear.thermostat = Some(GearChain {
+            chain,
+            coupled: CoupledDegrees::default(),
+            principal: Vec::new(),
+            positions: Nordsieck::zeros(0),
+            momenta: Nordsieck::zeros(0),
+            positions_dot: Vec::new(),
+            momenta_dot: Vec::new(),
+        });
+        gear
+    }
+}
+
 impl Default for GearA {
     fn default() -> Self {
         GearA::new(GearAOptions::default())
@@ -270,23 +248,18 @@ impl Integrator for GearA {
         if let Some(t) = &mut self.thermostat {
             t.principal = inertia.iter().map(Inertia::principal).collect();
             t.coupled = CoupledDegrees::new(&t.principal, potential);
-            t.chain = NoseHooverChain::new(&t.options, t.coupled.dof);
+            t.chain.reset(t.coupled.dof);
         }
         let chain = self.thermostat.as_ref().map(|t| StartChain {
-            chain: &t.chain,
+            chain: t.chain.as_ref(),
             coupled: &t.coupled,
         });
-        let GearStart {
-            moments,
-            spherical,
-            derivatives,
-        } = start(self.options.startup, inertia, potential, initial, chain, dt)?;
-        self.dt = dt;
+        let GearStart { frame, derivatives } =
+            start(self.options.startup, inertia, potential, initial, chain, dt)?;
         self.q = derivatives.q.truncated();
         self.omega_body = derivatives.omega_body.truncated();
         self.torque_space = vec![Vector3::zeros(); derivatives.q.len()];
-        self.moments = moments;
-        self.spherical = spherical;
+        self.frame = frame;
         self.spins = match &self.thermostat {
             Some(t) => t.coupled.spins.clone(),
             None => vec![None; initial.len()],
@@ -302,11 +275,11 @@ impl Integrator for GearA {
     }
 
     fn step(&mut self, potential: &dyn Potential) {
-        if self.spherical {
-            self.step_with::<Spherical>(potential);
-        } else {
-            self.step_with::<General>(potential);
-        }
+        self.step_by_top(potential);
+    }
+
+    fn dt(&self) -> f64 {
+        self.frame.dt
     }
 
     fn orientations(&self) -> &[Quat] {
@@ -320,7 +293,7 @@ impl Integrator for GearA {
     /// Layout: `[dt, Q..., w_b...]` (Nordsieck vectors), then the chain's
     /// positions and momenta (Nordsieck vectors) when there is one.
     fn checkpoint(&self) -> Vec<f64> {
-        let mut out = vec![self.dt];
+        let mut out = vec![self.frame.dt];
         self.q.write_flat(&mut out);
         self.omega_body.write_flat(&mut out);
         if let Some(t) = &self.thermostat {
@@ -336,7 +309,7 @@ impl Integrator for GearA {
             .as_ref()
             .map_or(0, |t| t.positions.flat_len() + t.momenta.flat_len());
         let len = self.q.flat_len() + self.omega_body.flat_len() + chain_len;
-        let data = checkpoint_data(state, self.dt, len)?;
+        let data = checkpoint_data(state, self.frame.dt, len)?;
         let rest = self.q.read_flat(data);
         let rest = self.omega_body.read_flat(rest);
         if let Some(t) = &mut self.thermostat {

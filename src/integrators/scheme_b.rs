@@ -36,17 +36,16 @@
 
 use super::checkpoint::checkpoint_data;
 use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
-use super::rigid_body::{q_ddot, q_ddot_spherical, General, PrincipalMoments, Spherical, TopKind};
+use super::rigid_body::{q_ddot, q_ddot_spherical, PrincipalMoments, TopKind};
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
-use super::startup::{start, GearStart, Startup};
+use super::startup::{start, GearFrame, GearStart, Startup, TopStep};
 use super::{Integrator, IntegratorError, RotorState};
-use crate::checks::{named_choices, InputError};
+use crate::checks::named_choices;
 use crate::observables::norm_force;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -97,6 +96,64 @@ pub struct GearBOptions {
     pub startup: Startup,
 }
 
+impl TopStep for GearB {
+    fn frame(&self) -> &GearFrame {
+        &self.frame
+    }
+
+    /// One step (a)-(c) of the note plus the switched corrections; the
+    /// per-rotor work runs over chunks of rotors across the rayon pool.
+    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
+        let h = self.frame.dt;
+        let opts = self.options;
+        let coefficients = &self.coefficients;
+        // (a): predict.
+        for_each_rotor_chunk(self.q.as_chunk(), |mut q| q.predict());
+        // (b): the unconstrained gradient (eq 14) at the predicted Q.
+        self.gradient.fill(Quat::ZERO);
+        potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
+        let rotors = (
+            self.q.as_chunk(),
+            &self.gradient[..],
+            &mut self.norm_force[..],
+            &self.frame.moments[..],
+        );
+        for_each_rotor_chunk(rotors, |(mut q, gradient, norm_forces, moments)| {
+            for i in 0..moments.len() {
+                let q_i = q.r[0][i];
+                let force = quaternion_force(&q_i, &gradient[i], opts.project_torque);
+                norm_forces[i] = norm_force(&q_i, &force);
+                let q_dot = q.r[1][i] * (1.0 / h);
+                let accel = acceleration::<K>(&moments[i], &q_i, &q_dot, &force);
+                // (c): correct.
+                let delta = accel * (0.5 * h * h) - q.r[2][i];
+                q.correct(i, coefficients, delta);
+            }
+            // The switched corrections, each rotor on its own, after the
+            // force loop (the same values as rotor by rotor inside it).
+            if opts.renormalise {
+                for q in q.r[0].iter_mut() {
+                    *q = *q * (1.0 / q.norm());
+                }
+            }
+            if opts.project_velocity || opts.correct_higher_derivatives {
+                for i in 0..moments.len() {
+                    let mut r = q.rotor(i);
+                    if opts.project_velocity {
+                        enforce_norm_derivative(&mut r, 1);
+                    }
+                    if opts.correct_higher_derivatives {
+                        for k in 2..6 {
+                            enforce_norm_derivative(&mut r, k);
+                        }
+                    }
+                    q.set_rotor(i, &r);
+                }
+            }
+        });
+    }
+}
+
 impl Default for GearBOptions {
     fn default() -> Self {
         GearBOptions {
@@ -113,16 +170,8 @@ impl Default for GearBOptions {
 impl IntegratorOptions for GearBOptions {
     const NAME: &'static str = "gear_b";
 
-    /// Refuses every thermostat: scheme B integrates eq 12 in `Q` alone and
-    /// has no angular momenta for a thermostat to act on.
-    fn build(
-        &self,
-        thermostat: Option<&ThermostatSpec>,
-    ) -> Result<Box<dyn Integrator>, InputError> {
-        match thermostat {
-            None => Ok(Box::new(GearB::new(*self))),
-            Some(t) => Err(t.refused(Self::NAME, "scheme B has no angular momenta to thermostat")),
-        }
+    fn build(&self) -> Box<dyn Integrator> {
+        Box::new(GearB::new(*self))
     }
 }
 
@@ -131,9 +180,7 @@ impl IntegratorOptions for GearBOptions {
 pub struct GearB {
     options: GearBOptions,
     coefficients: [f64; 6],
-    dt: f64,
-    moments: Vec<PrincipalMoments>,
-    spherical: bool,
+    frame: GearFrame,
     q: Nordsieck<Quat, 6>,
     /// `Q.N` of the last force evaluation, at the (predicted) `Q` where the
     /// force `N` was evaluated, after the projection if on (eq 15b).
@@ -190,65 +237,11 @@ impl GearB {
         GearB {
             options,
             coefficients: second_order_6(options.c0.value()),
-            dt: 0.0,
-            moments: Vec::new(),
-            spherical: true,
+            frame: GearFrame::default(),
             q: Nordsieck::zeros(0),
             norm_force: Vec::new(),
             gradient: Vec::new(),
         }
-    }
-
-    /// One step (a)-(c) of the note plus the switched corrections; the
-    /// per-rotor work runs over chunks of rotors across the rayon pool.
-    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
-        let h = self.dt;
-        let opts = self.options;
-        let coefficients = &self.coefficients;
-        // (a): predict.
-        for_each_rotor_chunk(self.q.as_chunk(), |mut q| q.predict());
-        // (b): the unconstrained gradient (eq 14) at the predicted Q.
-        self.gradient.fill(Quat::ZERO);
-        potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
-        let rotors = (
-            self.q.as_chunk(),
-            &self.gradient[..],
-            &mut self.norm_force[..],
-            &self.moments[..],
-        );
-        for_each_rotor_chunk(rotors, |(mut q, gradient, norm_forces, moments)| {
-            for i in 0..moments.len() {
-                let q_i = q.r[0][i];
-                let force = quaternion_force(&q_i, &gradient[i], opts.project_torque);
-                norm_forces[i] = norm_force(&q_i, &force);
-                let q_dot = q.r[1][i] * (1.0 / h);
-                let accel = acceleration::<K>(&moments[i], &q_i, &q_dot, &force);
-                // (c): correct.
-                let delta = accel * (0.5 * h * h) - q.r[2][i];
-                q.correct(i, coefficients, delta);
-            }
-            // The switched corrections, each rotor on its own, after the
-            // force loop (the same values as rotor by rotor inside it).
-            if opts.renormalise {
-                for q in q.r[0].iter_mut() {
-                    *q = *q * (1.0 / q.norm());
-                }
-            }
-            if opts.project_velocity || opts.correct_higher_derivatives {
-                for i in 0..moments.len() {
-                    let mut r = q.rotor(i);
-                    if opts.project_velocity {
-                        enforce_norm_derivative(&mut r, 1);
-                    }
-                    if opts.correct_higher_derivatives {
-                        for k in 2..6 {
-                            enforce_norm_derivative(&mut r, k);
-                        }
-                    }
-                    q.set_rotor(i, &r);
-                }
-            }
-        });
     }
 }
 
@@ -270,12 +263,8 @@ impl Integrator for GearB {
         initial: &[RotorState],
         dt: f64,
     ) -> Result<(), IntegratorError> {
-        let GearStart {
-            moments,
-            spherical,
-            derivatives,
-        } = start(self.options.startup, inertia, potential, initial, None, dt)?;
-        self.dt = dt;
+        let GearStart { frame, derivatives } =
+            start(self.options.startup, inertia, potential, initial, None, dt)?;
         self.q = derivatives.q;
         self.gradient = vec![Quat::ZERO; self.q.len()];
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
@@ -284,17 +273,16 @@ impl Integrator for GearB {
             .zip(&self.gradient)
             .map(|(q, g)| norm_force(q, &quaternion_force(q, g, self.options.project_torque)))
             .collect();
-        self.moments = moments;
-        self.spherical = spherical;
+        self.frame = frame;
         Ok(())
     }
 
     fn step(&mut self, potential: &dyn Potential) {
-        if self.spherical {
-            self.step_with::<Spherical>(potential);
-        } else {
-            self.step_with::<General>(potential);
-        }
+        self.step_by_top(potential);
+    }
+
+    fn dt(&self) -> f64 {
+        self.frame.dt
     }
 
     fn orientations(&self) -> &[Quat] {
@@ -303,13 +291,13 @@ impl Integrator for GearB {
 
     fn omega_body(&self, out: &mut [Vector3<f64>]) {
         for ((w, q), r1) in out.iter_mut().zip(&self.q.r[0]).zip(&self.q.r[1]) {
-            *w = q.omega_body_from_scaled_q_dot(r1, self.dt);
+            *w = q.omega_body_from_scaled_q_dot(r1, self.frame.dt);
         }
     }
 
     fn q_dot(&self, out: &mut [Quat]) {
         for (q_dot, r1) in out.iter_mut().zip(&self.q.r[1]) {
-            *q_dot = *r1 * (1.0 / self.dt);
+            *q_dot = *r1 * (1.0 / self.frame.dt);
         }
     }
 
@@ -319,7 +307,7 @@ impl Integrator for GearB {
     }
 
     fn checkpoint(&self) -> Vec<f64> {
-        let mut out = vec![self.dt];
+        let mut out = vec![self.frame.dt];
         self.q.write_flat(&mut out);
         out.extend_from_slice(&self.norm_force);
         out
@@ -327,7 +315,7 @@ impl Integrator for GearB {
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
         let len = self.q.flat_len() + self.norm_force.len();
-        let data = checkpoint_data(state, self.dt, len)?;
+        let data = checkpoint_data(state, self.frame.dt, len)?;
         let rest = self.q.read_flat(data);
         self.norm_force.copy_from_slice(rest);
         Ok(())
@@ -337,6 +325,7 @@ impl Integrator for GearB {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrators::rigid_body::{General, Spherical};
 
     /// `sum_{j=0..k} r_j.r_{k-j}` for `k = 0..5`.
     fn constraint_residuals(r: &[Quat; 6]) -> [f64; 6] {

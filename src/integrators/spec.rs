@@ -6,8 +6,6 @@
 use super::{
     DlmOptions, GearAOptions, GearBOptions, Integrator, NoSquishOptions, RichardsonOptions,
 };
-use crate::checks::InputError;
-use crate::thermostats::ThermostatSpec;
 use serde::{Deserialize, Deserializer, Serialize};
 
 /// The options of one integrator: its stable name and how to build it.
@@ -15,12 +13,9 @@ pub trait IntegratorOptions {
     /// The name used in scene files (`kind`) and checkpoints, e.g. `"gear_a"`.
     const NAME: &'static str;
 
-    /// A new integrator with these options and `thermostat` (none: constant
-    /// energy), set up before stepping; refuses a thermostat it cannot carry
-    /// ([`ThermostatSpec::refused`], path `kind`) or whose options fail their
-    /// checks.
-    fn build(&self, thermostat: Option<&ThermostatSpec>)
-        -> Result<Box<dyn Integrator>, InputError>;
+    /// A new integrator with these options, without a thermostat (constant
+    /// energy), set up before stepping.
+    fn build(&self) -> Box<dyn Integrator>;
 }
 
 /// Defines [`IntegratorSpec`] from its variants, each a newtype around an
@@ -47,17 +42,13 @@ macro_rules! integrator_spec {
                 }
             }
 
-            /// A new integrator of this kind and options with `thermostat`
-            /// (none: constant energy), set up before stepping: the one
-            /// dispatch from a choice to an integrator. Refuses a thermostat
-            /// the integrator cannot carry, the error's path (`kind`, or an
-            /// option of the thermostat) relative to the thermostat's table.
-            pub fn build(
-                &self,
-                thermostat: Option<&ThermostatSpec>,
-            ) -> Result<Box<dyn Integrator>, InputError> {
+            /// A new integrator of this kind and options without a
+            /// thermostat (constant energy), set up before stepping: the one
+            /// dispatch from a choice to an integrator
+            /// ([`crate::dynamics::build`] adds a thermostat).
+            pub fn build(&self) -> Box<dyn Integrator> {
                 match self {
-                    $(IntegratorSpec::$variant(o) => o.build(thermostat)),+
+                    $(IntegratorSpec::$variant(o) => o.build()),+
                 }
             }
 
@@ -113,7 +104,7 @@ mod tests {
             IntegratorSpec::Richardson(RichardsonOptions::default()),
         ];
         for (spec, kind) in specs.iter().zip(IntegratorSpec::KINDS) {
-            let built = spec.build(None).expect("no thermostat to refuse");
+            let built = spec.build();
             assert_eq!(built.name(), spec.name());
             assert_eq!(spec.name(), *kind);
             let written = serde_json::to_value(spec).expect("serialisable");

@@ -65,7 +65,7 @@ use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostats::{CoupledDegrees, NoseHooverChain};
+use crate::thermostat_hook::{ChainEquations, CoupledDegrees};
 use nalgebra::{SMatrix, Vector3};
 
 /// RK4 substeps per Gear step in the start-up integration (module doc: the
@@ -96,7 +96,7 @@ named_choices!(Startup {
 
 /// Scaled derivatives at t = 0, orders 0..=5, of the orientation and of the
 /// body angular velocity of every rotor, and of the variables of a
-/// Nose-Hoover chain integrated with them (none without one).
+/// thermostat chain integrated with them (none without one).
 pub struct InitialDerivatives {
     /// `h^k/k! Q^(k)(0)`.
     pub q: Nordsieck<Quat, 6>,
@@ -220,12 +220,12 @@ fn fit_into<T: GearValue>(
     }
 }
 
-/// A Nose-Hoover chain integrated with the rotors: its masses and state,
+/// A thermostat chain integrated with the rotors: its equations and state,
 /// and the degrees of freedom it acts on.
 #[derive(Clone, Copy, Debug)]
 pub struct StartChain<'a> {
     /// The chain (its state at t = 0).
-    pub chain: &'a NoseHooverChain,
+    pub chain: &'a dyn ChainEquations,
     /// The thermostatted degrees of freedom.
     pub coupled: &'a CoupledDegrees,
 }
@@ -246,8 +246,12 @@ pub fn initial_derivatives<K: TopKind>(
     let y0 = State {
         q: initial.iter().map(|s| s.orientation).collect(),
         omega_body: initial.iter().map(|s| s.omega_body).collect(),
-        eta: chain.map(|c| c.chain.positions.clone()).unwrap_or_default(),
-        p: chain.map(|c| c.chain.momenta.clone()).unwrap_or_default(),
+        eta: chain
+            .map(|c| c.chain.positions().to_vec())
+            .unwrap_or_default(),
+        p: chain
+            .map(|c| c.chain.momenta().to_vec())
+            .unwrap_or_default(),
     };
     let m = y0.p.len();
     let mut rk = Rk4::<K> {
@@ -311,13 +315,41 @@ pub fn initial_derivatives<K: TopKind>(
     out
 }
 
-/// What a Gear scheme's setup computes from its arguments.
-pub struct GearStart {
+/// What a Gear scheme keeps from its setup besides its Nordsieck vectors.
+#[derive(Clone, Debug, Default)]
+pub struct GearFrame {
+    /// The time step.
+    pub dt: f64,
     /// The principal moments of every rotor.
     pub moments: Vec<PrincipalMoments>,
     /// True when every rotor is a spherical top (the step is then
     /// monomorphised on [`Spherical`], otherwise on [`General`]).
     pub spherical: bool,
+}
+
+/// A Gear scheme's step, monomorphised on the kind of top.
+pub trait TopStep {
+    /// What the scheme kept from its setup.
+    fn frame(&self) -> &GearFrame;
+
+    /// One step for rotors of kind `K`.
+    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential);
+
+    /// One step, on [`Spherical`] when every rotor is a spherical top and
+    /// on [`General`] otherwise.
+    fn step_by_top(&mut self, potential: &dyn Potential) {
+        if self.frame().spherical {
+            self.step_with::<Spherical>(potential);
+        } else {
+            self.step_with::<General>(potential);
+        }
+    }
+}
+
+/// What a Gear scheme's setup computes from its arguments.
+pub struct GearStart {
+    /// The step, the principal moments and the kind of top.
+    pub frame: GearFrame,
     /// The scaled derivatives at t = 0, from the normalised initial states.
     pub derivatives: InitialDerivatives,
 }
@@ -346,8 +378,11 @@ pub fn start(
         initial_derivatives::<General>(startup, &moments, potential, &valid.initial, chain, dt)
     };
     Ok(GearStart {
-        moments,
-        spherical,
+        frame: GearFrame {
+            dt,
+            moments,
+            spherical,
+        },
         derivatives,
     })
 }

@@ -57,7 +57,7 @@ fn dlm_dipoles<'py>(
     } else {
         SphericalTops::Exact
     };
-    let mut dlm = IntegratorSpec::Dlm(DlmOptions { spherical_tops }).build(None)?;
+    let mut dlm = IntegratorSpec::Dlm(DlmOptions { spherical_tops }).build();
     let samples = py.detach(|| {
         on_worker(|| every_step(dlm.as_mut(), &inertia, &potential, &initial, dt, steps))
     })?;

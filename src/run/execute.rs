@@ -1,5 +1,6 @@
 //! Running a validated scene from its physics objects: its potential and the
-//! integrator its [`crate::integrators::IntegratorSpec`] builds.
+//! integrator [`crate::dynamics::build`] makes of its integrator and
+//! thermostat.
 
 use super::error::RunError;
 use super::limits::check_run_limits;
@@ -7,7 +8,7 @@ use super::scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
 use crate::parallel::on_worker;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
-use crate::scene::{boundary_error, Interactions, Scene, SceneError};
+use crate::scene::{boundary_error, Interactions, Scene};
 use std::path::Path;
 
 /// The potential of a scene: `None` for rotors without interactions or
@@ -64,10 +65,7 @@ pub fn execute(
             },
             None => ScenePotential::plain(&Free),
         };
-        let mut integrator = scene
-            .integrator
-            .build(scene.thermostat.as_ref())
-            .map_err(|e| SceneError::from(e.at("thermostat")))?;
+        let mut integrator = crate::dynamics::build(&scene.integrator, scene.thermostat.as_ref());
         run_scene(
             scene,
             definition,

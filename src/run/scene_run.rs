@@ -120,7 +120,6 @@ pub fn run_scene(
         )
     });
     let options = RunOptions {
-        dt: scene.dt,
         start_step,
         end_step: scene.steps,
         checks: Some(BlowUpChecks {
@@ -364,7 +363,7 @@ impl Recorders {
                     gsd,
                     box_lengths: box_lengths.as_ref(),
                     first_step: first_sample(start_step, spec.every),
-                    dt: scene.dt,
+                    dt: integrator.dt(),
                     title: &scene.name,
                     append: append.and_then(|a| a.trajectory),
                 });

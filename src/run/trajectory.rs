@@ -59,7 +59,7 @@ pub struct TrajectoryFiles<'a> {
     pub box_lengths: Option<&'a Vector3<f64>>,
     /// The step of the first frame.
     pub first_step: u64,
-    /// The time step.
+    /// The time step (the integrator's).
     pub dt: f64,
     /// The title of both files.
     pub title: &'a str,

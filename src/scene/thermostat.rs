@@ -79,11 +79,7 @@ pub(super) fn thermostat(
             .seeded(initial_seed.unwrap_or_else(|| rand::random::<u64>() >> 1)),
         _ => raw.spec,
     };
-    // The integrator refuses what it cannot carry (building is cheap: nothing
-    // is allocated before setup).
-    let _ = integrator
-        .build(Some(&spec))
-        .map_err(|e| SceneError::from(e.at("thermostat")))?;
+    crate::dynamics::check(integrator, &spec).map_err(|e| SceneError::from(e.at("thermostat")))?;
     Ok(Some(spec))
 }
 

@@ -56,7 +56,7 @@ pub struct Energies {
 pub struct Sample<'a> {
     /// The step.
     pub step: u64,
-    /// `step * dt`.
+    /// `step * dt` (the integrator's `dt`).
     pub time: f64,
     /// The moments of inertia.
     pub inertia: &'a [Inertia],

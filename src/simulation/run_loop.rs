@@ -20,8 +20,6 @@ use std::time::Instant;
 /// How long to run and what to guard.
 #[derive(Clone, Debug)]
 pub struct RunOptions {
-    /// Time step (the integrator was set up with it).
-    pub dt: f64,
     /// Step the integrator is at (0, or a checkpoint's step).
     pub start_step: u64,
     /// Last step.
@@ -258,7 +256,7 @@ impl<E> Loop<'_, '_, E> {
                 &mut self.report.reference,
             )
         });
-        let time = step as f64 * options.dt;
+        let time = step as f64 * self.integrator.dt();
         if let Some(e) = energies {
             self.report.last_energies = Some((step, e));
             self.report

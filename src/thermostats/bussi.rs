@@ -4,7 +4,7 @@
 //!
 //! The total kinetic energy `K` of the `N_f` rotational degrees of freedom
 //! (one per positive principal moment, less the conserved spins of
-//! [`super::CoupledDegrees`], which are left alone) follows
+//! [`CoupledDegrees`], which are left alone) follows
 //!
 //! ```text
 //! dK = (K_bar - K) dt / tau + 2 sqrt(K K_bar / N_f) dW / sqrt(tau),   K_bar = N_f T / 2,
@@ -28,14 +28,13 @@
 //! have no direction to scale and are left at rest.
 //!
 //! Heat: the changes `K' - K` are summed over the run; `K + V - heat` is
-//! conserved up to the splitting error. The numbers come from [`Noise`]
+//! conserved up to the splitting error. The numbers come from [`super::noise::Noise`]
 //! (reproducible from the seed; a checkpoint stores the position).
 
-use super::coupled::CoupledDegrees;
-use super::noise::{finite_heat, required_seed, Noise};
+use super::noise::HeatNoise;
 use crate::checks::{non_negative, positive, InputError};
-use crate::integrators::{IntegratorError, KickState, KickThermostat, Splitting};
 use crate::potential::Potential;
+use crate::thermostat_hook::{CoupledDegrees, SplitDynamics, Thermostat};
 use nalgebra::Vector3;
 use rand_distr::Gamma;
 use serde::{Deserialize, Serialize};
@@ -69,57 +68,56 @@ impl BussiOptions {
 #[derive(Clone, Debug)]
 pub struct Bussi {
     options: BussiOptions,
-    seed: u64,
-    noise: Noise,
+    /// The noise, and the kinetic energy the rescalings have put into the
+    /// rotors.
+    record: HeatNoise,
     /// The degrees of freedom it acts on (`N_f` and the spins left out).
     coupled: CoupledDegrees,
     /// `c = exp(-dt / (2 tau))`.
     decay: f64,
     /// Chi-square of `N_f - 1` degrees of freedom (none for `N_f = 1`).
     chi_square: Option<Gamma<f64>>,
-    /// Kinetic energy the rescalings have put into the rotors.
-    heat: f64,
 }
 
 impl Bussi {
-    /// The thermostat with checked `options` and a seed.
-    pub fn new(options: BussiOptions) -> Result<Self, InputError> {
-        options.check()?;
-        let seed = required_seed(options.seed)?;
-        Ok(Bussi {
+    /// The thermostat with checked `options` ([`BussiOptions::check`]),
+    /// drawing its noise from `seed`.
+    pub fn new(options: BussiOptions, seed: u64) -> Self {
+        Bussi {
             options,
-            seed,
-            noise: Noise::new(seed),
+            record: HeatNoise::new(seed),
             coupled: CoupledDegrees::default(),
             decay: 1.0,
             chi_square: None,
-            heat: 0.0,
-        })
+        }
     }
 
     /// The exact rescaling over `dt/2` (module doc).
-    fn rescale<S: Splitting>(&mut self, state: &mut KickState<S::Momentum>) {
-        let kinetic = self.coupled.kinetic_energy::<S>(state);
+    fn rescale(&mut self, dynamics: &mut impl SplitDynamics) {
+        let kinetic = self.coupled.kinetic_energy(dynamics);
         if kinetic <= 0.0 {
             return;
         }
         let n = self.coupled.dof as f64;
         let target = 0.5 * n * self.options.temperature;
         let c = self.decay;
-        let r = self.noise.normal();
+        let noise = &mut self.record.noise;
+        let r = noise.normal();
         let s = match &self.chi_square {
-            Some(chi_square) => self.noise.sample(chi_square),
+            Some(chi_square) => noise.sample(chi_square),
             None => 0.0,
         };
         let a = c.sqrt() + r * ((1.0 - c) * target / (n * kinetic)).sqrt();
         let rescaled = kinetic * a * a + (1.0 - c) * target * s / n;
         self.coupled
-            .scale::<S>(state, (rescaled / kinetic).sqrt().copysign(a));
-        self.heat += rescaled - kinetic;
+            .scale(dynamics, (rescaled / kinetic).sqrt().copysign(a));
+        self.record.heat += rescaled - kinetic;
     }
 }
 
-impl KickThermostat for Bussi {
+impl Thermostat for Bussi {
+    type State = HeatNoise;
+
     fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, dt: f64) {
         self.coupled = CoupledDegrees::new(moments, potential);
         let dof = self.coupled.dof;
@@ -128,40 +126,21 @@ impl KickThermostat for Bussi {
         self.chi_square = (dof > 1)
             .then(|| Gamma::new(0.5 * (dof - 1) as f64, 2.0).ok())
             .flatten();
-        self.heat = 0.0;
-        self.noise = Noise::new(self.seed);
+        self.record.reset();
     }
 
     /// Rescaling over `dt/2`, the splitting's step, rescaling over `dt/2`.
-    fn step<S: Splitting>(
-        &mut self,
-        splitting: &S,
-        state: &mut KickState<S::Momentum>,
-        potential: &dyn Potential,
-    ) {
-        self.rescale::<S>(state);
-        state.kick_rotate_kick(splitting, potential);
-        self.rescale::<S>(state);
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
+        self.rescale(dynamics);
+        dynamics.kick_flow_kick(potential);
+        self.rescale(dynamics);
     }
 
-    /// Minus the heat put into the rotors.
-    fn energy(&self) -> f64 {
-        -self.heat
+    fn state(&self) -> &HeatNoise {
+        &self.record
     }
 
-    fn checkpoint_len(&self) -> usize {
-        1 + Noise::CHECKPOINT_LEN
-    }
-
-    /// The heat, then the noise position.
-    fn write_checkpoint(&self, out: &mut Vec<f64>) {
-        out.push(self.heat);
-        self.noise.write_checkpoint(out);
-    }
-
-    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError> {
-        let (heat, noise) = data.split_at(1);
-        self.heat = finite_heat(heat[0])?;
-        self.noise.read_checkpoint(noise)
+    fn state_mut(&mut self) -> &mut HeatNoise {
+        &mut self.record
     }
 }

@@ -22,7 +22,7 @@
 //! `xi_k` standard normal, so it leaves the Maxwell density `exp(-K/T)`
 //! exactly invariant whatever `dt`; axes with zero moment carry nothing and
 //! draw nothing. The noise is drawn rotor by rotor, axis by axis, from
-//! [`Noise`] (reproducible from the seed; a checkpoint stores the position).
+//! [`super::noise::Noise`] (reproducible from the seed; a checkpoint stores the position).
 //!
 //! Heat: the O step's change of the kinetic energy is summed over the run;
 //! `K + V - heat` is conserved up to the splitting error (its drift is
@@ -31,10 +31,10 @@
 //! free spherical top with the exact free flow the body angular velocity is
 //! sampled exactly (the A and B steps do not change it).
 
-use super::noise::{finite_heat, required_seed, Noise};
+use super::noise::HeatNoise;
 use crate::checks::{non_negative, positive, InputError};
-use crate::integrators::{IntegratorError, KickState, KickThermostat, Splitting};
 use crate::potential::Potential;
+use crate::thermostat_hook::{SplitDynamics, Thermostat};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -68,36 +68,32 @@ impl LangevinOptions {
 #[derive(Clone, Debug)]
 pub struct Langevin {
     options: LangevinOptions,
-    seed: u64,
-    noise: Noise,
+    /// The noise, and the kinetic energy the O steps have put into the
+    /// rotors.
+    record: HeatNoise,
     /// `c = exp(-gamma dt)`.
     decay: f64,
     /// Per rotor and axis `sqrt((1 - c^2) T / I_k)`, 0 for a zero moment.
     spread: Vec<Vector3<f64>>,
-    /// Kinetic energy the O steps have put into the rotors.
-    heat: f64,
 }
 
 impl Langevin {
-    /// The thermostat with checked `options` and a seed.
-    pub fn new(options: LangevinOptions) -> Result<Self, InputError> {
-        options.check()?;
-        let seed = required_seed(options.seed)?;
-        Ok(Langevin {
+    /// The thermostat with checked `options` ([`LangevinOptions::check`]),
+    /// drawing its noise from `seed`.
+    pub fn new(options: LangevinOptions, seed: u64) -> Self {
+        Langevin {
             options,
-            seed,
-            noise: Noise::new(seed),
+            record: HeatNoise::new(seed),
             decay: 1.0,
             spread: Vec::new(),
-            heat: 0.0,
-        })
+        }
     }
 
     /// The exact Ornstein-Uhlenbeck step over `dt` on every rotor, in order.
-    fn ornstein_uhlenbeck<S: Splitting>(&mut self, state: &mut KickState<S::Momentum>) {
-        let (c, spread, noise) = (self.decay, &self.spread, &mut self.noise);
+    fn ornstein_uhlenbeck(&mut self, dynamics: &mut impl SplitDynamics) {
+        let (c, spread, noise) = (self.decay, &self.spread, &mut self.record.noise);
         let mut heat = 0.0;
-        state.update_omega_body::<S>(|rotor, w, moments| {
+        dynamics.update_omega_body(|rotor, w, moments| {
             for k in 0..3 {
                 if moments[k] > 0.0 {
                     let before = w[k];
@@ -106,11 +102,13 @@ impl Langevin {
                 }
             }
         });
-        self.heat += heat;
+        self.record.heat += heat;
     }
 }
 
-impl KickThermostat for Langevin {
+impl Thermostat for Langevin {
+    type State = HeatNoise;
+
     fn setup(&mut self, moments: &[Vector3<f64>], _: &dyn Potential, dt: f64) {
         let LangevinOptions {
             temperature,
@@ -123,44 +121,25 @@ impl KickThermostat for Langevin {
             .iter()
             .map(|m| m.map(|i| if i > 0.0 { (variance / i).sqrt() } else { 0.0 }))
             .collect();
-        self.heat = 0.0;
-        self.noise = Noise::new(self.seed);
+        self.record.reset();
     }
 
     /// B, A(dt/2), O(dt), A(dt/2), torques, B.
-    fn step<S: Splitting>(
-        &mut self,
-        splitting: &S,
-        state: &mut KickState<S::Momentum>,
-        potential: &dyn Potential,
-    ) {
-        let half = 0.5 * state.dt;
-        state.half_kick(S::kick);
-        state.rotate(splitting, half);
-        self.ornstein_uhlenbeck::<S>(state);
-        state.rotate(splitting, half);
-        state.evaluate_torques(potential);
-        state.half_kick(S::kick);
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
+        let half = 0.5 * dynamics.dt();
+        dynamics.half_kick();
+        dynamics.free_flow(half);
+        self.ornstein_uhlenbeck(dynamics);
+        dynamics.free_flow(half);
+        dynamics.evaluate_torques(potential);
+        dynamics.half_kick();
     }
 
-    /// Minus the heat put into the rotors.
-    fn energy(&self) -> f64 {
-        -self.heat
+    fn state(&self) -> &HeatNoise {
+        &self.record
     }
 
-    fn checkpoint_len(&self) -> usize {
-        1 + Noise::CHECKPOINT_LEN
-    }
-
-    /// The heat, then the noise position.
-    fn write_checkpoint(&self, out: &mut Vec<f64>) {
-        out.push(self.heat);
-        self.noise.write_checkpoint(out);
-    }
-
-    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError> {
-        let (heat, noise) = data.split_at(1);
-        self.heat = finite_heat(heat[0])?;
-        self.noise.read_checkpoint(noise)
+    fn state_mut(&mut self) -> &mut HeatNoise {
+        &mut self.record
     }
 }

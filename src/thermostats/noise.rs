@@ -4,10 +4,10 @@
 //! numbers), drawn in a fixed order (rotor by rotor, axis by axis, one thread)
 //! so that a run is reproducible from its seed whatever the number of
 //! threads. A checkpoint stores the position in the stream, so a restart
-//! continues with the same numbers.
+//! continues with the same numbers. [`HeatNoise`] is what a stochastic
+//! thermostat records: its noise and the heat it has put into the rotors.
 
-use crate::checks::InputError;
-use crate::integrators::IntegratorError;
+use crate::thermostat_hook::{BadCheckpoint, ThermostatState};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha20Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -57,7 +57,7 @@ impl Noise {
 
     /// Moves to the position written by [`Noise::write_checkpoint`]
     /// (`data` holds exactly [`Noise::CHECKPOINT_LEN`] values).
-    pub fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError> {
+    pub fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), BadCheckpoint> {
         let word = |x: f64, bits: u32| {
             (x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x < (1u64 << bits) as f64)
                 .then_some(x as u128)
@@ -68,11 +68,11 @@ impl Noise {
                     self.rng.set_word_pos((high << LOW_BITS) | low);
                     Ok(())
                 }
-                _ => Err(IntegratorError::BadCheckpoint(format!(
+                _ => Err(BadCheckpoint(format!(
                     "thermostat noise position must be two integers, got {high} and {low}"
                 ))),
             },
-            _ => Err(IntegratorError::BadCheckpoint(format!(
+            _ => Err(BadCheckpoint(format!(
                 "thermostat noise position must be 2 values, got {}",
                 data.len()
             ))),
@@ -80,25 +80,61 @@ impl Noise {
     }
 }
 
-/// The seed of a stochastic thermostat, which must be set (a scene sets it
-/// before building the integrator).
-pub fn required_seed(seed: Option<u64>) -> Result<u64, InputError> {
-    seed.ok_or_else(|| {
-        InputError::new(
-            "seed",
-            "must be set (a scene takes the seed of [initial] or draws one)",
-        )
-    })
+/// The state of a stochastic thermostat (Bussi, Langevin): its noise and
+/// the kinetic energy it has put into the rotors, `heat`; its share of the
+/// conserved energy is `-heat`.
+#[derive(Clone, Debug)]
+pub struct HeatNoise {
+    seed: u64,
+    /// The stream of the thermostat's numbers.
+    pub noise: Noise,
+    /// Kinetic energy the thermostat has put into the rotors.
+    pub heat: f64,
 }
 
-/// A heat read back from a checkpoint, if finite.
-pub fn finite_heat(heat: f64) -> Result<f64, IntegratorError> {
-    if heat.is_finite() {
-        Ok(heat)
-    } else {
-        Err(IntegratorError::BadCheckpoint(format!(
-            "thermostat heat must be finite, got {heat}"
-        )))
+impl HeatNoise {
+    /// No heat, the stream of `seed` at its start.
+    pub fn new(seed: u64) -> Self {
+        HeatNoise {
+            seed,
+            noise: Noise::new(seed),
+            heat: 0.0,
+        }
+    }
+
+    /// Back to no heat and the start of the stream (at setup).
+    pub fn reset(&mut self) {
+        *self = HeatNoise::new(self.seed);
+    }
+}
+
+impl ThermostatState for HeatNoise {
+    /// Minus the heat put into the rotors.
+    fn energy(&self) -> f64 {
+        -self.heat
+    }
+
+    fn checkpoint_len(&self) -> usize {
+        1 + Noise::CHECKPOINT_LEN
+    }
+
+    /// The heat, then the noise position.
+    fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        out.push(self.heat);
+        self.noise.write_checkpoint(out);
+    }
+
+    /// The heat must be finite.
+    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), BadCheckpoint> {
+        let (heat, noise) = data.split_at(1);
+        if !heat[0].is_finite() {
+            return Err(BadCheckpoint(format!(
+                "thermostat heat must be finite, got {}",
+                heat[0]
+            )));
+        }
+        self.heat = heat[0];
+        self.noise.read_checkpoint(noise)
     }
 }
 

@@ -4,7 +4,7 @@
 //!
 //! The extended equations, for `N_f` rotational degrees of freedom (one per
 //! positive principal moment, less the conserved spins of
-//! [`super::CoupledDegrees`], whose momenta are left out of `K` and of the
+//! [`CoupledDegrees`], whose momenta are left out of `K` and of the
 //! friction), kinetic energy `K`, and a chain of `M`
 //! thermostats with positions `eta_j`, momenta `p_j` and masses
 //! `Q_1 = N_f T tau^2`, `Q_j = T tau^2` (`j >= 2`):
@@ -31,12 +31,13 @@
 //! `exp(-h p_1/Q_1)` over `h`, the momenta back over `h/2`. The step is time
 //! reversible; `H'` is conserved up to the splitting error (measured like the
 //! NVE drift). Scheme A integrates the same equations with its
-//! predictor-corrector ([`NoseHooverChain::rates`]).
+//! predictor-corrector (the [`ChainEquations`] of [`NoseHooverChain`]).
 
-use super::coupled::CoupledDegrees;
 use crate::checks::{positive, InputError};
-use crate::integrators::{IntegratorError, KickState, KickThermostat, Splitting};
 use crate::potential::Potential;
+use crate::thermostat_hook::{
+    BadCheckpoint, ChainEquations, CoupledDegrees, SplitDynamics, Thermostat, ThermostatState,
+};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
@@ -94,7 +95,7 @@ impl NoseHooverOptions {
 /// freedom.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NoseHooverChain {
-    temperature: f64,
+    options: NoseHooverOptions,
     dof: f64,
     /// `Q_j`.
     masses: Vec<f64>,
@@ -112,7 +113,7 @@ impl NoseHooverChain {
         let mut masses = vec![unit; m];
         masses[0] *= dof as f64;
         NoseHooverChain {
-            temperature: options.temperature,
+            options: *options,
             dof: dof as f64,
             masses,
             positions: vec![0.0; m],
@@ -120,30 +121,14 @@ impl NoseHooverChain {
         }
     }
 
-    /// The number of thermostats.
-    pub fn len(&self) -> usize {
-        self.masses.len()
-    }
-
-    /// Never true (a chain has at least one thermostat).
-    pub fn is_empty(&self) -> bool {
-        self.masses.is_empty()
-    }
-
-    /// `p_1 / Q_1`, the friction on the angular momenta, for the chain
-    /// momenta `momenta`.
-    pub fn friction(&self, momenta: &[f64]) -> f64 {
-        momenta[0] / self.masses[0]
-    }
-
     /// The force on `p_j` from below it in the chain, for the chain momenta
     /// `momenta`: `2 K - N_f T` for the first, `p_{j-1}^2 / Q_{j-1} - T` for
     /// the others.
     fn force(&self, momenta: &[f64], j: usize, kinetic: f64) -> f64 {
         if j == 0 {
-            2.0 * kinetic - self.dof * self.temperature
+            2.0 * kinetic - self.dof * self.options.temperature
         } else {
-            momenta[j - 1] * momenta[j - 1] / self.masses[j - 1] - self.temperature
+            momenta[j - 1] * momenta[j - 1] / self.masses[j - 1] - self.options.temperature
         }
     }
 
@@ -180,23 +165,80 @@ impl NoseHooverChain {
         }
         scale
     }
+}
 
+/// The chain's energy and its checkpoint (positions, then momenta).
+impl ThermostatState for NoseHooverChain {
     /// The chain's energy `sum_j p_j^2 / (2 Q_j) + N_f T eta_1 + T sum_{j>=2} eta_j`.
-    pub fn energy(&self) -> f64 {
+    fn energy(&self) -> f64 {
         let kinetic: f64 = self
             .momenta
             .iter()
             .zip(&self.masses)
             .map(|(p, q)| 0.5 * p * p / q)
             .sum();
-        let potential: f64 = self.positions[1..].iter().sum::<f64>() * self.temperature;
-        kinetic + self.dof * self.temperature * self.positions[0] + potential
+        let potential: f64 = self.positions[1..].iter().sum::<f64>() * self.options.temperature;
+        kinetic + self.dof * self.options.temperature * self.positions[0] + potential
     }
 
-    /// The time derivatives of the chain (module doc) at the chain momenta
-    /// `momenta` and the rotors' kinetic energy `kinetic`: `eta_j'` into
-    /// `positions_dot`, `p_j'` into `momenta_dot`.
-    pub fn rates(
+    /// The length of [`ThermostatState::write_checkpoint`]'s output.
+    fn checkpoint_len(&self) -> usize {
+        2 * self.len()
+    }
+
+    /// Appends the positions, then the momenta.
+    fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&self.positions);
+        out.extend_from_slice(&self.momenta);
+    }
+
+    /// Reads back [`ThermostatState::write_checkpoint`]'s output (exactly
+    /// that many finite values).
+    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), BadCheckpoint> {
+        if data.len() != self.checkpoint_len() || data.iter().any(|x| !x.is_finite()) {
+            return Err(BadCheckpoint(format!(
+                "expected {} finite chain values, got {}",
+                self.checkpoint_len(),
+                data.len()
+            )));
+        }
+        let (positions, momenta) = data.split_at(self.len());
+        self.positions.copy_from_slice(positions);
+        self.momenta.copy_from_slice(momenta);
+        Ok(())
+    }
+}
+
+/// The chain's equations, integrated by scheme A with the rotors'.
+impl ChainEquations for NoseHooverChain {
+    fn reset(&mut self, dof: usize) {
+        *self = NoseHooverChain::new(&self.options, dof);
+    }
+
+    fn len(&self) -> usize {
+        self.masses.len()
+    }
+
+    fn positions(&self) -> &[f64] {
+        &self.positions
+    }
+
+    fn momenta(&self) -> &[f64] {
+        &self.momenta
+    }
+
+    fn set(&mut self, positions: &[f64], momenta: &[f64]) {
+        self.positions.copy_from_slice(positions);
+        self.momenta.copy_from_slice(momenta);
+    }
+
+    /// `p_1 / Q_1`.
+    fn friction(&self, momenta: &[f64]) -> f64 {
+        momenta[0] / self.masses[0]
+    }
+
+    /// The chain's equations (module doc).
+    fn rates(
         &self,
         momenta: &[f64],
         kinetic: f64,
@@ -215,93 +257,56 @@ impl NoseHooverChain {
         }
     }
 
-    /// The length of [`NoseHooverChain::write_checkpoint`]'s output.
-    pub fn checkpoint_len(&self) -> usize {
-        2 * self.len()
-    }
-
-    /// Appends the positions, then the momenta.
-    pub fn write_checkpoint(&self, out: &mut Vec<f64>) {
-        out.extend_from_slice(&self.positions);
-        out.extend_from_slice(&self.momenta);
-    }
-
-    /// Reads back [`NoseHooverChain::write_checkpoint`]'s output (exactly
-    /// that many finite values).
-    pub fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError> {
-        if data.len() != self.checkpoint_len() || data.iter().any(|x| !x.is_finite()) {
-            return Err(IntegratorError::BadCheckpoint(format!(
-                "expected {} finite chain values, got {}",
-                self.checkpoint_len(),
-                data.len()
-            )));
-        }
-        let (positions, momenta) = data.split_at(self.len());
-        self.positions.copy_from_slice(positions);
-        self.momenta.copy_from_slice(momenta);
-        Ok(())
+    fn boxed_clone(&self) -> Box<dyn ChainEquations> {
+        Box::new(self.clone())
     }
 }
 
 /// The Nose-Hoover chain in a kick-based step (module doc).
 #[derive(Clone, Debug)]
 pub struct NoseHoover {
-    options: NoseHooverOptions,
     chain: NoseHooverChain,
     coupled: CoupledDegrees,
 }
 
 impl NoseHoover {
-    /// The thermostat with checked `options`.
-    pub fn new(options: NoseHooverOptions) -> Result<Self, InputError> {
-        options.check()?;
-        Ok(NoseHoover {
-            options,
+    /// The thermostat with checked `options` ([`NoseHooverOptions::check`]).
+    pub fn new(options: NoseHooverOptions) -> Self {
+        NoseHoover {
             chain: NoseHooverChain::new(&options, 0),
             coupled: CoupledDegrees::default(),
-        })
+        }
     }
 
     /// The chain over `dt/2`, and the angular momenta scaled.
-    fn half_step<S: Splitting>(&mut self, state: &mut KickState<S::Momentum>) {
-        let kinetic = self.coupled.kinetic_energy::<S>(state);
-        let scale = self.chain.half_step(kinetic, 0.5 * state.dt);
-        self.coupled.scale::<S>(state, scale);
+    fn half_step(&mut self, dynamics: &mut impl SplitDynamics) {
+        let kinetic = self.coupled.kinetic_energy(dynamics);
+        let scale = self.chain.half_step(kinetic, 0.5 * dynamics.dt());
+        self.coupled.scale(dynamics, scale);
     }
 }
 
-impl KickThermostat for NoseHoover {
+impl Thermostat for NoseHoover {
+    type State = NoseHooverChain;
+
     fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, _dt: f64) {
         self.coupled = CoupledDegrees::new(moments, potential);
-        self.chain = NoseHooverChain::new(&self.options, self.coupled.dof);
+        self.chain.reset(self.coupled.dof);
     }
 
     /// The chain over `dt/2`, the splitting's step, the chain over `dt/2`.
-    fn step<S: Splitting>(
-        &mut self,
-        splitting: &S,
-        state: &mut KickState<S::Momentum>,
-        potential: &dyn Potential,
-    ) {
-        self.half_step::<S>(state);
-        state.kick_rotate_kick(splitting, potential);
-        self.half_step::<S>(state);
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
+        self.half_step(dynamics);
+        dynamics.kick_flow_kick(potential);
+        self.half_step(dynamics);
     }
 
-    fn energy(&self) -> f64 {
-        self.chain.energy()
+    fn state(&self) -> &NoseHooverChain {
+        &self.chain
     }
 
-    fn checkpoint_len(&self) -> usize {
-        self.chain.checkpoint_len()
-    }
-
-    fn write_checkpoint(&self, out: &mut Vec<f64>) {
-        self.chain.write_checkpoint(out);
-    }
-
-    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), IntegratorError> {
-        self.chain.read_checkpoint(data)
+    fn state_mut(&mut self) -> &mut NoseHooverChain {
+        &mut self.chain
     }
 }
 

@@ -1,9 +1,8 @@
 //! The choice of a thermostat and its options as a value (the scene's
-//! `[thermostat]` table), and the building of a kick-based baseline with it.
+//! `[thermostat]` table).
 
-use super::{Bussi, BussiOptions, Langevin, LangevinOptions, NoseHoover, NoseHooverOptions};
+use super::{BussiOptions, LangevinOptions, NoseHooverOptions};
 use crate::checks::InputError;
-use crate::integrators::{Integrator, Kicked, Splitting};
 use serde::{Deserialize, Deserializer, Serialize};
 
 /// A thermostat and its options: the scene's `[thermostat]` table, whose
@@ -11,11 +10,11 @@ use serde::{Deserialize, Deserializer, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum ThermostatSpec {
-    /// Langevin dynamics per principal axis ([`Langevin`]).
+    /// Langevin dynamics per principal axis ([`super::Langevin`]).
     Langevin(LangevinOptions),
-    /// Stochastic velocity rescaling ([`Bussi`]).
+    /// Stochastic velocity rescaling ([`super::Bussi`]).
     Bussi(BussiOptions),
-    /// Nose-Hoover chains ([`NoseHoover`]; scheme A integrates them too).
+    /// Nose-Hoover chains ([`super::NoseHoover`]; scheme A integrates them too).
     NoseHoover(NoseHooverOptions),
 }
 
@@ -86,40 +85,4 @@ impl ThermostatSpec {
             _ => Err(serde::de::Error::unknown_variant(kind, Self::KINDS)),
         }
     }
-
-    /// The refusal of an integrator that cannot carry this thermostat:
-    /// `kind: "bussi" cannot run with integrator gear_b (reason); use ...`.
-    pub fn refused(&self, integrator: &str, reason: &str) -> InputError {
-        let usable = match self {
-            ThermostatSpec::NoseHoover(_) => "no_squish, dlm or gear_a",
-            _ => "no_squish or dlm",
-        };
-        InputError::new(
-            "kind",
-            format!(
-                "\"{}\" cannot run with integrator {integrator} ({reason}); use {usable}",
-                self.name()
-            ),
-        )
-    }
-}
-
-/// The kick-based baseline `options` with `thermostat` (or none): the
-/// thermostat's checks apply.
-pub fn build_kicked<S: Splitting>(
-    options: S,
-    thermostat: Option<&ThermostatSpec>,
-) -> Result<Box<dyn Integrator>, InputError> {
-    Ok(match thermostat {
-        None => Box::new(Kicked::new(options)),
-        Some(ThermostatSpec::Langevin(o)) => {
-            Box::new(Kicked::with_thermostat(options, Langevin::new(*o)?))
-        }
-        Some(ThermostatSpec::Bussi(o)) => {
-            Box::new(Kicked::with_thermostat(options, Bussi::new(*o)?))
-        }
-        Some(ThermostatSpec::NoseHoover(o)) => {
-            Box::new(Kicked::with_thermostat(options, NoseHoover::new(*o)?))
-        }
-    })
 }

@@ -140,8 +140,7 @@ pub fn run_replicas(
         .map(|r| {
             let seed = seed + r as u64;
             let initial = random_states(&inertia, replicas.initial_temperature, seed);
-            let mut run = integrator
-                .build(Some(&thermostat.seeded(seed)))
+            let mut run = quatrot::dynamics::try_build(integrator, Some(&thermostat.seeded(seed)))
                 .expect("a valid pair");
             run.setup(&inertia, potential, &initial, replicas.dt)
                 .expect("valid set-up");

@@ -12,7 +12,7 @@
 //! (its energy stays conserved by itself). Free rotors (no torque at all) and
 //! rotors without such an axis count all their positive moments.
 
-use crate::integrators::{KickState, Splitting};
+use super::SplitDynamics;
 use crate::potential::{symmetric_about, Potential, TorqueAxes};
 use nalgebra::{Matrix3, Vector3};
 
@@ -79,35 +79,29 @@ impl CoupledDegrees {
             .sum()
     }
 
-    /// The thermostatted kinetic energy of a kick-based state.
-    pub fn kinetic_energy<S: Splitting>(&self, state: &KickState<S::Momentum>) -> f64 {
-        let total = state.kinetic_energy::<S>();
+    /// The thermostatted kinetic energy of a kick-based step's rotors.
+    pub fn kinetic_energy(&self, dynamics: &impl SplitDynamics) -> f64 {
+        let total = dynamics.kinetic_energy();
         if self.spins.iter().all(Option::is_none) {
             return total;
         }
         let mut spins = 0.0;
-        for (rotor, ((p, q), m)) in state
-            .momentum
-            .iter()
-            .zip(&state.orientation)
-            .zip(&state.inertia)
-            .enumerate()
-        {
+        dynamics.for_each_omega_body(|rotor, w, _| {
             if let Some(s) = &self.spins[rotor] {
-                spins += 0.5 * s.moment * s.axis.dot(&S::omega_body(p, q, m)).powi(2);
+                spins += 0.5 * s.moment * s.axis.dot(w).powi(2);
             }
-        }
+        });
         total - spins
     }
 
     /// Scales the thermostatted angular momenta by `factor`, the spins left
     /// as they are.
-    pub fn scale<S: Splitting>(&self, state: &mut KickState<S::Momentum>, factor: f64) {
+    pub fn scale(&self, dynamics: &mut impl SplitDynamics, factor: f64) {
         if self.spins.iter().all(Option::is_none) {
-            state.scale_momenta(factor);
+            dynamics.scale_momenta(factor);
             return;
         }
-        state.update_omega_body::<S>(|rotor, w, _| {
+        dynamics.update_omega_body(|rotor, w, _| {
             let coupled = self.coupled(rotor, w);
             *w += coupled * (factor - 1.0);
         });

@@ -1,0 +1,74 @@
+//! The integrators and the thermostats meet only through
+//! `src/thermostat_hook` (below both) and `src/dynamics.rs` (above both):
+//! no file of either folder imports the other, and the hook imports
+//! neither (issue 35's one-way rule; the README's architecture section).
+
+use std::path::Path;
+
+/// Every `.rs` file under `src/<folder>`, with its text.
+fn sources(folder: &str) -> Vec<(String, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("src")
+        .join(folder);
+    let mut out = Vec::new();
+    let mut pending = vec![root];
+    while let Some(dir) = pending.pop() {
+        for entry in std::fs::read_dir(&dir).expect("a source folder") {
+            let path = entry.expect("an entry").path();
+            if path.is_dir() {
+                pending.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).expect("a source file");
+                out.push((path.display().to_string(), text));
+            }
+        }
+    }
+    assert!(!out.is_empty(), "no sources under src/{folder}");
+    out
+}
+
+/// The files of `folder` that mention any of `forbidden` (a path between the
+/// two folders is refused in code and in doc links alike, as
+/// `grep -rn crate::thermostats src/integrators` would show it).
+fn offenders(folder: &str, forbidden: &[&str]) -> Vec<String> {
+    sources(folder)
+        .into_iter()
+        .filter_map(|(path, text)| {
+            let found: Vec<&str> = forbidden
+                .iter()
+                .copied()
+                .filter(|f| text.contains(f))
+                .collect();
+            (!found.is_empty()).then(|| format!("{path}: {found:?}"))
+        })
+        .collect()
+}
+
+/// Each folder with what it must not name: the integrators and the
+/// thermostats not each other, nor the pairing above them; the hook none of
+/// the three.
+#[test]
+fn the_layers_import_one_way() {
+    let rules: [(&str, &[&str]); 3] = [
+        (
+            "integrators",
+            &["crate::thermostats", "use crate::dynamics"],
+        ),
+        (
+            "thermostats",
+            &["crate::integrators", "use crate::dynamics"],
+        ),
+        (
+            "thermostat_hook",
+            &[
+                "use crate::integrators",
+                "use crate::thermostats",
+                "use crate::dynamics",
+            ],
+        ),
+    ];
+    for (folder, forbidden) in rules {
+        let found = offenders(folder, forbidden);
+        assert!(found.is_empty(), "{found:#?}");
+    }
+}
