@@ -45,9 +45,12 @@ myst_enable_extensions = ["colon_fence"]
 # Single backquotes in docstrings are code, as in the Rust doc comments.
 default_role = "literal"
 nitpicky = True
+# Type hints of the sweep's signatures name standard and Dask types that no
+# page of this site documents.
+nitpick_ignore_regex = [("py:class", r"(collections\.abc|os|pathlib|distributed(\.client)?)\.\w+"), ("py:class", "ndarray")]
 # The included Markdown files (ERRATA, benchmarks) skip heading levels and
 # name files of the repository that are not pages of the site.
-suppress_warnings = ["myst.header", "myst.xref_missing"]
+suppress_warnings = ["myst.header", "myst.xref_missing", "config.cache"]
 
 html_theme = "furo"
 html_title = f"quatrot {release}"
@@ -59,8 +62,10 @@ autodoc_member_order = "bysource"
 napoleon_numpy_docstring = True
 napoleon_google_docstring = False
 napoleon_use_rtype = False
+napoleon_use_param = False
+napoleon_use_keyword = False
 napoleon_preprocess_types = False
-doctest_global_setup = "import numpy as np\nimport quatrot\nfrom quatrot import quaternion\nnp.set_printoptions(precision=6, suppress=True)\n"
+doctest_global_setup = "import numpy as np\nimport quatrot\nimport quatrot.sweep\nfrom quatrot import quaternion\nnp.set_printoptions(precision=6, suppress=True)\n"
 # Only the docstrings' examples are doctests (the pages show commands too).
 doctest_test_doctest_blocks = "default"
 
