@@ -54,13 +54,13 @@ stubtest: develop
 # doctests, the Rust API (cargo doc) copied under rust/, then every internal
 # link checked. QUATROT_REPORT names the validation report to include.
 DOCS_BUILD := docs/_build
-SPHINX := $(PY) -m sphinx -W --keep-going -q
+SPHINX := $(PY) -m sphinx -E -W --keep-going -q
 QUATROT_DOCS_QUICK ?=
 QUATROT_REPORT ?= $(abspath $(RESULTS))/report.md
 export QUATROT_DOCS_QUICK QUATROT_REPORT
 docs: develop
-	cargo doc --release --no-deps --features python
-	rm -rf $(DOCS_BUILD)/html docs/auto_examples docs/_generated
+	RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --features python
+	rm -rf $(DOCS_BUILD) docs/auto_examples docs/_generated
 	$(SPHINX) -b html docs $(DOCS_BUILD)/html
 	$(SPHINX) -b doctest docs $(DOCS_BUILD)/doctest
 	cp -r target/doc $(DOCS_BUILD)/html/rust
