@@ -70,6 +70,12 @@ doctest_global_setup = "import numpy as np\nimport quatrot\nimport quatrot.sweep
 doctest_test_doctest_blocks = "default"
 
 
+def strip_fences(app, what, name, obj, options, lines):
+    """The Rust doc comments fence their Examples as ```python (rustdoc
+    would read `x["key"]` as a link); the fence lines go, the doctests stay."""
+    lines[:] = [line for line in lines if line.strip() not in ("```python", "```")]
+
+
 def require_examples(app, what, name, obj, options, lines):
     """A public function or class without an Examples section with a `>>>`
     line is a warning (an error under -W), so every one of them has an
@@ -164,4 +170,5 @@ logger = logging.getLogger(__name__)
 
 def setup(app):
     app.connect("builder-inited", generate)
+    app.connect("autodoc-process-docstring", strip_fences)
     app.connect("autodoc-process-docstring", require_examples)

@@ -77,6 +77,8 @@ fn lag(max_lag: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// A rotor spinning about z at 1 rad per unit time: its x axis has
 /// `C1(t) = cos t`.
 ///
@@ -85,6 +87,8 @@ fn lag(max_lag: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
 /// >>> c = quatrot.orientational_correlations(q, 0.5, axes=[1, 0, 0])
 /// >>> np.allclose(c["c1"], np.cos(c["time"]))
 /// True
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (orientations, dt, axes=None, max_lag=None))]
 fn orientational_correlations<'py>(
@@ -142,9 +146,13 @@ fn orientational_correlations<'py>(
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> c = quatrot.angular_velocity_correlation(np.tile([0.0, 0.0, 2.0], (5, 1)), 0.1)
 /// >>> c["c"]
 /// array([4., 4., 4., 4., 4.])
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (omega, dt, max_lag=None))]
 fn angular_velocity_correlation<'py>(
@@ -193,12 +201,16 @@ fn unit(axis: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Unit<Vector3<f6
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// Two rotors with their z axes along +z and -z: nematic, not polar.
 ///
 /// >>> flipped = quaternion.from_axis_angle([1, 0, 0], np.pi)
 /// >>> order = quatrot.order_parameters([[1, 0, 0, 0], flipped])
 /// >>> round(float(order["p2"]), 12), round(float(order["p1"]), 12)
 /// (1.0, 0.0)
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (orientations, axis=None, direction=None))]
 fn order_parameters<'py>(
@@ -279,8 +291,12 @@ fn order_parameters<'py>(
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> quatrot.total_dipole([[1, 0, 0, 0], quaternion.from_axis_angle([1, 0, 0], np.pi / 2)], [0, 0, 1])
 /// array([ 0., -1.,  1.])
+///
+/// ```
 #[pyfunction]
 fn total_dipole<'py>(
     py: Python<'py>,
@@ -382,10 +398,14 @@ fn block_dict<'py>(py: Python<'py>, b: &BlockAverage) -> PyResult<Bound<'py, PyD
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> rng = np.random.default_rng(1)
 /// >>> b = quatrot.block_average(rng.normal(size=4096))
 /// >>> abs(b["mean"]) < 4 * b["error"], 0.01 < b["error"] < 0.02
 /// (True, True)
+///
+/// ```
 #[pyfunction]
 fn block_average<'py>(py: Python<'py>, series: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
     let x = Numbers::new(series, "series", Values::Finite)?.series()?;
@@ -431,10 +451,14 @@ fn block_average<'py>(py: Python<'py>, series: &Bound<'py, PyAny>) -> PyResult<B
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> rng = np.random.default_rng(2)
 /// >>> eps = quatrot.dielectric_constant(rng.normal(size=(4096, 3)), 100.0, 1.0)
 /// >>> round(eps["epsilon"], 1)  # 1 + 4 pi 3 / 300
 /// 1.1
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (dipoles, volume, temperature, boundary=None))]
 fn dielectric_constant<'py>(

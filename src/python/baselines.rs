@@ -57,10 +57,14 @@ use pyo3::types::PyDict;
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> out = quatrot.dlm_dipoles([[0, 0, 0]], [[0, 0, 1]], [0.1], [[1, 0, 0, 0]],
 /// ...                           [[1.0, 0, 0]], [0, 0, 1.0], 0.01, 10, False)
 /// >>> out["orientations"].shape
 /// (11, 1, 4)
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (sites, dipoles_body, inertia, orientations, omega_body, field, dt, steps, split))]
 #[allow(clippy::too_many_arguments)]

@@ -22,8 +22,12 @@ use std::ffi::OsString;
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> quatrot.cli_main(["quatrot", "check", "dipole_in_field"])
 /// 0
+///
+/// ```
 #[pyfunction]
 fn cli_main(py: Python<'_>, argv: Vec<OsString>) -> i32 {
     py.detach(|| crate::cli::main_from(argv))

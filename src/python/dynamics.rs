@@ -56,6 +56,8 @@ const SAMPLE_BYTES: u64 = 8 * 8 * 8;
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> rows = quatrot.gear_corrections_table([[0, 0, 0]], [[0.1] * 3], [[1, 0, 0, 0]],
 /// ...     [[0, 0, 0]], dipoles=[[0, 0, 1]], field=[0.5, 0, 1], t_energy=2,
 /// ...     t_error=1, t_stability=1)
@@ -63,6 +65,8 @@ const SAMPLE_BYTES: u64 = 8 * 8 * 8;
 /// 'A (renormalised)'
 /// >>> sorted(rows[0])[:3]
 /// ['drift', 'fluctuation', 'global_error']
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (
     sites, inertia, orientations, omega_body, *, dipoles=None, quadrupoles=None, field=None,

@@ -28,11 +28,15 @@ use pyo3::prelude::*;
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> import os, tempfile
 /// >>> path = os.path.join(tempfile.mkdtemp(), "rotors.gsd")
 /// >>> quatrot.write_gsd(path, [[0, 0, 0], [1, 0, 0]], [[[1, 0, 0, 0]] * 2], [0])
 /// >>> os.path.getsize(path) > 0
 /// True
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (path, sites, orientations, steps, box_lengths=None, margin=1.0))]
 fn write_gsd(

@@ -162,6 +162,8 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// Two dipoles along z one unit apart on the z axis (head to tail: energy -2):
 ///
 /// >>> energy, gradient, torques = quatrot.multipole_evaluate(
@@ -170,6 +172,8 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 /// -2.0
 /// >>> torques.shape
 /// (2, 3)
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None, sum=None, accuracy=None, surface=None, method=None, details=false))]
 #[allow(clippy::too_many_arguments)]

@@ -55,8 +55,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.product([0, 1, 0, 0], [0, 0, 1, 0])  # i j = k
     /// array([0., 0., 0., 1.])
+    ///
+    /// ```
     fn product(p: Q, Quaternions, q: Q, Quaternions) -> Q, |i| Ok((p.quat(i) * q.quat(i)).0)
 }
 
@@ -74,8 +78,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.conjugate([1, 2, 3, 4])
     /// array([ 1., -2., -3., -4.])
+    ///
+    /// ```
     fn conjugate(q: Q, Quaternions) -> Q, |i| Ok(q.quat(i).conjugate().0)
 }
 
@@ -93,8 +101,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> float(quaternion.norm([1, 1, 1, 1]))
     /// 2.0
+    ///
+    /// ```
     fn norm(q: Q, Quaternions) -> S, |i| Ok([q.quat(i).norm()])
 }
 
@@ -112,10 +124,14 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.space_to_body_matrix(quaternion.from_axis_angle([0, 0, 1], np.pi / 2))
     /// array([[ 0.,  1.,  0.],
     ///        [-1.,  0.,  0.],
     ///        [ 0.,  0.,  1.]])
+    ///
+    /// ```
     fn space_to_body_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(&q.quat(i).space_to_body_matrix()))
 }
 
@@ -133,10 +149,14 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.body_to_space_matrix(quaternion.from_axis_angle([0, 0, 1], np.pi / 2))
     /// array([[ 0., -1.,  0.],
     ///        [ 1.,  0.,  0.],
     ///        [ 0.,  0.,  1.]])
+    ///
+    /// ```
     fn body_to_space_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(&q.quat(i).body_to_space_matrix()))
 }
 
@@ -156,9 +176,13 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> q = quaternion.exp([0.1, -0.2, 0.3])
     /// >>> np.allclose(quaternion.nalgebra_body_to_space_matrix(q), quaternion.body_to_space_matrix(q))
     /// True
+    ///
+    /// ```
     fn nalgebra_body_to_space_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(Rotation3::from(q.quat(i)).matrix()))
 }
 
@@ -177,8 +201,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.space_to_body(quaternion.from_axis_angle([0, 0, 1], np.pi / 2), [1, 0, 0])
     /// array([ 0., -1.,  0.])
+    ///
+    /// ```
     fn space_to_body(q: Q, Quaternions, v_space: V, Finite) -> V, |i| Ok(q.quat(i).space_to_body(&v_space.vector(i)).into())
 }
 
@@ -197,8 +225,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.body_to_space(quaternion.from_axis_angle([0, 0, 1], np.pi / 2), [1, 0, 0])
     /// array([0., 1., 0.])
+    ///
+    /// ```
     fn body_to_space(q: Q, Quaternions, v_body: V, Finite) -> V, |i| Ok(q.quat(i).body_to_space(&v_body.vector(i)).into())
 }
 
@@ -215,8 +247,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.from_euler_y([0, np.pi / 2, 0])  # theta: 90 degrees about y
     /// array([0.707107, 0.      , 0.707107, 0.      ])
+    ///
+    /// ```
     fn from_euler_y(angles: V, Finite) -> Q, |i| {
         let [phi, theta, psi] = angles.vector(i).into();
         Ok(Quat::from_euler_y(phi, theta, psi).0)
@@ -238,9 +274,13 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> angles = quaternion.to_euler_y(quaternion.from_euler_y([0.3, 1.2, -0.5]))
     /// >>> np.allclose(angles, [0.3, 1.2, -0.5])
     /// True
+    ///
+    /// ```
     fn to_euler_y(q: Q, Quaternions) -> V, |i| {
         let (phi, theta, psi) = q.quat(i).to_euler_y();
         Ok([phi, theta, psi])
@@ -261,8 +301,12 @@ elementwise! {
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> quaternion.from_axis_angle([0, 0, 2], np.pi)
 /// array([0., 0., 0., 1.])
+///
+/// ```
 #[pyfunction]
 fn from_axis_angle<'py>(
     py: Python<'py>,
@@ -294,9 +338,13 @@ fn from_axis_angle<'py>(
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> axis, angle = quaternion.to_axis_angle([0, 0, 0, 1])
 /// >>> axis, float(angle) == np.pi
 /// (array([0., 0., 1.]), True)
+///
+/// ```
 #[pyfunction]
 fn to_axis_angle<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> ArrayPair<'py> {
     let q = Items::new(q, "q", &Q, Values::Quaternions)?;
@@ -324,8 +372,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.exp([np.pi, 0, 0])
     /// array([0., 1., 0., 0.])
+    ///
+    /// ```
     fn exp(rotvec: V, Finite) -> Q, |i| Ok(Quat::exp(&rotvec.vector(i)).0)
 }
 
@@ -343,10 +395,14 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.ln(quaternion.exp([0.1, 0.2, -0.3]))
     /// array([ 0.1,  0.2, -0.3])
     /// >>> quaternion.ln([-1, 0, 0, 0])  # the double cover: -Q is Q
     /// array([0., 0., 0.])
+    ///
+    /// ```
     fn ln(q: Q, Quaternions) -> V, |i| Ok(q.quat(i).ln().into())
 }
 
@@ -365,8 +421,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.q_dot_from_omega_body([1, 0, 0, 0], [0, 0, 2])
     /// array([0., 0., 0., 1.])
+    ///
+    /// ```
     fn q_dot_from_omega_body(q: Q, Quaternions, omega_body: V, Finite) -> Q, |i| Ok(q.quat(i).q_dot_from_omega_body(&omega_body.vector(i)).0)
 }
 
@@ -385,8 +445,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.q_dot_from_omega_space([1, 0, 0, 0], [0, 0, 2])
     /// array([0., 0., 0., 1.])
+    ///
+    /// ```
     fn q_dot_from_omega_space(q: Q, Quaternions, omega_space: V, Finite) -> Q, |i| Ok(q.quat(i).q_dot_from_omega_space(&omega_space.vector(i)).0)
 }
 
@@ -405,9 +469,13 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> q = quaternion.exp([0.3, 0.2, 0.1])
     /// >>> quaternion.omega_body_from_q_dot(q, quaternion.q_dot_from_omega_body(q, [1, 2, 3]))
     /// array([1., 2., 3.])
+    ///
+    /// ```
     fn omega_body_from_q_dot(q: Q, Quaternions, q_dot: Q, Finite) -> V, |i| Ok(q.quat(i).omega_body_from_q_dot(&q_dot.quat(i)).into())
 }
 
@@ -426,9 +494,13 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> q = quaternion.exp([0.3, 0.2, 0.1])
     /// >>> quaternion.omega_space_from_q_dot(q, quaternion.q_dot_from_omega_space(q, [1, 2, 3]))
     /// array([1., 2., 3.])
+    ///
+    /// ```
     fn omega_space_from_q_dot(q: Q, Quaternions, q_dot: Q, Finite) -> V, |i| Ok(q.quat(i).omega_space_from_q_dot(&q_dot.quat(i)).into())
 }
 
@@ -448,8 +520,12 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> quaternion.from_body_to_space_matrix(np.diag([1.0, -1.0, -1.0]))
     /// array([0., 1., 0., 0.])
+    ///
+    /// ```
     fn from_body_to_space_matrix(r: M, Finite) -> Q, |i| Ok(checked_rotation(&r, i, false)?.0)
 }
 
@@ -469,9 +545,13 @@ elementwise! {
     ///
     /// Examples
     /// --------
+    /// ```python
+    ///
     /// >>> q = quaternion.exp([0.1, 0.2, 0.3])
     /// >>> np.allclose(quaternion.from_space_to_body_matrix(quaternion.space_to_body_matrix(q)), q)
     /// True
+    ///
+    /// ```
     fn from_space_to_body_matrix(a: M, Finite) -> Q, |i| Ok(checked_rotation(&a, i, true)?.0)
 }
 

@@ -324,11 +324,15 @@ const POLL: Duration = Duration::from_millis(20);
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> result = quatrot.run("dipole_in_field", steps=100)
 /// >>> result["summary"]["status"], result["summary"]["last_step"]
 /// ('completed', 100)
 /// >>> sorted(result["series"]["energies"])[:3]
 /// ['energy_error', 'kinetic_energy', 'potential_energy']
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None, progress=false, on_progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -474,11 +478,15 @@ fn step_count(steps: &Bound<'_, PyAny>) -> PyResult<i64> {
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// >>> scenes = quatrot.builtin_scenes()
 /// >>> "dipole_in_field" in scenes
 /// True
 /// >>> quatrot.run(scenes["free_spherical_top"], steps=10)["summary"]["status"]
 /// 'completed'
+///
+/// ```
 #[pyfunction]
 fn builtin_scenes(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);

@@ -102,6 +102,8 @@ fn from_result(
 ///
 /// Examples
 /// --------
+/// ```python
+///
 /// A 3 x 3 x 3 dipole lattice (Ewald sum, conducting) at T = 1, its total
 /// dipole and temperature recorded every step:
 ///
@@ -118,6 +120,8 @@ fn from_result(
 /// >>> by_hand = quatrot.dielectric_constant(np.stack([s["M_x"], s["M_y"], s["M_z"]], 1), 27.0, s["temperature"].mean())
 /// >>> bool(np.isclose(eps["epsilon"], by_hand["epsilon"], rtol=1e-12, atol=0))
 /// True
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (run, *, series=None, temperature=None))]
 fn run_dielectric_constant<'py>(
