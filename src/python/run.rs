@@ -52,6 +52,8 @@ impl From<RunError> for PyErr {
     fn from(e: RunError) -> PyErr {
         match e {
             RunError::Scene(e) => scene_error(&e),
+            // Built from the scene: coincident sites, sizes of the sums.
+            RunError::Potential(_) => SceneError::new_err(e.to_string()),
             RunError::Io { .. } => PyOSError::new_err(e.to_string()),
             other => PyRuntimeError::new_err(other.to_string()),
         }
@@ -448,11 +450,25 @@ fn watch<T: Send>(
     }
 }
 
-/// The `threads` argument: an integer ([`pool_size`] checks its range).
+/// The `threads` argument: an integer (Python's or numpy's: anything with
+/// `__index__`), not a bool; [`pool_size`] checks its range, and one beyond
+/// `i64` is out of it on the side of its sign.
 fn thread_count(threads: &Bound<'_, PyAny>) -> PyResult<NonZeroUsize> {
-    let n: i64 = threads
-        .extract()
-        .map_err(|_| invalid("threads", format!("must be >= 1, got {threads}")))?;
+    if threads.is_instance_of::<PyBool>() || !threads.hasattr("__index__")? {
+        return Err(wrong_type(threads, "threads", "an integer"));
+    }
+    let threads = threads.call_method0("__index__")?;
+    let Ok(n) = threads.extract::<i64>() else {
+        let range = if threads.gt(0)? {
+            format!("at most {}", crate::parallel::MAX_THREADS)
+        } else {
+            ">= 1".to_string()
+        };
+        return Err(invalid(
+            "threads",
+            format!("must be {range}, got {threads}"),
+        ));
+    };
     Ok(pool_size(n).map_err(|e| e.at("threads"))?)
 }
 
@@ -502,5 +518,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(builtin_scenes, m)?)?;
     m.add("SceneError", m.py().get_type::<SceneError>())?;
     m.add("BlowUpError", m.py().get_type::<BlowUpError>())?;
+    m.add("MAX_THREADS", crate::parallel::MAX_THREADS)?;
     Ok(())
 }

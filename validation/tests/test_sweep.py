@@ -2,7 +2,8 @@
 as serial `quatrot.run` calls, bit for bit; a worker killed mid-run loses no
 run; a finished sweep started again runs nothing; an invalid combination is
 recorded by its overrides while the others run; a sweep killed mid-way
-leaves a readable table and resumes with the runs it had not finished.
+leaves a readable table and resumes with the runs it had not finished;
+Ctrl-C prints one line.
 
 The system is the half-list quadrupole lattice, whose pair loop sums its
 per-thread blocks in an order that depends on the thread count: the serial
@@ -196,3 +197,27 @@ def test_a_killed_sweep_leaves_a_readable_table_and_resumes(client, tmp_path: Pa
     assert [r["status"] for r in results.rows] == ["completed"] * len(seeds)
     with table.open() as f:
         assert sorted(r["id"] for r in csv.DictReader(f)) == sorted(r.id for r in results.runs)
+
+
+def test_ctrl_c_on_a_sweep_prints_one_line(tmp_path: Path):
+    """Ctrl-C (SIGINT to the terminal's process group: the sweep and its
+    local cluster's workers) stops the sweep with exit code 130 and one line
+    on stderr; it used to print every worker's traceback and warnings."""
+    out = tmp_path / "sweep"
+    table = out / "results.csv"
+    command = [sys.executable, "-m", "quatrot.sweep", "quadrupole_lattice_fcc", "--set", "initial.seed=" + ",".join(map(str, range(1, 9))),
+               "--set", "run.steps=1000", "--out", str(out), "--workers", "2"]  # fmt: skip
+    sweep = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + PATIENCE
+        while not (table.exists() and len(table.read_text().splitlines()) >= 2):
+            assert time.monotonic() < deadline and sweep.poll() is None, "the sweep recorded no run"
+            time.sleep(0.01)
+        os.killpg(sweep.pid, signal.SIGINT)
+        _, err = sweep.communicate(timeout=PATIENCE)
+    finally:
+        if sweep.poll() is None:
+            os.killpg(sweep.pid, signal.SIGKILL)
+            sweep.wait()
+    assert sweep.returncode == 130
+    assert err.splitlines() == [f"interrupted: {table} holds the runs finished so far; the same command resumes"]

@@ -29,8 +29,10 @@ __all__ = [
     "write_gsd",
     "cli_main",
     "run_dielectric_constant",
+    "MAX_THREADS",
 ]
 __version__: str
+MAX_THREADS: int
 
 _Array = npt.ArrayLike
 _F64 = npt.NDArray[np.float64]

@@ -6,6 +6,7 @@ address), with one results table that a sweep resumes from.
 * `plan`: paths, overrides, the grid's expansion, run identifiers.
 * `task`: the idempotent task that runs one scene in its own folder.
 * `table`: the results table (CSV, written atomically).
+* `folder`: the sweep's folder, locked, written only inside.
 * `execute`: submitting the runs and recording their outcomes.
 * `cli`: `python -m quatrot.sweep` (and `quatrot sweep`).
 
@@ -18,7 +19,21 @@ address), with one results table that a sweep resumes from.
 """
 
 from quatrot.sweep.execute import ALLOWED_FAILURES, Results, run
-from quatrot.sweep.plan import Run, apply, expand, load_base, scene_id
+from quatrot.sweep.folder import FolderInUse
+from quatrot.sweep.plan import MAX_RUNS, Run, apply, expand, iter_runs, load_base, scene_id
 from quatrot.sweep.table import FINISHED
 
-__all__ = ["ALLOWED_FAILURES", "FINISHED", "Results", "Run", "apply", "expand", "load_base", "run", "scene_id"]
+__all__ = [
+    "ALLOWED_FAILURES",
+    "FINISHED",
+    "MAX_RUNS",
+    "FolderInUse",
+    "Results",
+    "Run",
+    "apply",
+    "expand",
+    "iter_runs",
+    "load_base",
+    "run",
+    "scene_id",
+]

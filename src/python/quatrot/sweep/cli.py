@@ -15,12 +15,13 @@ import argparse
 import re
 import sys
 import tomllib
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import quatrot
 from quatrot.sweep.execute import run
-from quatrot.sweep.plan import Run, expand, format_overrides
+from quatrot.sweep.plan import Run, format_overrides, iter_runs
 from quatrot.sweep.table import NAME, Table
 
 EXIT_UNFINISHED = 1
@@ -156,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
         grid = parse_grid(args.grid)
         cases = [parse_case(c) for c in args.cases]
         if args.dry_run:
-            return _dry_run(expand(args.scene, grid, cases), args)
+            return _dry_run(iter_runs(args.scene, grid, cases), args)
         counter = _Progress()
         results = run(
             args.scene,
@@ -189,7 +190,9 @@ class _Progress:
         print(f"[{self.done}] {r.id} {row['status']}{seconds} {format_overrides(r.overrides)}", flush=True)
 
 
-def _dry_run(runs: list[Run], args) -> int:
+def _dry_run(runs: Iterable[Run], args) -> int:
+    """Lists the runs as they are made (a grid is refused past
+    `plan.MAX_RUNS` before the first)."""
     path = Path(args.out) / NAME
     table = Table(path) if path.exists() else None
     for r in runs:

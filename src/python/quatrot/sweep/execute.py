@@ -13,14 +13,19 @@ Nothing lost, nothing repeated:
   local cluster sets `ALLOWED_FAILURES`), from scratch in the run's folder;
   past that the run is recorded as `failed` and retried on the next resume;
 * the table is rewritten atomically after each run (or after each batch of
-  runs that finished while it was being written).
+  runs that finished while it was being written);
+* one sweep per folder: the folder is locked while a sweep runs in it, and
+  nothing is written through a symbolic link in it (`folder`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import json
+import logging
 import os
+import signal
+import threading
 import uuid
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass
@@ -35,6 +40,8 @@ except ImportError as e:  # the `sweep` extra is not installed
         f"quatrot.sweep runs on Dask: install it with `pip install 'quatrot[sweep]'` ({e})"
     ) from e
 
+import quatrot
+from quatrot.sweep.folder import locked, real_folder
 from quatrot.sweep.plan import Run, expand
 from quatrot.sweep.table import FINISHED, NAME, Table
 from quatrot.sweep.task import RESULT_FILE, run_task
@@ -45,6 +52,10 @@ ALLOWED_FAILURES = 3
 
 #: The folder, inside the sweep's, holding one folder per run.
 RUNS = "runs"
+
+#: The most threads a run may have (the limit of `quatrot.run`'s `threads`),
+#: and the most worker processes of a local cluster.
+MAX_THREADS = quatrot.MAX_THREADS
 
 
 @dataclass
@@ -91,7 +102,8 @@ def run(
     `on_result(run, row)` is called after each run is recorded. Runs already
     finished in `out` are not run again. (A script that starts the local
     cluster needs the `if __name__ == "__main__":` guard: its workers are
-    new Python processes.)
+    new Python processes.) The folder is locked while the call runs: a
+    second sweep on it raises `FolderInUse` (an `OSError`).
 
     Examples
     --------
@@ -105,30 +117,39 @@ def run(
     >>> [row["status"] for row in results.rows]
     ['completed', 'completed']
     """
-    _positive("threads_per_run", threads_per_run)
+    _check_threads(threads_per_run)
     if workers is not None:
         _positive("workers", workers)
+        if workers > MAX_THREADS:
+            raise ValueError(f"workers: must be at most {MAX_THREADS} (processes on this machine), got {workers}")
         if client is not None:
             raise ValueError("workers: only for the local cluster (not with a client or scheduler address)")
     runs = expand(scene, grid, cases)
     out = Path(out).resolve()
-    (out / RUNS).mkdir(parents=True, exist_ok=True)
-    table = Table(out / NAME)
-    order = [r.id for r in runs]
-    for r in runs:
-        _adopt_finished_attempt(table, r, out, threads_per_run)
-    table.write(order)
-    todo = [r for r in runs if not table.finished(r.id, threads_per_run)]
-    if todo:
-        n_workers = workers or max(1, (os.cpu_count() or 1) // threads_per_run)
-        with _connect(client, n_workers) as c:
-            _submit_and_record(c, todo, table, order, out, threads_per_run, on_result)
+    with locked(out):
+        real_folder(out / RUNS)
+        table = Table(out / NAME)
+        order = [r.id for r in runs]
+        for r in runs:
+            _adopt_finished_attempt(table, r, out, threads_per_run)
+        table.write(order)
+        todo = [r for r in runs if not table.finished(r.id, threads_per_run)]
+        if todo:
+            n_workers = workers or max(1, (os.cpu_count() or 1) // threads_per_run)
+            with _connect(client, n_workers) as c:
+                _submit_and_record(c, todo, table, order, out, threads_per_run, on_result)
     return Results(out / NAME, runs, [table.rows[i] for i in order], len(todo))
 
 
 def _positive(name: str, value: int) -> None:
-    if not isinstance(value, int) or value < 1:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
         raise ValueError(f"{name}: must be an integer >= 1, got {value!r}")
+
+
+def _check_threads(threads: int) -> None:
+    _positive("threads_per_run", threads)
+    if threads > MAX_THREADS:
+        raise ValueError(f"threads_per_run: must be at most {MAX_THREADS}, got {threads}")
 
 
 def _outputs(run: Run) -> str:
@@ -158,14 +179,46 @@ def _connect(client: distributed.Client | str | None, workers: int) -> Iterator[
         with distributed.Client(client) as c:
             yield c
     elif client is None:
-        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}), _sigint_ignored():
             cluster = distributed.LocalCluster(
                 n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
             )
         with cluster, distributed.Client(cluster) as c:
-            yield c
+            try:
+                yield c
+            except KeyboardInterrupt:
+                _quiet_workers(c)
+                raise
     else:
         raise TypeError(f"client: expected a distributed.Client or a scheduler address, got {type(client).__name__}")
+
+
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored while the local cluster starts its worker processes,
+    which inherit that: Ctrl-C reaches the sweep alone, which stops them
+    (instead of each worker printing its own traceback). Only from the main
+    thread, where Python handles signals."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _quiet_workers(client: distributed.Client) -> None:
+    """Before an interrupted sweep stops its own local cluster: its workers
+    log no warning for the runs cancelled under them (the table says what
+    finished; the interrupted line says the rest)."""
+    with contextlib.suppress(Exception):
+        client.run(_log_errors_only)
+
+
+def _log_errors_only() -> None:
+    logging.getLogger("distributed").setLevel(logging.ERROR)
 
 
 def _submit_and_record(

@@ -25,7 +25,7 @@ import math
 import os
 import re
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -58,6 +58,12 @@ class Run:
     scene: dict[str, Any]
 
 
+#: The most runs a sweep may have: its table is rewritten after each batch
+#: of finished runs (10^4 runs make 2.7 MB) and its plan is held in memory,
+#: so a larger study is split into several sweeps.
+MAX_RUNS = 100_000
+
+
 def expand(
     scene: Any,
     grid: Mapping[str, Iterable[Any]] | None = None,
@@ -68,7 +74,8 @@ def expand(
     value dicts, for combinations that are not a grid), applied to the base
     `scene` (a built-in name, a path, TOML text or a dict). A run whose scene
     equals an earlier one's is dropped. With neither grid nor cases, the one
-    run is the base scene.
+    run is the base scene. At most `MAX_RUNS` runs, counted before any is
+    made.
 
     Examples
     --------
@@ -82,25 +89,56 @@ def expand(
     >>> len(runs)
     5
     """
+    return list(iter_runs(scene, grid, cases))
+
+
+def iter_runs(
+    scene: Any,
+    grid: Mapping[str, Iterable[Any]] | None = None,
+    cases: Iterable[Mapping[str, Any]] | None = None,
+) -> Iterator[Run]:
+    """The runs of `expand`, one at a time (a dry run lists them as they
+    come); the count is checked against `MAX_RUNS` before the first.
+
+    Examples
+    --------
+    >>> runs = quatrot.sweep.iter_runs("dipole_in_field", {"run.dt": [0.01, 0.005]})
+    >>> next(runs).overrides
+    {'run.dt': 0.01}
+    """
     base = load_base(scene)
-    combos: list[dict[str, Any]] = []
-    if grid:
-        paths = list(grid)
-        values = [list(grid[p]) for p in paths]
-        for p, v in zip(paths, values):
-            if not v:
-                raise ValueError(f"grid: `{p}` has no values")
-        combos.extend(dict(zip(paths, c)) for c in itertools.product(*values))
-    combos.extend(dict(c) for c in cases or [])
-    if not combos:
-        combos = [{}]
-    runs: dict[str, Run] = {}
+    paths = list(grid or {})
+    values = [_bounded(grid[p], f"grid: `{p}`") for p in paths]  # type: ignore[index]
+    for p, v in zip(paths, values):
+        if not v:
+            raise ValueError(f"grid: `{p}` has no values")
+    case_list = _bounded(cases or [], "cases")
+    count = (math.prod(len(v) for v in values) if paths else 0) + len(case_list)
+    if count > MAX_RUNS:
+        raise ValueError(
+            f"grid: {count} runs, more than the {MAX_RUNS} a sweep may have; split it into several sweeps"
+        )
+    combos: Iterable[dict[str, Any]] = (dict(zip(paths, c)) for c in itertools.product(*values)) if paths else ()
+    combos = itertools.chain(combos, (dict(c) for c in case_list))
+    if count == 0:
+        combos = iter([{}])
+    seen: set[str] = set()
     for overrides in combos:
         resolved = apply(base, overrides)
         _require_seed(resolved, overrides)
         run_id = scene_id(resolved)
-        runs.setdefault(run_id, Run(run_id, overrides, resolved))
-    return list(runs.values())
+        if run_id not in seen:
+            seen.add(run_id)
+            yield Run(run_id, overrides, resolved)
+
+
+def _bounded(items: Iterable[Any], what: str) -> list[Any]:
+    """The items as a list, refused past `MAX_RUNS` of them (an endless
+    iterator included) before they are all read."""
+    taken = list(itertools.islice(items, MAX_RUNS + 1))
+    if len(taken) > MAX_RUNS:
+        raise ValueError(f"{what}: more than the {MAX_RUNS} runs a sweep may have; split it into several sweeps")
+    return taken
 
 
 def load_base(scene: Any) -> dict[str, Any]:

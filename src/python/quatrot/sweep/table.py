@@ -11,7 +11,8 @@ gives back the run's number bit for bit.
 
 The file is replaced atomically (written to a temporary file in the same
 folder, flushed to disk, renamed over the old one): a sweep killed at any
-moment leaves the previous complete table.
+moment leaves the previous complete table. It gets the permissions of every
+other output (`0666` less the process's umask, as the runs' files).
 """
 
 from __future__ import annotations
@@ -154,6 +155,24 @@ def _write_csv(f, columns: list[str], rows: list[dict[str, str]]) -> None:
     writer.writerows(rows)
 
 
+def _umask() -> int:
+    """The process's umask: `/proc/self/status` where Linux gives it, else
+    set and restored (at import, before any thread of this package)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+#: The mode of the files a sweep writes: that of a file the runs create.
+_FILE_MODE = 0o666 & ~_umask()
+
+
 def write_atomically(path: Path, write) -> None:
     """Calls `write(file)` on a temporary text file beside `path`, flushes it
     to disk and renames it to `path` (then flushes the folder, so the rename
@@ -161,6 +180,7 @@ def write_atomically(path: Path, write) -> None:
     `path` is untouched."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
+        os.fchmod(fd, _FILE_MODE)
         with os.fdopen(fd, "w", newline="") as f:
             write(f)
             f.flush()

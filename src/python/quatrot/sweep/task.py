@@ -1,6 +1,7 @@
 """The task a worker runs for one run of a sweep.
 
-Idempotent: each attempt empties the run's own folder first and writes only
+Idempotent: each attempt empties the run's own folder first (a symbolic
+link there, or at `runs/`, is refused, never followed) and writes only
 there, so an attempt cut short (its worker died) leaves nothing the next one
 could mix with. It runs on a rayon pool of a fixed size, so its numbers do
 not depend on the worker's cores. A scene error or a blow-up is an outcome,
@@ -18,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import quatrot
+from quatrot.sweep.folder import real_folder, refuse_link
 from quatrot.sweep.table import summary_row, write_json
 
 #: The file, in a run's folder, holding the row of an attempt that finished.
@@ -29,9 +31,11 @@ def run_task(run_dir: str, scene: dict[str, Any], threads: int) -> dict[str, Any
     `threads` threads; returns the row of its outcome (`status`, `error` and
     the summary's numbers, see `table.TAIL`)."""
     folder = Path(run_dir)
+    refuse_link(folder.parent)
+    refuse_link(folder)
     if folder.exists():
         shutil.rmtree(folder)
-    folder.mkdir(parents=True)
+    real_folder(folder)
     start, cpu_start = time.perf_counter(), time.process_time()
     try:
         row = summary_row(quatrot.run(scene, out_dir=folder, threads=threads)["summary"])
