@@ -148,15 +148,15 @@ pub fn each(values: &[f64], check: fn(f64) -> Result<f64, InputError>) -> Result
     Ok(())
 }
 
-/// The unit orientation of `q`: every component finite (path `[k]`), and a
-/// non-zero finite norm.
+/// The unit orientation of `q`: every component finite (path `[k]`), and
+/// not all zero (a tiny or huge `q` is normalised all the same).
 pub fn orientation(q: &Quat) -> Result<Quat, InputError> {
     each(&q.0, finite)?;
     q.try_normalize().ok_or_else(|| {
         let [a, b, c, d] = q.0.map(num);
         InputError::new(
             "",
-            format!("must be a non-zero quaternion with a finite norm, got [{a}, {b}, {c}, {d}]"),
+            format!("must be a non-zero quaternion, got [{a}, {b}, {c}, {d}]"),
         )
     })
 }

@@ -134,8 +134,21 @@ fn parse_size(text: &str) -> Result<f64, InputError> {
     if !(value.is_finite() && value > 0.0) {
         return Err(bad());
     }
-    Ok(value * scale)
+    let bytes = value * scale;
+    if bytes > MAX_LIMIT {
+        return Err(InputError::new(
+            LIMIT_VARIABLE,
+            format!(
+                "must be at most 2^64 bytes (16777216T), got \"{}\"",
+                crate::checks::printable(text, 40)
+            ),
+        ));
+    }
+    Ok(bytes)
 }
+
+/// The largest limit: 2^64 bytes, more than any address space.
+const MAX_LIMIT: f64 = 18_446_744_073_709_551_616.0;
 
 /// The memory this process may use: the least of the physical memory, the
 /// cgroup limit and the address-space limit.
@@ -217,6 +230,11 @@ mod tests {
         assert!(e.message.contains("got \"lots\""), "{e}");
         assert!(parse_size("-1G").is_err());
         assert!(parse_size("nan").is_err());
+        assert_eq!(parse_size("16777216T"), Ok(MAX_LIMIT));
+        assert_eq!(
+            parse_size("99999999999999T").unwrap_err().message,
+            "must be at most 2^64 bytes (16777216T), got \"99999999999999T\""
+        );
     }
 
     /// Sizes are shown in decimal units with one decimal.

@@ -111,10 +111,21 @@ impl Quat {
         self.norm_squared().sqrt()
     }
 
-    /// `Q / |Q|`, or `None` when the norm is zero or not finite.
+    /// `Q / |Q|` for any finite nonzero `Q`, or `None` for a zero or
+    /// non-finite one. When `|Q|^2` overflows or underflows (|Q| beyond
+    /// about 1e154 or below 1e-154), `Q` is first divided by its largest
+    /// component's magnitude, so the result is a unit quaternion all the same.
     pub fn try_normalize(&self) -> Option<Self> {
-        let n = self.norm();
-        (n > 0.0 && n.is_finite()).then(|| *self * (1.0 / n))
+        let n2 = self.norm_squared();
+        if n2.is_normal() {
+            return Some(*self * (1.0 / n2.sqrt()));
+        }
+        let largest = self.0.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        if !(largest > 0.0 && largest.is_finite() && self.is_finite()) {
+            return None;
+        }
+        let scaled = Quat(self.0.map(|x| x / largest));
+        Some(scaled * (1.0 / scaled.norm()))
     }
 
     /// True when all four components are finite.
@@ -470,6 +481,37 @@ mod tests {
         assert_eq!(q.space_to_body_matrix(), (-q).space_to_body_matrix());
         assert_eq!(Quat::IDENTITY * q, q);
         assert_eq!(q * Quat::IDENTITY, q);
+    }
+
+    /// Every finite nonzero quaternion normalises to a unit one, the tiny
+    /// and the huge too (their squared norm underflows or overflows); an
+    /// ordinary one gives exactly `Q * (1 / |Q|)`; zero and non-finite ones
+    /// give `None`.
+    #[test]
+    fn every_finite_nonzero_quaternion_normalises() {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let cases = [
+            (Quat::new(1e308, 1e308, 0.0, 0.0), [h, h, 0.0, 0.0]),
+            (Quat::new(-1e300, 0.0, 0.0, 1e300), [-h, 0.0, 0.0, h]),
+            (Quat::new(1e-300, 0.0, 0.0, 0.0), [1.0, 0.0, 0.0, 0.0]),
+            (Quat::new(0.0, 5e-324, 0.0, -5e-324), [0.0, h, 0.0, -h]),
+            (Quat::new(3e-160, 4e-160, 0.0, 0.0), [0.6, 0.8, 0.0, 0.0]),
+        ];
+        for (q, unit) in cases {
+            let n = q.try_normalize().expect("finite and nonzero");
+            for (a, b) in n.0.iter().zip(unit) {
+                assert!((a - b).abs() <= 2.0 * f64::EPSILON, "{q:?}: {n:?}");
+            }
+        }
+        let q = Quat::new(0.3, -0.5, 0.6, 0.2);
+        assert_eq!(q.try_normalize(), Some(q * (1.0 / q.norm())));
+        for bad in [
+            Quat::new(0.0, 0.0, 0.0, 0.0),
+            Quat::new(f64::NAN, 1.0, 0.0, 0.0),
+            Quat::new(f64::INFINITY, 1.0, 0.0, 0.0),
+        ] {
+            assert_eq!(bad.try_normalize(), None, "{bad:?}");
+        }
     }
 
     /// `wrap_angle` maps every angle to the one in `(-pi, pi]` that differs

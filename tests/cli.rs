@@ -271,3 +271,58 @@ fn sweep_explains_a_missing_interpreter_or_package() {
         "{message}"
     );
 }
+
+/// `quatrot ARGS` with standard output going to `stdout`.
+#[cfg(unix)]
+fn quatrot_into(args: &[&str], stdout: std::process::Stdio, dir: &Path) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .current_dir(dir)
+        .stdout(stdout)
+        .env("QUATROT_MEMORY_LIMIT", MEMORY_LIMIT)
+        .output()
+        .expect("the binary runs")
+}
+
+/// A pipe whose reader is already gone: every write to it fails with
+/// EPIPE, as `quatrot scenes | head -1` after `head` exits.
+#[cfg(unix)]
+fn closed_pipe() -> std::process::Stdio {
+    use std::os::fd::FromRawFd;
+    let mut fds = [0; 2];
+    // SAFETY: pipe writes two new descriptors into `fds`, which are then
+    // owned here: the reader is closed, the writer handed to the child.
+    unsafe {
+        assert_eq!(libc::pipe(fds.as_mut_ptr()), 0);
+        libc::close(fds[0]);
+        std::process::Stdio::from(std::os::fd::OwnedFd::from_raw_fd(fds[1]))
+    }
+}
+
+/// A reader that goes away ends the output quietly with the command's own
+/// exit code; a full standard output is an error with exit code 2. Neither
+/// panics (issue 37: `quatrot scenes | head -1` panicked half the time,
+/// `> /dev/full` always, `run ... | head -0` after the run).
+#[cfg(unix)]
+#[test]
+fn closed_and_full_standard_outputs_end_without_a_panic() {
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let run = ["run", "dipole_in_field", "--steps", "2", "--out", "out"];
+    for args in [&["scenes"][..], &["check", "dipole_in_field"], &run] {
+        let out = quatrot_into(args, closed_pipe(), dir.path());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {stderr}");
+        assert!(stderr.is_empty(), "{args:?}: {stderr}");
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .expect("/dev/full");
+        let out = quatrot_into(args, full.into(), dir.path());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(EXIT_ERROR), "{args:?}: {stderr}");
+        assert!(
+            stderr.starts_with("error: cannot write to standard output: No space left on device"),
+            "{args:?}: {stderr}"
+        );
+    }
+}

@@ -69,3 +69,42 @@ fn zero_temperature_means_rest() {
     let states = random_states(&[Inertia::Spherical(0.3); 10], 0.0, 1);
     assert!(states.iter().all(|s| s.omega_body == Vector3::zeros()));
 }
+
+/// Explicit orientations are normalised whatever their size: a huge and a
+/// tiny quaternion (their squared norms overflow and underflow) are the unit
+/// quaternions along them, not refused as "not finite" (issue 37).
+#[test]
+fn huge_and_tiny_explicit_orientations_are_normalised() {
+    let text = r#"
+version = 1
+
+[rotors]
+kind = "sites"
+sites = [{ position = [0.0, 0.0, 0.0] }, { position = [1.0, 0.0, 0.0] }, { position = [2.0, 0.0, 0.0] }]
+default = { inertia = 1.0, dipole = [0.0, 0.0, 1.0] }
+
+[initial]
+kind = "explicit"
+orientations = [[1.0, 0.0, 0.0, 0.0], [1e308, 1e308, 0.0, 0.0], [0.0, 0.0, 1e-300, 0.0]]
+omega_body = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
+
+[integrator]
+kind = "dlm"
+
+[run]
+dt = 0.01
+steps = 10
+"#;
+    let (_, scene) = quatrot::scene::load_text(text, &Default::default()).expect("valid scene");
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let expected = [[1.0, 0.0, 0.0, 0.0], [h, h, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
+    for (state, unit) in scene.initial.iter().zip(expected) {
+        for (a, b) in state.orientation.0.iter().zip(unit) {
+            assert!(
+                (a - b).abs() <= 2.0 * f64::EPSILON,
+                "{:?}",
+                state.orientation
+            );
+        }
+    }
+}

@@ -16,35 +16,12 @@ use std::sync::Arc;
 
 mod common;
 
-/// Two interacting rotors with a series every 4 steps, a trajectory every
-/// 10 and checkpoints every 20.
-const SCENE: &str = r#"
-version = 1
-name = "two"
-[rotors]
-kind = "sites"
-sites = [{ position = [0.0, 0.0, 0.0] }, { position = [1.5, 0.0, 0.0] }]
-default = { inertia = [0.1, 0.2, 0.3], dipole = [0.0, 0.0, 1.0] }
-[interactions]
-boundary = { kind = "open" }
-[initial]
-kind = "random"
-seed = 7
-temperature = 1.0
-[integrator]
-kind = "gear_b"
-[run]
-dt = 0.001
-steps = 40
-[record]
-checkpoint_every = 20
-[[record.series]]
-name = "e"
-every = 4
-quantities = ["kinetic_energy", "potential_energy", "energy_error"]
-[record.trajectory]
-every = 10
-"#;
+/// The two-rotor scene of these tests (scheme B, 40 steps of 0.001) with a
+/// series every 4 steps, a trajectory every 10 and checkpoints every 20.
+fn two_rotors() -> String {
+    let record = common::restart_record(&["kinetic_energy", "potential_energy", "energy_error"]);
+    common::two_rotors("gear_b", 0.001, 40, &record)
+}
 
 fn scene(steps: i64, text: &str) -> Scene {
     common::scene_with(text, &common::steps(steps)).1
@@ -57,7 +34,7 @@ fn run_in(
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
     let outputs = common::outputs(Some(dir), false);
-    let scene = scene(steps, SCENE);
+    let scene = scene(steps, &two_rotors());
     execute(&scene, serde_json::Value::Null, &outputs, restart, progress)
 }
 
@@ -151,14 +128,14 @@ fn checkpoints_are_refused_by_other_scenes_and_when_damaged() {
     };
     let other = scene(
         40,
-        &SCENE.replace("dipole = [0.0, 0.0, 1.0]", "dipole = [0.0, 0.0, 1.1]"),
+        &two_rotors().replace("dipole = [0.0, 0.0, 1.0]", "dipole = [0.0, 0.0, 1.1]"),
     );
     assert!(
         restart(&other, &path).contains("the rotors (sites, inertia, multipoles) differ"),
         "{}",
         restart(&other, &path)
     );
-    let same = scene(40, SCENE);
+    let same = scene(40, &two_rotors());
     let text = std::fs::read_to_string(&path).unwrap();
     let edited = dir.path().join("edited.json");
     let step = "\"step\":20";
@@ -215,7 +192,7 @@ fn an_interrupted_run_ends_cleanly_and_its_restart_continues_bit_for_bit() {
         observer: &mut stopper,
     };
     let result = execute(
-        &scene(40, SCENE),
+        &scene(40, &two_rotors()),
         serde_json::Value::Null,
         &outputs,
         None,

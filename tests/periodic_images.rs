@@ -332,36 +332,16 @@ fn pair_count_is_half_the_lattice_vectors_per_site() {
 }
 
 /// A scene whose cutoff exceeds half its lattice box is accepted, and its
-/// potential sums the whole cutoff sphere: the 2^3 simple-cubic lattice
-/// with cutoff 3.1 has as many pairs per rotor as a large lattice.
+/// potential sums the whole cutoff sphere: the built-in
+/// `dipole_lattice_sc_cutoff` (cutoff 3.1) at 2^3 cells has as many pairs
+/// per rotor as a large lattice.
 #[test]
 fn scene_accepts_a_cutoff_beyond_half_the_box() {
-    let text = r#"
-version = 1
-
-[rotors]
-kind = "lattice"
-lattice = "simple_cubic"
-cells = 2
-spacing = 1.0
-default = { inertia = 0.1, dipole = [0.0, 0.0, 1.0] }
-
-[initial]
-kind = "random"
-seed = 1
-temperature = 1.0
-
-[integrator]
-kind = "no_squish"
-
-[run]
-dt = 0.01
-steps = 10
-
-[interactions]
-boundary = { kind = "periodic", cutoff = 3.1 }
-"#;
-    let (_, scene) = quatrot::scene::load_text(text, &Default::default()).unwrap();
+    let text = quatrot::scene::builtin("dipole_lattice_sc_cutoff")
+        .expect("built-in")
+        .toml
+        .replace("cells = 10", "cells = 2");
+    let (_, scene) = quatrot::scene::load_text(&text, &Default::default()).unwrap();
     let p = quatrot::run::potential(&scene).unwrap().unwrap();
     let c = lattice_vectors_in_sphere(LatticeKind::SimpleCubic, 1.0, CUTOFF);
     assert_eq!(2 * p.pair_count(), 8 * c);

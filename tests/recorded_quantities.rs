@@ -345,3 +345,69 @@ fn recorded_quantities_follow_their_definitions_for_every_integrator() {
         check(integrator, &result, &quantities);
     }
 }
+
+/// The potential energy recorded is the potential's value, not the total
+/// minus the kinetic energy: with `K = 1e20 >> |V| = O(1)` the difference
+/// of the two would keep none of V's digits (issue 37: a lattice at
+/// `initial.temperature = 1e20` recorded exactly 0). Every integrator, and
+/// every thermostat each can carry (at `T = 1e30`, as the issue's Langevin
+/// case); steps of 1e-12 keep `w dt` small at these speeds.
+#[test]
+fn the_recorded_potential_energy_is_the_potential_even_when_k_dwarfs_it() {
+    let thermostats = [
+        (
+            "",
+            &["gear_a", "gear_b", "no_squish", "dlm", "richardson"][..],
+        ),
+        (
+            "kind = \"langevin\"\ntemperature = 1e30\nfriction = 1.0\nseed = 3",
+            &["no_squish", "dlm"],
+        ),
+        (
+            "kind = \"bussi\"\ntemperature = 1e30\ntau = 0.1\nseed = 3",
+            &["no_squish", "dlm"],
+        ),
+        (
+            "kind = \"nose_hoover\"\ntemperature = 1e30\ntau = 0.1",
+            &["no_squish", "dlm", "gear_a"],
+        ),
+    ];
+    let quantities = ["kinetic_energy", "potential_energy"];
+    let potential = potential();
+    for (thermostat, integrators) in thermostats {
+        for integrator in integrators {
+            let mut text = scene_text(&format!("kind = \"{integrator}\""), &quantities)
+                .replace("temperature = 1.0", "temperature = 1e20")
+                .replace("dt = 0.01", "dt = 1e-12");
+            if !thermostat.is_empty() {
+                text += &format!("[thermostat]\n{thermostat}\n");
+            }
+            let (_, scene) = load_text(&text, &Overrides::default())
+                .unwrap_or_else(|e| panic!("{integrator} {thermostat}: {e}"));
+            let result = execute(
+                &scene,
+                serde_json::Value::Null,
+                &common::in_memory(),
+                None,
+                None,
+            )
+            .expect("runs");
+            let frames = result.trajectory.as_ref().expect("trajectory kept");
+            let table = &result.series[0];
+            let n = SITES.len();
+            for (k, row) in table.values.chunks(table.columns.len()).enumerate() {
+                let orientations: Vec<Quat> = frames.orientations[4 * n * k..4 * n * (k + 1)]
+                    .chunks(4)
+                    .map(|c| Quat::new(c[0], c[1], c[2], c[3]))
+                    .collect();
+                let v = potential.energy(&orientations);
+                assert!(row[2] > 1e19, "{integrator} {thermostat}: K = {}", row[2]);
+                assert!(
+                    (row[3] - v).abs() <= ROUND_OFF * v.abs().max(1.0),
+                    "{integrator} {thermostat}, step {k}: recorded V = {:e}, V = {v:e}",
+                    row[3]
+                );
+            }
+        }
+    }
+}

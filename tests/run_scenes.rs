@@ -47,24 +47,10 @@ fn dipole_lattice_builtin_matches_the_specification() {
     }
 }
 
-const TWO_ROTORS: &str = r#"
-version = 1
-[rotors]
-kind = "sites"
-sites = [{ position = [0.0, 0.0, 0.0] }, { position = [1.5, 0.0, 0.0] }]
-default = { inertia = [0.1, 0.2, 0.3], dipole = [0.0, 0.0, 1.0] }
-[interactions]
-boundary = { kind = "open" }
-[initial]
-kind = "random"
-seed = 7
-temperature = 1.0
-[integrator]
-kind = "dlm"
-[run]
-dt = 0.001
-steps = 30
-"#;
+/// The two-rotor scene of these tests (DLM, 30 steps of 0.001) with `tables`.
+fn two_rotors(tables: &str) -> String {
+    common::two_rotors("dlm", 0.001, 30, tables)
+}
 
 /// Counts energy evaluations of the wrapped potential.
 struct Counting<P> {
@@ -89,7 +75,7 @@ impl<P: Potential> Potential for Counting<P> {
 /// every 7 steps of 30 evaluates it exactly at steps 0, 7, 14, 21, 28.
 #[test]
 fn energies_are_evaluated_only_at_sampling_steps() {
-    let mut raw = parse_toml(TWO_ROTORS).expect("valid");
+    let mut raw = parse_toml(&two_rotors("")).expect("valid");
     raw.interactions = None;
     let scene = validate(&raw).expect("valid");
     let counting = Counting {
@@ -108,8 +94,7 @@ fn energies_are_evaluated_only_at_sampling_steps() {
     .expect("runs");
     assert_eq!(counting.energy_calls.load(Ordering::Relaxed), 0);
 
-    let text =
-        format!("{TWO_ROTORS}\n[[record.series]]\nevery = 7\nquantities = [\"total_energy\"]\n");
+    let text = two_rotors("[[record.series]]\nevery = 7\nquantities = [\"total_energy\"]\n");
     let mut raw = parse_toml(&text).expect("valid");
     raw.interactions = None;
     let scene = validate(&raw).expect("valid");
@@ -184,9 +169,7 @@ impl<I: Integrator> Integrator for Poisoned<I> {
 /// valid and end at that step.
 #[test]
 fn blow_up_stops_with_step_and_rotor_and_keeps_outputs() {
-    let text = format!(
-        "{TWO_ROTORS}\n[record]\ncheck_every = 5\n[[record.series]]\nname = \"e\"\nevery = 2\nquantities = [\"kinetic_energy\", \"norm_error\"]\n"
-    );
+    let text = two_rotors("[record]\ncheck_every = 5\n[[record.series]]\nname = \"e\"\nevery = 2\nquantities = [\"kinetic_energy\", \"norm_error\"]\n");
     let mut raw = parse_toml(&text).expect("valid");
     raw.interactions = None;
     let scene = validate(&raw).expect("valid");
@@ -274,9 +257,12 @@ fn energy_threshold_stops_a_run_with_too_large_a_step() {
 #[test]
 fn restart_from_checkpoint_is_bit_for_bit() {
     for integrator in ["gear_a", "gear_b", "no_squish", "dlm", "richardson"] {
-        let text = format!(
-            "{TWO_ROTORS}\n[record]\ncheckpoint_every = 20\n[[record.series]]\nname = \"e\"\nevery = 4\nquantities = [\"kinetic_energy\", \"potential_energy\", \"energy_error\", \"norm_error\"]\n[record.trajectory]\nevery = 10\n"
-        );
+        let text = two_rotors(&common::restart_record(&[
+            "kinetic_energy",
+            "potential_energy",
+            "energy_error",
+            "norm_error",
+        ]));
         let run_to = |steps: i64, restart: Option<&std::path::Path>, dir: &std::path::Path| {
             let overrides = Overrides {
                 integrator: Some(integrator.to_string()),
@@ -325,7 +311,7 @@ fn restart_from_checkpoint_is_bit_for_bit() {
 /// A checkpoint refuses a scene with another integrator.
 #[test]
 fn checkpoint_of_another_integrator_is_refused() {
-    let text = format!("{TWO_ROTORS}\n[record]\ncheckpoint_every = 10\n");
+    let text = two_rotors("[record]\ncheckpoint_every = 10\n");
     let dir = tempfile::tempdir().expect("dir");
     let outputs = common::outputs(Some(dir.path()), false);
     let scene = validate(&parse_toml(&text).expect("valid")).expect("valid");
@@ -356,8 +342,8 @@ fn checkpoint_of_another_integrator_is_refused() {
 /// seed gives another.
 #[test]
 fn same_seed_same_output() {
-    let text = format!(
-        "{TWO_ROTORS}\n[[record.series]]\nevery = 3\nquantities = [\"kinetic_energy\", \"potential_energy\"]\n"
+    let text = two_rotors(
+        "[[record.series]]\nevery = 3\nquantities = [\"kinetic_energy\", \"potential_energy\"]\n",
     );
     let run = |seed: u64| {
         let mut raw =
@@ -381,8 +367,9 @@ fn same_seed_same_output() {
 #[test]
 fn gsd_format_writes_the_gsd_file_only() {
     let frames_of = |every: u64| {
-        let text =
-            format!("{TWO_ROTORS}\n[record.trajectory]\nevery = {every}\nformat = \"gsd\"\n");
+        let text = two_rotors(&format!(
+            "[record.trajectory]\nevery = {every}\nformat = \"gsd\"\n"
+        ));
         let scene = validate(&parse_toml(&text).expect("valid")).expect("valid");
         let dir = tempfile::tempdir().expect("dir");
         let outputs = common::outputs(Some(dir.path()), false);

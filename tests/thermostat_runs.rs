@@ -10,37 +10,6 @@ use std::path::Path;
 
 mod common;
 
-/// Two interacting asymmetric dipoles; the thermostat and integrator are
-/// filled in.
-const TWO_ROTORS: &str = r#"
-version = 1
-[rotors]
-kind = "sites"
-sites = [{ position = [0.0, 0.0, 0.0] }, { position = [1.5, 0.0, 0.0] }]
-default = { inertia = [0.1, 0.2, 0.3], dipole = [0.0, 0.0, 1.0] }
-[interactions]
-boundary = { kind = "open" }
-[initial]
-kind = "random"
-seed = 7
-temperature = 1.0
-[integrator]
-kind = "INTEGRATOR"
-[thermostat]
-THERMOSTAT
-[run]
-dt = 0.002
-steps = 40
-[record]
-checkpoint_every = 20
-[[record.series]]
-name = "e"
-every = 4
-quantities = ["kinetic_energy", "total_energy", "conserved_energy", "energy_error"]
-[record.trajectory]
-every = 10
-"#;
-
 /// Every thermostat, and the integrators that carry it.
 const PAIRS: [(&str, &str); 7] = [
     (
@@ -70,10 +39,22 @@ const PAIRS: [(&str, &str); 7] = [
     ),
 ];
 
+/// The two-rotor scene (40 steps of 0.002, checkpoints, the series `e` and
+/// a trajectory) run by `integrator` with the `[thermostat]` table
+/// `thermostat` (none when empty).
 fn scene_text(integrator: &str, thermostat: &str) -> String {
-    TWO_ROTORS
-        .replace("INTEGRATOR", integrator)
-        .replace("THERMOSTAT", thermostat)
+    let thermostat = if thermostat.is_empty() {
+        String::new()
+    } else {
+        format!("[thermostat]\n{thermostat}\n")
+    };
+    let record = common::restart_record(&[
+        "kinetic_energy",
+        "total_energy",
+        "conserved_energy",
+        "energy_error",
+    ]);
+    common::two_rotors(integrator, 0.002, 40, &(thermostat + &record))
 }
 
 fn run(text: &str, steps: i64, restart: Option<&Path>, dir: &Path) -> RunResult {
@@ -133,7 +114,7 @@ fn checkpoint_of_another_thermostat_is_refused() {
             "the thermostat is bussi in the scene but langevin in the checkpoint",
         ),
         (
-            scene_text("dlm", "").replace("[thermostat]\n", ""),
+            scene_text("dlm", ""),
             "the thermostat is none in the scene but langevin in the checkpoint",
         ),
     ] {
@@ -183,12 +164,7 @@ fn thermostat_seed_is_recorded_and_reproduces_the_run() {
         dir.path(),
     );
     assert_eq!(again.series[0].values, drawn.series[0].values);
-    let nve = run(
-        &scene_text("dlm", "").replace("[thermostat]\n", ""),
-        40,
-        None,
-        dir.path(),
-    );
+    let nve = run(&scene_text("dlm", ""), 40, None, dir.path());
     assert_eq!(nve.summary.thermostat_seed, None);
     let energies = nve.summary.final_energies.as_ref().expect("energies");
     assert_eq!(energies.conserved, None);

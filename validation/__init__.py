@@ -1,1 +1,3 @@
-"""quatrot's validation harness: cross-code checks, fixture generators, report."""
+"""quatrot's validation harness: cross-code checks and their report, the
+benchmarks' Python side, the long runs and the fixture generators, on shared
+references (the packages and which imports which: validation/README.md)."""

@@ -19,7 +19,7 @@ import traceback
 from pathlib import Path
 
 from validation.checks import modules
-from validation.checks.base import Check, Context
+from validation.shared.check import Check, Context
 from validation.report_html import to_html
 
 
@@ -158,7 +158,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("results"), help="output folder (default: results)")
     parser.add_argument("--quick", action="store_true", help="the few-second subset that `make test` runs")
-    parser.add_argument("--only", nargs="+", metavar="NAME", help="run only these check modules (e.g. thermostats)")
+    parser.add_argument("--only", nargs="+", metavar="NAME", help="run only these check modules (e.g. thermostat_sampling)")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
     results = run_all(args.out, args.quick, args.only)

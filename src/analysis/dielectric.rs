@@ -40,8 +40,8 @@
 
 use super::block_average::{block_average, BlockAverage};
 use super::error::AnalysisError;
-use crate::checks::finite_and_positive;
 use crate::checks::named_choices;
+use crate::checks::{finite_and_positive, num};
 use nalgebra::Vector3;
 use std::fmt;
 
@@ -140,8 +140,24 @@ pub fn dielectric_constant(
         .iter()
         .map(|m| (m - mean_dipole).norm_squared())
         .collect();
+    if !mean_squared_dipole.is_finite() || deviations.iter().any(|d| !d.is_finite()) {
+        return Err(AnalysisError::new(
+            "dipoles",
+            "|M|^2 overflows float64: the dipoles are too large",
+        ));
+    }
     let fluctuation = block_average(&deviations)?;
     let scale = 4.0 * std::f64::consts::PI / (9.0 * volume * temperature);
+    if !scale.is_finite() {
+        return Err(AnalysisError::new(
+            "volume, temperature",
+            format!(
+                "4 pi / (9 V T) overflows float64 (V = {}, T = {}): too small",
+                num(volume),
+                num(temperature)
+            ),
+        ));
+    }
     let (y, y_error) = (scale * fluctuation.mean, scale * fluctuation.error);
     let (epsilon, slope) = match boundary {
         DielectricBoundary::Conducting => (1.0 + 3.0 * y, 3.0),
@@ -156,6 +172,16 @@ pub fn dielectric_constant(
         }
         _ => ((1.0 + 2.0 * y) / (1.0 - y), 3.0 / (1.0 - y).powi(2)),
     };
+    if !(epsilon.is_finite() && (slope * y_error).is_finite()) {
+        return Err(AnalysisError::new(
+            "volume, temperature",
+            format!(
+                "eps = {} is not finite: 4 pi F / (9 V T) = {} overflows float64",
+                num(epsilon),
+                num(y)
+            ),
+        ));
+    }
     Ok(DielectricConstant {
         epsilon,
         error: slope * y_error,

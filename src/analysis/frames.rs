@@ -12,24 +12,31 @@ use nalgebra::Vector3;
 pub struct Frames<'a, T> {
     data: &'a [T],
     rotors: usize,
+    what: &'a str,
 }
 
 /// A value the analysis can check for finiteness.
 pub trait Finite {
-    /// True when every component is finite (and, for an orientation, the
-    /// norm is not zero).
-    fn usable(&self) -> bool;
+    /// What is wrong with the value, if anything: a component not finite
+    /// or, for an orientation, a zero quaternion.
+    fn problem(&self) -> Option<&'static str>;
 }
 
 impl Finite for Quat {
-    fn usable(&self) -> bool {
-        self.is_finite() && self.norm_squared() > 0.0
+    fn problem(&self) -> Option<&'static str> {
+        if !self.is_finite() {
+            Some("must be finite")
+        } else if self.try_normalize().is_none() {
+            Some("must be a nonzero quaternion (an orientation)")
+        } else {
+            None
+        }
     }
 }
 
 impl Finite for Vector3<f64> {
-    fn usable(&self) -> bool {
-        self.iter().all(|x| x.is_finite())
+    fn problem(&self) -> Option<&'static str> {
+        (!self.iter().all(|x| x.is_finite())).then_some("must be finite")
     }
 }
 
@@ -37,7 +44,7 @@ impl<'a, T: Finite> Frames<'a, T> {
     /// `data` of `rotors` (>= 1) values per frame and at least one frame,
     /// every value finite; errors name the input `what` and the first bad
     /// element as `what[frame, rotor]`.
-    pub fn new(data: &'a [T], rotors: usize, what: &str) -> Result<Self, AnalysisError> {
+    pub fn new(data: &'a [T], rotors: usize, what: &'a str) -> Result<Self, AnalysisError> {
         if rotors == 0 {
             return Err(AnalysisError::new(what, "needs at least one rotor"));
         }
@@ -50,13 +57,17 @@ impl<'a, T: Finite> Frames<'a, T> {
                 ),
             ));
         }
-        if let Some(k) = data.iter().position(|v| !v.usable()) {
+        if let Some((k, problem)) = data
+            .iter()
+            .enumerate()
+            .find_map(|(k, v)| v.problem().map(|p| (k, p)))
+        {
             return Err(AnalysisError::new(
                 format!("{what}[{}, {}]", k / rotors, k % rotors),
-                "must be finite (and an orientation nonzero)",
+                problem,
             ));
         }
-        Ok(Frames { data, rotors })
+        Ok(Frames { data, rotors, what })
     }
 }
 
@@ -69,6 +80,11 @@ impl<T: Copy> Frames<'_, T> {
     /// The number of rotors per frame.
     pub fn rotors(&self) -> usize {
         self.rotors
+    }
+
+    /// The name of the input, for errors about it.
+    pub fn what(&self) -> &str {
+        self.what
     }
 
     /// Rotor `rotor` at every frame, in order.

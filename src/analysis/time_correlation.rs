@@ -13,7 +13,7 @@
 use super::autocorrelation::{Plan, PowerSum};
 use super::error::AnalysisError;
 use super::frames::Frames;
-use crate::checks::finite_and_positive;
+use crate::checks::{finite_and_positive, num};
 use crate::observables::order::checked_unit_axis;
 use crate::quaternion::Quat;
 use nalgebra::{Unit, Vector3};
@@ -28,10 +28,35 @@ pub struct OrientationalCorrelation {
     pub c2: Vec<f64>,
 }
 
-/// The times `k dt` of lags `0..lags` of frames `dt` apart (finite, > 0).
+/// The times `k dt` of lags `0..lags` of frames `dt` apart (finite, > 0,
+/// and small enough that the last time is finite).
 pub fn lag_times(dt: f64, lags: usize) -> Result<Vec<f64>, AnalysisError> {
     let dt = finite_and_positive("dt", dt)?;
+    let last = lags.saturating_sub(1) as f64 * dt;
+    if !last.is_finite() {
+        return Err(AnalysisError::new(
+            "dt",
+            format!(
+                "the time of lag {} overflows float64, got {}",
+                lags - 1,
+                num(dt)
+            ),
+        ));
+    }
     Ok((0..lags).map(|k| k as f64 * dt).collect())
+}
+
+/// `values` (correlations of the input `what`) if all finite, else the
+/// error that the input's magnitudes overflow.
+fn finite_correlation(values: Vec<f64>, what: &str) -> Result<Vec<f64>, AnalysisError> {
+    if values.iter().all(|x| x.is_finite()) {
+        Ok(values)
+    } else {
+        Err(AnalysisError::new(
+            what,
+            "the correlation is not finite: the values' products overflow float64",
+        ))
+    }
 }
 
 /// The largest lag: `max_lag` if given (must be below the frame count),
@@ -69,6 +94,9 @@ pub fn orientational_correlations(
     max_lag: Option<usize>,
 ) -> Result<Vec<OrientationalCorrelation>, AnalysisError> {
     let max_lag = largest_lag(orientations.frames(), max_lag)?;
+    if axes_body.is_empty() {
+        return Err(AnalysisError::new("axes_body", "needs at least one axis"));
+    }
     let axes = axes_body
         .iter()
         .enumerate()
@@ -141,7 +169,7 @@ pub fn vector_autocorrelation(
             },
         )
         .reduce(|| plan.power_sum(), PowerSum::merge);
-    Ok(sum.correlation(max_lag))
+    finite_correlation(sum.correlation(max_lag), vectors.what())
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use crate::simulation::{Control, Stop};
 use clap::Parser;
 use std::ffi::OsString;
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -52,16 +52,10 @@ where
         }
     }
     match cli.command {
-        Command::Scenes => {
-            list_scenes();
-            0
-        }
+        Command::Scenes => after_output(list_scenes(), 0),
         Command::Check { scene } => match load(&scene, &Overrides::default()) {
             Ok((_, scene)) => match prepare(&scene, false) {
-                Ok(_) => {
-                    println!("ok: {}", describe(&scene));
-                    0
-                }
+                Ok(_) => after_output(say(&format!("ok: {}", describe(&scene))), 0),
                 Err(e) => fail(&e),
             },
             Err(e) => fail(&e),
@@ -89,19 +83,45 @@ where
 }
 
 fn fail(e: &dyn std::fmt::Display) -> i32 {
-    eprintln!("error: {e}");
+    tell(&format!("error: {e}"));
     EXIT_ERROR
 }
 
-fn list_scenes() {
+/// Writes `line` to standard error; a standard error that cannot be
+/// written to (closed, full) is not reported anywhere.
+fn tell(line: &str) {
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
+/// Writes `line` to standard output.
+fn say(line: &str) -> std::io::Result<()> {
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{line}").and_then(|()| out.flush())
+}
+
+/// The exit code after the output of a command that would exit with
+/// `code`: a reader that went away (a closed pipe, as `| head`) ends the
+/// output quietly with that code; any other failure to write (a full disk)
+/// is an error.
+fn after_output(written: std::io::Result<()>, code: i32) -> i32 {
+    match written {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            fail(&format!("cannot write to standard output: {e}"))
+        }
+        _ => code,
+    }
+}
+
+fn list_scenes() -> std::io::Result<()> {
     let width = BUILTINS.iter().map(|b| b.name.len()).max().unwrap_or(0);
     for b in BUILTINS {
         let description = parse_toml(b.toml)
             .ok()
             .and_then(|raw| raw.description)
             .unwrap_or_default();
-        println!("{:width$}  {description}", b.name);
+        say(&format!("{:width$}  {description}", b.name))?;
     }
+    Ok(())
 }
 
 fn describe(scene: &Scene) -> String {
@@ -138,12 +158,12 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
     });
     match execute(&scene, definition, &outputs, restart.as_deref(), progress) {
         Ok(result) => {
-            println!("{}", one_line(&scene, &result));
-            match result.stop {
+            let code = match result.stop {
                 Stop::Completed => 0,
                 Stop::BlewUp { .. } => EXIT_BLOW_UP,
                 Stop::Interrupted { .. } => EXIT_INTERRUPTED,
-            }
+            };
+            after_output(say(&one_line(&scene, &result)), code)
         }
         Err(e) => fail(&e),
     }
@@ -155,17 +175,17 @@ fn stop_on_signals(control: &Arc<Control>) {
     let control = Arc::clone(control);
     let installed = ctrlc::set_handler(move || {
         if control.stop_requested() {
-            eprintln!("quatrot: interrupted again: exiting without flushing the outputs");
+            tell("quatrot: interrupted again: exiting without flushing the outputs");
             std::process::exit(EXIT_INTERRUPTED);
         }
-        eprintln!(
+        tell(&format!(
             "quatrot: stopping at the end of step {} (interrupt again to exit at once)",
             control.step() + 1
-        );
+        ));
         control.request_stop();
     });
     if let Err(e) = installed {
-        eprintln!("quatrot: warning: cannot catch interrupts ({e}); an interrupt ends the run without flushing its outputs");
+        tell(&format!("quatrot: warning: cannot catch interrupts ({e}); an interrupt ends the run without flushing its outputs"));
     }
 }
 

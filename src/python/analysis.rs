@@ -40,6 +40,9 @@ fn body_axes(axes: Option<&Bound<'_, PyAny>>) -> PyResult<(Vec<Vector3<f64>>, bo
     };
     let (v, leading) =
         Numbers::new(axes, "axes", Values::Finite)?.items::<3>(&[0, 1], "(3,) or (k, 3)")?;
+    if v.is_empty() {
+        return Err(invalid("axes", "needs at least one axis, got shape (0, 3)"));
+    }
     Ok((
         v.into_iter().map(Vector3::from).collect(),
         leading.is_empty(),

@@ -7,8 +7,8 @@
 //! attribute. A scene dict is converted with its nesting bounded and its
 //! cycles refused.
 
-use super::args::{invalid, path_or, text_or, wrong_type};
-use crate::parallel::{in_pool, thread_count as pool_size};
+use super::args::{integer, invalid, path_or, text_or, wrong_type};
+use crate::parallel::in_pool;
 use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::raw::RawScene;
 use crate::scene::{load, load_table, load_text, Overrides, Scene, BUILTINS};
@@ -353,6 +353,13 @@ fn run<'py>(
     let threads = threads.map(thread_count).transpose()?;
     let path = |p: &Bound<'py, PyAny>, name| path_or(p, name, field);
     let out_dir = out_dir.map(|p| path(p, "out_dir")).transpose()?;
+    if out_dir.as_ref().is_some_and(|d| d.as_os_str().is_empty()) {
+        return Err(field(
+            "out_dir",
+            "must be a folder's path, got an empty one (use \".\" for the current directory)"
+                .to_string(),
+        ));
+    }
     let restart = restart.map(|p| path(p, "restart")).transpose()?;
     let overrides = Overrides {
         dt,
@@ -450,26 +457,13 @@ fn watch<T: Send>(
     }
 }
 
-/// The `threads` argument: an integer (Python's or numpy's: anything with
-/// `__index__`), not a bool; [`pool_size`] checks its range, and one beyond
-/// `i64` is out of it on the side of its sign.
+/// The `threads` argument: an integer from 1 to
+/// [`crate::parallel::MAX_THREADS`].
 fn thread_count(threads: &Bound<'_, PyAny>) -> PyResult<NonZeroUsize> {
-    if threads.is_instance_of::<PyBool>() || !threads.hasattr("__index__")? {
-        return Err(wrong_type(threads, "threads", "an integer"));
-    }
-    let threads = threads.call_method0("__index__")?;
-    let Ok(n) = threads.extract::<i64>() else {
-        let range = if threads.gt(0)? {
-            format!("at most {}", crate::parallel::MAX_THREADS)
-        } else {
-            ">= 1".to_string()
-        };
-        return Err(invalid(
-            "threads",
-            format!("must be {range}, got {threads}"),
-        ));
-    };
-    Ok(pool_size(n).map_err(|e| e.at("threads"))?)
+    let max = crate::parallel::MAX_THREADS;
+    let n = integer(threads, "threads", 1, max as u64)?;
+    NonZeroUsize::new(usize::try_from(n).unwrap_or(max))
+        .ok_or_else(|| invalid("threads", format!("must be between 1 and {max}, got {n}")))
 }
 
 /// The `steps` argument: an integer the scene's `run.steps` can hold (the

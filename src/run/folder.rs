@@ -33,7 +33,17 @@ pub struct OutputFolder {
 
 impl OutputFolder {
     /// Creates `dir` if missing and locks it, or says which process holds it.
+    /// An empty path is refused (it would write into the current directory
+    /// unasked).
     pub fn lock(dir: &Path) -> Result<OutputFolder, RunError> {
+        if dir.as_os_str().is_empty() {
+            return Err(RunError::Io {
+                path: "(empty path)".to_string(),
+                message:
+                    "an output folder's path must not be empty (\".\" is the current directory)"
+                        .to_string(),
+            });
+        }
         std::fs::create_dir_all(dir).map_err(|e| RunError::io(dir, e))?;
         let path = dir.join(LOCK_FILE);
         let mut file = options()
@@ -90,10 +100,15 @@ fn options() -> OpenOptions {
     options
 }
 
-/// Creates (or truncates) the file at `path` for writing, refusing a
-/// symbolic link there.
+/// Creates (or truncates) the file at `path` for reading and writing,
+/// refusing a symbolic link there: every output is created through here.
 pub fn create_file(path: &Path) -> std::io::Result<File> {
-    options().write(true).create(true).truncate(true).open(path)
+    options()
+        .read(true)
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .open(path)
 }
 
 /// Opens the existing file at `path` for reading and writing, refusing a
@@ -152,6 +167,16 @@ mod tests {
         assert!(e.contains(&format!("process {pid}")), "{e}");
         drop(first);
         assert!(OutputFolder::lock(dir.path()).is_ok());
+    }
+
+    /// An empty path is not taken for the current directory.
+    #[test]
+    fn an_empty_path_is_refused() {
+        let e = OutputFolder::lock(Path::new("")).unwrap_err().to_string();
+        assert!(
+            e.starts_with("(empty path): an output folder's path must not be empty"),
+            "{e}"
+        );
     }
 
     /// A symbolic link planted in the folder is not followed.

@@ -33,10 +33,11 @@
 //! up to its last complete frame; a full index moves to the end of the file
 //! at twice the size, and only then does the header point to it.
 
+use super::folder::create_file;
 use crate::checks::{each, finite_and_positive, positive, InputError};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::{self, BufWriter, Seek, SeekFrom, Write};
 use std::path::Path;
 
@@ -201,14 +202,7 @@ impl GsdWriter {
         let namelist_location = index_location + INITIAL_INDEX_ENTRIES * ENTRY_BYTES;
         let l = cell.lengths;
         let mut writer = GsdWriter {
-            file: BufWriter::new(
-                OpenOptions::new()
-                    .read(true)
-                    .write(true)
-                    .create(true)
-                    .truncate(true)
-                    .open(path)?,
-            ),
+            file: BufWriter::new(create_file(path)?),
             positions: sites
                 .iter()
                 .flat_map(|s| {

@@ -4,9 +4,10 @@
 //! CONECT records. Lengths are written as they are in the scene (Angstrom
 //! for the readers).
 
+use super::folder::create_file;
 use nalgebra::Vector3;
 use std::fmt::Write as _;
-use std::io;
+use std::io::{self, Write as _};
 use std::path::Path;
 
 /// Atom names and elements of one rotor's four atoms, in file order.
@@ -54,5 +55,5 @@ pub fn write_topology(
         }
     }
     let _ = writeln!(text, "END");
-    std::fs::write(path, text)
+    create_file(path)?.write_all(text.as_bytes())
 }

@@ -224,7 +224,7 @@ mod tests {
             )
             .err()
             .as_deref(),
-            Some("initial.orientations[1]: must be a non-zero quaternion with a finite norm, got [0, 0, 0, 0]")
+            Some("initial.orientations[1]: must be a non-zero quaternion, got [0, 0, 0, 0]")
         );
         assert_eq!(
             check(

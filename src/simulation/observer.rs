@@ -38,7 +38,7 @@ impl Needs {
 pub struct Energies {
     /// `K = 1/2 sum w_b . I w_b`.
     pub kinetic: f64,
-    /// `V`, as `total - kinetic`.
+    /// `V`, the potential's value.
     pub potential: f64,
     /// `K + V`.
     pub total: f64,

@@ -137,7 +137,7 @@ fn energies(
     let reference = *reference.get_or_insert_with(|| EnergyReference::initial(kinetic, conserved));
     Energies {
         kinetic,
-        potential: total - kinetic,
+        potential,
         total,
         conserved,
         error: reference.error(conserved),

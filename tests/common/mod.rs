@@ -1,7 +1,8 @@
 //! Helpers shared by the integration tests: seeded random inputs, the
 //! double-cover-aware distance, the ASE/scipy fixture of
 //! `fixtures/conventions.json` (written by `validation/fixtures/gen_conventions.py`),
-//! and scenes read and run as the command line does.
+//! scenes read and run as the command line does, and the small two-rotor
+//! scene of the run, restart and thermostat tests.
 #![allow(dead_code)] // each test crate uses a different subset
 
 use nalgebra::{Matrix3, Vector3};
@@ -178,4 +179,42 @@ pub fn outputs(dir: Option<&Path>, keep: bool) -> Outputs {
 /// Outputs kept in memory only (no files).
 pub fn in_memory() -> Outputs {
     outputs(None, true)
+}
+
+/// The small scene of the run, restart and thermostat tests: two interacting
+/// asymmetric tops (inertia 0.1, 0.2, 0.3) carrying unit dipoles along body
+/// z, 1.5 apart with no boundary, random orientations and angular velocities
+/// at T = 1 from seed 7, run by `integrator` (a kind, its default options) for
+/// `steps` steps of `dt`. `tables` (TOML tables such as `[thermostat]` or
+/// `[record]`) follow `[run]`.
+pub fn two_rotors(integrator: &str, dt: f64, steps: i64, tables: &str) -> String {
+    format!(
+        r#"version = 1
+[rotors]
+kind = "sites"
+sites = [{{ position = [0.0, 0.0, 0.0] }}, {{ position = [1.5, 0.0, 0.0] }}]
+default = {{ inertia = [0.1, 0.2, 0.3], dipole = [0.0, 0.0, 1.0] }}
+[interactions]
+boundary = {{ kind = "open" }}
+[initial]
+kind = "random"
+seed = 7
+temperature = 1.0
+[integrator]
+kind = "{integrator}"
+[run]
+dt = {dt:?}
+steps = {steps}
+{tables}"#
+    )
+}
+
+/// The `[record]` of the restart tests: a checkpoint every 20 steps, the
+/// series `e` of `quantities` every 4 steps and a trajectory frame every 10.
+pub fn restart_record(quantities: &[&str]) -> String {
+    let quantities: Vec<String> = quantities.iter().map(|q| format!("{q:?}")).collect();
+    format!(
+        "[record]\ncheckpoint_every = 20\n[[record.series]]\nname = \"e\"\nevery = 4\nquantities = [{}]\n[record.trajectory]\nevery = 10\n",
+        quantities.join(", ")
+    )
 }

@@ -19,7 +19,7 @@ import numpy as np
 
 from validation.bench import analysis, plots, profile, results_md, scans
 from validation.longrun import grid
-from validation.bench.analysis import LATTICE_SCENE
+from validation.shared.benchmark_scenes import LATTICE_SCENE
 
 
 def _clean(x):

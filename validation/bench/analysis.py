@@ -8,14 +8,9 @@ import math
 
 import numpy as np
 
-from validation.bench.reference import axis_angle, body_z_in_space, rotation_angle, single_rotor_final
+from validation.shared.rotor_reference import axis_angle, body_z_in_space, rotation_angle, single_rotor_final
 
 TARGETS = (1e-4, 1e-6, 1e-8)
-# The lattice the benchmarks measure and LAMMPS runs beside quatrot: the
-# built-in dipole lattice with the truncated sum (cutoff 3.1) of LAMMPS's
-# lj/cut/dipole/cut, as before the Ewald sum became dipole_lattice_sc's
-# default (the long-range sums are compared by validation.bench.ewald).
-LATTICE_SCENE = "dipole_lattice_sc_cutoff"
 # Errors below this are at the level of the reference's own error (or of
 # round-off) and are left out of order fits.
 ORDER_FLOOR = 1e-11

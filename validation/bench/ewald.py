@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from validation.bench import results_md
-from validation.checks.ewald_lammps import CONVERGED, CUTOFF, DT, lattice, quatrot_sum
-from validation.lammps_dipoles import DipoleSystem, lammps_version, sample_and_time
+from validation.shared.dipole_lattice import CONVERGED, CUTOFF, DT, lattice, quatrot_sum
+from validation.shared.lammps_driver import DipoleSystem, lammps_version, sample_and_time
 
 BEGIN = "<!-- make bench: ewald section begin -->"
 END = "<!-- make bench: ewald section end -->"

@@ -1,5 +1,5 @@
 """LAMMPS on the 1000-rotor dipole lattice, from the same initial state as
-quatrot's runs (mapping of :mod:`validation.lammps_dipoles`), with the same
+quatrot's runs (mapping of :mod:`validation.shared.lammps_driver`), with the same
 error and energy measures."""
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from validation.bench.analysis import LATTICE_SCENE
-from validation.bench.reference import axis_angle, body_z_in_space
-from validation.lammps_dipoles import DipoleSystem, lammps_version, run_lammps, time_lammps
+from validation.shared.benchmark_scenes import LATTICE_SCENE
+from validation.shared.rotor_reference import axis_angle, body_z_in_space
+from validation.shared.lammps_driver import DipoleSystem, lammps_version, run_lammps, time_lammps
 
 UPDATES = ("dipole/dlm", "dipole")
 REPEATS = 3
@@ -29,7 +29,7 @@ def lattice_system(system: dict, cutoff: float) -> DipoleSystem:
     mu = np.linalg.norm(system["dipole_body"])
     u = body_z_in_space(q)
     # omega_space = R(Q) omega_body = A(Q)^T omega_body
-    from validation.lammps_dipoles import space_to_body
+    from validation.shared.lammps_driver import space_to_body
 
     w_s = np.array([space_to_body(qi).T @ wi for qi, wi in zip(q, w_b)])
     box = system["box_lengths"][0]

@@ -1,13 +1,14 @@
 """`python -m validation.bench.longrun --out benchmarks`: `make bench`'s
 long-run mode (issue 15). The note's correction experiment at 1e5 steps
-(`validation.checks.long_runs`: every configuration, every step of its grid,
-the largest stable step against run length) and accuracy per second against
-run length at the longest lengths (`validation.checks.accuracy_at_length`:
-1e7 steps of the single rotor, 1e6 of the 64-rotor lattice), each grid a
-`quatrot.sweep` on a local Dask cluster of two workers (or `--scheduler`).
-Writes the `long_runs` key of `<out>/results.json` and its section of
-`<out>/RESULTS.md`; the sweeps' folders (`--sweeps`) are resumed when run
-again."""
+(`validation.longrun.experiment`, as the `long_runs` check does at the
+report's lengths: every configuration, every step of its grid, the largest
+stable step against run length) and accuracy per second against run length
+at the longest lengths (`validation.longrun.at_length`, as the
+`accuracy_at_length` check: 1e7 steps of the single rotor, 1e6 of the
+64-rotor lattice), each grid a `quatrot.sweep` on a local Dask cluster of two
+workers (or `--scheduler`). Writes the `long_runs` key of
+`<out>/results.json` and its section of `<out>/RESULTS.md`; the sweeps'
+folders (`--sweeps`) are resumed when run again."""
 
 from __future__ import annotations
 
@@ -21,9 +22,8 @@ from pathlib import Path
 import quatrot
 
 from validation.bench import results_md
-from validation.checks import accuracy_at_length, long_runs
-from validation.checks.base import Context
-from validation.longrun import accuracy, grid, orientation, systems
+from validation.longrun import accuracy, at_length, experiment, grid, orientation, systems
+from validation.shared.check import Context
 
 BEGIN = "<!-- make bench: long-run section begin -->"
 END = "<!-- make bench: long-run section end -->"
@@ -51,25 +51,25 @@ def main(argv=None) -> int:
     if args.orientation_only:
         return orientation_only(args)
     ctx = Context(out_dir=args.sweeps, quick=args.quick)
-    steps = 2_000 if args.quick else long_runs.STEPS
+    steps = 2_000 if args.quick else experiment.STEPS
     machine = results_md.machine()
     started = time.perf_counter()
     sections = ["# The correction experiment at production lengths\n"]
     figures = {}
     with grid.connect(args.scheduler) as client:
-        experiment = []
-        for s in long_runs.systems_for(ctx, long=True):
+        systems_run = []
+        for s in experiment.systems_for(ctx, long=True):
             print(f"correction experiment, {s.name} ...", flush=True)
-            points = long_runs.run_system(s, steps, args.sweeps / "experiment", client)
-            _, lines = long_runs.verdicts(s, points, steps)
-            sections += [long_runs.table(s, points, steps), "Verdicts:\n", "\n".join(lines) + "\n"]
-            experiment.append((s, points, steps))
-        figures["stability"] = long_runs.plot(experiment, args.out).name
+            points = experiment.run_system(s, steps, args.sweeps / "experiment", client)
+            _, lines = experiment.verdicts(s, points, steps)
+            sections += [experiment.table(s, points, steps), "Verdicts:\n", "\n".join(lines) + "\n"]
+            systems_run.append((s, points, steps))
+        figures["stability"] = experiment.plot(systems_run, args.out).name
         outcomes = []
-        for study in accuracy_at_length.studies(ctx, long=True):
+        for study in at_length.studies(ctx, long=True):
             print(f"accuracy at length, {study.name}: {study.steps} steps ...", flush=True)
-            outcomes.append(accuracy_at_length.measure(study, args.sweeps / "accuracy" / study.name.replace(" ", "_"), client))
-    figures["accuracy"] = accuracy_at_length.plot(outcomes, args.out).name
+            outcomes.append(at_length.measure(study, args.sweeps / "accuracy" / study.name.replace(" ", "_"), client))
+    figures["accuracy"] = at_length.plot(outcomes, args.out).name
     seconds = time.perf_counter() - started
     result = {
         "machine": machine,
@@ -77,7 +77,7 @@ def main(argv=None) -> int:
         "seconds": seconds,
         "experiment": [
             {"system": s.name, "steps": n, "points": [{k: v for k, v in dataclasses.asdict(p).items() if k not in ("series", "outputs")} for p in points]}
-            for s, points, n in experiment
+            for s, points, n in systems_run
         ],
         "accuracy": [
             {"study": o.study.name, "dt0": o.study.dt0, "steps": o.study.steps, "cost_per_step": o.cost, "dts": o.dts,
@@ -101,7 +101,7 @@ def main(argv=None) -> int:
         "",
         "### Accuracy per second against run length",
         "",
-        "\n".join(accuracy_at_length.table(o).replace("### ", "#### ") + "\n" + accuracy_at_length.orientation_table(o) for o in outcomes),
+        "\n".join(at_length.table(o).replace("### ", "#### ") + "\n" + at_length.orientation_table(o) for o in outcomes),
         f"![energy error (top) and orientation error (bottom) against run length at equal cost]({figures['accuracy']})",
         END,
         "",
@@ -117,21 +117,21 @@ def orientation_only(args) -> int:
     ctx = Context(out_dir=args.sweeps, quick=args.quick)
     if args.rebuild:
         recorded = json.loads((args.out / "results.json").read_text())["orientation_at_length"]
-        studies = {s.name: s for s in accuracy_at_length.studies(ctx, long=True)}
+        studies = {s.name: s for s in at_length.studies(ctx, long=True)}
         outcomes = [_orientation_outcome(studies[r["study"]], r) for r in recorded["studies"]]
         return _write_orientation(args, recorded["machine"], recorded["seconds"], outcomes)
     machine = results_md.machine()
     started = time.perf_counter()
     outcomes = []
     with grid.connect(args.scheduler) as client:
-        for study in accuracy_at_length.studies(ctx, long=True):
+        for study in at_length.studies(ctx, long=True):
             print(f"orientation at length, {study.name}: {study.orientation_steps} steps ...", flush=True)
             folder = args.sweeps / "accuracy" / study.name.replace(" ", "_") / "costs"
             cost = accuracy.costs(study.scene, systems.SCHEMES, study.dt0, study.cost_steps, out=folder, client=client)
             dts = accuracy.equal_cost_dts(cost, study.dt0)
-            found = accuracy_at_length.Outcome(study, cost, dts, [], {}, {})
-            found.orientation = accuracy_at_length.measure_orientation(study, dts, client)
-            found.orientation_crossovers = accuracy_at_length.orientation_crossovers(found.orientation)
+            found = at_length.Outcome(study, cost, dts, [], {}, {})
+            found.orientation = at_length.measure_orientation(study, dts, client)
+            found.orientation_crossovers = at_length.orientation_crossovers(found.orientation)
             outcomes.append(found)
     return _write_orientation(args, machine, time.perf_counter() - started, outcomes)
 
@@ -153,14 +153,14 @@ def _orientation_outcome(study, r: dict):
     )
     found.lyapunov_time = orientation.lyapunov_time(found.pair_times, found.pair_separation)
     found.meaningless_after = orientation.meaningless_after(found)
-    outcome = accuracy_at_length.Outcome(study, r["cost_per_step"], r["dts"], [], {}, {})
+    outcome = at_length.Outcome(study, r["cost_per_step"], r["dts"], [], {}, {})
     outcome.orientation = found
-    outcome.orientation_crossovers = accuracy_at_length.orientation_crossovers(found)
+    outcome.orientation_crossovers = at_length.orientation_crossovers(found)
     return outcome
 
 
 def _write_orientation(args, machine: dict, seconds: float, outcomes: list) -> int:
-    figure = accuracy_at_length.orientation_plot(outcomes, args.out).name
+    figure = at_length.orientation_plot(outcomes, args.out).name
     results_md.update_json(
         args.out / "results.json",
         {"orientation_at_length": {"machine": machine, "seconds": seconds, "studies": [_orientation_json(o) for o in outcomes]}},
@@ -175,7 +175,7 @@ def _write_orientation(args, machine: dict, seconds: float, outcomes: list) -> i
         "- Each scheme at its equal-cost step (CPU per step measured as in the long-run section), orientations at log-spaced "
         "times from restart chains (`validation/longrun/orientation.py`), one Dask task per chain on a local cluster of 2 workers.",
         "",
-        "\n".join(accuracy_at_length.orientation_table(o) for o in outcomes),
+        "\n".join(at_length.orientation_table(o) for o in outcomes),
         f"![orientation error against run length at equal cost]({figure})",
         END_ORIENTATION,
         "",

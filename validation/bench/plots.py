@@ -11,7 +11,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from validation.bench.analysis import LATTICE_SCENE, TARGETS, by_scheme  # noqa: E402
+from validation.bench.analysis import TARGETS, by_scheme  # noqa: E402
+from validation.shared.benchmark_scenes import LATTICE_SCENE  # noqa: E402
 
 MARKERS = "osD^v<>ph*xX"
 

@@ -11,7 +11,7 @@ import subprocess
 from pathlib import Path
 
 from validation.bench import scans
-from validation.bench.analysis import LATTICE_SCENE
+from validation.shared.benchmark_scenes import LATTICE_SCENE
 
 BEGIN = "<!-- make bench: performance section begin -->"
 END = "<!-- make bench: performance section end -->"

@@ -43,8 +43,8 @@ from scipy.integrate import quad
 from scipy.signal import lfilter
 
 import quatrot
-from validation.checks.base import Check, Context
-from validation.scene_outputs import order, space_axes
+from validation.shared.check import Check, Context
+from validation.shared.output_readers import order, space_axes
 
 T_MAX = 6.0
 GROUPS = 32

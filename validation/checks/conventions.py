@@ -20,8 +20,8 @@ from scipy.spatial.transform import Rotation
 
 import quatrot
 from quatrot import quaternion as qr
-from validation.checks.base import Check, Context
-from validation.frames import (
+from validation.shared.check import Check, Context
+from validation.shared.frames import (
     axis_angle_degrees,
     euler_y_to_ase_euler_rotate,
     euler_y_to_ase_zyz,

@@ -6,7 +6,7 @@ conducting surroundings) held at T = 1 by a Langevin thermostat (friction
 eps = 1 + 4 pi (<|M|^2> - |<M>|^2) / (3 V T), with block-averaged errors
 (``quatrot.block_average`` on each code's own M series).
 
-LAMMPS (``validation/lammps_dipoles.py``): pair lj/cut/dipole/long with
+LAMMPS (``validation/shared/lammps_driver.py``): pair lj/cut/dipole/long with
 epsilon 0, ``kspace_style ewald/dipole`` (tin-foil boundary, as quatrot's
 conducting surface), ``fix langevin T T damp seed omega yes`` (friction
 10/(3 damp)) and ``fix nve/sphere update dipole/dlm``; its M is the sum of
@@ -35,8 +35,8 @@ from __future__ import annotations
 import numpy as np
 
 import quatrot
-from validation.checks.base import Check, Context
-from validation.lammps_dipoles import DipoleSystem, lammps_version, run_lammps
+from validation.shared.check import Check, Context
+from validation.shared.lammps_driver import DipoleSystem, lammps_version, run_lammps
 
 TEMPERATURE = 1.0
 FRICTION = 1.0

@@ -2,7 +2,7 @@
 
 The references are independent of quatrot: the closed forms compose scipy
 rotations; DOP853 integrates eq 10 (Hamilton product) and Euler's equations
-(``validation/fixtures/gen_free_top.py``). Passing proves the orientations
+(``validation/shared/free_top.py``). Passing proves the orientations
 converge to the true motion at the expected rate and that energy is conserved
 to the stated bound; it does not prove anything about interacting rotors
 beyond the energy (see the OpenMM and LAMMPS modules for forces)."""
@@ -14,11 +14,11 @@ import scipy
 from scipy.spatial.transform import Rotation
 
 import quatrot
-from validation.checks.base import Check, Context
-from validation.fixtures.gen_free_top import integrate
-from validation.frames import same_rotation
-from validation import scene_runs
-from validation.scene_runs import principal_moments, variant
+from validation.shared.check import Check, Context
+from validation.shared.free_top import integrate
+from validation.shared.frames import same_rotation
+from validation.shared import scene_runs
+from validation.shared.scene_runs import principal_moments, variant
 
 INTEGRATORS = ("gear_a", "gear_b", "no_squish", "dlm", "richardson")
 # Global orders: Gear A and B are 5 with the consistent start-up (see

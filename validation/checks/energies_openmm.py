@@ -21,10 +21,10 @@ import numpy as np
 from ase.quaternions import Quaternion
 
 import quatrot
-from validation.checks.base import Check, Context
-from validation.openmm_multipoles import OpenMMCluster, versions
-from validation import scene_runs
-from validation.scene_runs import ENERGIES, body_multipoles, principal_moments, variant
+from validation.shared.check import Check, Context
+from validation.shared.openmm_multipoles import OpenMMCluster, versions
+from validation.shared import scene_runs
+from validation.shared.scene_runs import ENERGIES, body_multipoles, principal_moments, variant
 
 # Both sides sum the same closed-form pair energies in double precision;
 # relative to the largest |V| along the run (cancellations make V near zero

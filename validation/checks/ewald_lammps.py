@@ -27,15 +27,12 @@ from __future__ import annotations
 import numpy as np
 import quatrot
 
-from validation.checks.base import Check, Context
-from validation import dlm_restatement as restated
-from validation.lammps_dipoles import DipoleSystem, lammps_version, quatrot_rotor, run_lammps
+from validation.shared.check import Check, Context
+from validation.shared import dlm_restatement as restated
+from validation.shared.dipole_lattice import CONVERGED, CUTOFF, DT, INERTIA, lattice, quatrot_sum
+from validation.shared.lammps_driver import DipoleSystem, lammps_version, run_lammps
 
-CONVERGED = 1e-14
-BOX = 10.0
-CUTOFF = 3.1
-INERTIA = 0.1  # unit mass and diameter: 0.4 m (d/2)^2, the scene's inertia
-DT, STEPS = 0.002, 20  # the scene's time step
+STEPS = 20  # NVE steps of each trajectory
 # Requested accuracies LAMMPS misses on this lattice (ERRATA.md): its RMS
 # torque error stops at ~4e-7 with ewald/dipole and real-space cutoff 3.1.
 MISSES = {("ewald/dipole", 1e-7)}
@@ -53,26 +50,6 @@ RUNS_QUICK = [("ewald/dipole", 1e-4), ("ewald/dipole", 1e-5), ("ewald/dipole", 1
 RUNS_FULL = [("ewald/dipole", 1e-4), ("ewald/dipole", 1e-5), ("ewald/dipole", 1e-6), ("ewald/dipole", 1e-7), ("pppm/dipole", 1e-4)]
 TRAJECTORIES_QUICK = {("ewald/dipole", 1e-6)}
 TRAJECTORIES_FULL = {("ewald/dipole", 1e-6), ("pppm/dipole", 1e-4)}
-
-
-def lattice(seed: int) -> DipoleSystem:
-    rng = np.random.default_rng(seed)
-    sites = np.array([[x, y, z] for x in range(10) for y in range(10) for z in range(10)], float)
-    mu = rng.normal(size=(1000, 3))
-    mu /= np.linalg.norm(mu, axis=1)[:, None]
-    # Temperature 1: each omega component ~ N(0, sqrt(T / I)), the part along the dipole removed.
-    omega = rng.normal(size=(1000, 3)) * np.sqrt(1.0 / INERTIA)
-    omega -= np.sum(omega * mu, axis=1)[:, None] * mu
-    return DipoleSystem(sites=sites, dipoles=mu, omega=omega, box=BOX, cutoff=CUTOFF)
-
-
-def quatrot_sum(sites, dipoles, **boundary):
-    """quatrot's energy and space torques for LAMMPS's space dipoles."""
-    q = np.array([quatrot_rotor(m, np.zeros(3))[0] for m in dipoles])
-    lengths = np.linalg.norm(dipoles, axis=1)
-    body = np.column_stack([np.zeros_like(lengths), np.zeros_like(lengths), lengths])
-    e, _, t = quatrot.multipole_evaluate(sites, q, dipoles_body=body, box_lengths=np.full(3, BOX), **boundary)
-    return e, t
 
 
 def restated_trajectory(system: DipoleSystem, torque_of):
@@ -94,7 +71,7 @@ def restated_trajectory(system: DipoleSystem, torque_of):
 
 def _lammps_free_step(mu: np.ndarray, omega: np.ndarray):
     """LAMMPS's DLM free rotation of one sphere (its frame rebuilt from the
-    dipole, validation/dlm_restatement.py): the new dipole and space omega."""
+    dipole, validation/shared/dlm_restatement.py): the new dipole and space omega."""
     length = np.linalg.norm(mu)
     frame = restated.lammps_frame(mu / length)
     frame, w = restated.sweep(frame, frame @ omega, DT, restated.LAMMPS_DLM)

@@ -1,5 +1,5 @@
 """quatrot's Ewald sums (FFT lattice sum and direct sum) against an
-independent numpy Ewald sum (validation/ewald_reference.py: full Cartesian
+independent numpy Ewald sum (validation/shared/ewald_reference.py: full Cartesian
 derivative tensors, a direct sum over every wave vector, torques from
 rotations of the energy; no code shared with quatrot) and against the closed
 form of aligned cubic dipole lattices, -(2 pi / 3) n mu^2 per dipole with a
@@ -13,9 +13,9 @@ import math
 import numpy as np
 import quatrot
 
-from validation.checks.base import Check, Context
-from validation.ewald_reference import ewald
-from validation.openmm_multipoles import random_orientations, random_quadrupole, rotation
+from validation.shared.check import Check, Context
+from validation.shared.ewald_reference import ewald
+from validation.shared.openmm_multipoles import random_orientations, random_quadrupole, rotation
 
 # Both sums converged far below round-off (quatrot at accuracy 1e-14, numpy
 # at exp(-6.9^2)); sums of ~1e4 terms of mixed signs: relative round-off.
@@ -68,7 +68,7 @@ def systems(rng, quick: bool):
 
 def run(ctx: Context) -> list[Check]:
     rng = np.random.default_rng(ctx.seed + 14)
-    refs = {"numpy Ewald (validation/ewald_reference.py)": np.__version__, "quatrot": quatrot.__version__}
+    refs = {"numpy Ewald (validation/shared/ewald_reference.py)": np.__version__, "quatrot": quatrot.__version__}
     checks = []
     # Closed forms: quatrot (both paths) and the numpy sum itself.
     worst = {"quatrot FFT": 0.0, "quatrot direct": 0.0, "numpy": 0.0}

@@ -4,7 +4,7 @@ periodic lattices and a periodic cluster of dipoles, quadrupoles and both:
 energies and torques, with OpenMM's error against quatrot's converged sum
 (accuracy 1e-14, itself checked against the numpy sum and the closed forms in
 the ewald_numpy module) recorded for each ewaldErrorTolerance asked. Units
-and the Theta/3 convention: validation/openmm_multipoles.py.
+and the Theta/3 convention: validation/shared/openmm_multipoles.py.
 
 Finding (ERRATA.md): OpenMM's PME energy misses the requested tolerance by
 orders of magnitude at tight tolerances, through a term proportional to
@@ -16,9 +16,9 @@ from __future__ import annotations
 import numpy as np
 import quatrot
 
-from validation.checks.base import Check, Context
+from validation.shared.check import Check, Context
 from validation.checks.ewald_numpy import cubic
-from validation.openmm_multipoles import OpenMMCluster, random_orientations, random_quadrupole, versions
+from validation.shared.openmm_multipoles import OpenMMCluster, random_orientations, random_quadrupole, versions
 
 CONVERGED = 1e-14  # quatrot's accuracy for the reference sum
 # OpenMM's PME with AMOEBA's fixed 5th-order B-splines misses its

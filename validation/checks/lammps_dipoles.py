@@ -2,10 +2,10 @@
 dipolar spheres: a free rotor, a rotor in a uniform field, a 2x2x2 lattice.
 
 Both codes start from identical orientations and angular velocities (mapping
-in :mod:`validation.lammps_dipoles`). Where they differ, the independent
-space-frame references of :mod:`validation.dipole_reference` (closed-form
+in :mod:`validation.shared.lammps_driver`). Where they differ, the independent
+space-frame references of :mod:`validation.shared.dipole_reference` (closed-form
 free rotation, DOP853 at 1e-12) decide, and a numpy restatement of LAMMPS's
-algorithm (written from its description, :mod:`validation.dlm_restatement`)
+algorithm (written from its description, :mod:`validation.shared.dlm_restatement`)
 locates the cause, and pins the sweep order of both codes.
 """
 
@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from validation import dipole_reference as ref
-from validation import dlm_restatement as restated
-from validation.checks.base import Check, Context
-from validation.lammps_dipoles import DipoleSystem, lammps_version, quatrot_rotor, run_lammps
+from validation.shared import dipole_reference as ref
+from validation.shared import dlm_restatement as restated
+from validation.shared.check import Check, Context
+from validation.shared.lammps_driver import DipoleSystem, lammps_version, quatrot_rotor, run_lammps
 
 # Energies and torques at t = 0 are the same closed-form sums evaluated in
 # different orders: agreement to a few ulps relative to their scale.
@@ -124,7 +124,7 @@ def _body_to_space(q: np.ndarray) -> np.ndarray:
 
 def run(ctx: Context) -> list[Check]:
     version = lammps_version()
-    refs = {"LAMMPS": version, "scipy DOP853 / closed form": "validation.dipole_reference"}
+    refs = {"LAMMPS": version, "scipy DOP853 / closed form": "validation.shared.dipole_reference"}
     checks: list[Check] = []
     scenes = systems(ctx.seed)
     have_quatrot = quatrot_available()
@@ -325,7 +325,7 @@ def _sweep_order_checks(name, system, refs, have_quatrot) -> list[Check]:
     """Trajectories to round-off, step by step: LAMMPS against the restatement
     of its step, quatrot's split DLM against the restatement of its own. The
     two restatements share the sweep (body axes x, y, z, y, x) and differ
-    only in the switches named in :mod:`validation.dlm_restatement`; the
+    only in the switches named in :mod:`validation.shared.dlm_restatement`; the
     reversed sweep misses both codes by far more than round-off, so each
     code's sweep order is pinned to the same one."""
     # t = 2 in both modes: longer, round-off differences grow with the

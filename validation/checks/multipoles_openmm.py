@@ -1,14 +1,14 @@
 """quatrot's point-multipole energies and torques against OpenMM's
 AmoebaMultipoleForce, live, on fresh seeded clusters (dipole-only,
-quadrupole-only, mixed). Construction and units: validation/openmm_multipoles.py."""
+quadrupole-only, mixed). Construction and units: validation/shared/openmm_multipoles.py."""
 
 from __future__ import annotations
 
 import numpy as np
 import quatrot
 
-from validation.checks.base import Check, Context
-from validation.openmm_multipoles import OpenMMCluster, random_cluster, random_orientations, versions
+from validation.shared.check import Check, Context
+from validation.shared.openmm_multipoles import OpenMMCluster, random_cluster, random_orientations, versions
 
 ENERGY_TOLERANCE = 1e-9  # same closed forms in double precision on both sides
 TORQUE_TOLERANCE = 1e-7  # OpenMM maps torques to frame-atom forces and back; relative to the largest torque

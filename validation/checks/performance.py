@@ -15,8 +15,8 @@ import math
 import shutil
 from pathlib import Path
 
-from validation.bench.analysis import LATTICE_SCENE
-from validation.checks.base import Check, Context
+from validation.shared.benchmark_scenes import LATTICE_SCENE
+from validation.shared.check import Check, Context
 
 RESULTS = Path(__file__).resolve().parents[2] / "benchmarks" / "results.json"
 SECTIONS = ("studies", "lammps", "stability", "long_runs", "stress", "scaling", "machine", "versions")

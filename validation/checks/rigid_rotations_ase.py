@@ -1,4 +1,4 @@
-"""Rigid rotations against ASE along real trajectories: the lattice of asymmetric tops (``multipole_tops_bcc``) run by scheme A and by scheme B; at every saved frame each rotor's body-frame site template is placed in space by ASE (``Atoms.rotate`` with the quaternion's axis and angle; ``Atoms.euler_rotate`` with the note's Euler angles from quatrot, converted to ASE's x-convention by ``validation/frames.py``) and by quatrot's body-to-space mapping ``r = site + R(Q) b``.
+"""Rigid rotations against ASE along real trajectories: the lattice of asymmetric tops (``multipole_tops_bcc``) run by scheme A and by scheme B; at every saved frame each rotor's body-frame site template is placed in space by ASE (``Atoms.rotate`` with the quaternion's axis and angle; ``Atoms.euler_rotate`` with the note's Euler angles from quatrot, converted to ASE's x-convention by ``validation/shared/frames.py``) and by quatrot's body-to-space mapping ``r = site + R(Q) b``.
 
 Passing proves that the orientations the integrators produce mean, in ASE's
 terms, the rotations quatrot applies to body-frame sites (eqs 7-8 along
@@ -15,10 +15,10 @@ from ase import Atoms
 
 import quatrot
 from quatrot import quaternion as qr
-from validation import scene_runs
-from validation.checks.base import Check, Context
-from validation.frames import axis_angle_degrees, euler_y_to_ase_euler_rotate
-from validation.scene_runs import variant
+from validation.shared import scene_runs
+from validation.shared.check import Check, Context
+from validation.shared.frames import axis_angle_degrees, euler_y_to_ase_euler_rotate
+from validation.shared.scene_runs import variant
 
 # ASE and quatrot both build a 3x3 rotation from the same unit quaternion in
 # double precision (through axis-angle or Euler angles and back): round-off on

@@ -10,7 +10,7 @@ against the formula applied by hand to a run's files.
 References: the Lorentz energy ``-(2 pi / 3) n mu^2`` per dipole of a fully
 aligned sc, bcc or fcc lattice in conducting surroundings, plus
 ``2 pi |M|^2 / (3 V)`` in vacuum; scipy ``Rotation`` and numpy ``eigh``
-(``validation/scene_outputs.py``, sharing no code with quatrot's
+(``validation/shared/output_readers.py``, sharing no code with quatrot's
 observables); ``gsd.hoomd``; for the ideal dipolar gas (independent,
 uniformly oriented dipoles) ``eps - 1 = 4 pi n mu^2 / (3 T)`` (conducting)
 and ``Var |M|^2 = 2/3 N (N - 1) mu^4`` for its error. Passing proves that
@@ -26,9 +26,9 @@ import numpy as np
 import scipy
 
 import quatrot
-from validation.checks.base import Check, Context
-from validation.scene_outputs import column_differences, expected_columns, gsd_differences
-from validation.scene_runs import body_multipoles, variant
+from validation.shared.check import Check, Context
+from validation.shared.output_readers import column_differences, expected_columns, gsd_differences
+from validation.shared.scene_runs import body_multipoles, variant
 
 # Lattice sums whose absolute sum is ~20 times their total, each term
 # rounded to ~1e-16, and the kinetic energy (zero) subtracted: relative.

@@ -15,9 +15,9 @@ import mdtraj as md
 import numpy as np
 
 import quatrot
-from validation import scene_runs
-from validation.checks.base import Check, Context
-from validation.scene_runs import variant
+from validation.shared import scene_runs
+from validation.shared.check import Check, Context
+from validation.shared.scene_runs import variant
 
 MARKER_LENGTH = 0.3
 # mdtraj reads DCD and PDB lengths as Angstrom and returns nanometres.

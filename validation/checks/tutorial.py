@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 import quatrot
-from validation.checks.base import Check, Context
+from validation.shared.check import Check, Context
 
 TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "examples" / "tutorial_rotor_lattice.py"
 

@@ -15,7 +15,7 @@ corrections at `u = dt0 / REFINE` (`dt0`: the cheapest scheme's step); its
 own error is estimated by the same scheme at `u / 2`, and, since B +higher
 is one of the schemes compared, its errors are measured against scheme A at
 `u` instead. On the single rotor, scipy's DOP853 at rtol 1e-13
-(`validation.bench.reference`, nothing from quatrot) checks the reference
+(`validation.shared.rotor_reference`, nothing from quatrot) checks the reference
 over a shorter span. On a chaotic system (the lattice) two trajectories that
 start 1e-12 apart separate as `exp(t / t_L)` until they are O(1) apart:
 the reference pair's separation gives the Lyapunov time `t_L`, and the

@@ -1,6 +1,6 @@
 """The note's correction experiment as scenes: its systems (the single
 asymmetric rotor in a field and the 4 x 4 x 4 multipole lattice of
-`validation.checks.gear_corrections`, and the built-in 1000-dipole lattice)
+`validation.shared.gear_systems`, and the built-in 1000-dipole lattice)
 and its configurations (the rows of `experiments::gear_corrections`) as
 `[integrator]` tables, so that each (configuration, dt, length) is one scene
 run of a sweep."""
@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import quatrot
 
-from validation.checks import gear_corrections
+from validation.shared import gear_systems
 
 #: The experiment's configurations (label -> scene `[integrator]` table), in
 #: the table's order, read from the file `experiments::gear_corrections::variants`
@@ -71,14 +71,14 @@ def _scene_of_arrays(name: str, arrays: dict, options: dict) -> dict[str, Any]:
 
 def rotor_in_field() -> dict[str, Any]:
     """The experiment's single asymmetric top with a dipole in a uniform field (dt 0.05)."""
-    arrays, options = gear_corrections.rotor_in_field(quick=True)
+    arrays, options = gear_systems.rotor_in_field(quick=True)
     return _scene_of_arrays("rotor_in_field", arrays, options)
 
 
 def multipole_lattice(seed: int) -> dict[str, Any]:
     """The experiment's periodic 4 x 4 x 4 lattice of dipolar and quadrupolar
     tops (64 rotors, cutoff 2, T = 0.5 from `seed`; dt 0.01)."""
-    arrays, options = gear_corrections.lattice(seed)
+    arrays, options = gear_systems.lattice(seed)
     return _scene_of_arrays("multipole_lattice_4x4x4", arrays, options)
 
 

@@ -11,6 +11,8 @@ import pytest
 import quatrot
 from scipy.spatial.transform import Rotation
 
+from small_scenes import tops_bcc
+
 # FFT against direct sums of unit-scale numbers: round-off only.
 FFT_TOLERANCE = 1e-12
 # Eigen decompositions and rotations in double precision.
@@ -133,22 +135,7 @@ def test_dielectric_constant_formulas_and_refusals():
         quatrot.dielectric_constant(m[..., None], volume, temperature)
 
 
-TOPS = {
-    "version": 1,
-    "name": "tops_for_gsd",
-    "rotors": {
-        "kind": "lattice",
-        "lattice": "bcc",
-        "cells": 2,
-        "spacing": 1.5,
-        "default": {"inertia": [0.1, 0.15, 0.2], "dipole": [0.0, 0.0, 1.0]},
-    },
-    "interactions": {"boundary": {"kind": "periodic", "cutoff": 1.4}},
-    "initial": {"kind": "random", "seed": 11, "temperature": 1.0},
-    "integrator": {"kind": "gear_b"},
-    "run": {"dt": 0.002, "steps": 60},
-    "record": {"trajectory": {"every": 10}},
-}
+TOPS = tops_bcc("gear_b", {"kind": "periodic", "cutoff": 1.4}, {"every": 10})
 
 
 @pytest.mark.parametrize("periodic", [True, False], ids=["periodic", "open"])

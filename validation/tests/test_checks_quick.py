@@ -4,7 +4,7 @@ runs in full), so that `make test` catches regressions against the real codes.""
 import pytest
 
 from validation.checks import modules
-from validation.checks.base import Context
+from validation.shared.check import Context
 
 
 @pytest.mark.parametrize("module", modules(), ids=lambda m: m.__name__.rsplit(".", 1)[-1])

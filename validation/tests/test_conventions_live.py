@@ -11,7 +11,7 @@ from ase.quaternions import Quaternion
 from scipy.spatial.transform import Rotation
 
 from quatrot import quaternion as qr
-from validation.frames import (
+from validation.shared.frames import (
     axis_angle_degrees,
     euler_y_to_ase_euler_rotate,
     euler_y_to_ase_zyz,

@@ -295,7 +295,7 @@ def test_scene_dict_keys_with_lone_surrogates_raise_scene_error():
         ("angular_velocity_correlation", dict(max_lag=2**70), ValueError, "max_lag: must be between 0 and"),
         ("write_gsd", dict(steps=[0, -1]), ValueError, "steps[1]: must be between 0 and"),
         ("run", dict(steps=2**70), quatrot.SceneError, "steps: must be at most 9223372036854775807"),
-        ("run", dict(threads=2**70), ValueError, "threads: must be at most 1024, got 1180591620717411303424"),
+        ("run", dict(threads=2**70), ValueError, "threads: must be between 1 and 1024, got 1180591620717411303424"),
     ],
 )
 def test_integer_arguments_are_range_checked_and_results_sized_first(name, change, error, message, tmp_path):

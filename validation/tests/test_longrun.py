@@ -13,7 +13,7 @@ import pytest
 import quatrot
 import quatrot.sweep
 
-from validation.checks import gear_corrections
+from validation.shared import gear_systems
 from validation.longrun import accuracy, grid, survival, systems
 
 #: Energies of the same state computed two ways (scene run vs numpy + multipole_evaluate).
@@ -21,7 +21,7 @@ ENERGY_TOLERANCE = 1e-12
 
 
 def test_configurations_are_the_rust_experiment_rows_in_order():
-    arrays, options = gear_corrections.rotor_in_field(quick=True)
+    arrays, options = gear_systems.rotor_in_field(quick=True)
     short = dict(dt=0.05, t_energy=0.5, t_error=0.2, t_stability=0.2)
     rows = quatrot.gear_corrections_table(**arrays, **(options | short))
     assert [r["label"] for r in rows] == list(systems.CONFIGURATIONS)
@@ -32,10 +32,10 @@ def test_scene_of_the_experiment_has_the_experiment_energy(system):
     """Initial total energy of the scene run = potential (multipole_evaluate
     on the experiment's arrays) + 1/2 sum I w^2 (numpy)."""
     if system == "rotor":
-        arrays, options = gear_corrections.rotor_in_field(quick=True)
+        arrays, options = gear_systems.rotor_in_field(quick=True)
         scene = systems.rotor_in_field()
     else:
-        arrays, options = gear_corrections.lattice(20261121)
+        arrays, options = gear_systems.lattice(20261121)
         scene = systems.multipole_lattice(20261121)
     evaluate = {k: options[k] for k in ("field", "box_lengths", "cutoff") if k in options}
     if "dipoles" in options:

@@ -12,43 +12,15 @@ import numpy as np
 import pytest
 import quatrot
 
-SCENE_TOML = """
-version = 1
-name = "two_tops"
-
-[rotors]
-kind = "sites"
-sites = [{ position = [0.0, 0.0, 0.0] }, { position = [1.2, 0.0, 0.0] }]
-default = { inertia = [0.1, 0.2, 0.3], dipole = [0.0, 0.0, 1.0] }
-
-[interactions]
-boundary = { kind = "open" }
-
-[initial]
-kind = "random"
-seed = 5
-temperature = 1.0
-
-[integrator]
-kind = "gear_b"
-
-[run]
-dt = 0.001
-steps = 40
-
-[[record.series]]
-name = "energies"
-every = 5
-quantities = ["kinetic_energy", "potential_energy", "total_energy", "energy_error", "q_dot_n"]
-"""
+from small_scenes import TWO_TOPS_TOML
 
 
 def test_dict_toml_and_path_give_identical_runs(tmp_path: Path):
     path = tmp_path / "two_tops.toml"
-    path.write_text(SCENE_TOML)
+    path.write_text(TWO_TOPS_TOML)
     runs = [
-        quatrot.run(SCENE_TOML),
-        quatrot.run(tomllib.loads(SCENE_TOML)),
+        quatrot.run(TWO_TOPS_TOML),
+        quatrot.run(tomllib.loads(TWO_TOPS_TOML)),
         quatrot.run(path),
         quatrot.run(str(path)),
     ]
@@ -63,11 +35,11 @@ def test_dict_toml_and_path_give_identical_runs(tmp_path: Path):
 
 
 def test_numpy_values_in_a_dict_are_accepted():
-    scene = tomllib.loads(SCENE_TOML)
+    scene = tomllib.loads(TWO_TOPS_TOML)
     scene["rotors"]["default"]["inertia"] = np.array([0.1, 0.2, 0.3])
     scene["run"]["steps"] = np.int64(40)
     a = quatrot.run(scene)["series"]["energies"]["total_energy"]
-    b = quatrot.run(SCENE_TOML)["series"]["energies"]["total_energy"]
+    b = quatrot.run(TWO_TOPS_TOML)["series"]["energies"]["total_energy"]
     np.testing.assert_array_equal(a, b)
 
 
@@ -97,7 +69,7 @@ def test_every_builtin_runs_from_python():
     ],
 )
 def test_dict_errors_name_the_field(change, message):
-    scene = tomllib.loads(SCENE_TOML)
+    scene = tomllib.loads(TWO_TOPS_TOML)
     change(scene)
     with pytest.raises(quatrot.SceneError) as info:
         quatrot.run(scene)
@@ -107,16 +79,16 @@ def test_dict_errors_name_the_field(change, message):
 
 def test_text_and_name_errors():
     with pytest.raises(quatrot.SceneError, match=r"^run\.dt: must be finite, got inf$"):
-        quatrot.run(SCENE_TOML.replace("dt = 0.001", "dt = inf"))
+        quatrot.run(TWO_TOPS_TOML.replace("dt = 0.001", "dt = inf"))
     with pytest.raises(quatrot.SceneError, match=r"^syntax: line \d+, column \d+"):
-        quatrot.run(SCENE_TOML.replace("steps = 40", "steps = = 40"))
+        quatrot.run(TWO_TOPS_TOML.replace("steps = 40", "steps = = 40"))
     with pytest.raises(quatrot.SceneError, match="no built-in scene or file named `no_such_scene`"):
         quatrot.run("no_such_scene")
     with pytest.raises(quatrot.SceneError, match=r"^run\.steps: must be >= 1, got 0$"):
-        quatrot.run(SCENE_TOML, steps=0)
+        quatrot.run(TWO_TOPS_TOML, steps=0)
     # The scene records Q.N, which only scheme B stores.
     with pytest.raises(quatrot.SceneError, match=r"^record\.series\[0\]\.quantities\[4\]: q_dot_n needs"):
-        quatrot.run(SCENE_TOML, integrator="dlm")
+        quatrot.run(TWO_TOPS_TOML, integrator="dlm")
 
 
 def test_blow_up_raises_with_the_partial_result():
@@ -156,7 +128,7 @@ def test_the_gil_is_released_during_a_run():
 def test_restart_from_a_checkpoint_continues_exactly(tmp_path: Path):
     """Steps 0-40 in one go, and 0-20 then a restart to 40, end bit for bit
     in the same state (the checkpoint stores the integrator's float bits)."""
-    scene = tomllib.loads(SCENE_TOML)
+    scene = tomllib.loads(TWO_TOPS_TOML)
     scene["record"]["checkpoint_every"] = 20
     scene["record"]["trajectory"] = {"every": 20}
     full = quatrot.run(scene, steps=40)
@@ -181,7 +153,7 @@ def test_threads_fixes_the_pool_of_a_run():
     assert not np.array_equal(energy[1], energy[2])
     np.testing.assert_allclose(energy[1], energy[2], rtol=1e-12)
     for bad in (0, -1):
-        with pytest.raises(ValueError, match=rf"^threads: must be >= 1, got {bad}$"):
+        with pytest.raises(ValueError, match=rf"^threads: must be between 1 and 1024, got {bad}$"):
             quatrot.run("dipole_in_field", threads=bad)
 
 

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 import quatrot
 
-from validation.scene_outputs import column_differences, expected_columns, gsd_differences
-from validation.scene_runs import body_multipoles, variant
+from validation.shared.output_readers import column_differences, expected_columns, gsd_differences
+from validation.shared.scene_runs import body_multipoles, variant
 
 # Rotations and 3x3 eigen decompositions in double precision, of sums of
 # up to ~20 unit-scale terms, relative to the column's scale.

@@ -11,6 +11,7 @@ import numpy as np
 import quatrot
 from scipy.spatial.transform import Rotation
 
+from small_scenes import tops_bcc
 from validation.checks.trajectory_mdtraj import rotation_angle, superpose
 
 # DCD stores float32 coordinates: absolute error ~ 6e-8 x 4.5 (box) ~ 3e-7,
@@ -24,22 +25,7 @@ MARKER_LENGTH = 0.3
 # PDB coordinates are written with three decimals.
 PDB_PRECISION = 5e-4
 
-SCENE = {
-    "version": 1,
-    "name": "tops_for_mdtraj",
-    "rotors": {
-        "kind": "lattice",
-        "lattice": "bcc",
-        "cells": 2,
-        "spacing": 1.5,
-        "default": {"inertia": [0.1, 0.15, 0.2], "dipole": [0.0, 0.0, 1.0]},
-    },
-    "interactions": {"boundary": {"kind": "open"}},
-    "initial": {"kind": "random", "seed": 11, "temperature": 1.0},
-    "integrator": {"kind": "no_squish"},
-    "run": {"dt": 0.002, "steps": 60},
-    "record": {"trajectory": {"every": 10, "marker_length": MARKER_LENGTH}},
-}
+SCENE = tops_bcc("no_squish", {"kind": "open"}, {"every": 10, "marker_length": MARKER_LENGTH})
 
 
 def test_dcd_and_pdb_load_and_give_back_the_orientations(tmp_path: Path):

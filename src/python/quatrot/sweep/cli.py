@@ -169,7 +169,7 @@ def main(argv: list[str] | None = None) -> int:
             threads_per_run=args.threads_per_run,
             on_result=counter,
         )
-    except (ValueError, quatrot.SceneError, OSError) as e:
+    except (ValueError, TypeError, quatrot.SceneError, OSError) as e:
         print(f"error: {e}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

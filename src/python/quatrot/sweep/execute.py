@@ -117,11 +117,9 @@ def run(
     >>> [row["status"] for row in results.rows]
     ['completed', 'completed']
     """
-    _check_threads(threads_per_run)
+    _count("threads_per_run", threads_per_run)
     if workers is not None:
-        _positive("workers", workers)
-        if workers > MAX_THREADS:
-            raise ValueError(f"workers: must be at most {MAX_THREADS} (processes on this machine), got {workers}")
+        _count("workers", workers)
         if client is not None:
             raise ValueError("workers: only for the local cluster (not with a client or scheduler address)")
     runs = expand(scene, grid, cases)
@@ -141,15 +139,13 @@ def run(
     return Results(out / NAME, runs, [table.rows[i] for i in order], len(todo))
 
 
-def _positive(name: str, value: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise ValueError(f"{name}: must be an integer >= 1, got {value!r}")
-
-
-def _check_threads(threads: int) -> None:
-    _positive("threads_per_run", threads)
-    if threads > MAX_THREADS:
-        raise ValueError(f"threads_per_run: must be at most {MAX_THREADS}, got {threads}")
+def _count(name: str, value: int) -> None:
+    """A thread or worker count: an integer from 1 to `MAX_THREADS` (the
+    wording of `quatrot.run`'s `threads`)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
+    if not 1 <= value <= MAX_THREADS:
+        raise ValueError(f"{name}: must be between 1 and {MAX_THREADS}, got {value}")
 
 
 def _outputs(run: Run) -> str:
@@ -181,7 +177,14 @@ def _connect(client: distributed.Client | str | None, workers: int) -> Iterator[
     elif client is None:
         with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}), _sigint_ignored():
             cluster = distributed.LocalCluster(
-                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                # No dashboard; the scheduler's HTTP routes (health, metrics)
+                # on a free loopback port, not Dask's default 8787, which
+                # another cluster may hold (a warning on stderr) or expose.
+                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
             )
         with cluster, distributed.Client(cluster) as c:
             try:

@@ -1,4 +1,5 @@
-"""Independent references and error measures for the benchmark.
+"""Independent references and error measures for the benchmarks and the
+long-run studies (`validation.longrun.at_length`).
 
 Single rotors: scipy DOP853 at rtol 1e-12 on the rigid-body equations in
 quaternion form (eq 10 and Euler's equations), with the torque of a body
@@ -10,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from validation.lammps_dipoles import space_to_body
+from validation.shared.lammps_driver import space_to_body
 
 RTOL = 1e-12
 ATOL = 1e-14

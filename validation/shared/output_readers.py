@@ -12,7 +12,7 @@ from pathlib import Path
 import gsd.hoomd
 import numpy as np
 
-from validation.frames import scipy_rotation
+from validation.shared.frames import scipy_rotation
 
 
 def space_axes(orientations: np.ndarray, axes_body: np.ndarray) -> np.ndarray:

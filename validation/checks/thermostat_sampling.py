@@ -1,6 +1,6 @@
 """Canonical runs: quatrot's thermostats (Langevin, Bussi and Nose-Hoover chains with NO_SQUISH and DLM, both spherical-top modes, and Nose-Hoover with scheme A) against exact canonical distributions, and LAMMPS's ``fix langevin ... omega yes`` with ``fix nve/sphere update dipole/dlm`` against the same distributions and against quatrot on the 1000-dipole lattice.
 
-Exact references (:mod:`validation.thermostat_references`, scipy): body
+Exact references (:mod:`validation.shared.thermostat_references`, scipy): body
 angular velocity components normal with variance ``T/I_a``, a rotor's
 kinetic energy Gamma(3/2, T) with mean ``3T/2`` (any potential: in the
 canonical ensemble momenta are independent of the orientations); free
@@ -60,9 +60,9 @@ import numpy as np
 from scipy import stats
 
 import quatrot
-from validation import thermostat_references as ref
-from validation.checks.base import Check, Context
-from validation.lammps_dipoles import DipoleSystem, lammps_version, run_lammps
+from validation.shared import thermostat_references as ref
+from validation.shared.check import Check, Context
+from validation.shared.lammps_driver import DipoleSystem, lammps_version, run_lammps
 
 ALPHA = 1e-4
 # -log10(ALPHA): the tolerance of the adjusted p-values.

@@ -15,7 +15,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from validation.lammps_dipoles import DipoleSystem
+from validation.shared.lammps_driver import DipoleSystem
 
 RTOL = 1e-12  # DOP853 tolerances: far below the integrator errors compared
 ATOL = 1e-13

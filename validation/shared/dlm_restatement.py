@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from validation import dipole_reference as ref
-from validation.lammps_dipoles import DipoleSystem
+from validation.shared import dipole_reference as ref
+from validation.shared.lammps_driver import DipoleSystem
 
 
 @dataclass(frozen=True)

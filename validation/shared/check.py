@@ -1,4 +1,6 @@
-"""The result type shared by all checks."""
+"""The check record (`Check`: a measured error against a tolerance, with
+provenance) and where and how checks run (`Context`): used by every check
+module, the report and the long-run studies that checks and benchmarks share."""
 
 from __future__ import annotations
 
