@@ -99,53 +99,10 @@ pub fn dielectric_constant(
     temperature: f64,
     boundary: DielectricBoundary,
 ) -> Result<DielectricConstant, AnalysisError> {
-    let refuse = |why: &str| Err(AnalysisError::new("boundary", why));
-    match boundary {
-        DielectricBoundary::Open => {
-            return refuse(
-                "open: no fluctuation formula for an open cluster of this shape (the \
-                 response of a cluster depends on its shape); for a spherical cluster in \
-                 vacuum use \"vacuum\" with the sphere's volume",
-            )
-        }
-        DielectricBoundary::Cutoff => {
-            return refuse(
-                "cutoff: no fluctuation formula applies to a plain spherical cutoff of the \
-                 dipolar sum; run with an Ewald sum (conducting or vacuum surroundings)",
-            )
-        }
-        DielectricBoundary::Conducting | DielectricBoundary::Vacuum => {}
-    }
+    has_formula(boundary)?;
     let volume = finite_and_positive("volume", volume)?;
     let temperature = finite_and_positive("temperature", temperature)?;
-    if dipoles.len() < 2 {
-        return Err(AnalysisError::new(
-            "dipoles",
-            format!("needs at least 2 samples, got {}", dipoles.len()),
-        ));
-    }
-    if let Some(k) = dipoles
-        .iter()
-        .position(|m| !m.iter().all(|x| x.is_finite()))
-    {
-        return Err(AnalysisError::new(
-            format!("dipoles[{k}]"),
-            "must be finite",
-        ));
-    }
-    let n = dipoles.len() as f64;
-    let mean_dipole = dipoles.iter().sum::<Vector3<f64>>() / n;
-    let mean_squared_dipole = dipoles.iter().map(|m| m.norm_squared()).sum::<f64>() / n;
-    let deviations: Vec<f64> = dipoles
-        .iter()
-        .map(|m| (m - mean_dipole).norm_squared())
-        .collect();
-    if !mean_squared_dipole.is_finite() || deviations.iter().any(|d| !d.is_finite()) {
-        return Err(AnalysisError::new(
-            "dipoles",
-            "|M|^2 overflows float64: the dipoles are too large",
-        ));
-    }
+    let (mean_dipole, mean_squared_dipole, deviations) = moments(dipoles)?;
     let fluctuation = block_average(&deviations)?;
     let scale = 4.0 * std::f64::consts::PI / (9.0 * volume * temperature);
     if !scale.is_finite() {
@@ -189,6 +146,57 @@ pub fn dielectric_constant(
         mean_dipole,
         fluctuation,
     })
+}
+
+/// Refuses the boundaries without a fluctuation formula (open, cutoff).
+fn has_formula(boundary: DielectricBoundary) -> Result<(), AnalysisError> {
+    let refuse = |why: &str| Err(AnalysisError::new("boundary", why));
+    match boundary {
+        DielectricBoundary::Open => refuse(
+            "open: no fluctuation formula for an open cluster of this shape (the \
+             response of a cluster depends on its shape); for a spherical cluster in \
+             vacuum use \"vacuum\" with the sphere's volume",
+        ),
+        DielectricBoundary::Cutoff => refuse(
+            "cutoff: no fluctuation formula applies to a plain spherical cutoff of the \
+             dipolar sum; run with an Ewald sum (conducting or vacuum surroundings)",
+        ),
+        DielectricBoundary::Conducting | DielectricBoundary::Vacuum => Ok(()),
+    }
+}
+
+/// `<M>`, `<|M|^2>` and the squared deviations `|M_t - <M>|^2` of the
+/// series (at least 2 samples, finite, `|M|^2` within float64).
+fn moments(dipoles: &[Vector3<f64>]) -> Result<(Vector3<f64>, f64, Vec<f64>), AnalysisError> {
+    if dipoles.len() < 2 {
+        return Err(AnalysisError::new(
+            "dipoles",
+            format!("needs at least 2 samples, got {}", dipoles.len()),
+        ));
+    }
+    if let Some(k) = dipoles
+        .iter()
+        .position(|m| !m.iter().all(|x| x.is_finite()))
+    {
+        return Err(AnalysisError::new(
+            format!("dipoles[{k}]"),
+            "must be finite",
+        ));
+    }
+    let n = dipoles.len() as f64;
+    let mean_dipole = dipoles.iter().sum::<Vector3<f64>>() / n;
+    let mean_squared_dipole = dipoles.iter().map(|m| m.norm_squared()).sum::<f64>() / n;
+    let deviations: Vec<f64> = dipoles
+        .iter()
+        .map(|m| (m - mean_dipole).norm_squared())
+        .collect();
+    if !mean_squared_dipole.is_finite() || deviations.iter().any(|d| !d.is_finite()) {
+        return Err(AnalysisError::new(
+            "dipoles",
+            "|M|^2 overflows float64: the dipoles are too large",
+        ));
+    }
+    Ok((mean_dipole, mean_squared_dipole, deviations))
 }
 
 #[cfg(test)]

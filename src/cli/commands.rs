@@ -3,7 +3,7 @@
 
 use super::args::{Cli, Command};
 use super::progress::ProgressBarObserver;
-use super::sweep;
+use super::{sweep, EXIT_ERROR};
 use crate::run::{execute, prepare, Outputs, Placement, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use crate::simulation::{Control, Stop};
@@ -13,8 +13,6 @@ use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// Exit code of a scene or run error (and of a sweep that cannot start).
-pub(super) const EXIT_ERROR: i32 = 2;
 /// Exit code of a run that blew up (its outputs are written and valid).
 const EXIT_BLOW_UP: i32 = 3;
 /// Exit code of a run stopped by SIGINT or SIGTERM (its outputs are

@@ -9,3 +9,6 @@ mod progress;
 mod sweep;
 
 pub use commands::{main, main_from};
+
+/// Exit code of a scene or run error (and of a sweep that cannot start).
+const EXIT_ERROR: i32 = 2;

@@ -64,8 +64,5 @@ fn become_or_wait(command: &mut Command) -> std::io::Result<i32> {
 /// Runs `command` to its end and returns its exit code.
 #[cfg(not(unix))]
 fn become_or_wait(command: &mut Command) -> std::io::Result<i32> {
-    Ok(command
-        .status()?
-        .code()
-        .unwrap_or(super::commands::EXIT_ERROR))
+    Ok(command.status()?.code().unwrap_or(super::EXIT_ERROR))
 }

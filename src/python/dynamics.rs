@@ -4,8 +4,9 @@
 
 use super::args::{check_memory, optional_integer};
 use super::arrays::{common_len, single, Items, Values};
+use super::potential::cutoff_boundary;
 use super::rotors::{rotors, states};
-use crate::experiments::gear_corrections::{correction_table, Settings, System};
+use crate::experiments::gear_corrections::{correction_table, Row, Settings, System};
 use crate::integrators::setup_checks::{validate_setup, Moments};
 use crate::parallel::on_worker;
 use crate::potential::{ExternalFields, MultipolePotential};
@@ -101,7 +102,7 @@ fn gear_corrections_table<'py>(
     batch.extend(dipoles.iter().chain(quadrupoles.iter()));
     let (n, _) = common_len(&batch)?;
     let field = single(field, "field", &[3])?.map(|f| f.vector(0));
-    let boundary = super::potential::boundary(box_lengths, cutoff, None, None, None)?;
+    let boundary = cutoff_boundary(box_lengths, cutoff)?;
     let rotors = rotors(
         n,
         &sites,
@@ -115,19 +116,7 @@ fn gear_corrections_table<'py>(
         field_gradient: None,
     };
     let potential = MultipolePotential::new(&rotors, boundary, external)?;
-    let settings = Settings {
-        dt,
-        t_energy,
-        t_error,
-        t_stability,
-        sample_every: optional_integer(sample_every, "sample_every", 0, u64::MAX)?.unwrap_or(1),
-    };
-    settings.check()?;
-    let sample_every = settings.sample_every;
-    // The energy samples of the longest run, for each of the configurations.
-    let samples = (t_energy.max(t_error).max(t_stability) / dt / sample_every as f64).ceil();
-    let bytes = (samples < 1e18).then(|| samples as u64 * SAMPLE_BYTES);
-    check_memory("t_energy, dt, sample_every", bytes)?;
+    let settings = settings(dt, [t_energy, t_error, t_stability], sample_every)?;
     // Validate the rotors and states once, so the experiment itself cannot fail.
     let inertia: Vec<Inertia> = rotors.iter().map(|r| r.inertia).collect();
     let _ = validate_setup(&inertia, &initial, dt, Moments::Positive)?;
@@ -141,21 +130,43 @@ fn gear_corrections_table<'py>(
             correction_table(&system, &settings)
         })
     });
-    table
-        .into_iter()
-        .map(|row| {
-            let d = PyDict::new(py);
-            d.set_item("label", row.label)?;
-            d.set_item("drift", row.drift)?;
-            d.set_item("fluctuation", row.fluctuation)?;
-            d.set_item("global_error", row.global_error)?;
-            d.set_item("order", row.order)?;
-            d.set_item("largest_stable_dt", row.largest_stable_dt)?;
-            d.set_item("max_q_dot_q_dot", row.max_norm_velocity)?;
-            d.set_item("max_q_dot_force", row.max_norm_force)?;
-            Ok(d)
-        })
-        .collect()
+    table.into_iter().map(|row| row_dict(py, row)).collect()
+}
+
+/// The experiment's settings from the keywords, checked, with the memory of
+/// the energy samples of its longest run (for each configuration) checked.
+fn settings(
+    dt: f64,
+    [t_energy, t_error, t_stability]: [f64; 3],
+    sample_every: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Settings> {
+    let settings = Settings {
+        dt,
+        t_energy,
+        t_error,
+        t_stability,
+        sample_every: optional_integer(sample_every, "sample_every", 0, u64::MAX)?.unwrap_or(1),
+    };
+    settings.check()?;
+    let samples =
+        (t_energy.max(t_error).max(t_stability) / dt / settings.sample_every as f64).ceil();
+    let bytes = (samples < 1e18).then(|| samples as u64 * SAMPLE_BYTES);
+    check_memory("t_energy, dt, sample_every", bytes)?;
+    Ok(settings)
+}
+
+/// One row of the table as a dict.
+fn row_dict<'py>(py: Python<'py>, row: Row) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("label", row.label)?;
+    d.set_item("drift", row.drift)?;
+    d.set_item("fluctuation", row.fluctuation)?;
+    d.set_item("global_error", row.global_error)?;
+    d.set_item("order", row.order)?;
+    d.set_item("largest_stable_dt", row.largest_stable_dt)?;
+    d.set_item("max_q_dot_q_dot", row.max_norm_velocity)?;
+    d.set_item("max_q_dot_force", row.max_norm_force)?;
+    Ok(d)
 }
 
 /// Adds this submodule's functions to the `quatrot` module.

@@ -43,11 +43,22 @@ impl From<IntegratorError> for PyErr {
     }
 }
 
+/// _panic_for_tests(message)
+///
+/// Panics with `message`: the planted internal error of the test that every
+/// panic reaches Python as `quatrot.InternalError` (the package guards every
+/// native function). Not part of the API.
+#[pyfunction]
+fn _panic_for_tests(message: &str) {
+    panic!("{message}");
+}
+
 /// The `quatrot._native` Python module.
 #[pymodule]
 #[pyo3(name = "_native")]
 fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     baselines::register(m)?;
     potential::register(m)?;
     dynamics::register(m)?;

@@ -4,37 +4,29 @@ use super::args::{invalid, optional_text};
 use super::arrays::{collect, common_len, overflow, single, Items, Values};
 use super::rotors::rotors;
 use crate::checks::from_name;
-use crate::potential::multipole::DEFAULT_ACCURACY;
 use crate::potential::{
-    Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod, Surface,
+    Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod,
+    SumOptions,
 };
 use crate::quaternion::Quat;
 use nalgebra::{Matrix3, Vector3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
+use serde::de::DeserializeOwned;
 
 /// The boundary of the keywords: open when `box_lengths` is absent (and
-/// none of the others is given); periodic otherwise, in the orthorhombic box
-/// `box_lengths` ((3,), or a diagonal (3, 3) matrix), summed as `sum` says:
-/// `"cutoff"` (the default when `cutoff` is given: every image within it,
-/// which may exceed half the box, see [`PeriodicSum::Cutoff`]) or `"ewald"`
-/// (`accuracy` default 1e-12, `surface` `"conducting"` (default) or
-/// `"vacuum"`, see [`PeriodicSum::Ewald`]).
+/// none of the sum's options is given); periodic otherwise, in the
+/// orthorhombic box `box_lengths` ((3,), or a diagonal (3, 3) matrix),
+/// summed as the options say (read by their owner, [`PeriodicSum::new`]).
 pub(crate) fn boundary(
     box_lengths: Option<&Bound<'_, PyAny>>,
-    cutoff: Option<f64>,
-    sum: Option<&str>,
-    accuracy: Option<f64>,
-    surface: Option<&str>,
+    options: &SumOptions,
 ) -> PyResult<Boundary> {
     let Some(box_lengths) = box_lengths else {
-        if cutoff.is_some() {
-            return Err(invalid(
-                "box_lengths, cutoff",
-                "give both for periodic boundaries, or neither for open",
-            ));
+        if options.cutoff.is_some() {
+            return Err(give_both());
         }
-        if sum.is_some() || accuracy.is_some() || surface.is_some() {
+        if *options != SumOptions::default() {
             return Err(invalid(
                 "box_lengths",
                 "required with sum, accuracy or surface (periodic boundaries)",
@@ -42,40 +34,57 @@ pub(crate) fn boundary(
         }
         return Ok(Boundary::Open);
     };
-    let box_lengths = orthorhombic_box(box_lengths)?;
-    match (
-        sum.unwrap_or(if cutoff.is_some() { "cutoff" } else { "" }),
-        cutoff,
-    ) {
-        ("cutoff", Some(cutoff)) if accuracy.is_none() && surface.is_none() => {
-            Ok(Boundary::periodic_cutoff(box_lengths, cutoff))
-        }
-        ("cutoff", Some(_)) => Err(invalid(
-            "accuracy, surface",
-            "only for sum=\"ewald\", not with a cutoff",
-        )),
-        ("cutoff", None) => Err(invalid("cutoff", "required with sum=\"cutoff\"")),
-        ("ewald", None) => Ok(Boundary::Periodic {
-            box_lengths,
-            sum: PeriodicSum::Ewald {
-                accuracy: accuracy.unwrap_or(DEFAULT_ACCURACY),
-                surface: surface.map_or(Ok(Surface::Conducting), |s| from_name("surface", s))?,
-            },
-        }),
-        ("ewald", Some(_)) => Err(invalid(
-            "cutoff",
-            "not with sum=\"ewald\" (its cutoffs follow from the accuracy)",
-        )),
-        ("", None) => Err(invalid(
-            "box_lengths, cutoff",
-            "give both for periodic boundaries, or neither for open \
-             (or sum=\"ewald\" with box_lengths)",
-        )),
-        (other, _) => Err(invalid(
-            "sum",
-            format!("must be \"cutoff\" or \"ewald\", got \"{other}\""),
-        )),
+    Ok(Boundary::Periodic {
+        box_lengths: orthorhombic_box(box_lengths)?,
+        sum: PeriodicSum::new(options)?,
+    })
+}
+
+/// The boundary of `box_lengths` with `cutoff` (both, or neither for open
+/// boundaries), for the bindings whose keywords have no Ewald sum.
+pub(crate) fn cutoff_boundary(
+    box_lengths: Option<&Bound<'_, PyAny>>,
+    cutoff: Option<f64>,
+) -> PyResult<Boundary> {
+    if box_lengths.is_some() != cutoff.is_some() {
+        return Err(give_both());
     }
+    let options = SumOptions {
+        cutoff,
+        ..SumOptions::default()
+    };
+    boundary(box_lengths, &options)
+}
+
+/// The error of a cutoff without a box (or, where there is no Ewald sum, a box without a cutoff).
+fn give_both() -> PyErr {
+    invalid(
+        "box_lengths, cutoff",
+        "give both for periodic boundaries, or neither for open",
+    )
+}
+
+/// The options of the sum from the keywords (`sum` and `surface` by name).
+fn sum_options(
+    sum: Option<&Bound<'_, PyAny>>,
+    cutoff: Option<f64>,
+    accuracy: Option<f64>,
+    surface: Option<&Bound<'_, PyAny>>,
+) -> PyResult<SumOptions> {
+    Ok(SumOptions {
+        sum: by_name(sum, "sum")?,
+        cutoff,
+        accuracy,
+        surface: by_name(surface, "surface")?,
+    })
+}
+
+/// The value named by the optional text `obj` (argument `name`).
+fn by_name<T: DeserializeOwned>(obj: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<T>> {
+    let Some(text) = optional_text(obj, name)? else {
+        return Ok(None);
+    };
+    Ok(Some(from_name(name, &text)?))
 }
 
 /// The box edges of `box_lengths`: a 3-vector, or a 3x3 matrix whose rows
@@ -107,8 +116,10 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 /// Energy, eq 14 gradient and torques of point multipoles on fixed sites.
 ///
 /// Reduced units, `4 pi eps0 = 1`. Boundaries: open (no `box_lengths`), or
-/// periodic in the box `box_lengths` with `cutoff` (every image within the
-/// cutoff, a rotor's own images included) or with `sum="ewald"`.
+/// periodic in the box `box_lengths`, summed as a scene's `sum`, `cutoff`,
+/// `accuracy` and `surface` say: the Ewald sum by default; every image
+/// within `cutoff` (a rotor's own images included) with `sum="cutoff"` or a
+/// `cutoff` alone.
 ///
 /// Parameters
 /// ----------
@@ -128,8 +139,9 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 ///     The periodic box's edges; absent: open boundaries.
 /// cutoff : float, optional
 ///     The truncated periodic sum's cutoff (may exceed half the box).
-/// sum : {"cutoff", "ewald"}, optional
-///     The periodic sum (default "cutoff" when `cutoff` is given).
+/// sum : {"ewald", "cutoff"}, optional
+///     The periodic sum (default "ewald"; "cutoff" when only `cutoff` is
+///     given).
 /// accuracy : float, optional
 ///     The Ewald sum's relative accuracy (default 1e-12).
 /// surface : {"conducting", "vacuum"}, optional
@@ -207,19 +219,9 @@ fn multipole_evaluate<'py>(
         field: single(field, "field", &[3])?.map(|e| e.vector(0)),
         field_gradient: single(field_gradient, "field_gradient", &[3, 3])?.map(|g| g.matrix(0)),
     };
-    let sum = optional_text(sum, "sum")?;
-    let surface = optional_text(surface, "surface")?;
-    let boundary = boundary(
-        box_lengths,
-        cutoff,
-        sum.as_deref(),
-        accuracy,
-        surface.as_deref(),
-    )?;
-    let method: SumMethod = match optional_text(method, "method")? {
-        Some(m) => from_name("method", &m)?,
-        None => SumMethod::Auto,
-    };
+    let options = sum_options(sum, cutoff, accuracy, surface)?;
+    let boundary = boundary(box_lengths, &options)?;
+    let method: SumMethod = by_name(method, "method")?.unwrap_or_default();
     let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
     let (energy, gradient, torques, potential) = py.detach(|| -> Result<_, PotentialError> {
         let potential = MultipolePotential::with_method(&rotors, boundary, external, method)?;
@@ -243,6 +245,15 @@ fn multipole_evaluate<'py>(
     if !details {
         return (energy, gradient, torques).into_pyobject(py);
     }
+    (energy, gradient, torques, details_dict(py, &potential)?).into_pyobject(py)
+}
+
+/// The `details` of an evaluation: the `path` of the sum, its Ewald
+/// parameters and error estimates, the lattice of an FFT sum.
+fn details_dict<'py>(
+    py: Python<'py>,
+    potential: &MultipolePotential,
+) -> PyResult<Bound<'py, PyDict>> {
     let info = PyDict::new(py);
     info.set_item("path", potential.sum_path().as_str())?;
     if let Some(p) = potential.ewald_parameters() {
@@ -256,7 +267,7 @@ fn multipole_evaluate<'py>(
         info.set_item("cells", grid.cells.to_vec())?;
         info.set_item("basis", grid.basis.len())?;
     }
-    (energy, gradient, torques, info).into_pyobject(py)
+    Ok(info)
 }
 
 /// Adds the potential functions to the module.

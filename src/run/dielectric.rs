@@ -8,13 +8,12 @@
 //! recorded with `M` (the kinetic temperature of an NVE run).
 
 use super::error::RunError;
-use super::scene_run::SUMMARY_FILE;
+use super::folder::SUMMARY_FILE;
 use super::series::SeriesTable;
 use super::summary::InteractionsSummary;
 use crate::analysis::{dielectric_constant, DielectricBoundary, DielectricConstant};
 use crate::checks::InputError;
-use crate::potential::Surface;
-use crate::scene::raw::SumKind;
+use crate::potential::{SumKind, Surface};
 use nalgebra::Vector3;
 use std::path::Path;
 

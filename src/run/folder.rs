@@ -22,6 +22,16 @@ use std::path::{Path, PathBuf};
 
 /// The lock file in the output folder.
 pub const LOCK_FILE: &str = ".quatrot.lock";
+/// Name of the summary file in the output directory.
+pub const SUMMARY_FILE: &str = "summary.json";
+/// Name of the checkpoint file in the output directory.
+pub const CHECKPOINT_FILE: &str = "checkpoint.json";
+/// Name of the trajectory file in the output directory.
+pub const DCD_FILE: &str = "trajectory.dcd";
+/// Name of the trajectory's topology file in the output directory.
+pub const PDB_FILE: &str = "topology.pdb";
+/// Name of the GSD trajectory file in the output directory.
+pub const GSD_FILE: &str = "trajectory.gsd";
 
 /// An output folder, locked while this value lives.
 #[derive(Debug)]

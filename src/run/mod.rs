@@ -23,15 +23,14 @@ pub use dcd::{read_header, DcdHeader, DcdWriter};
 pub use dielectric::{dielectric_of_run, dipole_series, read_run};
 pub use error::RunError;
 pub use execute::{execute, potential, prepare};
-pub use folder::{OutputFolder, LOCK_FILE};
+pub use folder::{
+    OutputFolder, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, LOCK_FILE, PDB_FILE, SUMMARY_FILE,
+};
 pub use gsd::{GsdBox, GsdWriter};
 pub use limits::check_run_limits;
 pub use pdb::ROTOR_ATOMS;
 pub use resume::{AppendAfter, Placement};
-pub use scene_run::{
-    run_scene, Outputs, Progress, RunResult, ScenePotential, CHECKPOINT_FILE, DCD_FILE, GSD_FILE,
-    PDB_FILE, SUMMARY_FILE,
-};
+pub use scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 pub use series::{CsvTarget, SeriesObserver, SeriesTable};
 pub use summary::{
     Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary, Summary, Versions,

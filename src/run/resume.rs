@@ -14,7 +14,7 @@
 //!   inside the output folder, and says so.
 
 use super::dcd::{read_header, DcdHeader};
-use super::scene_run::{DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE};
+use super::folder::{DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE};
 use super::series::SeriesObserver;
 use crate::scene::{Scene, TrajectoryFormat};
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};

@@ -4,7 +4,9 @@
 
 use super::checkpoint::{Checkpoint, CheckpointWriter, Identity};
 use super::error::RunError;
-use super::folder::{write_atomically, OutputFolder};
+use super::folder::{
+    write_atomically, OutputFolder, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE,
+};
 use super::resume::{kept_summary_name, plan, Placement};
 use super::series::{CsvTarget, SeriesObserver, SeriesTable};
 use super::summary::{InteractionsSummary, Summary};
@@ -18,17 +20,6 @@ use crate::simulation::{
 };
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-
-/// Name of the summary file in the output directory.
-pub const SUMMARY_FILE: &str = "summary.json";
-/// Name of the checkpoint file in the output directory.
-pub const CHECKPOINT_FILE: &str = "checkpoint.json";
-/// Name of the trajectory file in the output directory.
-pub const DCD_FILE: &str = "trajectory.dcd";
-/// Name of the trajectory's topology file in the output directory.
-pub const PDB_FILE: &str = "topology.pdb";
-/// Name of the GSD trajectory file in the output directory.
-pub const GSD_FILE: &str = "trajectory.gsd";
 
 /// Where a run's outputs go.
 #[derive(Clone, Debug, Default)]
@@ -111,42 +102,14 @@ pub fn run_scene(
         Some(path) => restore(integrator, scene, path)?,
         None => (0, None),
     };
-    let folder = outputs.dir.as_deref().map(OutputFolder::lock).transpose()?;
-    let placement = folder.as_ref().map(|f| match restart {
-        Some(_) => plan(f.dir(), scene, start_step),
-        None => Placement::New,
-    });
-    let dir = match (&folder, &placement) {
-        (Some(_), Some(Placement::NewFolder { dir, .. })) => {
-            std::fs::create_dir(dir).map_err(|e| RunError::io(dir, e))?;
-            Some(dir.clone())
-        }
-        (Some(f), _) => Some(f.dir().to_path_buf()),
-        (None, _) => None,
-    };
+    let (_lock, placement, dir) = open_folder(outputs, scene, restart, start_step)?;
     let files = dir.as_deref().zip(placement.as_ref());
-    if let Some((dir, Placement::Append(_))) = files {
-        let summary = dir.join(SUMMARY_FILE);
-        if summary.exists() {
-            let kept = kept_summary_name(dir, start_step);
-            std::fs::rename(&summary, &kept).map_err(|e| RunError::io(&kept, e))?;
-        }
-    }
     let Recorders {
         mut series,
         mut trajectory,
         checkpoints,
     } = Recorders::open(scene, integrator, files, outputs.keep, start_step)?;
-    // What a killed run leaves: a summary saying "running", rewritten after
-    // each checkpoint with the checkpoint's step.
-    let running = dir.as_ref().map(|d| {
-        let mut summary = in_progress(scene, &definition, interactions.cloned(), start_step);
-        summary.outputs = placement.as_ref().map(Placement::as_str);
-        (d.join(SUMMARY_FILE), summary)
-    });
-    if let Some((path, summary)) = &running {
-        write_summary(path, summary)?;
-    }
+    let running = running_summary(scene, &definition, interactions, start_step, files)?;
     let mut checkpoints = checkpoints.map(|(every, checkpoint)| {
         (
             every,
@@ -181,17 +144,14 @@ pub fn run_scene(
         &options,
     )?;
     drop(scheduled);
-    let mut summary = Summary::new(
+    let summary = Summary::new(
         scene,
         definition,
         interactions.cloned(),
         &report,
         start_step,
     );
-    summary.outputs = placement.as_ref().map(Placement::as_str);
-    if let Some(dir) = &dir {
-        write_summary(&dir.join(SUMMARY_FILE), &summary)?;
-    }
+    let summary = placed(summary, files)?;
     Ok(RunResult {
         summary,
         series: series
@@ -202,6 +162,69 @@ pub fn run_scene(
         stop: report.stop,
         written: dir.zip(placement),
     })
+}
+
+/// The locked output folder of a run, where its files go and the folder
+/// they are written to (all `None` without outputs).
+type OpenedFolder = (Option<OutputFolder>, Option<Placement>, Option<PathBuf>);
+
+/// Locks the output folder of a run, plans where its files go ([`plan`] for
+/// a restart) and creates the folder they are written to when it is new. An
+/// earlier summary of a run appended to is kept under another name.
+fn open_folder(
+    outputs: &Outputs,
+    scene: &Scene,
+    restart: Option<&Path>,
+    start_step: u64,
+) -> Result<OpenedFolder, RunError> {
+    let folder = outputs.dir.as_deref().map(OutputFolder::lock).transpose()?;
+    let placement = folder.as_ref().map(|f| match restart {
+        Some(_) => plan(f.dir(), scene, start_step),
+        None => Placement::New,
+    });
+    let dir = match (&folder, &placement) {
+        (Some(_), Some(Placement::NewFolder { dir, .. })) => {
+            std::fs::create_dir(dir).map_err(|e| RunError::io(dir, e))?;
+            Some(dir.clone())
+        }
+        (Some(f), _) => Some(f.dir().to_path_buf()),
+        (None, _) => None,
+    };
+    if let Some((dir, Placement::Append(_))) = dir.as_deref().zip(placement.as_ref()) {
+        let summary = dir.join(SUMMARY_FILE);
+        if summary.exists() {
+            let kept = kept_summary_name(dir, start_step);
+            std::fs::rename(&summary, &kept).map_err(|e| RunError::io(&kept, e))?;
+        }
+    }
+    Ok((folder, placement, dir))
+}
+
+/// `summary` with where the outputs went (`files`: the folder and the
+/// placement), written there.
+fn placed(mut summary: Summary, files: Option<(&Path, &Placement)>) -> Result<Summary, RunError> {
+    summary.outputs = files.map(|(_, placement)| placement.as_str());
+    if let Some((dir, _)) = files {
+        write_summary(&dir.join(SUMMARY_FILE), &summary)?;
+    }
+    Ok(summary)
+}
+
+/// What a killed run leaves: a summary saying "running" (written in the
+/// folder of `files`, and its path), rewritten after each checkpoint with
+/// the checkpoint's step.
+fn running_summary(
+    scene: &Scene,
+    definition: &serde_json::Value,
+    interactions: Option<&InteractionsSummary>,
+    start_step: u64,
+    files: Option<(&Path, &Placement)>,
+) -> Result<Option<(PathBuf, Summary)>, RunError> {
+    let Some((dir, _)) = files else {
+        return Ok(None);
+    };
+    let summary = in_progress(scene, definition, interactions.cloned(), start_step);
+    Ok(Some((dir.join(SUMMARY_FILE), placed(summary, files)?)))
 }
 
 /// Status of the summary of a run in progress (or killed).

@@ -3,8 +3,7 @@
 //! the drift.
 
 use crate::potential::multipole::EwaldParameters;
-use crate::potential::{Boundary, MultipolePotential, PeriodicSum, Surface};
-use crate::scene::raw::SumKind;
+use crate::potential::{Boundary, MultipolePotential, PeriodicSum, SumKind, Surface};
 use crate::scene::{Interactions, Scene, SCENE_VERSION};
 use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
 use serde::{Deserialize, Serialize};
@@ -137,13 +136,10 @@ impl InteractionsSummary {
         if let Boundary::Periodic { box_lengths, sum } = interactions.boundary {
             out.boundary = "periodic".to_string();
             out.box_lengths = Some(box_lengths.into());
+            out.sum = Some(sum.kind());
             match sum {
-                PeriodicSum::Cutoff { cutoff } => {
-                    out.sum = Some(SumKind::Cutoff);
-                    out.cutoff = Some(cutoff);
-                }
+                PeriodicSum::Cutoff { cutoff } => out.cutoff = Some(cutoff),
                 PeriodicSum::Ewald { accuracy, surface } => {
-                    out.sum = Some(SumKind::Ewald);
                     out.accuracy = Some(accuracy);
                     out.surface = Some(surface);
                 }

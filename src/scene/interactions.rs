@@ -1,17 +1,17 @@
 //! The `[interactions]` section: pair interactions between the rotors'
-//! multipoles and their boundary, built into the physics [`Boundary`] (which
-//! checks the box, the cutoff and the accuracy, [`Boundary::validate`]; this
-//! file adds the field paths and the rules of the keys) and the way a
-//! periodic sum is taken ([`SumMethod`]). The pair terms follow from the
-//! multipoles the rotors carry; the optional `terms` list must name exactly
-//! those.
+//! multipoles and their boundary, built into the physics [`Boundary`] (the
+//! sum's keys read by their owner, [`PeriodicSum::new`]; the box, the cutoff
+//! and the accuracy checked by [`Boundary::validate`]; this file adds the
+//! field paths) and the way a periodic sum is taken ([`SumMethod`]). The
+//! pair terms follow from the multipoles the rotors carry; the optional
+//! `terms` list must name exactly those.
 
 use super::error::SceneError;
 use super::model::Interactions;
 use super::tagged::tagged;
-use crate::checks::{named_choices, num, InputError};
-use crate::potential::multipole::DEFAULT_ACCURACY;
-use crate::potential::{Boundary, PeriodicSum, SumMethod, Surface};
+use crate::checks::{num, InputError};
+pub use crate::potential::SumKind;
+use crate::potential::{Boundary, PeriodicSum, SumMethod, SumOptions, Surface};
 use crate::rotor::Rotor;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -44,36 +44,21 @@ tagged!(RawBoundary { "open" => Open(RawOpen), "periodic" => Periodic(RawPeriodi
 #[serde(deny_unknown_fields)]
 pub struct RawOpen {}
 
-/// How the images of a periodic box are summed (the scene's `sum`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SumKind {
-    /// [`PeriodicSum::Ewald`].
-    Ewald,
-    /// [`PeriodicSum::Cutoff`].
-    Cutoff,
-}
-
-named_choices!(SumKind {
-    "ewald" => SumKind::Ewald,
-    "cutoff" => SumKind::Cutoff,
-});
-
 /// Periodic boundaries: [`Boundary::Periodic`], whose box defaults to the
-/// lattice's, summed by Ewald (`sum = "ewald"`, the default, with `accuracy`
-/// and `surface`) or with a spherical cutoff (`sum = "cutoff"` and
-/// `cutoff`; a `cutoff` without `sum` means `sum = "cutoff"`, the form of
-/// scene files written before the Ewald sum, which run unchanged); `method`
+/// lattice's, summed as `sum`, `cutoff`, `accuracy` and `surface` say (read
+/// by their owner, [`PeriodicSum::new`]: the Ewald sum by default, a
+/// spherical cutoff with `sum = "cutoff"` or a `cutoff` alone); `method`
 /// chooses the way of summing ([`SumMethod`]).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPeriodic {
-    /// The sum: "ewald" (default) or "cutoff" (default when `cutoff` is given).
+    /// [`SumOptions::sum`].
     pub sum: Option<SumKind>,
-    /// The spherical cutoff of `sum = "cutoff"`.
+    /// [`SumOptions::cutoff`].
     pub cutoff: Option<f64>,
-    /// The relative accuracy of `sum = "ewald"` (default 1e-12).
+    /// [`SumOptions::accuracy`].
     pub accuracy: Option<f64>,
-    /// The surroundings of `sum = "ewald"` (default conducting).
+    /// [`SumOptions::surface`].
     pub surface: Option<Surface>,
     /// The way of summing (default "auto").
     pub method: Option<SumMethod>,
@@ -89,12 +74,13 @@ const TERM_NAMES: [&str; 3] = [
     "quadrupole_quadrupole",
 ];
 
-/// The scene paths of the physics' boundary errors ([`Boundary::validate`]
-/// and the sums built from it).
-const BOUNDARY_PATHS: [(&str, &str); 4] = [
+/// The scene paths of the physics' boundary errors ([`PeriodicSum::new`],
+/// [`Boundary::validate`] and the sums built from it).
+const BOUNDARY_PATHS: [(&str, &str); 5] = [
     ("box_lengths", "interactions.boundary.box"),
     ("cutoff", "interactions.boundary.cutoff"),
     ("accuracy", "interactions.boundary.accuracy"),
+    ("surface", "interactions.boundary.surface"),
     ("method", "interactions.boundary.method"),
 ];
 
@@ -107,7 +93,13 @@ pub fn boundary_error(e: &InputError) -> Option<SceneError> {
             .strip_prefix(physics)
             .is_some_and(|rest| rest.is_empty() || rest.starts_with(['[', '.']))
     });
-    concerns_boundary.then(|| SceneError::renamed(e.clone(), &BOUNDARY_PATHS))
+    concerns_boundary.then(|| at_scene_path(e.clone()))
+}
+
+/// A boundary error of the physics at the scene's path (`accuracy` becomes
+/// `interactions.boundary.accuracy`, `box_lengths` `interactions.boundary.box`).
+fn at_scene_path(e: InputError) -> SceneError {
+    SceneError::renamed(e, &BOUNDARY_PATHS)
 }
 
 /// Validates the section for `rotors` (listed explicitly when `explicit_sites`;
@@ -148,13 +140,17 @@ pub(super) fn interactions(
             ))
         }
     };
+    let options = SumOptions {
+        sum: p.sum,
+        cutoff: p.cutoff,
+        accuracy: p.accuracy,
+        surface: p.surface,
+    };
     let boundary = Boundary::Periodic {
         box_lengths,
-        sum: periodic_sum(p)?,
+        sum: PeriodicSum::new(&options).map_err(at_scene_path)?,
     };
-    boundary
-        .validate(rotors.len())
-        .map_err(|e| SceneError::renamed(e, &BOUNDARY_PATHS))?;
+    boundary.validate(rotors.len()).map_err(at_scene_path)?;
     if explicit_sites {
         check_inside_box(rotors, &box_lengths)?;
     }
@@ -162,48 +158,6 @@ pub(super) fn interactions(
         boundary,
         method: p.method.unwrap_or_default(),
     })
-}
-
-/// The periodic sum of the table: its `sum` (or the one implied: `cutoff`
-/// given means a truncated sum), with only the keys of that sum.
-fn periodic_sum(p: &RawPeriodic) -> Result<PeriodicSum, SceneError> {
-    let path = |key: &str| format!("interactions.boundary.{key}");
-    let kind = p.sum.unwrap_or(match p.cutoff {
-        Some(_) => SumKind::Cutoff,
-        None => SumKind::Ewald,
-    });
-    match kind {
-        SumKind::Cutoff => {
-            let why = if p.sum.is_some() {
-                "only for sum = \"ewald\", not with sum = \"cutoff\""
-            } else {
-                "only for sum = \"ewald\" (a cutoff without sum means sum = \"cutoff\")"
-            };
-            if p.accuracy.is_some() {
-                return Err(SceneError::field(path("accuracy"), why));
-            }
-            if p.surface.is_some() {
-                return Err(SceneError::field(path("surface"), why));
-            }
-            let cutoff = p.cutoff.ok_or_else(|| {
-                SceneError::field(path("cutoff"), "required with sum = \"cutoff\"")
-            })?;
-            Ok(PeriodicSum::Cutoff { cutoff })
-        }
-        SumKind::Ewald => {
-            if p.cutoff.is_some() {
-                return Err(SceneError::field(
-                    path("cutoff"),
-                    "not with sum = \"ewald\" (its real- and reciprocal-space cutoffs \
-                     follow from accuracy)",
-                ));
-            }
-            Ok(PeriodicSum::Ewald {
-                accuracy: p.accuracy.unwrap_or(DEFAULT_ACCURACY),
-                surface: p.surface.unwrap_or_default(),
-            })
-        }
-    }
 }
 
 /// The listed terms (a check, optional in the file) must be exactly the ones

@@ -102,6 +102,16 @@ pub(super) fn blow_up(
                 reason: format!("energy is not finite ({})", e.total),
             };
         }
+        if !(e.conserved.is_finite() && e.error.is_finite()) {
+            return Stop::BlewUp {
+                step: sample.step,
+                rotor: hottest(sample.inertia, omega_body),
+                reason: format!(
+                    "the conserved energy is not finite ({}): the thermostat's energy overflowed",
+                    e.conserved
+                ),
+            };
+        }
         if let Some(threshold) = checks.energy_error_threshold {
             if e.error.abs() > threshold {
                 return Stop::BlewUp {

@@ -95,14 +95,24 @@ def test_ewald_keyword_lorentz_energy_and_details():
     assert len(quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=np.array([3.0, 3, 3]), cutoff=1.5)) == 3
 
 
+def test_a_box_alone_is_the_ewald_sum_as_in_scenes():
+    """box_lengths without cutoff or sum is the Ewald sum at its default
+    accuracy (1e-12), as a periodic scene boundary without sum is: the
+    Lorentz energy -(2 pi/3) n mu^2 per dipole of an aligned sc lattice."""
+    sites, q, mu = _lattice_args()
+    e, _, _, info = quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=np.array([3.0, 3, 3]), details=True)
+    assert info["path"] == "ewald_lattice_fft"
+    assert e / 27 == pytest.approx(-2 * np.pi / 3, rel=1e-11)
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [
         ({"sum": "ewald", "accuracy": 0.0}, "accuracy: must be in (0, 1), got 0"),
         ({"sum": "ewald", "accuracy": 1.5}, "accuracy: must be in (0, 1), got 1.5"),
         ({"sum": "ewald", "surface": "metal"}, 'surface: must be "conducting" or "vacuum", got "metal"'),
-        ({"sum": "pme"}, 'sum: must be "cutoff" or "ewald", got "pme"'),
-        ({"sum": "ewald", "cutoff": 1.0}, 'cutoff: not with sum="ewald"'),
+        ({"sum": "pme"}, 'sum: must be "ewald" or "cutoff", got "pme"'),
+        ({"sum": "ewald", "cutoff": 1.0}, 'cutoff: not with sum = "ewald"'),
         ({"sum": "ewald", "method": "fast"}, 'method: must be "auto", "direct" or "lattice_fft", got "fast"'),
         ({"sum": "ewald", "box_lengths": np.array([[3.0, 0.5, 0], [0, 3, 0], [0, 0, 3]])}, "box_lengths: the box must be orthorhombic"),
         ({"cutoff": 1.0, "method": "lattice_fft", "box_lengths": None}, "box_lengths, cutoff: give both"),

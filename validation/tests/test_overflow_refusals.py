@@ -62,3 +62,20 @@ def test_an_empty_out_dir_is_refused_not_the_current_directory(tmp_path, monkeyp
         quatrot.run("dipole_lattice_sc", out_dir="", steps=2)
     assert [p.name for p in tmp_path.iterdir()] == ["energies.csv"]
     assert (tmp_path / "energies.csv").read_text() == "a user's table"
+
+
+def test_an_internal_panic_is_the_modules_error():
+    """A Rust panic would reach Python as pyo3's `PanicException`, a
+    `BaseException` that `except Exception` does not catch (issue 37:
+    `orientational_correlations(q, 0.1, axes=np.zeros((0, 3)))` raised one).
+    A planted panic comes out as `quatrot.InternalError`, naming the
+    function; every native function is guarded."""
+    with pytest.raises(quatrot.InternalError, match="^_panic_for_tests: internal error of quatrot .*: planted$"):
+        quatrot._native._panic_for_tests("planted")
+    assert issubclass(quatrot.InternalError, Exception)
+    import types
+
+    for module in (quatrot._native, quatrot.quaternion):
+        native = [n for n, v in vars(module).items() if isinstance(v, types.BuiltinFunctionType)]
+        assert native == [], f"{module.__name__}: unguarded {native}"
+    assert quatrot.run is quatrot._native.run and quatrot.run.__wrapped__.__name__ == "run"

@@ -159,11 +159,14 @@ def test_threads_fixes_the_pool_of_a_run():
 
 def test_the_package_reexports_every_native_name():
     """`quatrot` is the pure-Python package around the extension
-    `quatrot._native`: each of the extension's names is the package's."""
+    `quatrot._native`: each of the extension's public names is the
+    package's (its private `_panic_for_tests` is not exported)."""
     from quatrot import _native
 
-    assert _native.__all__ and set(_native.__all__) <= set(quatrot.__all__)
-    for name in _native.__all__:
+    public = [name for name in _native.__all__ if not name.startswith("_")]
+    assert public and set(public) <= set(quatrot.__all__)
+    assert "_panic_for_tests" not in quatrot.__all__
+    for name in public:
         assert getattr(quatrot, name) is getattr(_native, name), name
     assert importlib.import_module("quatrot.quaternion") is _native.quaternion is quatrot.quaternion
     assert quatrot.SceneError.__module__ == "quatrot"

@@ -205,7 +205,9 @@ def test_ctrl_c_on_a_sweep_prints_one_line(tmp_path: Path):
     on stderr; it used to print every worker's traceback and warnings."""
     out = tmp_path / "sweep"
     table = out / "results.csv"
-    command = [sys.executable, "-m", "quatrot.sweep", "quadrupole_lattice_fcc", "--set", "initial.seed=" + ",".join(map(str, range(1, 9))),
+    # 40 runs of about 0.25 s on two workers: far from finished when the
+    # first is recorded, even on a loaded machine.
+    command = [sys.executable, "-m", "quatrot.sweep", "quadrupole_lattice_fcc", "--set", "initial.seed=" + ",".join(map(str, range(1, 41))),
                "--set", "run.steps=1000", "--out", str(out), "--workers", "2"]  # fmt: skip
     sweep = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:

@@ -1,8 +1,8 @@
-//! Open or periodic boundaries: the box, how the periodic sum is taken (a
-//! spherical cutoff or the Ewald sum), and the limits on the size of the sums.
+//! Open or periodic boundaries: the box, how the periodic sum is taken
+//! ([`PeriodicSum`]), and the limits on the size of the sums.
 
-use super::PotentialError;
-use crate::checks::{each, named_choices, positive};
+use super::{PeriodicSum, PotentialError};
+use crate::checks::{each, positive};
 use nalgebra::Vector3;
 
 /// The most interacting pairs (periodic images included) a pair list may
@@ -17,9 +17,6 @@ pub const MAX_PAIRS: usize = 100_000_000;
 /// map of offsets), and the two directed entries of the quad kernel's build
 /// (64). Sizes are checked against [`crate::memory`] with it.
 pub const BYTES_PER_PAIR: f64 = 224.0;
-
-/// The default relative accuracy of the Ewald sum.
-pub const DEFAULT_ACCURACY: f64 = 1e-12;
 
 /// How site pairs are enumerated and summed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,52 +33,6 @@ pub enum Boundary {
     },
 }
 
-/// The periodic lattice sum
-/// `V = sum_{i<j} sum_n v(r_j - r_i + n L) + 1/2 sum_i sum_{n != 0} v(n L)`
-/// over the images `n L` (`n` integer, `L` the box), taken one of two ways.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum PeriodicSum {
-    /// Truncated at `|r| <= cutoff` (> 0, any size): every image inside the
-    /// cutoff, so a pair may interact through several images and a rotor with
-    /// its own images (a plain spherical cutoff: no shift, no tail
-    /// correction). The cutoff is limited only by the size of the sum: about
-    /// `N^2 (4 pi / 3) cutoff^3 / (2 V)` pairs for `N` sites in a box of
-    /// volume `V`, at most [`MAX_PAIRS`].
-    Cutoff {
-        /// The spherical cutoff (> 0).
-        cutoff: f64,
-    },
-    /// The Ewald sum (the conditionally convergent dipolar sum taken over
-    /// growing spheres, de Leeuw, Perram & Smith, Proc. R. Soc. A 373, 27
-    /// (1980)), with the splitting parameter and both cutoffs chosen for the
-    /// relative `accuracy` (in (0, 1), default [`DEFAULT_ACCURACY`]; see
-    /// [`super::ewald_parameters`] for its meaning and the estimates), and
-    /// the medium around the sphere given by `surface`.
-    Ewald {
-        /// The requested relative accuracy, in (0, 1).
-        accuracy: f64,
-        /// The medium around the sphere of boxes.
-        surface: Surface,
-    },
-}
-
-/// The medium surrounding the infinite sphere of periodic boxes in the Ewald
-/// sum (de Leeuw, Perram & Smith 1980).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Surface {
-    /// A conductor ("tin foil"): no surface term (the default, as in LAMMPS
-    /// and OpenMM).
-    #[default]
-    Conducting,
-    /// Vacuum: adds `2 pi |M|^2 / (3 V)`, `M` the total dipole of the box.
-    Vacuum,
-}
-
-named_choices!(Surface {
-    "conducting" => Surface::Conducting,
-    "vacuum" => Surface::Vacuum,
-});
-
 impl Boundary {
     /// A periodic box summed with a spherical cutoff.
     pub fn periodic_cutoff(box_lengths: Vector3<f64>, cutoff: f64) -> Boundary {
@@ -95,10 +46,7 @@ impl Boundary {
     pub fn periodic_ewald(box_lengths: Vector3<f64>) -> Boundary {
         Boundary::Periodic {
             box_lengths,
-            sum: PeriodicSum::Ewald {
-                accuracy: DEFAULT_ACCURACY,
-                surface: Surface::Conducting,
-            },
+            sum: PeriodicSum::ewald(None, None),
         }
     }
 
@@ -125,28 +73,18 @@ impl Boundary {
                 ),
             ));
         }
-        match sum {
-            PeriodicSum::Cutoff { cutoff } => {
-                let _ = positive(cutoff).map_err(|e| e.at("cutoff"))?;
-                let sphere = 4.0 / 3.0 * std::f64::consts::PI * cutoff.powi(3);
-                let estimate = (sites as f64).powi(2) * sphere / (2.0 * box_lengths.product());
-                if estimate > MAX_PAIRS as f64 {
-                    return Err(too_many_pairs(
-                        cutoff,
-                        sites,
-                        &format!("about {estimate:.2e}"),
-                    ));
-                }
-                pair_memory(cutoff, sites, estimate)?;
+        sum.check()?;
+        if let PeriodicSum::Cutoff { cutoff } = sum {
+            let sphere = 4.0 / 3.0 * std::f64::consts::PI * cutoff.powi(3);
+            let estimate = (sites as f64).powi(2) * sphere / (2.0 * box_lengths.product());
+            if estimate > MAX_PAIRS as f64 {
+                return Err(too_many_pairs(
+                    cutoff,
+                    sites,
+                    &format!("about {estimate:.2e}"),
+                ));
             }
-            PeriodicSum::Ewald { accuracy, .. } => {
-                if !(accuracy > 0.0 && accuracy < 1.0) {
-                    return Err(PotentialError::new(
-                        "accuracy",
-                        format!("must be in (0, 1), got {accuracy}"),
-                    ));
-                }
-            }
+            pair_memory(cutoff, sites, estimate)?;
         }
         Ok(())
     }

@@ -7,7 +7,7 @@
 //! (`N^(3/2)` overall).
 
 use super::boundary::{BYTES_PER_PAIR, MAX_PAIRS};
-use super::ewald_parameters::{self, EwaldParameters};
+use super::ewald_parameters::{Cost, EwaldParameters};
 use super::ewald_terms::{
     mode_weight, pair_fields, radial, self_conjugate_per_quadrupole, self_field_per_dipole,
     surface_field_per_dipole,
@@ -54,35 +54,22 @@ pub(crate) struct EwaldSum {
 }
 
 impl EwaldSum {
-    /// Chooses the parameters for `accuracy` (balancing the real- and
-    /// reciprocal-space work of this `N`), then builds the pair list and the
-    /// wave vectors. Refuses sums larger than [`MAX_PAIRS`] pairs or
-    /// [`MAX_WAVE_VECTORS`] wave vectors or than the memory limit of
-    /// [`crate::memory`] (pair list, wave vectors and the structure factors
-    /// of an evaluation; path `accuracy`, which sets the sizes), and
-    /// coincident sites (periodic images included).
-    pub fn new(
-        sites: &[Vector3<f64>],
-        box_lengths: Vector3<f64>,
-        accuracy: f64,
-        surface: Surface,
-        kinds: (bool, bool),
-    ) -> Result<Self, PotentialError> {
-        let n = sites.len() as f64;
-        let volume = box_lengths.product();
-        let density = n / volume;
-        let pairs = |rc: f64| n * n * (2.0 * PI / 3.0) * rc.powi(3) / volume;
-        let waves = |kc: f64| volume * kc.powi(3) / (12.0 * PI * PI);
-        let parameters = ewald_parameters::choose(
-            accuracy,
-            density,
-            &ewald_parameters::ranks(kinds.0, kinds.1),
-            |rc, kc| pairs(rc) + 2.0 * n * waves(kc),
-        );
-        Self::with_parameters(sites, box_lengths, parameters, surface)
+    /// The cost model of a direct sum of `sites` sites in `box_lengths`
+    /// (the real-space pairs balanced against the wave vectors).
+    pub fn cost(sites: usize, box_lengths: &Vector3<f64>) -> Cost {
+        Cost::Direct {
+            sites: sites as f64,
+            volume: box_lengths.product(),
+        }
     }
 
-    /// The sum with given parameters (tests, and the converged references).
+    /// The sum with the parameters chosen for its accuracy
+    /// ([`super::PeriodicSum::choose`] with [`Self::cost`]; the tests and the
+    /// converged references give their own). Refuses sums larger than
+    /// [`MAX_PAIRS`] pairs or [`MAX_WAVE_VECTORS`] wave vectors or than the
+    /// memory limit of [`crate::memory`] (pair list, wave vectors and the
+    /// structure factors of an evaluation; path `accuracy`, which sets the
+    /// sizes), and coincident sites (periodic images included).
     pub fn with_parameters(
         sites: &[Vector3<f64>],
         box_lengths: Vector3<f64>,

@@ -98,6 +98,47 @@ fn solve(estimate: impl Fn(f64) -> f64, target: f64) -> f64 {
     hi
 }
 
+/// The work of one evaluation as a function of the cutoffs `(r_c, k_c)`,
+/// which the choice of `alpha` minimises.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Cost {
+    /// The direct sum of `sites` sites in a box of `volume`: its real-space
+    /// pairs `N^2 (2 pi / 3) r_c^3 / V` plus `2 N` products per wave vector
+    /// of the half space, `V k_c^3 / (12 pi^2)` of them.
+    Direct { sites: f64, volume: f64 },
+    /// The FFT lattice sum's kernel: for each of `basis_pairs` pairs of
+    /// basis offsets, the lattice vectors within `r_c` of a cell of
+    /// `cell_volume` and the reciprocal ones within `k_c` at each of the
+    /// `spectrum` frequencies.
+    LatticeFft {
+        basis_pairs: f64,
+        cell_volume: f64,
+        spectrum: f64,
+    },
+}
+
+impl Cost {
+    /// The cost of the cutoffs `rc`, `kc`.
+    pub fn of(&self, rc: f64, kc: f64) -> f64 {
+        match *self {
+            Cost::Direct { sites: n, volume } => {
+                let pairs = n * n * (2.0 * PI / 3.0) * rc.powi(3) / volume;
+                let waves = volume * kc.powi(3) / (12.0 * PI * PI);
+                pairs + 2.0 * n * waves
+            }
+            Cost::LatticeFft {
+                basis_pairs,
+                cell_volume,
+                spectrum,
+            } => {
+                basis_pairs
+                    * (4.0 * PI / 3.0 * rc.powi(3) / cell_volume
+                        + spectrum * cell_volume * kc.powi(3) / (6.0 * PI * PI))
+            }
+        }
+    }
+}
+
 /// The parameters for `accuracy` (in (0, 1)) at number density `density`,
 /// for the tensor `ranks` carried, minimising `cost(r_c, k_c)`.
 pub(crate) fn choose(

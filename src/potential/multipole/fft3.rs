@@ -135,6 +135,11 @@ impl RealFft3 {
         self.n[0] * self.n[1] * self.half
     }
 
+    /// [`Self::spectrum_len`] of the plan for the grid `n`, without planning.
+    pub fn spectrum_len_of(n: [usize; 3]) -> usize {
+        n[0] * n[1] * (n[2] / 2 + 1)
+    }
+
     /// The grid size.
     pub fn dims(&self) -> [usize; 3] {
         self.n

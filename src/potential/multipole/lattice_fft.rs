@@ -27,65 +27,21 @@
 //! The memory is estimated before anything is allocated and refused above
 //! [`MAX_FFT_BYTES`] or the memory limit of [`crate::memory`].
 
-use super::ewald_parameters::{self, EwaldParameters};
-use super::ewald_terms::{
-    mode_weight, pair_fields, radial, self_conjugate_per_quadrupole, self_field_per_dipole,
-    surface_field_per_dipole,
-};
+use super::ewald_parameters::{Cost, EwaldParameters};
 use super::fft3::RealFft3;
 use super::kernels::{Lanes, MultipoleKind, SiteFields, SpaceMultipoles};
 use super::lattice_grid::LatticeGrid;
-use super::{PotentialError, Surface};
+use super::lattice_kernel::{build_kernel, KernelShape, C64};
+use super::periodic_sum::ChosenSum;
+use super::PotentialError;
 use nalgebra::{Matrix3, Vector3};
-use rustfft::num_complex::Complex;
-use std::f64::consts::PI;
-
-type C64 = Complex<f64>;
 
 /// The most memory (bytes) the FFT lattice sum may hold: its kernel, the
 /// buffers of one evaluation and those of the kernel's construction.
 pub const MAX_FFT_BYTES: usize = 1 << 30;
 
-/// Which lattice tensor is transformed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum LatticeTensor {
-    /// The bare tensor over every image within the cutoff.
-    Cutoff(f64),
-    /// The Ewald sum for `accuracy`, with `surface`.
-    Ewald { accuracy: f64, surface: Surface },
-}
-
-/// The source components (unit multipoles) of a system carrying dipoles
-/// and/or quadrupoles: `mu = e_x, e_y, e_z`, then the traceless
-/// `Theta` with one of `Theta_xx`, `Theta_yy`, `Theta_xy`, `Theta_xz`,
-/// `Theta_yz` equal to 1 (and `Theta_zz = -Theta_xx - Theta_yy`).
-fn unit_sources(dipoles: bool, quadrupoles: bool) -> Vec<(Vector3<f64>, Matrix3<f64>)> {
-    let mut out = Vec::new();
-    if dipoles {
-        for a in 0..3 {
-            out.push((
-                Vector3::from_fn(|i, _| (i == a) as u8 as f64),
-                Matrix3::zeros(),
-            ));
-        }
-    }
-    if quadrupoles {
-        let mut units = vec![
-            Matrix3::from_diagonal(&Vector3::new(1.0, 0.0, -1.0)),
-            Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, -1.0)),
-        ];
-        for (a, b) in [(0, 1), (0, 2), (1, 2)] {
-            let mut m = Matrix3::zeros();
-            m[(a, b)] = 1.0;
-            m[(b, a)] = 1.0;
-            units.push(m);
-        }
-        out.extend(units.into_iter().map(|m| (Vector3::zeros(), m)));
-    }
-    out
-}
-
-/// The source components of one space-frame multipole (order of [`unit_sources`]).
+/// The source components of one space-frame multipole (in the order of the
+/// kernel's unit sources, `lattice_kernel.rs`).
 fn source_components(
     dipoles: bool,
     mu: &Lanes,
@@ -94,31 +50,6 @@ fn source_components(
     let d = dipoles.then(|| [mu[0], mu[1], mu[2]]);
     let q = theta.map(|t| [t.m11, t.m22, t.m12, t.m13, t.m23]);
     d.into_iter().flatten().chain(q.into_iter().flatten())
-}
-
-/// The field components `(E_x, E_y, E_z)` and/or
-/// `(W_xx, W_yy, W_zz, W_xy, W_xz, W_yz)` of `(E, W)`.
-fn field_components<T: nalgebra::Scalar + Copy>(
-    dipoles: bool,
-    quadrupoles: bool,
-    e: &Vector3<T>,
-    w: &Matrix3<T>,
-) -> Vec<T> {
-    let mut out = Vec::with_capacity(9);
-    if dipoles {
-        out.extend([e[0], e[1], e[2]]);
-    }
-    if quadrupoles {
-        out.extend([
-            w[(0, 0)],
-            w[(1, 1)],
-            w[(2, 2)],
-            w[(0, 1)],
-            w[(0, 2)],
-            w[(1, 2)],
-        ]);
-    }
-    out
 }
 
 /// The FFT lattice sum of one lattice (see the module doc).
@@ -130,167 +61,57 @@ pub(crate) struct LatticeFft {
     quadrupoles: bool,
     sources: usize,
     fields: usize,
-    /// `K^ / N_cells` per frequency, as `[b][f][b'][c]` (see [`kernel_index`]).
+    /// `K^ / N_cells` per frequency, as `[b][f][b'][c]`
+    /// (see [`super::lattice_kernel::kernel_index`]).
     kernel: Vec<C64>,
     parameters: Option<EwaldParameters>,
 }
 
 impl LatticeFft {
-    /// Builds the transformed lattice tensor, after checking its memory.
+    /// The cost model of the kernel on `grid` in `box_lengths` (see
+    /// [`Cost::LatticeFft`]), for [`super::PeriodicSum::choose`].
+    pub fn cost(grid: &LatticeGrid, box_lengths: &Vector3<f64>) -> Cost {
+        let b = grid.basis.len();
+        Cost::LatticeFft {
+            basis_pairs: (b * b) as f64,
+            cell_volume: box_lengths.product() / grid.cell_count() as f64,
+            spectrum: RealFft3::spectrum_len_of(grid.cells) as f64,
+        }
+    }
+
+    /// Builds the transformed lattice tensor of `sum` (its Ewald parameters
+    /// chosen with [`Self::cost`]), after checking its memory.
     pub fn new(
         grid: LatticeGrid,
         box_lengths: &Vector3<f64>,
-        tensor: LatticeTensor,
+        sum: ChosenSum,
         (dipoles, quadrupoles): (bool, bool),
     ) -> Result<Self, PotentialError> {
         check_distinct_slots(&grid)?;
-        let sources = 3 * dipoles as usize + 5 * quadrupoles as usize;
-        let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
-        let b = grid.basis.len();
-        let cells = grid.cell_count();
-        let plan = RealFft3::new(grid.cells);
-        let spectrum = plan.spectrum_len();
-        let output = grid.slots.len() * output_bytes_per_site(dipoles, quadrupoles);
-        let bytes = memory_bytes(b, cells, spectrum, sources, fields, output);
-        if bytes > MAX_FFT_BYTES as f64 {
-            return Err(PotentialError::new(
-                "rotors",
-                format!(
-                    "the FFT lattice sum of these {} rotors ({} x {} x {} cells of {b} sites, \
-                     {sources} multipole and {fields} field components) needs about {:.2} GB, \
-                     more than the limit {:.2} GB",
-                    grid.slots.len(),
-                    grid.cells[0],
-                    grid.cells[1],
-                    grid.cells[2],
-                    bytes / 1e9,
-                    MAX_FFT_BYTES as f64 / 1e9
-                ),
-            ));
-        }
-        crate::memory::check("rotors", bytes).map_err(|e| {
-            PotentialError::new(
-                "rotors",
-                format!(
-                    "the FFT lattice sum of these {} rotors ({} x {} x {} cells of {b} sites) {}",
-                    grid.slots.len(),
-                    grid.cells[0],
-                    grid.cells[1],
-                    grid.cells[2],
-                    e.message
-                ),
-            )
-        })?;
-        let volume = box_lengths.product();
-        let cell_volume = volume / cells as f64;
-        let (reach, parameters) = match tensor {
-            LatticeTensor::Cutoff(cutoff) => (cutoff, None),
-            LatticeTensor::Ewald { accuracy, .. } => {
-                let density = grid.slots.len() as f64 / volume;
-                let per_pair = (b * b) as f64;
-                let p = ewald_parameters::choose(
-                    accuracy,
-                    density,
-                    &ewald_parameters::ranks(dipoles, quadrupoles),
-                    |rc, kc| {
-                        per_pair
-                            * (4.0 * PI / 3.0 * rc.powi(3) / cell_volume
-                                + spectrum as f64 * cell_volume * kc.powi(3) / (6.0 * PI * PI))
-                    },
-                );
-                (p.real_cutoff, Some(p))
-            }
+        let shape = KernelShape {
+            basis: grid.basis.len(),
+            sources: 3 * dipoles as usize + 5 * quadrupoles as usize,
+            fields: 3 * dipoles as usize + 6 * quadrupoles as usize,
         };
-        let alpha = parameters.map_or(0.0, |p| p.alpha);
-        let units = unit_sources(dipoles, quadrupoles);
-        let block = sources * fields;
-        let mut kernel = vec![C64::default(); spectrum * b * b * block];
-        let mut real = vec![0.0; cells];
-        let mut transformed = vec![C64::default(); spectrum];
-        let mut work = vec![C64::default(); spectrum];
-        let scale = 1.0 / cells as f64;
-        for (target, s_t) in grid.basis.iter().enumerate() {
-            for (source, s_s) in grid.basis.iter().enumerate() {
-                let shift = s_t - s_s;
-                // Real-space (or truncated) tensor on the cell grid, per (f, c).
-                let mut tensor_grid = vec![0.0; block * cells];
-                for_lattice_vectors(&grid, &shift, reach, |cell, r| {
-                    let rb = radial(alpha, r.norm());
-                    for (c, (mu, theta)) in units.iter().enumerate() {
-                        let (e, w) = pair_fields(r, &rb, Some(mu), Some(theta));
-                        for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
-                            .into_iter()
-                            .enumerate()
-                        {
-                            tensor_grid[(f * sources + c) * cells + cell] += v;
-                        }
-                    }
-                });
-                if target == source && parameters.is_some() {
-                    let (a3, a5) = (
-                        self_field_per_dipole(alpha),
-                        self_conjugate_per_quadrupole(alpha),
-                    );
-                    for (c, (mu, theta)) in units.iter().enumerate() {
-                        let (e, w) = (mu * a3, theta * a5);
-                        for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
-                            .into_iter()
-                            .enumerate()
-                        {
-                            tensor_grid[(f * sources + c) * cells] += v;
-                        }
-                    }
-                }
-                for fc in 0..block {
-                    real.copy_from_slice(&tensor_grid[fc * cells..(fc + 1) * cells]);
-                    plan.forward(&mut real, &mut transformed, &mut work);
-                    let (f, c) = (fc / sources, fc % sources);
-                    for (q, value) in transformed.iter().enumerate() {
-                        let at = kernel_index(q, (target, f), (source, c), b, sources, fields);
-                        kernel[at] = value * scale;
-                    }
-                }
-                if let Some(p) = parameters {
-                    add_reciprocal(
-                        &mut kernel,
-                        &plan,
-                        &grid,
-                        box_lengths,
-                        &p,
-                        &units,
-                        (dipoles, quadrupoles),
-                        (target, source, &shift),
-                    );
-                }
-            }
-        }
-        if let LatticeTensor::Ewald {
-            surface: Surface::Vacuum,
-            ..
-        } = tensor
-        {
-            if dipoles {
-                let value = surface_field_per_dipole(volume);
-                for target in 0..b {
-                    for source in 0..b {
-                        for a in 0..3 {
-                            kernel
-                                [kernel_index(0, (target, a), (source, a), b, sources, fields)] +=
-                                value;
-                        }
-                    }
-                }
-            }
-        }
+        let plan = RealFft3::new(grid.cells);
+        check_memory(&grid, &plan, &shape, (dipoles, quadrupoles))?;
+        let kernel = build_kernel(
+            &grid,
+            box_lengths,
+            &sum,
+            &plan,
+            &shape,
+            (dipoles, quadrupoles),
+        );
         Ok(LatticeFft {
             grid,
             plan,
             dipoles,
             quadrupoles,
-            sources,
-            fields,
+            sources: shape.sources,
+            fields: shape.fields,
             kernel,
-            parameters,
+            parameters: sum.parameters,
         })
     }
 
@@ -373,17 +194,52 @@ impl LatticeFft {
     }
 }
 
-/// The position of `K^_{(target, f), (source, c)}(q) / N_cells` in the
-/// kernel: per frequency, rows `(target, f)` of `b sources` entries.
-fn kernel_index(
-    q: usize,
-    (target, f): (usize, usize),
-    (source, c): (usize, usize),
-    b: usize,
-    sources: usize,
-    fields: usize,
-) -> usize {
-    ((q * b + target) * fields + f) * b * sources + source * sources + c
+/// Refuses a sum whose kernel and buffers would exceed [`MAX_FFT_BYTES`]
+/// or the memory limit of [`crate::memory`] (path `rotors`).
+fn check_memory(
+    grid: &LatticeGrid,
+    plan: &RealFft3,
+    shape: &KernelShape,
+    (dipoles, quadrupoles): (bool, bool),
+) -> Result<(), PotentialError> {
+    let KernelShape {
+        basis: b,
+        sources,
+        fields,
+    } = *shape;
+    let output = grid.slots.len() * output_bytes_per_site(dipoles, quadrupoles);
+    let bytes = memory_bytes(
+        b,
+        grid.cell_count(),
+        plan.spectrum_len(),
+        sources,
+        fields,
+        output,
+    );
+    let [mx, my, mz] = grid.cells;
+    if bytes > MAX_FFT_BYTES as f64 {
+        return Err(PotentialError::new(
+            "rotors",
+            format!(
+                "the FFT lattice sum of these {} rotors ({mx} x {my} x {mz} cells of {b} sites, \
+                 {sources} multipole and {fields} field components) needs about {:.2} GB, \
+                 more than the limit {:.2} GB",
+                grid.slots.len(),
+                bytes / 1e9,
+                MAX_FFT_BYTES as f64 / 1e9
+            ),
+        ));
+    }
+    crate::memory::check("rotors", bytes).map_err(|e| {
+        PotentialError::new(
+            "rotors",
+            format!(
+                "the FFT lattice sum of these {} rotors ({mx} x {my} x {mz} cells of {b} sites) {}",
+                grid.slots.len(),
+                e.message
+            ),
+        )
+    })
 }
 
 /// Refuses two sites in one slot (the same site up to a lattice vector).
@@ -424,133 +280,12 @@ fn memory_bytes(
     kernel + evaluation.max(construction)
 }
 
-/// Calls `f(cell, r)` for every lattice vector `r = m c + shift` (`m`
-/// integer, any size) with `0 < |r| <= reach`, `cell` being `m` modulo the
-/// cells.
-fn for_lattice_vectors(
-    grid: &LatticeGrid,
-    shift: &Vector3<f64>,
-    reach: f64,
-    mut f: impl FnMut(usize, &Vector3<f64>),
-) {
-    let c = &grid.cell_lengths;
-    let range = |a: usize| {
-        let lo = ((-reach - shift[a]) / c[a]).ceil() as i64;
-        let hi = ((reach - shift[a]) / c[a]).floor() as i64;
-        lo..=hi
-    };
-    let m_count = grid.cells.map(|m| m as i64);
-    for mx in range(0) {
-        for my in range(1) {
-            for mz in range(2) {
-                let r = Vector3::new(
-                    mx as f64 * c.x + shift.x,
-                    my as f64 * c.y + shift.y,
-                    mz as f64 * c.z + shift.z,
-                );
-                let r2 = r.norm_squared();
-                if r2 == 0.0 || r2 > reach * reach {
-                    continue;
-                }
-                let wrap = |m: i64, a: usize| m.rem_euclid(m_count[a]) as usize;
-                let cell =
-                    (wrap(mx, 0) * grid.cells[1] + wrap(my, 1)) * grid.cells[2] + wrap(mz, 2);
-                f(cell, &r);
-            }
-        }
-    }
-}
-
-/// Adds the reciprocal-space part of `K^_{target, source}(q) / N_cells` at every frequency.
-#[allow(clippy::too_many_arguments)]
-fn add_reciprocal(
-    kernel: &mut [C64],
-    plan: &RealFft3,
-    grid: &LatticeGrid,
-    box_lengths: &Vector3<f64>,
-    p: &EwaldParameters,
-    units: &[(Vector3<f64>, Matrix3<f64>)],
-    (dipoles, quadrupoles): (bool, bool),
-    (target, source, shift): (usize, usize, &Vector3<f64>),
-) {
-    let b = grid.basis.len();
-    let fields = 3 * dipoles as usize + 6 * quadrupoles as usize;
-    let sources = units.len();
-    let [nx, ny, nz] = plan.dims();
-    let kc = p.reciprocal_cutoff;
-    let volume = box_lengths.product();
-    let c = &grid.cell_lengths;
-    // The frequency index folded into (-n/2, n/2], so that k = q + K is
-    // formed without cancellation (any representative of q modulo the
-    // cells' reciprocal lattice gives the same wave vectors k).
-    let signed = |j: usize, n: usize| {
-        if 2 * j <= n {
-            j as f64
-        } else {
-            j as f64 - n as f64
-        }
-    };
-    for jz in 0..nz / 2 + 1 {
-        for jy in 0..ny {
-            for jx in 0..nx {
-                let q = Vector3::new(
-                    2.0 * PI * signed(jx, nx) / box_lengths.x,
-                    2.0 * PI * signed(jy, ny) / box_lengths.y,
-                    2.0 * PI * jz as f64 / box_lengths.z,
-                );
-                let index = plan.spectrum_index([jx, jy, jz]);
-                let range = |a: usize| {
-                    let step = 2.0 * PI / c[a];
-                    (((-kc - q[a]) / step).ceil() as i64)..=(((kc - q[a]) / step).floor() as i64)
-                };
-                for hx in range(0) {
-                    for hy in range(1) {
-                        for hz in range(2) {
-                            let k = q + Vector3::new(
-                                2.0 * PI * hx as f64 / c.x,
-                                2.0 * PI * hy as f64 / c.y,
-                                2.0 * PI * hz as f64 / c.z,
-                            );
-                            let k2 = k.norm_squared();
-                            if k2 == 0.0 || k2 > kc * kc {
-                                continue;
-                            }
-                            let weight = 4.0 * PI / volume * mode_weight(p.alpha, k2);
-                            let phase = C64::from_polar(weight, k.dot(shift));
-                            let kk = k * k.transpose();
-                            for (ci, (mu, theta)) in units.iter().enumerate() {
-                                // phi = -i mu.k - 1/3 k.Theta.k; E = -i k phi; W = -1/3 k k^T phi.
-                                let phi = C64::new(-k.dot(&(theta * k)) / 3.0, -mu.dot(&k));
-                                let e = k.map(|x| C64::new(0.0, -x) * phi);
-                                let w = kk.map(|x| C64::new(-x / 3.0, 0.0) * phi);
-                                for (f, v) in field_components(dipoles, quadrupoles, &e, &w)
-                                    .into_iter()
-                                    .enumerate()
-                                {
-                                    let at = kernel_index(
-                                        index,
-                                        (target, f),
-                                        (source, ci),
-                                        b,
-                                        sources,
-                                        fields,
-                                    );
-                                    kernel[at] += v * phase;
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::super::ewald::EwaldSum;
     use super::super::kernels::{Dipoles, DipolesAndQuadrupoles, Quadrupoles};
     use super::super::lattice_grid::detect;
+    use super::super::{PeriodicSum, Surface};
     use super::*;
     use crate::allocation_meter::peak_above_start;
     use crate::lattice::{Lattice, LatticeKind};
@@ -576,7 +311,8 @@ mod tests {
             },
         };
         let kinds = (K::DIPOLES, K::QUADRUPOLES);
-        let tensor = LatticeTensor::Cutoff(2.0);
+        let cost = LatticeFft::cost(&grid, &lattice.box_lengths);
+        let tensor = PeriodicSum::Cutoff { cutoff: 2.0 }.choose(0.0, kinds, cost);
         let (sum, built_peak, held) =
             peak_above_start(|| LatticeFft::new(grid, &lattice.box_lengths, tensor, kinds));
         let sum = sum.unwrap();
@@ -637,6 +373,35 @@ mod tests {
         }
     }
 
+    /// Dipoles and traceless quadrupoles of `n` sites, varied from site to site.
+    fn mixed_multipoles(n: usize) -> SpaceMultipoles {
+        SpaceMultipoles {
+            dipoles: (0..n)
+                .map(|i| {
+                    let t = i as f64;
+                    Lanes([t.sin(), (1.7 * t).cos(), 0.3 - (0.4 * t).sin(), 0.0])
+                })
+                .collect(),
+            quadrupoles: (0..n)
+                .map(|i| {
+                    let t = 0.9 * i as f64;
+                    let (a, b) = (t.sin(), t.cos());
+                    Matrix3::new(
+                        a,
+                        0.2 * b,
+                        -0.4,
+                        0.2 * b,
+                        b - 0.5,
+                        0.3 * a,
+                        -0.4,
+                        0.3 * a,
+                        0.5 - a - b,
+                    )
+                })
+                .collect(),
+        }
+    }
+
     /// At any accuracy, the FFT lattice sum is the direct Ewald sum with the
     /// same parameters (the same real-space images within `r_c`, the same
     /// wave vectors within `k_c`, self and surface terms), to round-off:
@@ -663,39 +428,17 @@ mod tests {
             let mut sites = lattice.sites.clone();
             let _vacancy = sites.remove(3);
             let n = sites.len();
-            let multipoles = SpaceMultipoles {
-                dipoles: (0..n)
-                    .map(|i| {
-                        let t = i as f64;
-                        Lanes([t.sin(), (1.7 * t).cos(), 0.3 - (0.4 * t).sin(), 0.0])
-                    })
-                    .collect(),
-                quadrupoles: (0..n)
-                    .map(|i| {
-                        let t = 0.9 * i as f64;
-                        let (a, b) = (t.sin(), t.cos());
-                        Matrix3::new(
-                            a,
-                            0.2 * b,
-                            -0.4,
-                            0.2 * b,
-                            b - 0.5,
-                            0.3 * a,
-                            -0.4,
-                            0.3 * a,
-                            0.5 - a - b,
-                        )
-                    })
-                    .collect(),
-            };
+            let multipoles = mixed_multipoles(n);
             for surface in [Surface::Conducting, Surface::Vacuum] {
                 let grid = detect(&sites, &lattice.box_lengths).unwrap();
-                let tensor = LatticeTensor::Ewald {
+                let density = n as f64 / lattice.box_lengths.product();
+                let cost = LatticeFft::cost(&grid, &lattice.box_lengths);
+                let sum = PeriodicSum::Ewald {
                     accuracy: 1e-3,
                     surface,
-                };
-                let fft =
-                    LatticeFft::new(grid, &lattice.box_lengths, tensor, (true, true)).unwrap();
+                }
+                .choose(density, (true, true), cost);
+                let fft = LatticeFft::new(grid, &lattice.box_lengths, sum, (true, true)).unwrap();
                 let parameters = fft.parameters().unwrap();
                 let direct =
                     EwaldSum::with_parameters(&sites, lattice.box_lengths, parameters, surface)

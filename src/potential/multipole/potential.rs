@@ -1,17 +1,15 @@
 //! [`MultipolePotential`]: point multipoles on fixed sites, as polynomials of
 //! the quaternions.
 
-use super::ewald::EwaldSum;
+use super::field_sum::FieldSum;
 use super::kernels::{
     accumulate_pair_fields, Dipoles, DipolesAndQuadrupoles, Lanes, MultipoleKind, Quadrupoles,
     SiteFields, SpaceMultipoles,
 };
-use super::lattice_fft::{LatticeFft, LatticeTensor};
-use super::lattice_grid::{self, LatticeGrid};
-use super::pairs::{balanced_blocks, OpenPairs, PairRows, PairTable};
-use super::row_quads::RowQuads;
-use super::{Boundary, EwaldParameters, ExternalFields, PeriodicSum, PotentialError};
-use crate::checks::named_choices;
+use super::lattice_grid::LatticeGrid;
+use super::pairs::{balanced_blocks, PairRows};
+use super::sum_method::{SumMethod, SumPath};
+use super::{Boundary, EwaldParameters, ExternalFields, PotentialError};
 use crate::potential::{multipole_torque_axes, Potential, TorqueAxes};
 use crate::quaternion::Quat;
 use crate::rotor::Rotor;
@@ -44,7 +42,7 @@ enum Carried {
 /// `mu_s x E - 2 vec(Theta_s W)` with `vec(M)_c = eps_abc M_ab`.
 ///
 /// Periodic boxes are summed with a plain cutoff or by Ewald (see
-/// [`PeriodicSum`]): on any sites directly, on a lattice by FFT ([`SumMethod`],
+/// [`super::PeriodicSum`]): on any sites directly, on a lattice by FFT ([`SumMethod`],
 /// [`SumPath`]); either way the sum gives the fields `E` and `W` at the
 /// sites, and the gradient and torques follow from them as above.
 ///
@@ -80,77 +78,6 @@ pub struct MultipolePotential {
     quadrupoles_body: Vec<Matrix3<f64>>,
     sum: FieldSum,
     external: ExternalFields,
-}
-
-/// How the pair fields are summed, fixed at construction.
-#[derive(Clone, Debug)]
-enum FieldSum {
-    /// Every pair of an open cluster, the geometry computed row by row
-    /// (`O(N)` memory).
-    Open(OpenPairs),
-    /// The pair list of a periodic box truncated at the cutoff.
-    Pairs {
-        pairs: PairTable,
-        /// The dipole pairs regrouped for the quad kernel, when it pays (dipole-only systems).
-        row_quads: Option<RowQuads>,
-    },
-    /// The direct Ewald sum.
-    Ewald(Box<EwaldSum>),
-    /// The FFT lattice sum (Ewald or truncated).
-    LatticeFft(Box<LatticeFft>),
-}
-
-/// Which way of summing a periodic system is wanted. [`SumMethod::Auto`]
-/// (what [`MultipolePotential::new`] uses) takes the FFT lattice sum for an
-/// Ewald sum whose sites are a lattice of the box (detected: see
-/// [`crate::potential::multipole::LatticeGrid`]; vacancies and mixed
-/// multipoles included), the direct Ewald sum for other sites, and the pair
-/// list for a truncated sum (bit for bit the sum of earlier versions).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum SumMethod {
-    /// The fastest path that is exact for the sites (the default).
-    #[default]
-    Auto,
-    /// The pair list (truncated) or the direct Ewald sum, even on a lattice.
-    Direct,
-    /// The FFT lattice sum (Ewald, or the truncated sum, which it equals to
-    /// round-off): an error when the sites are not a lattice of the box.
-    LatticeFft,
-}
-
-named_choices!(SumMethod {
-    "auto" => SumMethod::Auto,
-    "direct" => SumMethod::Direct,
-    "lattice_fft" => SumMethod::LatticeFft,
-});
-
-/// The way a potential sums its pair fields (see [`MultipolePotential::sum_path`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SumPath {
-    /// Every pair of an open cluster.
-    OpenPairs,
-    /// The truncated periodic sum over the pair list.
-    CutoffPairs,
-    /// The truncated periodic sum by FFT on the lattice.
-    CutoffLatticeFft,
-    /// The direct Ewald sum (real-space pairs and structure factors).
-    EwaldDirect,
-    /// The Ewald sum by FFT on the lattice.
-    EwaldLatticeFft,
-}
-
-impl SumPath {
-    /// A short name, as written in summaries: `"open_pairs"`, `"cutoff_pairs"`,
-    /// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            SumPath::OpenPairs => "open_pairs",
-            SumPath::CutoffPairs => "cutoff_pairs",
-            SumPath::CutoffLatticeFft => "cutoff_lattice_fft",
-            SumPath::EwaldDirect => "ewald_direct",
-            SumPath::EwaldLatticeFft => "ewald_lattice_fft",
-        }
-    }
 }
 
 impl MultipolePotential {
@@ -477,73 +404,6 @@ impl MultipolePotential {
                 let d = q.space_to_body_matrix_derivatives();
                 *g += Quat(std::array::from_fn(|k| d[k].dot(&b)));
             });
-    }
-}
-
-impl FieldSum {
-    /// The sum for `boundary` and `method` (see [`SumMethod`]), for the
-    /// multipole kinds `(dipoles, quadrupoles)` carried.
-    fn build(
-        sites: &[Vector3<f64>],
-        boundary: Boundary,
-        method: SumMethod,
-        kinds: (bool, bool),
-    ) -> Result<FieldSum, PotentialError> {
-        let pair_sum = |images: (Vector3<f64>, f64)| -> Result<FieldSum, PotentialError> {
-            let pairs = PairTable::build(sites, Some(images))?;
-            let row_quads = if kinds == (true, false) {
-                RowQuads::build(&pairs)
-            } else {
-                None
-            };
-            Ok(FieldSum::Pairs { pairs, row_quads })
-        };
-        let Boundary::Periodic { box_lengths, sum } = boundary else {
-            if method == SumMethod::LatticeFft {
-                return Err(PotentialError::new(
-                    "method",
-                    "the FFT lattice sum needs a periodic box, got open boundaries",
-                ));
-            }
-            return Ok(FieldSum::Open(OpenPairs::new(sites)?));
-        };
-        let (tensor, cutoff) = match sum {
-            PeriodicSum::Cutoff { cutoff } => (LatticeTensor::Cutoff(cutoff), Some(cutoff)),
-            PeriodicSum::Ewald { accuracy, surface } => {
-                (LatticeTensor::Ewald { accuracy, surface }, None)
-            }
-        };
-        if sites.is_empty() {
-            return pair_sum((box_lengths, cutoff.unwrap_or(0.0)));
-        }
-        let fft = match method {
-            SumMethod::LatticeFft => true,
-            SumMethod::Auto => cutoff.is_none(),
-            SumMethod::Direct => false,
-        };
-        if fft {
-            match lattice_grid::detect(sites, &box_lengths) {
-                Some(grid) => {
-                    let sum = LatticeFft::new(grid, &box_lengths, tensor, kinds)?;
-                    return Ok(FieldSum::LatticeFft(Box::new(sum)));
-                }
-                None if method == SumMethod::LatticeFft => {
-                    return Err(PotentialError::new(
-                        "method",
-                        "the FFT lattice sum needs the sites on a lattice of the box \
-                         (one grid of cells with the same basis offsets, to round-off); \
-                         these sites are not",
-                    ));
-                }
-                None => {}
-            }
-        }
-        match sum {
-            PeriodicSum::Cutoff { cutoff } => pair_sum((box_lengths, cutoff)),
-            PeriodicSum::Ewald { accuracy, surface } => Ok(FieldSum::Ewald(Box::new(
-                EwaldSum::new(sites, box_lengths, accuracy, surface, kinds)?,
-            ))),
-        }
     }
 }
 

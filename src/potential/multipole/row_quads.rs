@@ -85,6 +85,59 @@ pub(crate) struct RowQuads {
     ghosts: Vec<u32>,
 }
 
+/// A directed pair as a row holds it: the key of its offset, its partner
+/// and its tensor's index.
+type DirectedRow = ([i64; 3], u32, u32);
+
+/// The distinct dipole tensors of the pair geometries (equal bit patterns
+/// shared) and the index of each geometry's tensor among them.
+fn distinct_tensors(pairs: &PairTable) -> (Vec<u32>, Vec<SymmetricTensor>) {
+    let mut tensor_index = Vec::with_capacity(pairs.geometry.len());
+    let mut tensors: Vec<SymmetricTensor> = Vec::new();
+    let mut by_key: HashMap<[u64; 6], u32> = HashMap::new();
+    for g in &pairs.geometry {
+        let t = &g.dipole_tensor;
+        let s = SymmetricTensor {
+            xx: t[0][0],
+            yy: t[1][1],
+            zz: t[2][2],
+            xy: t[0][1],
+            xz: t[0][2],
+            yz: t[1][2],
+        };
+        let next = tensors.len() as u32;
+        let index = *by_key.entry(s.key()).or_insert(next);
+        if index == next {
+            tensors.push(s);
+        }
+        tensor_index.push(index);
+    }
+    (tensor_index, tensors)
+}
+
+/// The directed rows of every rotor (each pair seen from both ends), sorted by offset.
+fn directed_rows(pairs: &PairTable, tensor_index: &[u32]) -> Vec<Vec<DirectedRow>> {
+    let rotors = pairs.start.len() - 1;
+    let resolution =
+        OFFSET_KEY_RESOLUTION / pairs.geometry.iter().fold(0.0, |m: f64, g| m.max(g.inv_r));
+    let mut rows: Vec<Vec<DirectedRow>> = vec![Vec::new(); rotors];
+    for (i, row) in pairs.start.windows(2).enumerate() {
+        for p in row[0]..row[1] {
+            let j = pairs.partner[p] as usize;
+            let g = pairs.geometry_index[p] as usize;
+            let geometry = &pairs.geometry[g];
+            let offset = geometry.unit / (geometry.inv_r * resolution);
+            let key: [i64; 3] = offset.map(|x| x.round() as i64).into();
+            rows[i].push((key, j as u32, tensor_index[g]));
+            rows[j].push((key.map(|x| -x), i as u32, tensor_index[g]));
+        }
+    }
+    for row in &mut rows {
+        row.sort_unstable();
+    }
+    rows
+}
+
 /// The dipoles as separate component arrays, extended with the ghost copies
 /// and with three trailing zeros (so four lanes from any entry are in bounds).
 pub(crate) struct ExtendedDipoles {
@@ -102,47 +155,11 @@ impl RowQuads {
         if rotors == 0 || directed == 0 {
             return None;
         }
-        let mut tensor_index = Vec::with_capacity(pairs.geometry.len());
-        let mut tensors: Vec<SymmetricTensor> = Vec::new();
-        let mut by_key: HashMap<[u64; 6], u32> = HashMap::new();
-        for g in &pairs.geometry {
-            let t = &g.dipole_tensor;
-            let s = SymmetricTensor {
-                xx: t[0][0],
-                yy: t[1][1],
-                zz: t[2][2],
-                xy: t[0][1],
-                xz: t[0][2],
-                yz: t[1][2],
-            };
-            let next = tensors.len() as u32;
-            let index = *by_key.entry(s.key()).or_insert(next);
-            if index == next {
-                tensors.push(s);
-            }
-            tensor_index.push(index);
-        }
+        let (tensor_index, mut tensors) = distinct_tensors(pairs);
         let zero = tensors.len() as u32;
         tensors.push(SymmetricTensor::default());
 
-        // Directed rows: (offset key, partner, tensor), sorted by offset.
-        let resolution =
-            OFFSET_KEY_RESOLUTION / pairs.geometry.iter().fold(0.0, |m: f64, g| m.max(g.inv_r));
-        let mut rows: Vec<Vec<([i64; 3], u32, u32)>> = vec![Vec::new(); rotors];
-        for (i, row) in pairs.start.windows(2).enumerate() {
-            for p in row[0]..row[1] {
-                let j = pairs.partner[p] as usize;
-                let g = pairs.geometry_index[p] as usize;
-                let geometry = &pairs.geometry[g];
-                let offset = geometry.unit / (geometry.inv_r * resolution);
-                let key: [i64; 3] = offset.map(|x| x.round() as i64).into();
-                rows[i].push((key, j as u32, tensor_index[g]));
-                rows[j].push((key.map(|x| -x), i as u32, tensor_index[g]));
-            }
-        }
-        for row in &mut rows {
-            row.sort_unstable();
-        }
+        let rows = directed_rows(pairs, &tensor_index);
 
         let quads = rotors.div_ceil(4);
         let mut table = RowQuads {
@@ -156,7 +173,7 @@ impl RowQuads {
         let mut placed: HashMap<[u32; 4], u32> = HashMap::new();
         let mut padded = 0;
         for b in 0..quads {
-            let lanes: Vec<&[([i64; 3], u32, u32)]> = (4 * b..4 * b + 4)
+            let lanes: Vec<&[DirectedRow]> = (4 * b..4 * b + 4)
                 .map(|i| rows.get(i).map_or(&[][..], |r| &r[..]))
                 .collect();
             // Merge the four rows by offset: a row lacking the offset misses the slot.

@@ -1,18 +1,59 @@
 """quatrot: rotational dynamics of rigid rotors in quaternion form.
 
 The engine is the Rust extension `quatrot._native`; this package re-exports
-every name it defines (`run`, `builtin_scenes`, `SceneError`, `BlowUpError`,
-`multipole_evaluate`, the submodule `quaternion`, ...), so `quatrot.run` is
-the native function. Pure-Python parts live beside it: `quatrot.sweep`
-(grids of runs as Dask tasks; needs the `sweep` extra) is imported on demand.
+every public name it defines (`run`, `builtin_scenes`, `SceneError`,
+`BlowUpError`, `multipole_evaluate`, the submodule `quaternion`, ...).
+Every native function, here and in `quatrot.quaternion`, is guarded: an
+internal error of the engine (a Rust panic, which Python would raise as a
+`BaseException` that `except Exception` does not catch) is raised as
+`InternalError`. Pure-Python parts live beside it: `quatrot.sweep` (grids of
+runs as Dask tasks; needs the `sweep` extra) is imported on demand.
 """
 
+import functools
 import sys
+import types
 
 from quatrot import _native
-from quatrot._native import *  # noqa: F403 (the names in the native module's `__all__`)
 
-__all__ = list(_native.__all__)
+
+class InternalError(RuntimeError):
+    """An internal error of quatrot (a bug: please report it with the
+    message), raised instead of the Rust panic behind it.
+
+    Examples
+    --------
+    >>> issubclass(quatrot.InternalError, RuntimeError)
+    True
+    """
+
+
+def _guarded(function):
+    """`function` with a Rust panic (pyo3's `PanicException`) raised as
+    `InternalError` naming the function."""
+
+    @functools.wraps(function)
+    def guarded(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except BaseException as e:
+            if type(e).__name__ != "PanicException":
+                raise
+            raise InternalError(f"{function.__name__}: internal error of quatrot (please report it): {e}") from e
+
+    return guarded
+
+
+# Guarded in place, so that `quatrot.quaternion` stays the native submodule
+# and `quatrot.run is quatrot._native.run`.
+for _module in (_native, _native.quaternion):
+    for _name, _value in list(vars(_module).items()):
+        if isinstance(_value, types.BuiltinFunctionType):
+            setattr(_module, _name, _guarded(_value))
+
+from quatrot._native import *  # noqa: E402, F403 (the names in the native module's `__all__`)
+
+__all__ = [name for name in _native.__all__ if not name.startswith("_")] + ["InternalError"]
 
 # `import quatrot.quaternion` finds the native submodule.
 sys.modules[f"{__name__}.quaternion"] = _native.quaternion

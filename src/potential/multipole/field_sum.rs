@@ -1,0 +1,102 @@
+//! [`FieldSum`]: how a [`super::MultipolePotential`] sums its pair fields,
+//! chosen once from the boundary and the way of summing ([`SumMethod`]).
+
+use super::ewald::EwaldSum;
+use super::lattice_fft::LatticeFft;
+use super::lattice_grid;
+use super::pairs::{OpenPairs, PairTable};
+use super::row_quads::RowQuads;
+use super::sum_method::SumMethod;
+use super::{Boundary, PeriodicSum, PotentialError, SumKind};
+use nalgebra::Vector3;
+
+/// How the pair fields are summed, fixed at construction.
+#[derive(Clone, Debug)]
+pub(super) enum FieldSum {
+    /// Every pair of an open cluster, the geometry computed row by row
+    /// (`O(N)` memory).
+    Open(OpenPairs),
+    /// The pair list of a periodic box truncated at the cutoff.
+    Pairs {
+        pairs: PairTable,
+        /// The dipole pairs regrouped for the quad kernel, when it pays (dipole-only systems).
+        row_quads: Option<RowQuads>,
+    },
+    /// The direct Ewald sum.
+    Ewald(Box<EwaldSum>),
+    /// The FFT lattice sum (Ewald or truncated).
+    LatticeFft(Box<LatticeFft>),
+}
+
+impl FieldSum {
+    /// The sum for `boundary` and `method` (see [`SumMethod`]), for the
+    /// multipole kinds `(dipoles, quadrupoles)` carried.
+    pub(super) fn build(
+        sites: &[Vector3<f64>],
+        boundary: Boundary,
+        method: SumMethod,
+        kinds: (bool, bool),
+    ) -> Result<FieldSum, PotentialError> {
+        let pair_sum = |images: (Vector3<f64>, f64)| -> Result<FieldSum, PotentialError> {
+            let pairs = PairTable::build(sites, Some(images))?;
+            let row_quads = if kinds == (true, false) {
+                RowQuads::build(&pairs)
+            } else {
+                None
+            };
+            Ok(FieldSum::Pairs { pairs, row_quads })
+        };
+        let Boundary::Periodic { box_lengths, sum } = boundary else {
+            if method == SumMethod::LatticeFft {
+                return Err(PotentialError::new(
+                    "method",
+                    "the FFT lattice sum needs a periodic box, got open boundaries",
+                ));
+            }
+            return Ok(FieldSum::Open(OpenPairs::new(sites)?));
+        };
+        if sites.is_empty() {
+            let cutoff = match sum {
+                PeriodicSum::Cutoff { cutoff } => cutoff,
+                PeriodicSum::Ewald { .. } => 0.0,
+            };
+            return pair_sum((box_lengths, cutoff));
+        }
+        let fft = match method {
+            SumMethod::LatticeFft => true,
+            SumMethod::Auto => sum.kind() == SumKind::Ewald,
+            SumMethod::Direct => false,
+        };
+        let density = sites.len() as f64 / box_lengths.product();
+        if fft {
+            match lattice_grid::detect(sites, &box_lengths) {
+                Some(grid) => {
+                    let chosen = sum.choose(density, kinds, LatticeFft::cost(&grid, &box_lengths));
+                    let sum = LatticeFft::new(grid, &box_lengths, chosen, kinds)?;
+                    return Ok(FieldSum::LatticeFft(Box::new(sum)));
+                }
+                None if method == SumMethod::LatticeFft => {
+                    return Err(PotentialError::new(
+                        "method",
+                        "the FFT lattice sum needs the sites on a lattice of the box \
+                         (one grid of cells with the same basis offsets, to round-off); \
+                         these sites are not",
+                    ));
+                }
+                None => {}
+            }
+        }
+        let chosen = sum.choose(density, kinds, EwaldSum::cost(sites.len(), &box_lengths));
+        match (chosen.sum, chosen.parameters) {
+            (PeriodicSum::Ewald { surface, .. }, Some(parameters)) => {
+                Ok(FieldSum::Ewald(Box::new(EwaldSum::with_parameters(
+                    sites,
+                    box_lengths,
+                    parameters,
+                    surface,
+                )?)))
+            }
+            _ => pair_sum((box_lengths, chosen.reach)),
+        }
+    }
+}

@@ -1,0 +1,59 @@
+//! The way of summing a periodic system ([`SumMethod`], the option
+//! `method`) and the way a potential took ([`SumPath`]). A new way (a mesh)
+//! is a variant of each, checked against the sum it needs where the sum is
+//! built (`field_sum.rs`).
+
+use crate::checks::named_choices;
+
+/// Which way of summing a periodic system is wanted. [`SumMethod::Auto`]
+/// (what [`super::MultipolePotential::new`] uses) takes the FFT lattice sum for an
+/// Ewald sum whose sites are a lattice of the box (detected: see
+/// [`crate::potential::multipole::LatticeGrid`]; vacancies and mixed
+/// multipoles included), the direct Ewald sum for other sites, and the pair
+/// list for a truncated sum (bit for bit the sum of earlier versions).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SumMethod {
+    /// The fastest path that is exact for the sites (the default).
+    #[default]
+    Auto,
+    /// The pair list (truncated) or the direct Ewald sum, even on a lattice.
+    Direct,
+    /// The FFT lattice sum (Ewald, or the truncated sum, which it equals to
+    /// round-off): an error when the sites are not a lattice of the box.
+    LatticeFft,
+}
+
+named_choices!(SumMethod {
+    "auto" => SumMethod::Auto,
+    "direct" => SumMethod::Direct,
+    "lattice_fft" => SumMethod::LatticeFft,
+});
+
+/// The way a potential sums its pair fields (see [`super::MultipolePotential::sum_path`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SumPath {
+    /// Every pair of an open cluster.
+    OpenPairs,
+    /// The truncated periodic sum over the pair list.
+    CutoffPairs,
+    /// The truncated periodic sum by FFT on the lattice.
+    CutoffLatticeFft,
+    /// The direct Ewald sum (real-space pairs and structure factors).
+    EwaldDirect,
+    /// The Ewald sum by FFT on the lattice.
+    EwaldLatticeFft,
+}
+
+impl SumPath {
+    /// A short name, as written in summaries: `"open_pairs"`, `"cutoff_pairs"`,
+    /// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SumPath::OpenPairs => "open_pairs",
+            SumPath::CutoffPairs => "cutoff_pairs",
+            SumPath::CutoffLatticeFft => "cutoff_lattice_fft",
+            SumPath::EwaldDirect => "ewald_direct",
+            SumPath::EwaldLatticeFft => "ewald_lattice_fft",
+        }
+    }
+}
