@@ -30,6 +30,7 @@ __all__ = [
     "cli_main",
     "run_dielectric_constant",
     "MAX_THREADS",
+    "_panic_for_tests",
 ]
 __version__: str
 MAX_THREADS: int
@@ -114,3 +115,6 @@ def cli_main(argv: Sequence[str | PathLike[str]]) -> int: ...
 def run_dielectric_constant(
     run: dict[str, Any] | _Path, *, series: str | None = None, temperature: float | None = None
 ) -> dict[str, Any]: ...
+
+# Private: panics in Rust, for the test of the package's guard (InternalError).
+def _panic_for_tests(message: str) -> None: ...
