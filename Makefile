@@ -13,7 +13,7 @@ export PATH := $(abspath $(VENV))/bin:$(PATH)
 export LD_LIBRARY_PATH := $(abspath $(VENV))/lib:$(LD_LIBRARY_PATH)
 RESULTS ?= results
 
-.PHONY: all test validate fixtures bench develop lint rust-test py-test mutants mutants-report clean
+.PHONY: all test validate fixtures bench develop lint rust-test py-test stubtest docs screenshots mutants mutants-report clean
 
 all: test
 
@@ -44,19 +44,50 @@ rust-test:
 py-test: develop
 	$(PY) -m pytest -q validation/tests
 
+# The type stubs (src/python/quatrot/*.pyi) against the built module.
+stubtest: develop
+	$(PY) -m mypy.stubtest quatrot._native quatrot.quaternion
+
+# The documentation site (docs/conf.py says what it holds) into
+# docs/_build/html, warnings as errors: the HTML pages with the gallery run
+# (QUATROT_DOCS_QUICK=1: its quick settings), the docstrings' examples as
+# doctests, the Rust API (cargo doc) copied under rust/, then every internal
+# link checked. QUATROT_REPORT names the validation report to include.
+DOCS_BUILD := docs/_build
+SPHINX := $(PY) -m sphinx -E -W --keep-going -q
+QUATROT_DOCS_QUICK ?=
+QUATROT_REPORT ?= $(abspath $(RESULTS))/report.md
+export QUATROT_DOCS_QUICK QUATROT_REPORT
+docs: develop
+	RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --features python
+	rm -rf $(DOCS_BUILD) docs/auto_examples docs/_generated
+	$(SPHINX) -b html docs $(DOCS_BUILD)/html
+	$(SPHINX) -b doctest docs $(DOCS_BUILD)/doctest
+	cp -r target/doc $(DOCS_BUILD)/html/rust
+	$(PY) docs/check_links.py $(DOCS_BUILD)/html
+
 # The virtual environment is set up (mostly waiting on downloads: 2.5 min
 # from nothing) while clippy checks the crate (CPU), then the tests run.
 test:
 	$(MAKE) --jobs=2 --output-sync=target lint $(STAMP_VENV)
-	$(MAKE) rust-test py-test
+	$(MAKE) rust-test py-test stubtest docs QUATROT_DOCS_QUICK=1 QUATROT_REPORT=
 
 fixtures: develop
 	$(PY) -m validation.fixtures
 
 # The scene fuzz at ten times the cases of `make test` (tests/fuzz_scenes.rs).
+# Then the site with the full gallery and this report, whose home page and
+# report page headless Chromium opens (Debian's, installed when missing):
+# a console error fails, the screenshots go into the report.
 validate: develop
 	QUATROT_FUZZ_CASES=20000 cargo test --release --test fuzz_scenes
 	$(PY) -m validation.report --out $(RESULTS)
+	$(MAKE) docs QUATROT_REPORT=$(abspath $(RESULTS))/report.md
+	$(MAKE) screenshots
+
+screenshots:
+	command -v chromium >/dev/null || (apt-get update && apt-get install -y chromium)
+	$(PY) docs/screenshots.py --site $(DOCS_BUILD)/html --report $(RESULTS)
 
 bench: develop
 	cargo bench

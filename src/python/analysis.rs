@@ -55,17 +55,43 @@ fn lag(max_lag: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
         .map(|m| usize::try_from(m).unwrap_or(usize::MAX)))
 }
 
-/// orientational_correlations(orientations, dt, axes=None, max_lag=None) -> dict
+/// Orientational time-correlation functions C1 and C2 of body axes.
 ///
-/// The orientational time-correlation functions `C1(t) = <u(0).u(t)>` and
-/// `C2(t) = <P2(u(0).u(t))>`, `P2(x) = (3x^2 - 1)/2`, of body axes `u`
-/// averaged over all time origins and rotors (by FFT). `orientations`:
-/// `(frames, n, 4)` scalar first (normalised here), frames `dt` apart (the
-/// `trajectory["orientations"]` of `quatrot.run`); `axes`: body-frame axes,
-/// `(3,)` for one or `(k, 3)` (normalised here; default: the three principal
-/// axes); `max_lag`: the largest lag in frames (default: every lag, the
-/// last ones averaging few origins). Returns `{"time": (L,), "c1": (k, L),
-/// "c2": (k, L)}` (`(L,)` for a single axis).
+/// `C1(t) = <u(0).u(t)>` and `C2(t) = <P2(u(0).u(t))>`, `P2(x) = (3x^2 - 1)/2`,
+/// averaged over all time origins and rotors (by FFT).
+///
+/// Parameters
+/// ----------
+/// orientations : array_like, shape (frames, n, 4)
+///     Scalar first (normalised here), frames `dt` apart (the
+///     `trajectory["orientations"]` of `quatrot.run`).
+/// dt : float
+///     Time between frames.
+/// axes : array_like, shape (3,) or (k, 3), optional
+///     Body-frame axes (normalised here); default the three principal axes.
+/// max_lag : int, optional
+///     The largest lag in frames (default: every lag, the last ones
+///     averaging few origins).
+///
+/// Returns
+/// -------
+/// dict
+///     `{"time": (L,), "c1": (k, L), "c2": (k, L)}`, `(L,)` for a single axis.
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// A rotor spinning about z at 1 rad per unit time: its x axis has
+/// `C1(t) = cos t`.
+///
+/// >>> t = np.arange(4) * 0.5
+/// >>> q = quaternion.exp(np.outer(t, [0, 0, 1]))[:, None, :]
+/// >>> c = quatrot.orientational_correlations(q, 0.5, axes=[1, 0, 0])
+/// >>> np.allclose(c["c1"], np.cos(c["time"]))
+/// True
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (orientations, dt, axes=None, max_lag=None))]
 fn orientational_correlations<'py>(
@@ -101,13 +127,35 @@ fn orientational_correlations<'py>(
     Ok(out)
 }
 
-/// angular_velocity_correlation(omega, dt, max_lag=None) -> dict
+/// The angular-velocity autocorrelation `<w(0).w(t)>`.
 ///
-/// `<w(0).w(t)>` averaged over all time origins and rotors (by FFT), not
-/// normalised (lag 0 is `<|w|^2>`), in the frame the vectors are given in
-/// (`trajectory["omega_body"]` of `quatrot.run` is body-frame). `omega`:
-/// `(frames, n, 3)` or `(frames, 3)`, frames `dt` apart. Returns
-/// `{"time": (L,), "c": (L,)}`.
+/// Averaged over all time origins and rotors (by FFT), not normalised (lag 0
+/// is `<|w|^2>`), in the frame the vectors are given in.
+///
+/// Parameters
+/// ----------
+/// omega : array_like, shape (frames, n, 3) or (frames, 3)
+///     Angular velocities, frames `dt` apart (`trajectory["omega_body"]` of
+///     `quatrot.run` is body-frame).
+/// dt : float
+///     Time between frames.
+/// max_lag : int, optional
+///     The largest lag in frames (default: every lag).
+///
+/// Returns
+/// -------
+/// dict
+///     `{"time": (L,), "c": (L,)}`.
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> c = quatrot.angular_velocity_correlation(np.tile([0.0, 0.0, 2.0], (5, 1)), 0.1)
+/// >>> c["c"]
+/// array([4., 4., 4., 4., 4.])
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (omega, dt, max_lag=None))]
 fn angular_velocity_correlation<'py>(
@@ -134,17 +182,38 @@ fn unit(axis: &Bound<'_, PyAny>, name: &'static str) -> PyResult<Unit<Vector3<f6
     Ok(checked_unit_axis(name, &Vector3::from(v))?)
 }
 
-/// order_parameters(orientations, axis=(0, 0, 1), direction=None) -> dict
+/// The orientational order of a body axis over the rotors.
 ///
-/// The orientational order of the body axis `axis` (body frame, normalised)
-/// over the rotors: `p2`, the largest eigenvalue of the order tensor
-/// `Q = <3/2 u u^T - 1/2 I>` (`q_tensor`), its eigenvector `director`
-/// (signed so that `p1 = <u>.director >= 0`), `p1` the polar order along
-/// it, `cos_director` each rotor's `u.director`, and with `direction` (a
-/// space vector, normalised) `p1_direction = <u>.direction` and each
-/// rotor's `cos_direction = u.direction`. `orientations`: `(n, 4)` for one
-/// configuration (floats and `(3,)`, `(3, 3)`, `(n,)` arrays), or
-/// `(frames, n, 4)` (each result gains a leading frames axis).
+/// Parameters
+/// ----------
+/// orientations : array_like, shape (n, 4) or (frames, n, 4)
+///     Scalar first; with frames, each result gains a leading frames axis.
+/// axis : array_like, shape (3,), default (0, 0, 1)
+///     The body axis `u` (normalised here).
+/// direction : array_like, shape (3,), optional
+///     A space vector (normalised here) for the polar order along it.
+///
+/// Returns
+/// -------
+/// dict
+///     `p2`, the largest eigenvalue of the order tensor
+///     `Q = <3/2 u u^T - 1/2 I>` (`q_tensor`, (3, 3)); its eigenvector
+///     `director` (signed so that `p1 = <u>.director >= 0`); `p1`, the polar
+///     order along it; `cos_director` (n,), each rotor's `u.director`; with
+///     `direction`, `p1_direction = <u>.direction` and `cos_direction` (n,).
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// Two rotors with their z axes along +z and -z: nematic, not polar.
+///
+/// >>> flipped = quaternion.from_axis_angle([1, 0, 0], np.pi)
+/// >>> order = quatrot.order_parameters([[1, 0, 0, 0], flipped])
+/// >>> round(float(order["p2"]), 12), round(float(order["p1"]), 12)
+/// (1.0, 0.0)
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (orientations, axis=None, direction=None))]
 fn order_parameters<'py>(
@@ -209,12 +278,28 @@ fn order_parameters<'py>(
     Ok(out)
 }
 
-/// total_dipole(orientations, dipoles_body) -> ndarray
+/// The total dipole `M = sum_i R(Q_i) mu_i` in the space frame.
 ///
-/// `M = sum_i R(Q_i) mu_i`, space frame, of body dipoles `dipoles_body`
-/// (`(3,)` shared by all rotors, or `(n, 3)`) at `orientations` (`(n, 4)`,
-/// normalised here) -> `(3,)`; or `(frames, n, 4)` -> `(frames, 3)`.
-/// `|M|^2` is `(M**2).sum(-1)`.
+/// Parameters
+/// ----------
+/// orientations : array_like, shape (n, 4) or (frames, n, 4)
+///     Scalar first (normalised here).
+/// dipoles_body : array_like, shape (3,) or (n, 3)
+///     Body-frame dipoles (one shared by all rotors, or one each).
+///
+/// Returns
+/// -------
+/// ndarray, shape (3,) or (frames, 3)
+///     `|M|^2` is `(M**2).sum(-1)`.
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> quatrot.total_dipole([[1, 0, 0, 0], quaternion.from_axis_angle([1, 0, 0], np.pi / 2)], [0, 0, 1])
+/// array([ 0., -1.,  1.])
+///
+/// ```
 #[pyfunction]
 fn total_dipole<'py>(
     py: Python<'py>,
@@ -292,14 +377,38 @@ fn block_dict<'py>(py: Python<'py>, b: &BlockAverage) -> PyResult<Bound<'py, PyD
     Ok(out)
 }
 
-/// block_average(series) -> dict
+/// The mean of a correlated series and its standard error by blocking.
 ///
-/// The mean of a correlated series `(n,)` (n >= 2) and its standard error by
-/// blocking (Flyvbjerg & Petersen 1989), the level chosen by Jonsson's test
-/// (2018) at significance 1 %: `{"mean", "error", "error_of_error",
-/// "block_length", "converged", "levels": {"block_length", "blocks",
-/// "error", "error_of_error"}}` (every level, for a plot). Warns
-/// (`RuntimeWarning`) when no level passes (`converged` False).
+/// Flyvbjerg and Petersen's blocking (1989), the level chosen by Jonsson's
+/// test (2018) at significance 1 %.
+///
+/// Parameters
+/// ----------
+/// series : array_like, shape (n,)
+///     At least 2 values.
+///
+/// Returns
+/// -------
+/// dict
+///     `mean`, `error`, `error_of_error`, `block_length`, `converged`, and
+///     `levels` (`block_length`, `blocks`, `error`, `error_of_error` of every
+///     level, for a plot).
+///
+/// Warns
+/// -----
+/// RuntimeWarning
+///     When no level passes the test (`converged` False).
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> rng = np.random.default_rng(1)
+/// >>> b = quatrot.block_average(rng.normal(size=4096))
+/// >>> abs(b["mean"]) < 4 * b["error"], 0.01 < b["error"] < 0.02
+/// (True, True)
+///
+/// ```
 #[pyfunction]
 fn block_average<'py>(py: Python<'py>, series: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
     let x = Numbers::new(series, "series", Values::Finite)?.series()?;
@@ -308,19 +417,51 @@ fn block_average<'py>(py: Python<'py>, series: &Bound<'py, PyAny>) -> PyResult<B
     block_dict(py, &b)
 }
 
-/// dielectric_constant(dipoles, volume, temperature, boundary="conducting") -> dict
+/// The static dielectric constant from the fluctuation of the total dipole.
 ///
-/// The static dielectric constant from the fluctuation
-/// `F = <|M|^2> - |<M>|^2` of the total dipole series `dipoles` `(frames, 3)`
-/// of a box of `volume` at `temperature` (reduced units, 4 pi eps0 = 1,
-/// k_B = 1), by the formula of `boundary`: `"conducting"` (Ewald, tin
-/// foil): `eps = 1 + 4 pi F / (3 V T)`; `"vacuum"` (Ewald with vacuum
-/// surroundings, or a spherical cluster in vacuum): `(eps - 1)/(eps + 2) =
-/// 4 pi F / (9 V T)`; `"open"` and `"cutoff"` are refused (no formula
-/// applies). Returns `{"epsilon", "error", "mean_squared_dipole",
-/// "mean_dipole", "fluctuation" (the block_average dict of F)}`; the error
-/// is F's blocking error propagated. Warns when the blocking does not
-/// converge.
+/// `F = <|M|^2> - |<M>|^2` of a box of volume `V` at temperature `T`
+/// (reduced units, 4 pi eps0 = 1, k_B = 1), by the formula of `boundary`:
+/// `"conducting"` (Ewald, tin foil): `eps = 1 + 4 pi F / (3 V T)`;
+/// `"vacuum"` (Ewald with vacuum surroundings, or a spherical cluster in
+/// vacuum): `(eps - 1)/(eps + 2) = 4 pi F / (9 V T)`.
+///
+/// Parameters
+/// ----------
+/// dipoles : array_like, shape (frames, 3)
+///     The total dipole series `M`.
+/// volume : float
+///     The box volume.
+/// temperature : float
+/// boundary : {"conducting", "vacuum"}, default "conducting"
+///     `"open"` and `"cutoff"` are refused: no formula applies.
+///
+/// Returns
+/// -------
+/// dict
+///     `epsilon`, `error` (F's blocking error propagated),
+///     `mean_squared_dipole`, `mean_dipole`, `fluctuation` (the
+///     `block_average` dict of F).
+///
+/// Raises
+/// ------
+/// ValueError
+///     For a boundary with no formula.
+///
+/// Warns
+/// -----
+/// RuntimeWarning
+///     When the blocking does not converge.
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> rng = np.random.default_rng(2)
+/// >>> eps = quatrot.dielectric_constant(rng.normal(size=(4096, 3)), 100.0, 1.0)
+/// >>> round(eps["epsilon"], 1)  # 1 + 4 pi 3 / 300
+/// 1.1
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (dipoles, volume, temperature, boundary=None))]
 fn dielectric_constant<'py>(

@@ -14,13 +14,57 @@ use crate::rotor::Inertia;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// Runs `steps` DLM steps of `dt` for spherical tops with moments `inertia`
-/// (n,) on `sites` (n, 3) carrying `dipoles_body` (n, 3), from `orientations`
-/// (n, 4, scalar first, body to space) and `omega_body` (n, 3), in the
-/// optional uniform `field` (3,). `split` selects the body-axis sweep for the
-/// free rotation (as LAMMPS) instead of the exact spherical-top flow. Returns
-/// a dict of per-step samples (index 0 is t = 0): `orientations` (s+1, n, 4),
-/// `omega_body` (s+1, n, 3), `potential` (s+1,), `torques_space` (s+1, n, 3).
+/// Runs DLM steps for dipolar spherical tops on fixed sites.
+///
+/// The Dullweber-Leimkuhler-McLachlan splitting as LAMMPS `fix nve/sphere
+/// update dipole/dlm` integrates it, for the side-by-side comparison with
+/// LAMMPS.
+///
+/// Parameters
+/// ----------
+/// sites : array_like, shape (n, 3)
+///     Fixed positions (reduced length units).
+/// dipoles_body : array_like, shape (n, 3)
+///     Body-frame dipoles.
+/// inertia : array_like, shape (n,)
+///     Moments of inertia (> 0), one per spherical top.
+/// orientations : array_like, shape (n, 4)
+///     Initial quaternions, scalar first, body to space.
+/// omega_body : array_like, shape (n, 3)
+///     Initial body-frame angular velocities.
+/// field : array_like, shape (3,) or None
+///     Optional uniform field.
+/// dt : float
+///     Time step (> 0).
+/// steps : int
+///     Number of steps.
+/// split : bool
+///     True: the body-axis sweep for the free rotation (as LAMMPS); False:
+///     the exact spherical-top flow.
+///
+/// Returns
+/// -------
+/// dict
+///     Per-step samples, index 0 at t = 0: `orientations` (s+1, n, 4),
+///     `omega_body` (s+1, n, 3), `potential` (s+1,), `torques_space`
+///     (s+1, n, 3).
+///
+/// Raises
+/// ------
+/// ValueError
+///     For a bad shape, a non-finite number or a zero quaternion (the message
+///     names the argument).
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> out = quatrot.dlm_dipoles([[0, 0, 0]], [[0, 0, 1]], [0.1], [[1, 0, 0, 0]],
+/// ...                           [[1.0, 0, 0]], [0, 0, 1.0], 0.01, 10, False)
+/// >>> out["orientations"].shape
+/// (11, 1, 4)
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (sites, dipoles_body, inertia, orientations, omega_body, field, dt, steps, split))]
 #[allow(clippy::too_many_arguments)]

@@ -5,10 +5,29 @@
 use pyo3::prelude::*;
 use std::ffi::OsString;
 
-/// cli_main(argv) -> int
+/// Runs the command line `argv` and returns its exit code.
 ///
-/// Runs the command line `argv` (the program name first, as `sys.argv`)
-/// and returns its exit code. The GIL is released while it runs.
+/// The entry point of `python -m quatrot` and of the `quatrot` script; the
+/// GIL is released while it runs. Exit codes: 0 completed, 2 error, 3 blew
+/// up, 130 interrupted.
+///
+/// Parameters
+/// ----------
+/// argv : list of str
+///     The program name first, as `sys.argv`.
+///
+/// Returns
+/// -------
+/// int
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> quatrot.cli_main(["quatrot", "check", "dipole_in_field"])
+/// 0
+///
+/// ```
 #[pyfunction]
 fn cli_main(py: Python<'_>, argv: Vec<OsString>) -> i32 {
     py.detach(|| crate::cli::main_from(argv))

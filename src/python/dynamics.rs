@@ -21,14 +21,53 @@ const SAMPLE_BYTES: u64 = 8 * 8 * 8;
 
 /// The note's experiment: scheme A against scheme B with each correction.
 ///
-/// Arrays (float64, `n` rotors; an item without the leading `n` applies to
-/// every rotor): `sites (n, 3)`, `inertia (n, 3)` principal moments (all
-/// equal: spherical top), `orientations (n, 4)` scalar first, `omega_body
-/// (n, 3)`, optional `dipoles (n, 3)` and `quadrupoles (n, 3, 3)` (body frame,
-/// Buckingham), optional uniform `field (3,)`, optional periodic box
-/// `box_lengths (3,)` with `cutoff`. Returns one dict per configuration with
-/// keys `label, drift, fluctuation, global_error, order, largest_stable_dt,
-/// max_q_dot_q_dot, max_q_dot_force` (see the Rust docs for their meaning).
+/// Arrays are float64 for `n` rotors; an item without the leading `n`
+/// applies to every rotor.
+///
+/// Parameters
+/// ----------
+/// sites : array_like, shape (n, 3)
+/// inertia : array_like, shape (n, 3)
+///     Principal moments (all equal: spherical tops).
+/// orientations : array_like, shape (n, 4)
+///     Scalar first.
+/// omega_body : array_like, shape (n, 3)
+/// dipoles, quadrupoles : array_like, shape (n, 3) and (n, 3, 3), optional
+///     Body frame; quadrupoles Buckingham.
+/// field : array_like, shape (3,), optional
+///     Uniform field.
+/// box_lengths : array_like, shape (3,), optional
+///     A periodic box, with `cutoff`.
+/// cutoff : float, optional
+/// dt : float, default 0.02
+///     The time step of the energy runs.
+/// t_energy, t_error, t_stability : float, default 100, 5, 20
+///     Lengths (time units) of the energy runs, the error runs against a
+///     reference, and the stability search's runs.
+/// sample_every : int, optional
+///     Sampling interval of the energy runs.
+///
+/// Returns
+/// -------
+/// list of dict
+///     One per configuration, with keys `label`, `drift`, `fluctuation`,
+///     `global_error`, `order`, `largest_stable_dt`, `max_q_dot_q_dot`,
+///     `max_q_dot_force` (the Rust docs of `experiments::gear_corrections`
+///     define them).
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> rows = quatrot.gear_corrections_table([[0, 0, 0]], [[0.1] * 3], [[1, 0, 0, 0]],
+/// ...     [[0, 0, 0]], dipoles=[[0, 0, 1]], field=[0.5, 0, 1], t_energy=2,
+/// ...     t_error=1, t_stability=1)
+/// >>> rows[0]["label"]
+/// 'A (renormalised)'
+/// >>> sorted(rows[0])[:3]
+/// ['drift', 'fluctuation', 'global_error']
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (
     sites, inertia, orientations, omega_body, *, dipoles=None, quadrupoles=None, field=None,

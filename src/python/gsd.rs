@@ -8,15 +8,35 @@ use crate::run::{GsdBox, GsdWriter, RunError};
 use nalgebra::Vector3;
 use pyo3::prelude::*;
 
-/// write_gsd(path, sites, orientations, steps, box_lengths=None, margin=1.0)
+/// Writes a GSD file (HOOMD-blue's format) of rotors on sites.
 ///
-/// Writes a GSD file (HOOMD-blue's format, `hoomd` schema 1.4, float32) of
-/// rotors on `sites` `(n, 3)` with `orientations` `(frames, n, 4)` (scalar
-/// first, written normalised) at integer `steps` `(frames,)`. The box is the
-/// periodic `[0, box_lengths)` if given, else (an open cluster) the bounding
-/// box of the sites grown by `margin` on each side; HOOMD centres its box,
-/// so positions are written wrapped into the box and shifted by `-L/2`.
+/// `hoomd` schema 1.4, float32, orientations written normalised. The box is
+/// the periodic `[0, box_lengths)` if given, else (an open cluster) the
+/// bounding box of the sites grown by `margin` on each side; HOOMD centres its
+/// box, so positions are written wrapped into the box and shifted by `-L/2`.
 /// Read it with `gsd.hoomd.open(path)`.
+///
+/// Parameters
+/// ----------
+/// path : str or path
+/// sites : array_like, shape (n, 3)
+/// orientations : array_like, shape (frames, n, 4)
+///     Scalar first.
+/// steps : array_like of int, shape (frames,)
+/// box_lengths : array_like, shape (3,), optional
+/// margin : float, default 1.0
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> import os, tempfile
+/// >>> path = os.path.join(tempfile.mkdtemp(), "rotors.gsd")
+/// >>> quatrot.write_gsd(path, [[0, 0, 0], [1, 0, 0]], [[[1, 0, 0, 0]] * 2], [0])
+/// >>> os.path.getsize(path) > 0
+/// True
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (path, sites, orientations, steps, box_lengths=None, margin=1.0))]
 fn write_gsd(

@@ -113,23 +113,79 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
     Ok(m.diagonal())
 }
 
-/// Energy, eq 14 gradient `dV/dq` (n, 4) and space-frame torques (n, 3) of
-/// point multipoles on fixed `sites` (n, 3) with `orientations` (n, 4,
-/// scalar first), body `dipoles_body` (n, 3) and Buckingham
-/// `quadrupoles_body` (n, 3, 3, symmetric traceless), each optional (zero
-/// rows mean no multipole); optional uniform `field` (3,) and
-/// `field_gradient` (3, 3) with `[a, b] = dE_b/dr_a`. Boundaries: open, or
+/// Energy, eq 14 gradient and torques of point multipoles on fixed sites.
+///
+/// Reduced units, `4 pi eps0 = 1`. Boundaries: open (no `box_lengths`), or
 /// periodic in the box `box_lengths`, summed as a scene's `sum`, `cutoff`,
-/// `accuracy` and `surface` say ([`PeriodicSum::new`]: the Ewald sum by
-/// default, every image within `cutoff`, a rotor's own images included,
-/// with `sum="cutoff"` or a `cutoff` alone). `method`: `"auto"` (default: the FFT lattice sum for an
-/// Ewald sum on a lattice, the direct sums otherwise), `"direct"` or
-/// `"lattice_fft"`. With `details=True` a fourth value is returned: a dict
-/// with the `path` used (`"open_pairs"`, `"cutoff_pairs"`,
-/// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"`), and
-/// for Ewald sums `alpha`, `real_cutoff`, `reciprocal_cutoff` and the
-/// error estimates, for FFT sums `cells` and `basis`. Reduced units,
-/// 4 pi eps0 = 1.
+/// `accuracy` and `surface` say: the Ewald sum by default; every image
+/// within `cutoff` (a rotor's own images included) with `sum="cutoff"` or a
+/// `cutoff` alone.
+///
+/// Parameters
+/// ----------
+/// sites : array_like, shape (n, 3)
+///     Fixed positions.
+/// orientations : array_like, shape (n, 4)
+///     Quaternions, scalar first, body to space.
+/// dipoles_body : array_like, shape (n, 3) or (3,), optional
+///     Body-frame dipoles (zero rows: no dipole).
+/// quadrupoles_body : array_like, shape (n, 3, 3) or (3, 3), optional
+///     Body-frame Buckingham quadrupoles, symmetric and traceless.
+/// field : array_like, shape (3,), optional
+///     Uniform external field.
+/// field_gradient : array_like, shape (3, 3), optional
+///     Uniform field gradient, `[a, b] = dE_b/dr_a`.
+/// box_lengths : array_like, shape (3,) or diagonal (3, 3), optional
+///     The periodic box's edges; absent: open boundaries.
+/// cutoff : float, optional
+///     The truncated periodic sum's cutoff (may exceed half the box).
+/// sum : {"ewald", "cutoff"}, optional
+///     The periodic sum (default "ewald"; "cutoff" when only `cutoff` is
+///     given).
+/// accuracy : float, optional
+///     The Ewald sum's relative accuracy (default 1e-12).
+/// surface : {"conducting", "vacuum"}, optional
+///     The Ewald sum's surroundings (default "conducting").
+/// method : {"auto", "direct", "lattice_fft"}, optional
+///     "auto" (default): the FFT lattice sum for an Ewald sum on a lattice,
+///     the direct sums otherwise.
+/// details : bool, default False
+///     Also return a dict of how the sum was made.
+///
+/// Returns
+/// -------
+/// energy : float
+/// gradient : ndarray, shape (n, 4)
+///     `dV/dq` (eq 14).
+/// torques : ndarray, shape (n, 3)
+///     Space-frame torques.
+/// details : dict
+///     With `details=True` only: the `path` used (`"open_pairs"`,
+///     `"cutoff_pairs"`, `"cutoff_lattice_fft"`, `"ewald_direct"`,
+///     `"ewald_lattice_fft"`), for Ewald sums `alpha`, `real_cutoff`,
+///     `reciprocal_cutoff` and the error estimates, for FFT sums `cells`
+///     and `basis`.
+///
+/// Raises
+/// ------
+/// ValueError
+///     For bad shapes, non-finite numbers, coincident sites, a keyword
+///     combination that means nothing, or sizes beyond the memory limit.
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// Two dipoles along z one unit apart on the z axis (head to tail: energy -2):
+///
+/// >>> energy, gradient, torques = quatrot.multipole_evaluate(
+/// ...     [[0, 0, 0], [0, 0, 1]], [[1, 0, 0, 0]] * 2, dipoles_body=[0, 0, 1])
+/// >>> round(energy, 12)
+/// -2.0
+/// >>> torques.shape
+/// (2, 3)
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None, sum=None, accuracy=None, surface=None, method=None, details=false))]
 #[allow(clippy::too_many_arguments)]

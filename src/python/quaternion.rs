@@ -42,47 +42,217 @@ macro_rules! elementwise {
 
 elementwise! {
     /// Hamilton product `p*q` (eq 2, corrected sign).
+    ///
+    /// Parameters
+    /// ----------
+    /// p : array_like, shape (4,) or (m, 4)
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.product([0, 1, 0, 0], [0, 0, 1, 0])  # i j = k
+    /// array([0., 0., 0., 1.])
+    ///
+    /// ```
     fn product(p: Q, Quaternions, q: Q, Quaternions) -> Q, |i| Ok((p.quat(i) * q.quat(i)).0)
 }
 
 elementwise! {
     /// Conjugate `(q0, -q)` (eq 3).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.conjugate([1, 2, 3, 4])
+    /// array([ 1., -2., -3., -4.])
+    ///
+    /// ```
     fn conjugate(q: Q, Quaternions) -> Q, |i| Ok(q.quat(i).conjugate().0)
 }
 
 elementwise! {
     /// Norm `|Q|` (square root of eq 5).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// float or ndarray, shape (m,)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> float(quaternion.norm([1, 1, 1, 1]))
+    /// 2.0
+    ///
+    /// ```
     fn norm(q: Q, Quaternions) -> S, |i| Ok([q.quat(i).norm()])
 }
 
 elementwise! {
     /// `A(Q)` of eq 7, space to body (`r_b = A r_s`).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3, 3) or (m, 3, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.space_to_body_matrix(quaternion.from_axis_angle([0, 0, 1], np.pi / 2))
+    /// array([[ 0.,  1.,  0.],
+    ///        [-1.,  0.,  0.],
+    ///        [ 0.,  0.,  1.]])
+    ///
+    /// ```
     fn space_to_body_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(&q.quat(i).space_to_body_matrix()))
 }
 
 elementwise! {
     /// `R(Q) = A(Q)^T`, body to space (`r_s = R r_b`), the active rotation of `Q`.
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3, 3) or (m, 3, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.body_to_space_matrix(quaternion.from_axis_angle([0, 0, 1], np.pi / 2))
+    /// array([[ 0., -1.,  0.],
+    ///        [ 1.,  0.,  0.],
+    ///        [ 0.,  0.,  1.]])
+    ///
+    /// ```
     fn body_to_space_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(&q.quat(i).body_to_space_matrix()))
 }
 
 elementwise! {
-    /// nalgebra's `Rotation3` of `Q` (via `UnitQuaternion`): an independent `R(Q)`
-    /// for the cross-code checks.
+    /// nalgebra's `Rotation3` of `Q` (via `UnitQuaternion`).
+    ///
+    /// An independent `R(Q)` for the cross-code checks.
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3, 3) or (m, 3, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> q = quaternion.exp([0.1, -0.2, 0.3])
+    /// >>> np.allclose(quaternion.nalgebra_body_to_space_matrix(q), quaternion.body_to_space_matrix(q))
+    /// True
+    ///
+    /// ```
     fn nalgebra_body_to_space_matrix(q: Q, Quaternions) -> M, |i| Ok(row_major(Rotation3::from(q.quat(i)).matrix()))
 }
 
 elementwise! {
     /// Body-fixed components `A(Q) v_space` (eq 6).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    /// v_space : array_like, shape (3,) or (m, 3)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3,) or (m, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.space_to_body(quaternion.from_axis_angle([0, 0, 1], np.pi / 2), [1, 0, 0])
+    /// array([ 0., -1.,  0.])
+    ///
+    /// ```
     fn space_to_body(q: Q, Quaternions, v_space: V, Finite) -> V, |i| Ok(q.quat(i).space_to_body(&v_space.vector(i)).into())
 }
 
 elementwise! {
     /// Space-fixed components `R(Q) v_body`.
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    /// v_body : array_like, shape (3,) or (m, 3)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3,) or (m, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.body_to_space(quaternion.from_axis_angle([0, 0, 1], np.pi / 2), [1, 0, 0])
+    /// array([0., 1., 0.])
+    ///
+    /// ```
     fn body_to_space(q: Q, Quaternions, v_body: V, Finite) -> V, |i| Ok(q.quat(i).body_to_space(&v_body.vector(i)).into())
 }
 
 elementwise! {
     /// `Q` of y-convention Euler angles `(phi, theta, psi)` in radians (eq 8).
+    ///
+    /// Parameters
+    /// ----------
+    /// angles : array_like, shape (3,) or (m, 3)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.from_euler_y([0, np.pi / 2, 0])  # theta: 90 degrees about y
+    /// array([0.707107, 0.      , 0.707107, 0.      ])
+    ///
+    /// ```
     fn from_euler_y(angles: V, Finite) -> Q, |i| {
         let [phi, theta, psi] = angles.vector(i).into();
         Ok(Quat::from_euler_y(phi, theta, psi).0)
@@ -90,14 +260,53 @@ elementwise! {
 }
 
 elementwise! {
-    /// y-convention `(phi, theta, psi)` of unit `Q`: theta in [0, pi], phi, psi in (-pi, pi].
+    /// y-convention `(phi, theta, psi)` of unit `Q`.
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3,) or (m, 3)
+    ///     theta in [0, pi], phi and psi in (-pi, pi].
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> angles = quaternion.to_euler_y(quaternion.from_euler_y([0.3, 1.2, -0.5]))
+    /// >>> np.allclose(angles, [0.3, 1.2, -0.5])
+    /// True
+    ///
+    /// ```
     fn to_euler_y(q: Q, Quaternions) -> V, |i| {
         let (phi, theta, psi) = q.quat(i).to_euler_y();
         Ok([phi, theta, psi])
     }
 }
 
-/// `Q` of the rotation by `angle` (radians) about `axis` (normalised here; must be nonzero).
+/// `Q` of the rotation by `angle` (radians) about `axis`.
+///
+/// Parameters
+/// ----------
+/// axis : array_like, shape (3,) or (m, 3)
+///     Normalised here; must be nonzero.
+/// angle : float or array_like, shape (m,)
+///
+/// Returns
+/// -------
+/// ndarray, shape (4,) or (m, 4)
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> quaternion.from_axis_angle([0, 0, 2], np.pi)
+/// array([0., 0., 0., 1.])
+///
+/// ```
 #[pyfunction]
 fn from_axis_angle<'py>(
     py: Python<'py>,
@@ -114,7 +323,28 @@ fn from_axis_angle<'py>(
     })
 }
 
-/// `(axis, angle)` of unit `Q`, angle in [0, pi]; the axis is `(0, 0, 0)` for angle 0.
+/// `(axis, angle)` of unit `Q`, angle in [0, pi].
+///
+/// Parameters
+/// ----------
+/// q : array_like, shape (4,) or (m, 4)
+///     Quaternions, scalar first.
+///
+/// Returns
+/// -------
+/// axis : ndarray, shape (3,) or (m, 3)
+///     `(0, 0, 0)` for angle 0.
+/// angle : float or ndarray, shape (m,)
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> axis, angle = quaternion.to_axis_angle([0, 0, 0, 1])
+/// >>> axis, float(angle) == np.pi
+/// (array([0., 0., 1.]), True)
+///
+/// ```
 #[pyfunction]
 fn to_axis_angle<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> ArrayPair<'py> {
     let q = Items::new(q, "q", &Q, Values::Quaternions)?;
@@ -131,41 +361,197 @@ fn to_axis_angle<'py>(py: Python<'py>, q: &Bound<'py, PyAny>) -> ArrayPair<'py> 
 
 elementwise! {
     /// `Q = exp(v)`: the rotation by `|v|` about `v`.
+    ///
+    /// Parameters
+    /// ----------
+    /// rotvec : array_like, shape (3,) or (m, 3)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.exp([np.pi, 0, 0])
+    /// array([0., 1., 0., 0.])
+    ///
+    /// ```
     fn exp(rotvec: V, Finite) -> Q, |i| Ok(Quat::exp(&rotvec.vector(i)).0)
 }
 
 elementwise! {
     /// `ln Q`: the rotation vector of unit `Q`, `|v|` in [0, pi].
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3,) or (m, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.ln(quaternion.exp([0.1, 0.2, -0.3]))
+    /// array([ 0.1,  0.2, -0.3])
+    /// >>> quaternion.ln([-1, 0, 0, 0])  # the double cover: -Q is Q
+    /// array([0., 0., 0.])
+    ///
+    /// ```
     fn ln(q: Q, Quaternions) -> V, |i| Ok(q.quat(i).ln().into())
 }
 
 elementwise! {
     /// `Q' = 1/2 Q*(0, w_b)` (eq 10, body form).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    /// omega_body : array_like, shape (3,) or (m, 3)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.q_dot_from_omega_body([1, 0, 0, 0], [0, 0, 2])
+    /// array([0., 0., 0., 1.])
+    ///
+    /// ```
     fn q_dot_from_omega_body(q: Q, Quaternions, omega_body: V, Finite) -> Q, |i| Ok(q.quat(i).q_dot_from_omega_body(&omega_body.vector(i)).0)
 }
 
 elementwise! {
     /// `Q' = 1/2 (0, w_s)*Q` (eq 10, space form).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    /// omega_space : array_like, shape (3,) or (m, 3)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.q_dot_from_omega_space([1, 0, 0, 0], [0, 0, 2])
+    /// array([0., 0., 0., 1.])
+    ///
+    /// ```
     fn q_dot_from_omega_space(q: Q, Quaternions, omega_space: V, Finite) -> Q, |i| Ok(q.quat(i).q_dot_from_omega_space(&omega_space.vector(i)).0)
 }
 
 elementwise! {
     /// `w_b = 2 vec(Q~*Q')/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    /// q_dot : array_like, shape (4,) or (m, 4)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3,) or (m, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> q = quaternion.exp([0.3, 0.2, 0.1])
+    /// >>> quaternion.omega_body_from_q_dot(q, quaternion.q_dot_from_omega_body(q, [1, 2, 3]))
+    /// array([1., 2., 3.])
+    ///
+    /// ```
     fn omega_body_from_q_dot(q: Q, Quaternions, q_dot: Q, Finite) -> V, |i| Ok(q.quat(i).omega_body_from_q_dot(&q_dot.quat(i)).into())
 }
 
 elementwise! {
     /// `w_s = 2 vec(Q'*Q~)/|Q|^2` (eq 10 inverted; exact for a non-unit `Q` too).
+    ///
+    /// Parameters
+    /// ----------
+    /// q : array_like, shape (4,) or (m, 4)
+    ///     Quaternions, scalar first.
+    /// q_dot : array_like, shape (4,) or (m, 4)
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (3,) or (m, 3)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> q = quaternion.exp([0.3, 0.2, 0.1])
+    /// >>> quaternion.omega_space_from_q_dot(q, quaternion.q_dot_from_omega_space(q, [1, 2, 3]))
+    /// array([1., 2., 3.])
+    ///
+    /// ```
     fn omega_space_from_q_dot(q: Q, Quaternions, q_dot: Q, Finite) -> V, |i| Ok(q.quat(i).omega_space_from_q_dot(&q_dot.quat(i)).into())
 }
 
 elementwise! {
     /// Unit `Q` (q0 >= 0) of a body-to-space rotation matrix `R`.
+    ///
+    /// Raises `ValueError` for a matrix that is not a rotation.
+    ///
+    /// Parameters
+    /// ----------
+    /// r : array_like, shape (3, 3) or (m, 3, 3)
+    ///     A rotation (orthonormal, det 1, to about 1e-9).
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> quaternion.from_body_to_space_matrix(np.diag([1.0, -1.0, -1.0]))
+    /// array([0., 1., 0., 0.])
+    ///
+    /// ```
     fn from_body_to_space_matrix(r: M, Finite) -> Q, |i| Ok(checked_rotation(&r, i, false)?.0)
 }
 
 elementwise! {
     /// Unit `Q` (q0 >= 0) of a space-to-body matrix `A` (eq 7).
+    ///
+    /// Raises `ValueError` for a matrix that is not a rotation.
+    ///
+    /// Parameters
+    /// ----------
+    /// a : array_like, shape (3, 3) or (m, 3, 3)
+    ///     A rotation (orthonormal, det 1, to about 1e-9).
+    ///
+    /// Returns
+    /// -------
+    /// ndarray, shape (4,) or (m, 4)
+    ///
+    /// Examples
+    /// --------
+    /// ```python
+    ///
+    /// >>> q = quaternion.exp([0.1, 0.2, 0.3])
+    /// >>> np.allclose(quaternion.from_space_to_body_matrix(quaternion.space_to_body_matrix(q)), q)
+    /// True
+    ///
+    /// ```
     fn from_space_to_body_matrix(a: M, Finite) -> Q, |i| Ok(checked_rotation(&a, i, true)?.0)
 }
 

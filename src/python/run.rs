@@ -274,26 +274,67 @@ fn result_dict<'py>(
 /// Ctrl-C (Python's pending signals).
 const POLL: Duration = Duration::from_millis(20);
 
-/// run(scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None, progress=False, on_progress=None)
+/// Runs a scene: TOML text, a built-in name, a path or a dict.
 ///
-/// Runs a scene given as TOML text, a built-in name, a path or a dict.
-/// `out_dir` (optional) receives the CSV, DCD + PDB, checkpoint and summary
-/// files; `dt`, `steps` and `integrator` override the scene's; `restart` is a
-/// checkpoint file to continue from; `threads` (>= 1) runs on a pool of that
-/// many threads of its own (default: the shared pool, one thread per core;
-/// the periodic pair loop's last bits depend on the count). `progress=True`
-/// shows a progress bar (tqdm if installed, else a line on stderr);
-/// `on_progress(step, total)` is called with the step reached (about every
-/// 20 ms, and at the end; an exception it raises stops the run and is
-/// raised). Returns a dict with `summary` (dict),
-/// `series` ({name: {column: ndarray}}), `trajectory` (None, or `step`,
-/// `time`, `orientations` (frames, n, 4), `omega_body` (frames, n, 3)),
-/// `sites` (n, 3), `initial_orientations` (n, 4), `initial_omega_body` (n, 3).
-/// The GIL is released while the run goes on. Ctrl-C stops the run at the
-/// end of the step in progress, with its output files flushed and closed
-/// (summary status `"interrupted"`, a checkpoint written when the scene asks
-/// for checkpoints), and raises `KeyboardInterrupt` whose `result` attribute
+/// The GIL is released while the run goes on. Ctrl-C stops it at the end of
+/// the step in progress, with its output files flushed and closed (summary
+/// status `"interrupted"`, a checkpoint written when the scene asks for
+/// checkpoints), and raises `KeyboardInterrupt` whose `result` attribute
 /// holds the dict of what the run recorded.
+///
+/// Parameters
+/// ----------
+/// scene : str, path or dict
+///     The scene (docs: scene reference).
+/// out_dir : str or path, optional
+///     Folder for the CSV, DCD + PDB, checkpoint and summary files (none
+///     written without it).
+/// dt : float, optional
+///     Overrides the scene's time step.
+/// steps : int, optional
+///     Overrides the scene's number of steps.
+/// integrator : str, optional
+///     Overrides the scene's integrator kind (`"gear_a"`, `"gear_b"`,
+///     `"no_squish"`, `"dlm"`, `"richardson"`).
+/// restart : str or path, optional
+///     A checkpoint file to continue from.
+/// threads : int, optional
+///     Runs on a pool of that many threads (>= 1; default the shared pool,
+///     one thread per core; the periodic pair loop's last bits depend on it).
+/// progress : bool, default False
+///     A progress bar (tqdm if installed, else a line on stderr).
+/// on_progress : callable, optional
+///     `on_progress(step, total)`, called about every 20 ms and at the end;
+///     an exception it raises stops the run and is raised.
+///
+/// Returns
+/// -------
+/// dict
+///     `summary` (dict, as `summary.json`), `series` ({name: {column:
+///     ndarray}}), `trajectory` (None, or `step`, `time`, `orientations`
+///     (frames, n, 4), `omega_body` (frames, n, 3)), `sites` (n, 3),
+///     `initial_orientations` (n, 4), `initial_omega_body` (n, 3).
+///
+/// Raises
+/// ------
+/// SceneError
+///     An invalid scene; the message names the field.
+/// BlowUpError
+///     The run blew up; its `result` holds what it recorded.
+/// OSError
+///     An output file that cannot be written.
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> result = quatrot.run("dipole_in_field", steps=100)
+/// >>> result["summary"]["status"], result["summary"]["last_step"]
+/// ('completed', 100)
+/// >>> sorted(result["series"]["energies"])[:3]
+/// ['energy_error', 'kinetic_energy', 'potential_energy']
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None, progress=false, on_progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -439,7 +480,23 @@ fn step_count(steps: &Bound<'_, PyAny>) -> PyResult<i64> {
     })
 }
 
-/// builtin_scenes() -> dict[str, str]: the built-in scenes' TOML texts by name.
+/// The built-in scenes' TOML texts by name.
+///
+/// Returns
+/// -------
+/// dict of str to str
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// >>> scenes = quatrot.builtin_scenes()
+/// >>> "dipole_in_field" in scenes
+/// True
+/// >>> quatrot.run(scenes["free_spherical_top"], steps=10)["summary"]["status"]
+/// 'completed'
+///
+/// ```
 #[pyfunction]
 fn builtin_scenes(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);

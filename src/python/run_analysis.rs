@@ -72,19 +72,56 @@ fn from_result(
     Ok((interactions, tables))
 }
 
-/// run_dielectric_constant(run, *, series=None, temperature=None) -> dict
+/// The static dielectric constant of a run, by the formula of its boundary.
 ///
-/// The static dielectric constant of a run from the fluctuation of its
-/// total dipole, by the formula of its boundary (`summary["interactions"]`:
-/// an Ewald sum with conducting surroundings, `eps = 1 + 4 pi F / (3 V T)`,
-/// or vacuum surroundings, `(eps - 1)/(eps + 2) = 4 pi F / (9 V T)`, with
-/// `F = <|M|^2> - |<M>|^2` and `V` the box; a truncated sum, an open
-/// cluster or a run without interactions are refused). `run`: the dict
-/// `quatrot.run` returns, or the output directory of a run (its
-/// `summary.json` and CSV files). `series`: the series recording `"M"`
-/// (default: the only one that does). `temperature`: default the mean of
-/// the `"temperature"` column of that series. Returns the dict of
-/// `dielectric_constant` (`epsilon`, `error` by blocking, ...).
+/// From `summary["interactions"]`: an Ewald sum with conducting surroundings,
+/// `eps = 1 + 4 pi F / (3 V T)`, or vacuum surroundings,
+/// `(eps - 1)/(eps + 2) = 4 pi F / (9 V T)`, with `F = <|M|^2> - |<M>|^2` and
+/// `V` the box; a truncated sum, an open cluster or a run without
+/// interactions are refused.
+///
+/// Parameters
+/// ----------
+/// run : dict or path
+///     The dict `quatrot.run` returns, or a run's output directory (its
+///     `summary.json` and CSV files).
+/// series : str, optional
+///     The series recording `"M"` (default: the only one that does).
+/// temperature : float, optional
+///     Default: the mean of the `"temperature"` column of that series.
+///
+/// Returns
+/// -------
+/// dict
+///     As `dielectric_constant` returns (`epsilon`, `error`, ...).
+///
+/// Raises
+/// ------
+/// ValueError
+///     For a boundary with no formula, or no series with `M`.
+///
+/// Examples
+/// --------
+/// ```python
+///
+/// A 3 x 3 x 3 dipole lattice (Ewald sum, conducting) at T = 1, its total
+/// dipole and temperature recorded every step:
+///
+/// >>> scene = {"version": 1, "name": "eps",
+/// ...     "rotors": {"kind": "lattice", "lattice": "simple_cubic", "cells": 3, "spacing": 1.0,
+/// ...                "default": {"inertia": 0.1, "dipole": [0, 0, 0.5]}},
+/// ...     "interactions": {"terms": ["dipole_dipole"], "boundary": {"kind": "periodic"}},
+/// ...     "initial": {"kind": "random", "seed": 1, "temperature": 1.0},
+/// ...     "integrator": {"kind": "dlm"}, "run": {"dt": 0.002, "steps": 300},
+/// ...     "record": {"series": [{"name": "s", "every": 1, "quantities": ["M", "temperature"]}]}}
+/// >>> result = quatrot.run(scene)
+/// >>> eps = quatrot.run_dielectric_constant(result)
+/// >>> s = result["series"]["s"]
+/// >>> by_hand = quatrot.dielectric_constant(np.stack([s["M_x"], s["M_y"], s["M_z"]], 1), 27.0, s["temperature"].mean())
+/// >>> bool(np.isclose(eps["epsilon"], by_hand["epsilon"], rtol=1e-12, atol=0))
+/// True
+///
+/// ```
 #[pyfunction]
 #[pyo3(signature = (run, *, series=None, temperature=None))]
 fn run_dielectric_constant<'py>(

@@ -1,4 +1,4 @@
-"""The tutorial ``docs/tutorial_rotor_lattice.py`` run as a check: a
+"""The tutorial ``docs/examples/tutorial_rotor_lattice.py`` run as a check: a
 canonical dipolar lattice (Ewald sum, Langevin at T = 1) whose order
 parameters P1 and P2, computed from its trajectory by
 ``quatrot.order_parameters``, are the ones the run recorded, and a
@@ -23,7 +23,7 @@ import numpy as np
 import quatrot
 from validation.shared.check import Check, Context
 
-TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial_rotor_lattice.py"
+TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "examples" / "tutorial_rotor_lattice.py"
 
 
 def load_tutorial():

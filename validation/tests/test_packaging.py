@@ -61,9 +61,11 @@ def installed(tmp_path_factory):
 def test_the_wheel_has_no_debug_info_and_declares_numpy(installed):
     wheel, _, _ = installed
     with zipfile.ZipFile(wheel) as z:
-        (native,) = [n for n in z.namelist() if n.startswith("quatrot/_native")]
+        (native,) = [n for n in z.namelist() if n.startswith("quatrot/_native.") and not n.endswith(".pyi")]
         library = z.read(native)
         metadata = z.read(next(n for n in z.namelist() if n.endswith("METADATA"))).decode()
+        # The type stubs ship with the module, so editors see the signatures.
+        assert {"quatrot/_native.pyi", "quatrot/quaternion.pyi", "quatrot/py.typed"} <= set(z.namelist())
     sections = section_names(library)
     assert ".text" in sections and ".dynsym" in sections  # the table was read
     assert not [n for n in sections if n.startswith((".debug", ".zdebug"))], sections

@@ -1,4 +1,4 @@
-"""The tutorial (docs/tutorial_rotor_lattice.py) runs as a new user runs it,
+"""The tutorial (docs/examples/tutorial_rotor_lattice.py) runs as a new user runs it,
 from the command line in its quick mode, and its own assertions pass (the
 ``tutorial`` check runs the same code in full in ``make validate``)."""
 
@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorial_rotor_lattice.py"
+TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "examples" / "tutorial_rotor_lattice.py"
 
 
 def test_tutorial_runs_in_quick_mode(tmp_path):

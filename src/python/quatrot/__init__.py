@@ -19,7 +19,13 @@ from quatrot import _native
 
 class InternalError(RuntimeError):
     """An internal error of quatrot (a bug: please report it with the
-    message), raised instead of the Rust panic behind it."""
+    message), raised instead of the Rust panic behind it.
+
+    Examples
+    --------
+    >>> issubclass(quatrot.InternalError, RuntimeError)
+    True
+    """
 
 
 def _guarded(function):

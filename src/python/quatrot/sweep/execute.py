@@ -62,7 +62,15 @@ MAX_THREADS = quatrot.MAX_THREADS
 class Results:
     """What a sweep call did: the table's path, its runs and their rows (in
     the plan's order; cells as text, as in the file) and how many runs it
-    submitted (the others were finished already)."""
+    submitted (the others were finished already).
+
+    Examples
+    --------
+    See `quatrot.sweep.run`, which returns it:
+
+    >>> results.submitted, results.unfinished()
+    (2, [])
+    """
 
     table: Path
     runs: list[Run]
@@ -95,7 +103,20 @@ def run(
     finished in `out` are not run again. (A script that starts the local
     cluster needs the `if __name__ == "__main__":` guard: its workers are
     new Python processes.) The folder is locked while the call runs: a
-    second sweep on it raises `FolderInUse` (an `OSError`)."""
+    second sweep on it raises `FolderInUse` (an `OSError`).
+
+    Examples
+    --------
+    Two runs on an in-process cluster of threads, into a temporary folder:
+
+    >>> import tempfile
+    >>> from distributed import Client
+    >>> out = tempfile.mkdtemp()
+    >>> with Client(processes=False, n_workers=1, dashboard_address=None) as client:
+    ...     results = quatrot.sweep.run("dipole_in_field", {"run.dt": [0.01, 0.005]}, out=out, client=client)
+    >>> [row["status"] for row in results.rows]
+    ['completed', 'completed']
+    """
     _count("threads_per_run", threads_per_run)
     if workers is not None:
         _count("workers", workers)

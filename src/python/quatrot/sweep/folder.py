@@ -27,7 +27,13 @@ LOCK_FILE = ".quatrot.lock"
 
 
 class FolderInUse(OSError):
-    """Another process holds the sweep folder's lock."""
+    """Another process holds the sweep folder's lock.
+
+    Examples
+    --------
+    >>> issubclass(quatrot.sweep.FolderInUse, OSError)
+    True
+    """
 
 
 def refuse_link(path: Path) -> None:

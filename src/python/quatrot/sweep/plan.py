@@ -44,7 +44,14 @@ _SEGMENT = re.compile(rf"({_KEY})|\[(\d+)\]")
 @dataclass(frozen=True)
 class Run:
     """One run of a sweep: its identifier, the overrides that made it (path ->
-    value, in the order given) and its fully resolved scene."""
+    value, in the order given) and its fully resolved scene.
+
+    Examples
+    --------
+    >>> run = quatrot.sweep.expand("dipole_in_field", {"run.dt": [0.01]})[0]
+    >>> run.overrides, run.scene["run"]["dt"], len(run.id)
+    ({'run.dt': 0.01}, 0.01, 16)
+    """
 
     id: str
     overrides: dict[str, Any]
@@ -68,7 +75,20 @@ def expand(
     `scene` (a built-in name, a path, TOML text or a dict). A run whose scene
     equals an earlier one's is dropped. With neither grid nor cases, the one
     run is the base scene. At most `MAX_RUNS` runs, counted before any is
-    made."""
+    made.
+
+    Examples
+    --------
+    >>> runs = quatrot.sweep.expand(
+    ...     "dipole_in_field",
+    ...     grid={"integrator.kind": ["gear_b", "dlm"], "run.dt": [0.01, 0.005]},
+    ...     cases=[{"integrator.kind": "no_squish", "integrator.substeps": 10}],
+    ... )
+    >>> [run.overrides for run in runs][:2]
+    [{'integrator.kind': 'gear_b', 'run.dt': 0.01}, {'integrator.kind': 'gear_b', 'run.dt': 0.005}]
+    >>> len(runs)
+    5
+    """
     return list(iter_runs(scene, grid, cases))
 
 
@@ -78,7 +98,14 @@ def iter_runs(
     cases: Iterable[Mapping[str, Any]] | None = None,
 ) -> Iterator[Run]:
     """The runs of `expand`, one at a time (a dry run lists them as they
-    come); the count is checked against `MAX_RUNS` before the first."""
+    come); the count is checked against `MAX_RUNS` before the first.
+
+    Examples
+    --------
+    >>> runs = quatrot.sweep.iter_runs("dipole_in_field", {"run.dt": [0.01, 0.005]})
+    >>> next(runs).overrides
+    {'run.dt': 0.01}
+    """
     base = load_base(scene)
     paths = list(grid or {})
     values = [_bounded(grid[p], f"grid: `{p}`") for p in paths]  # type: ignore[index]
@@ -119,7 +146,13 @@ def load_base(scene: Any) -> dict[str, Any]:
     TOML text (it has a newline or `=`), or a built-in name or a path, found
     as `quatrot.run` finds them (a name that looks like a path, ending in
     `.toml` or containing a separator, is read from disk; otherwise a built-in
-    of that name, and failing that a file)."""
+    of that name, and failing that a file).
+
+    Examples
+    --------
+    >>> quatrot.sweep.load_base("dipole_in_field")["integrator"]
+    {'kind': 'gear_b'}
+    """
     if isinstance(scene, Mapping):
         return plain(scene, "")
     if isinstance(scene, os.PathLike):
@@ -152,7 +185,15 @@ def _read(path: Path) -> str:
 
 def apply(base: Mapping[str, Any], overrides: Mapping[str, Any]) -> dict[str, Any]:
     """A copy of `base` with the `overrides` (path -> value) set, shallowest
-    path first and `kind` first among equal depths (see the module doc)."""
+    path first and `kind` first among equal depths (see the module doc).
+    Setting a table's `kind` to another kind starts the table afresh.
+
+    Examples
+    --------
+    >>> base = {"integrator": {"kind": "gear_b", "c0": 0.1875}, "run": {"dt": 0.01}}
+    >>> quatrot.sweep.apply(base, {"integrator.kind": "dlm", "run.dt": 0.005})
+    {'integrator': {'kind': 'dlm'}, 'run': {'dt': 0.005}}
+    """
     scene = copy.deepcopy(dict(base))
     parsed = {path: _segments(path) for path in overrides}
     order = sorted(overrides, key=lambda p: (len(parsed[p]), parsed[p][-1] != "kind"))
@@ -226,7 +267,14 @@ def canonical_json(scene: Mapping[str, Any]) -> str:
 
 def scene_id(scene: Mapping[str, Any]) -> str:
     """The identifier of a fully resolved scene: the first `ID_DIGITS` hex
-    digits of the SHA-256 of its canonical JSON."""
+    digits of the SHA-256 of its canonical JSON.
+
+    Examples
+    --------
+    >>> base = quatrot.sweep.load_base("dipole_in_field")
+    >>> quatrot.sweep.scene_id(base) == quatrot.sweep.scene_id(dict(reversed(base.items())))
+    True
+    """
     return hashlib.sha256(canonical_json(scene).encode()).hexdigest()[:ID_DIGITS]
 
 

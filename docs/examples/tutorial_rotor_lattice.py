@@ -1,4 +1,6 @@
-"""Tutorial: orientational order and dynamics of a dipolar rotor lattice.
+"""
+Tutorial: orientational order and dynamics of a dipolar rotor lattice
+=====================================================================
 
 What a new user of quatrot does first, step by step:
 
@@ -23,11 +25,11 @@ What a new user of quatrot does first, step by step:
    thermostat, which rescales all angular velocities by one common factor
    close to 1 and so leaves each rotor's free motion alone.
 
-Run it with
+Run it with::
 
-    python docs/tutorial_rotor_lattice.py            # full: about a minute
-    python docs/tutorial_rotor_lattice.py --quick    # a few seconds (make test)
-    QUATROT_TUTORIAL_QUICK=1 python docs/tutorial_rotor_lattice.py
+    python docs/examples/tutorial_rotor_lattice.py            # full: about a minute
+    python docs/examples/tutorial_rotor_lattice.py --quick    # a few seconds (make test)
+    QUATROT_TUTORIAL_QUICK=1 python docs/examples/tutorial_rotor_lattice.py
 
 It writes ``tutorial_rotor_lattice.png`` into ``--out`` (default: the
 current directory) and stops with an AssertionError if a result disagrees
@@ -200,13 +202,12 @@ def main(quick: bool = False, out_dir: Path = Path(".")) -> dict:
     out_dir.mkdir(parents=True, exist_ok=True)
     measured["plot"] = out_dir / "tutorial_rotor_lattice.png"
     fig.savefig(measured["plot"], dpi=110)
-    plt.close(fig)
     print(f"plot: {measured['plot']}")
     return measured
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=__doc__.strip().split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="a few-second version (also QUATROT_TUTORIAL_QUICK=1)")
     parser.add_argument("--out", type=Path, default=Path("."), help="folder for the plot (default: here)")
     args = parser.parse_args()
