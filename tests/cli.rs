@@ -326,3 +326,26 @@ fn closed_and_full_standard_outputs_end_without_a_panic() {
         );
     }
 }
+
+/// An unknown `--integrator` is refused with the choices, and the message
+/// ends without an escaped newline (issue 37: it ended with a literal `\n`).
+#[test]
+fn an_unknown_integrator_option_is_refused_in_one_clean_line() {
+    let out = quatrot(&["check", "dipole_in_field"]);
+    assert!(out.status.success());
+    let out = quatrot(&[
+        "run",
+        "dipole_in_field",
+        "--integrator",
+        "foo",
+        "--out",
+        "/nonexistent/never",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(EXIT_ERROR), "{stderr}");
+    assert_eq!(
+        stderr,
+        "error: integrator.kind: unknown variant `foo`, expected one of `gear_a`, `gear_b`, \
+         `no_squish`, `dlm`, `richardson`\n"
+    );
+}

@@ -44,7 +44,7 @@ impl RawIntegrator {
 
     fn from_table(table: toml::Table) -> Result<Self, String> {
         let spec = variant::<IntegratorSpec, toml::de::Error>(table.clone())
-            .map_err(|e| e.message().to_string())?;
+            .map_err(|e| e.message().trim_end().to_string())?;
         Ok(RawIntegrator {
             spec,
             written: table,
