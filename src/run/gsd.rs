@@ -99,14 +99,27 @@ impl GsdBox {
         sites: &[Vector3<f64>],
         margin: f64,
     ) -> Result<GsdBox, InputError> {
-        match box_lengths {
+        let (cell, what) = match box_lengths {
             Some(l) => {
                 each(l.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
-                Ok(GsdBox::periodic(l))
+                (GsdBox::periodic(l), "box_lengths")
             }
-            None => Ok(GsdBox::enclosing(
-                sites,
-                finite_and_positive("margin", margin)?,
+            None => (
+                GsdBox::enclosing(sites, finite_and_positive("margin", margin)?),
+                "sites",
+            ),
+        };
+        // The format stores float32: the box, and the positions wrapped
+        // into it, must be within its range.
+        match cell.lengths.iter().position(|&l| l > f64::from(f32::MAX)) {
+            None => Ok(cell),
+            Some(k) => Err(InputError::new(
+                what,
+                format!(
+                    "the box edge {k} ({}) is beyond the range of GSD's float32 ({:e})",
+                    crate::checks::num(cell.lengths[k]),
+                    f32::MAX
+                ),
             )),
         }
     }
@@ -481,8 +494,9 @@ mod tests {
         }
     }
 
-    /// A box edge or a margin that is not finite and > 0 is refused by
-    /// name; a given box is periodic, from the origin.
+    /// A box edge or a margin that is not finite and > 0, or a box beyond
+    /// float32's range, is refused by name; a given box is periodic, from
+    /// the origin.
     #[test]
     fn bad_boxes_and_margins_are_refused() {
         let sites = [Vector3::zeros()];
@@ -498,6 +512,18 @@ mod tests {
         );
         let cell = GsdBox::new(Some(Vector3::repeat(2.0)), &sites, -1.0).unwrap();
         assert_eq!(cell, GsdBox::periodic(Vector3::repeat(2.0)));
+        // Beyond float32, which the format stores (issue 37: written as inf).
+        assert_eq!(
+            GsdBox::new(Some(Vector3::new(1.0, 1e39, 1.0)), &sites, 1.0)
+                .unwrap_err()
+                .to_string(),
+            "box_lengths: the box edge 1 (1e39) is beyond the range of GSD's float32 (3.4028235e38)"
+        );
+        let far = [Vector3::zeros(), Vector3::new(0.0, 0.0, 1e39)];
+        assert!(GsdBox::new(None, &far, 1.0)
+            .unwrap_err()
+            .to_string()
+            .starts_with("sites: the box edge 2 (1e39) is beyond the range"));
     }
 
     /// A frame with the wrong number of orientations is refused.

@@ -79,3 +79,13 @@ def test_an_internal_panic_is_the_modules_error():
         native = [n for n, v in vars(module).items() if isinstance(v, types.BuiltinFunctionType)]
         assert native == [], f"{module.__name__}: unguarded {native}"
     assert quatrot.run is quatrot._native.run and quatrot.run.__wrapped__.__name__ == "run"
+
+
+def test_a_gsd_box_beyond_float32_is_refused(tmp_path):
+    """GSD stores float32: coordinates beyond its range were written as inf
+    and reported as success."""
+    sites = np.array([[0.0, 0.0, 0.0], [1e39, 0.0, 0.0]])
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (1, 2, 1))
+    with pytest.raises(ValueError, match=r"^sites: the box edge 0 \(1e39\) is beyond the range of GSD's float32"):
+        quatrot.write_gsd(tmp_path / "t.gsd", sites, q, [0])
+    assert not (tmp_path / "t.gsd").exists()
