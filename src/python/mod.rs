@@ -20,12 +20,14 @@ mod arrays;
 mod baselines;
 mod cli;
 mod dynamics;
+mod fluctuations;
 mod gsd;
 mod potential;
 mod quaternion;
 mod rotors;
 mod run;
 mod run_analysis;
+mod scene_dict;
 
 /// Input the library refuses (a potential's sites or multipoles, an
 /// analysis' arrays) is a `ValueError` naming the argument.
@@ -65,6 +67,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     quaternion::register(m)?;
     run::register(m)?;
     analysis::register(m)?;
+    fluctuations::register(m)?;
     gsd::register(m)?;
     cli::register(m)?;
     run_analysis::register(m)?;

@@ -2,8 +2,8 @@
 //! (`crate::run::dielectric_of_run`), from the dict `quatrot.run` returns or
 //! from a run's output directory.
 
-use super::analysis::dielectric_dict;
 use super::args::{expected, invalid};
+use super::fluctuations::dielectric_dict;
 use crate::run::{dielectric_of_run, dipole_series, read_run, InteractionsSummary, SeriesTable};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
