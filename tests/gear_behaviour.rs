@@ -264,7 +264,8 @@ fn projections_keep_eq15_zeroth_components_at_rounding_level() {
 }
 
 /// A checkpoint taken mid-run and restored into a freshly set-up integrator
-/// reproduces the continuation bit for bit; a mismatched one is refused.
+/// reproduces the continuation bit for bit; one of another length is
+/// refused, one of another `dt` is left to the run's identity check.
 #[test]
 fn checkpoint_restore_is_bit_exact() {
     fn check<I: Integrator>(make: impl Fn() -> I) {
@@ -294,14 +295,13 @@ fn checkpoint_restore_is_bit_exact() {
             second.restore(&saved[1..]),
             Err(IntegratorError::BadCheckpoint(_))
         ));
+        // dt is compared once on a restart, by the checkpoint's identity
+        // (tests/outputs_and_restarts.rs), not again by the Gear layout.
         let mut other_dt = make();
         other_dt
             .setup(&inertia, &cluster, &initial, 0.01)
             .expect("valid");
-        assert!(matches!(
-            other_dt.restore(&saved),
-            Err(IntegratorError::BadCheckpoint(_))
-        ));
+        assert_eq!(other_dt.restore(&saved), Ok(()));
     }
     check(GearA::default);
     check(GearB::default);

@@ -113,8 +113,9 @@ fn restart_at_the_end_of_the_files_appends_to_them() {
     assert_eq!(result.summary.outputs, Some("appended"));
 }
 
-/// A checkpoint is refused by a scene with other physics, and when its
-/// file was edited or holds a non-finite energy reference.
+/// A checkpoint is refused by a scene with other physics or another `dt`
+/// (compared once, by the identity: the Gear layout's copy is not compared
+/// again), and when its file was edited or holds a non-finite energy reference.
 #[test]
 fn checkpoints_are_refused_by_other_scenes_and_when_damaged() {
     let dir = tempfile::tempdir().unwrap();
@@ -134,6 +135,14 @@ fn checkpoints_are_refused_by_other_scenes_and_when_damaged() {
         restart(&other, &path).contains("the rotors (sites, inertia, multipoles) differ"),
         "{}",
         restart(&other, &path)
+    );
+    let other_dt = scene(40, &two_rotors().replace("dt = 0.001", "dt = 0.002"));
+    assert_eq!(
+        restart(&other_dt, &path),
+        format!(
+            "checkpoint {}: dt is 2e-3 in the scene but 1e-3 in the checkpoint",
+            path.display()
+        )
     );
     let same = scene(40, &two_rotors());
     let text = std::fs::read_to_string(&path).unwrap();

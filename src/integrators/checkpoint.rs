@@ -81,15 +81,15 @@ pub fn check_length(state: &[f64], rotors: usize, per_rotor: usize) -> Result<()
     Ok(())
 }
 
-/// Checks a Gear checkpoint laid out as `[dt, data...]` against the scheme's
-/// `dt` (bit for bit) and data length, and returns the data.
-pub fn checkpoint_data(state: &[f64], dt: f64, data_len: usize) -> Result<&[f64], IntegratorError> {
+/// Checks a Gear checkpoint laid out as `[dt, data...]` for its data length
+/// and returns the data. The `dt` slot is not compared: a restart compares
+/// `dt` once, with the rest of the run's identity (`run::Checkpoint::check`),
+/// so `restore` requires a setup with the checkpoint's `dt`.
+pub fn checkpoint_data(state: &[f64], data_len: usize) -> Result<&[f64], IntegratorError> {
     match state.split_first() {
-        Some((saved_dt, data)) if data.len() == data_len && saved_dt.to_bits() == dt.to_bits() => {
-            Ok(data)
-        }
-        Some((saved_dt, data)) => Err(IntegratorError::BadCheckpoint(format!(
-            "expected dt = {dt} and {data_len} values, got dt = {saved_dt} and {} values",
+        Some((_, data)) if data.len() == data_len => Ok(data),
+        Some((_, data)) => Err(IntegratorError::BadCheckpoint(format!(
+            "expected dt and {data_len} values, got dt and {} values",
             data.len()
         ))),
         None => Err(IntegratorError::BadCheckpoint("empty".into())),

@@ -78,7 +78,9 @@ pub trait Integrator: Send {
     /// `dt` must make the following steps bit-for-bit identical.
     fn checkpoint(&self) -> Vec<f64>;
 
-    /// Restores a state written by [`Integrator::checkpoint`].
+    /// Restores a state written by [`Integrator::checkpoint`], after `setup`
+    /// with the same rotors and `dt`. Only the layout is checked here: a
+    /// restart compares `dt` once, with the identity of the checkpoint file.
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError>;
 
     /// Writes `Q'` for each rotor. The default uses eq 10 with the body

@@ -309,7 +309,7 @@ impl Integrator for GearA {
             .as_ref()
             .map_or(0, |t| t.positions.flat_len() + t.momenta.flat_len());
         let len = self.q.flat_len() + self.omega_body.flat_len() + chain_len;
-        let data = checkpoint_data(state, self.frame.dt, len)?;
+        let data = checkpoint_data(state, len)?;
         let rest = self.q.read_flat(data);
         let rest = self.omega_body.read_flat(rest);
         if let Some(t) = &mut self.thermostat {

@@ -315,7 +315,7 @@ impl Integrator for GearB {
 
     fn restore(&mut self, state: &[f64]) -> Result<(), IntegratorError> {
         let len = self.q.flat_len() + self.norm_force.len();
-        let data = checkpoint_data(state, self.frame.dt, len)?;
+        let data = checkpoint_data(state, len)?;
         let rest = self.q.read_flat(data);
         self.norm_force.copy_from_slice(rest);
         Ok(())

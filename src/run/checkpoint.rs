@@ -7,7 +7,8 @@
 //!   that wrote the checkpoint: fingerprints of the rotors (sites, inertia,
 //!   multipoles), of the interactions (boundary, box, sum) and of the
 //!   external fields, the integrator and the thermostat with all their
-//!   options (the thermostat's seed too), `dt` bit for bit,
+//!   options (the thermostat's seed too), `dt` bit for bit (the one
+//!   comparison of `dt` on a restart),
 //!   the number of rotors and the format version. The initial state, the
 //!   run length and what is recorded may differ (a restart may run longer).
 //!   A restart with anything else is refused, saying what differs.
