@@ -18,7 +18,8 @@
 use nalgebra::Vector3;
 use quatrot::lattice::{Lattice, LatticeKind};
 use quatrot::potential::{
-    Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod, Surface,
+    Accuracy, Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod,
+    Surface,
 };
 use quatrot::rotor::{Inertia, Rotor};
 use quatrot::Quat;
@@ -59,7 +60,7 @@ fn ewald(box_lengths: Vector3<f64>, accuracy: f64) -> Boundary {
     Boundary::Periodic {
         box_lengths,
         sum: PeriodicSum::Ewald {
-            accuracy,
+            accuracy: Accuracy::new(accuracy).expect("in (0, 1)"),
             surface: Surface::Conducting,
         },
     }

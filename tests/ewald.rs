@@ -14,8 +14,8 @@ use quatrot::checks::from_name;
 use quatrot::lattice::{Lattice, LatticeKind};
 use quatrot::potential::multipole::MAX_FFT_BYTES;
 use quatrot::potential::{
-    Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod, SumPath,
-    Surface,
+    Accuracy, Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod,
+    SumPath, Surface,
 };
 use quatrot::rotor::{Inertia, Rotor};
 use quatrot::Quat;
@@ -36,7 +36,10 @@ const CONVERGED: f64 = 1e-15;
 fn ewald(box_lengths: Vector3<f64>, accuracy: f64, surface: Surface) -> Boundary {
     Boundary::Periodic {
         box_lengths,
-        sum: PeriodicSum::Ewald { accuracy, surface },
+        sum: PeriodicSum::Ewald {
+            accuracy: Accuracy::new(accuracy).expect("in (0, 1)"),
+            surface,
+        },
     }
 }
 
@@ -470,11 +473,7 @@ fn bad_ewald_input_names_the_field() {
         MultipolePotential::with_method(rotors, boundary, ExternalFields::NONE, method).unwrap_err()
     };
     for accuracy in [0.0, 1.0, -1e-3, 2.0, f64::NAN, f64::INFINITY] {
-        let e = build(
-            &rotors,
-            ewald(box_lengths, accuracy, Surface::Conducting),
-            SumMethod::Auto,
-        );
+        let e = Accuracy::new(accuracy).unwrap_err();
         assert_eq!(e.path, "accuracy", "{e}");
         assert!(e.message.contains("must be in (0, 1)"), "{e}");
     }
@@ -553,7 +552,7 @@ fn direct_ewald_real_space_pairs_are_the_lattice_points_within_the_cutoff() {
         let boundary = Boundary::Periodic {
             box_lengths: lattice.box_lengths,
             sum: PeriodicSum::Ewald {
-                accuracy,
+                accuracy: Accuracy::new(accuracy).expect("in (0, 1)"),
                 surface: Surface::Conducting,
             },
         };

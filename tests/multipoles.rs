@@ -13,7 +13,8 @@ use quatrot::potential::multipole::convention::{
     buckingham_quadrupole, quadrupole_from_openmm, quadrupole_to_openmm,
 };
 use quatrot::potential::{
-    Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod, Surface,
+    Accuracy, Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod,
+    Surface,
 };
 use quatrot::rotor::{Inertia, Rotor};
 use quatrot::Quat;
@@ -115,7 +116,7 @@ fn all_cases() -> Vec<Case> {
     let ewald = |surface| Boundary::Periodic {
         box_lengths: lattice.box_lengths,
         sum: PeriodicSum::Ewald {
-            accuracy: 1e-10,
+            accuracy: Accuracy::new(1e-10).expect("in (0, 1)"),
             surface,
         },
     };
@@ -156,7 +157,7 @@ fn all_cases() -> Vec<Case> {
         boundary: Boundary::Periodic {
             box_lengths,
             sum: PeriodicSum::Ewald {
-                accuracy: 1e-10,
+                accuracy: Accuracy::new(1e-10).expect("in (0, 1)"),
                 surface: Surface::Vacuum,
             },
         },

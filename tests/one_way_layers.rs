@@ -2,6 +2,8 @@
 //! `src/thermostat_hook` (below both) and `src/dynamics.rs` (above both):
 //! no file of either folder imports the other, and the hook imports
 //! neither (issue 35's one-way rule; the README's architecture section).
+//! Facts issue 35 gave one owner keep it: the Ewald accuracy is range-checked
+//! only where an [`quatrot::potential::Accuracy`] is made.
 
 use std::path::Path;
 
@@ -70,5 +72,48 @@ fn the_layers_import_one_way() {
     for (folder, forbidden) in rules {
         let found = offenders(folder, forbidden);
         assert!(found.is_empty(), "{found:#?}");
+    }
+}
+
+/// The code of a source file: without its test module and its comments.
+fn production_code(text: &str) -> String {
+    let code = text.split("#[cfg(test)]").next().unwrap_or(text);
+    code.lines()
+        .filter(|line| !line.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The files of `src/` whose code ([`production_code`]) holds `needle`,
+/// once per occurrence.
+fn occurrences(needle: &str) -> Vec<String> {
+    sources("")
+        .into_iter()
+        .flat_map(|(path, text)| {
+            let count = production_code(&text).matches(needle).count();
+            std::iter::repeat_n(path, count)
+        })
+        .collect()
+}
+
+/// The Ewald accuracy is checked once per run: only `Accuracy::new` makes
+/// one (its field is private) and holds the range check, and it is called
+/// once, where the sum's options are read (`Boundary::periodic`, for the
+/// scene and the bindings alike); the potential trusts the type (the range
+/// was checked by `Boundary::validate` in the scene and again by the
+/// potential).
+#[test]
+fn the_accuracy_is_checked_in_one_place() {
+    for needle in [
+        "must be in (0, 1)",
+        "Accuracy::new",
+        "pub struct Accuracy(f64);",
+    ] {
+        let found = occurrences(needle);
+        assert_eq!(found.len(), 1, "{needle}: {found:#?}");
+        assert!(
+            found[0].ends_with("periodic_sum.rs"),
+            "{needle}: {found:#?}"
+        );
     }
 }

@@ -19,7 +19,7 @@ const LATTICE_ROUND_OFF: f64 = 1e-13;
 /// The default Ewald sum is truncated at the default accuracy (the error of
 /// the fields relative to a neighbour's, so of the energy relative to the
 /// lattice energy): fcc at 1e-12 is 9e-14 off (measured).
-const DEFAULT_ACCURACY: f64 = quatrot::potential::multipole::DEFAULT_ACCURACY;
+const DEFAULT_ACCURACY: f64 = 1e-12;
 
 /// A lattice of unit dipoles, all along body z, at rest and aligned along
 /// space z, with the given boundary table, recording the potential energy
@@ -204,8 +204,8 @@ fn the_summary_records_the_sum_path_and_the_ewald_parameters() {
                     ewald.estimated_error,
                     p.real_estimate + p.reciprocal_estimate
                 );
-                assert!(ewald.estimated_error <= accuracy, "{boundary}");
-                assert_eq!(in_memory.accuracy, Some(accuracy));
+                assert!(ewald.estimated_error <= accuracy.get(), "{boundary}");
+                assert_eq!(in_memory.accuracy, Some(accuracy.get()));
                 assert_eq!(in_memory.surface, Some(surface));
                 assert_eq!(recorded["surface"], surface.as_str());
                 assert_eq!(recorded["sum"], "ewald");

@@ -12,8 +12,8 @@ mod torque_axes;
 
 pub use free::Free;
 pub use multipole::{
-    Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumKind, SumMethod,
-    SumOptions, SumPath, Surface,
+    Accuracy, Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumKind,
+    SumMethod, SumOptions, SumPath, Surface,
 };
 pub use term::Potential;
 pub use torque_axes::{multipole_torque_axes, symmetric_about, TorqueAxes};

@@ -5,8 +5,7 @@ use super::arrays::{collect, common_len, overflow, single, Items, Values};
 use super::rotors::rotors;
 use crate::checks::from_name;
 use crate::potential::{
-    Boundary, ExternalFields, MultipolePotential, PeriodicSum, PotentialError, SumMethod,
-    SumOptions,
+    Boundary, ExternalFields, MultipolePotential, PotentialError, SumMethod, SumOptions,
 };
 use crate::quaternion::Quat;
 use nalgebra::{Matrix3, Vector3};
@@ -17,7 +16,7 @@ use serde::de::DeserializeOwned;
 /// The boundary of the keywords: open when `box_lengths` is absent (and
 /// none of the sum's options is given); periodic otherwise, in the
 /// orthorhombic box `box_lengths` ((3,), or a diagonal (3, 3) matrix),
-/// summed as the options say (read by their owner, [`PeriodicSum::new`]).
+/// summed as the options say (read by their owner, [`Boundary::periodic`]).
 pub(crate) fn boundary(
     box_lengths: Option<&Bound<'_, PyAny>>,
     options: &SumOptions,
@@ -34,10 +33,7 @@ pub(crate) fn boundary(
         }
         return Ok(Boundary::Open);
     };
-    Ok(Boundary::Periodic {
-        box_lengths: orthorhombic_box(box_lengths)?,
-        sum: PeriodicSum::new(options)?,
-    })
+    Ok(Boundary::periodic(orthorhombic_box(box_lengths)?, options)?)
 }
 
 /// The boundary of `box_lengths` with `cutoff` (both, or neither for open

@@ -201,7 +201,7 @@ fn interactions_fingerprint(boundary: Option<&Boundary>) -> String {
             match sum {
                 PeriodicSum::Cutoff { cutoff } => h.u64(0).f64(*cutoff),
                 PeriodicSum::Ewald { accuracy, surface } => {
-                    h.u64(1).f64(*accuracy).u64(match surface {
+                    h.u64(1).f64(accuracy.get()).u64(match surface {
                         Surface::Conducting => 0,
                         Surface::Vacuum => 1,
                     })

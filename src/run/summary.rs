@@ -140,7 +140,7 @@ impl InteractionsSummary {
             match sum {
                 PeriodicSum::Cutoff { cutoff } => out.cutoff = Some(cutoff),
                 PeriodicSum::Ewald { accuracy, surface } => {
-                    out.accuracy = Some(accuracy);
+                    out.accuracy = Some(accuracy.get());
                     out.surface = Some(surface);
                 }
             }

@@ -1,7 +1,8 @@
 //! The `[interactions]` section: pair interactions between the rotors'
 //! multipoles and their boundary, built into the physics [`Boundary`] (the
-//! sum's keys read by their owner, [`PeriodicSum::new`]; the box, the cutoff
-//! and the accuracy checked by [`Boundary::validate`]; this file adds the
+//! sum's keys read and the accuracy checked by their owner,
+//! [`Boundary::periodic`]; the box and the cutoff checked by
+//! [`Boundary::validate`]; this file adds the
 //! field paths) and the way a periodic sum is taken ([`SumMethod`]). The
 //! pair terms follow from the multipoles the rotors carry; the optional
 //! `terms` list must name exactly those.
@@ -11,7 +12,7 @@ use super::model::Interactions;
 use super::tagged::tagged;
 use crate::checks::{num, InputError};
 pub use crate::potential::SumKind;
-use crate::potential::{Boundary, PeriodicSum, SumMethod, SumOptions, Surface};
+use crate::potential::{Boundary, SumMethod, SumOptions, Surface};
 use crate::rotor::Rotor;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -46,7 +47,7 @@ pub struct RawOpen {}
 
 /// Periodic boundaries: [`Boundary::Periodic`], whose box defaults to the
 /// lattice's, summed as `sum`, `cutoff`, `accuracy` and `surface` say (read
-/// by their owner, [`PeriodicSum::new`]: the Ewald sum by default, a
+/// by their owner, [`Boundary::periodic`]: the Ewald sum by default, a
 /// spherical cutoff with `sum = "cutoff"` or a `cutoff` alone); `method`
 /// chooses the way of summing ([`SumMethod`]).
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -74,7 +75,7 @@ const TERM_NAMES: [&str; 3] = [
     "quadrupole_quadrupole",
 ];
 
-/// The scene paths of the physics' boundary errors ([`PeriodicSum::new`],
+/// The scene paths of the physics' boundary errors ([`Boundary::periodic`],
 /// [`Boundary::validate`] and the sums built from it).
 const BOUNDARY_PATHS: [(&str, &str); 5] = [
     ("box_lengths", "interactions.boundary.box"),
@@ -146,10 +147,7 @@ pub(super) fn interactions(
         accuracy: p.accuracy,
         surface: p.surface,
     };
-    let boundary = Boundary::Periodic {
-        box_lengths,
-        sum: PeriodicSum::new(&options).map_err(at_scene_path)?,
-    };
+    let boundary = Boundary::periodic(box_lengths, &options).map_err(at_scene_path)?;
     boundary.validate(rotors.len()).map_err(at_scene_path)?;
     if explicit_sites {
         check_inside_box(rotors, &box_lengths)?;
@@ -219,6 +217,7 @@ fn check_inside_box(rotors: &[Rotor], box_lengths: &Vector3<f64>) -> Result<(), 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::potential::{Accuracy, PeriodicSum};
     use crate::rotor::Inertia;
 
     fn dipole_at(x: f64) -> Rotor {
@@ -309,7 +308,7 @@ mod tests {
                 boundary: Boundary::Periodic {
                     box_lengths: l,
                     sum: PeriodicSum::Ewald {
-                        accuracy: 1e-6,
+                        accuracy: Accuracy::new(1e-6).unwrap(),
                         surface: Surface::Vacuum
                     }
                 },

@@ -1,7 +1,7 @@
 //! Open or periodic boundaries: the box, how the periodic sum is taken
 //! ([`PeriodicSum`]), and the limits on the size of the sums.
 
-use super::{PeriodicSum, PotentialError};
+use super::{Accuracy, PeriodicSum, PotentialError, SumOptions, Surface};
 use crate::checks::{each, positive};
 use nalgebra::Vector3;
 
@@ -46,35 +46,43 @@ impl Boundary {
     pub fn periodic_ewald(box_lengths: Vector3<f64>) -> Boundary {
         Boundary::Periodic {
             box_lengths,
-            sum: PeriodicSum::ewald(None, None),
+            sum: PeriodicSum::Ewald {
+                accuracy: Accuracy::DEFAULT,
+                surface: Surface::default(),
+            },
         }
     }
 
-    /// Checks the box (path `box_lengths[k]`: finite and > 0), the cutoff
-    /// (path `cutoff`) or the accuracy (path `accuracy`) for `sites` sites
-    /// (the estimated size of a truncated periodic sum at most
-    /// [`MAX_PAIRS`]; the Ewald sums check their own sizes when they are
-    /// built).
+    /// The periodic box `box_lengths` summed as `options` say: the one
+    /// reading of the sum's options, by the scene and the Python keywords
+    /// alike. Refused, in this order, for keys of the other sum
+    /// ([`SumOptions::truncation`]), a bad box (path `box_lengths`) and an
+    /// accuracy outside (0, 1) ([`Accuracy::new`]); the cutoff and the size
+    /// of the sum are checked by [`Self::validate`].
+    pub fn periodic(
+        box_lengths: Vector3<f64>,
+        options: &SumOptions,
+    ) -> Result<Boundary, PotentialError> {
+        let truncation = options.truncation()?;
+        check_box(&box_lengths)?;
+        Ok(Boundary::Periodic {
+            box_lengths,
+            sum: PeriodicSum::new(truncation, options)?,
+        })
+    }
+
+    /// Checks the box (path `box_lengths[k]`: finite and > 0) and the cutoff
+    /// (path `cutoff`: finite and > 0) for `sites` sites (the estimated size
+    /// of a truncated periodic sum at most [`MAX_PAIRS`]; the Ewald sums
+    /// check their own sizes when they are built, their accuracy is checked
+    /// when it is made).
     pub fn validate(&self, sites: usize) -> Result<(), PotentialError> {
         let Boundary::Periodic { box_lengths, sum } = *self else {
             return Ok(());
         };
-        each(box_lengths.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
-        // The sums divide by the volume: it must be a normal number.
-        let volume = box_lengths.product();
-        if !volume.is_normal() {
-            return Err(PotentialError::new(
-                "box_lengths",
-                format!(
-                    "must give a volume between {:e} and {:e}, got {}",
-                    f64::MIN_POSITIVE,
-                    f64::MAX,
-                    crate::checks::num(volume)
-                ),
-            ));
-        }
-        sum.check()?;
+        check_box(&box_lengths)?;
         if let PeriodicSum::Cutoff { cutoff } = sum {
+            let _ = positive(cutoff).map_err(|e| e.at("cutoff"))?;
             let sphere = 4.0 / 3.0 * std::f64::consts::PI * cutoff.powi(3);
             let estimate = (sites as f64).powi(2) * sphere / (2.0 * box_lengths.product());
             if estimate > MAX_PAIRS as f64 {
@@ -88,6 +96,25 @@ impl Boundary {
         }
         Ok(())
     }
+}
+
+/// Checks the edges of a periodic box (path `box_lengths[k]`: finite and
+/// > 0) and its volume, which the sums divide by (a normal number).
+fn check_box(box_lengths: &Vector3<f64>) -> Result<(), PotentialError> {
+    each(box_lengths.as_slice(), positive).map_err(|e| e.at("box_lengths"))?;
+    let volume = box_lengths.product();
+    if !volume.is_normal() {
+        return Err(PotentialError::new(
+            "box_lengths",
+            format!(
+                "must give a volume between {:e} and {:e}, got {}",
+                f64::MIN_POSITIVE,
+                f64::MAX,
+                crate::checks::num(volume)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses a truncated periodic sum of `pairs` pairs (estimated or found)

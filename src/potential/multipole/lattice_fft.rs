@@ -285,7 +285,7 @@ mod tests {
     use super::super::ewald::EwaldSum;
     use super::super::kernels::{Dipoles, DipolesAndQuadrupoles, Quadrupoles};
     use super::super::lattice_grid::detect;
-    use super::super::{PeriodicSum, Surface};
+    use super::super::{Accuracy, PeriodicSum, Surface};
     use super::*;
     use crate::allocation_meter::peak_above_start;
     use crate::lattice::{Lattice, LatticeKind};
@@ -436,7 +436,7 @@ mod tests {
                 let density = n as f64 / lattice.box_lengths.product();
                 let cost = LatticeFft::cost(&grid, &lattice.box_lengths);
                 let sum = PeriodicSum::Ewald {
-                    accuracy: 1e-3,
+                    accuracy: Accuracy::new(1e-3).unwrap(),
                     surface,
                 }
                 .choose(density, (true, true), cost, &lattice.box_lengths)

@@ -30,6 +30,6 @@ pub use ewald_parameters::EwaldParameters;
 pub use external::ExternalFields;
 pub use lattice_fft::MAX_FFT_BYTES;
 pub use lattice_grid::{LatticeGrid, LATTICE_TOLERANCE};
-pub use periodic_sum::{PeriodicSum, SumKind, SumOptions, Surface, DEFAULT_ACCURACY};
+pub use periodic_sum::{Accuracy, PeriodicSum, SumKind, SumOptions, Surface};
 pub use potential::MultipolePotential;
 pub use sum_method::{SumMethod, SumPath};

@@ -1,7 +1,7 @@
 //! How the images of a periodic box are summed: the one owner of the
 //! options `sum`, `cutoff`, `accuracy` and `surface` (their names, rules,
 //! defaults, checks and docs), read by the scene's `[interactions.boundary]`
-//! table and by the Python keywords alike ([`PeriodicSum::new`]), and the one
+//! table and by the Python keywords alike ([`super::Boundary::periodic`]), and the one
 //! place where an Ewald sum's parameters are chosen ([`PeriodicSum::choose`]).
 //!
 //! The way of summing (`method`, [`super::SumMethod`]) is its own option:
@@ -10,11 +10,36 @@
 
 use super::ewald_parameters::{self, Cost, EwaldParameters};
 use super::PotentialError;
-use crate::checks::{named_choices, num, positive};
+use crate::checks::{named_choices, num};
 use nalgebra::Vector3;
 
-/// The default relative accuracy of the Ewald sum.
-pub const DEFAULT_ACCURACY: f64 = 1e-12;
+/// The requested relative accuracy of an Ewald sum, in (0, 1) (see
+/// [`super::ewald_parameters`] for its meaning): made only by
+/// [`Accuracy::new`], which checks it, so what holds one trusts it.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+pub struct Accuracy(f64);
+
+impl Accuracy {
+    /// The default, `1e-12`.
+    pub const DEFAULT: Accuracy = Accuracy(1e-12);
+
+    /// The accuracy `value`, refused (path `accuracy`) outside (0, 1).
+    pub fn new(value: f64) -> Result<Accuracy, PotentialError> {
+        if value > 0.0 && value < 1.0 {
+            Ok(Accuracy(value))
+        } else {
+            Err(PotentialError::new(
+                "accuracy",
+                format!("must be in (0, 1), got {value}"),
+            ))
+        }
+    }
+
+    /// The value, in (0, 1).
+    pub fn get(self) -> f64 {
+        self.0
+    }
+}
 
 /// The periodic lattice sum
 /// `V = sum_{i<j} sum_n v(r_j - r_i + n L) + 1/2 sum_i sum_{n != 0} v(n L)`
@@ -34,12 +59,12 @@ pub enum PeriodicSum {
     /// The Ewald sum (the conditionally convergent dipolar sum taken over
     /// growing spheres, de Leeuw, Perram & Smith, Proc. R. Soc. A 373, 27
     /// (1980)), with the splitting parameter and both cutoffs chosen for the
-    /// relative `accuracy` (in (0, 1), default [`DEFAULT_ACCURACY`]; see
+    /// relative `accuracy` (default [`Accuracy::DEFAULT`]; see
     /// [`super::ewald_parameters`] for its meaning and the estimates), and
     /// the medium around the sphere given by `surface`.
     Ewald {
-        /// The requested relative accuracy, in (0, 1).
-        accuracy: f64,
+        /// The requested relative accuracy.
+        accuracy: Accuracy,
         /// The medium around the sphere of boxes.
         surface: Surface,
     },
@@ -78,7 +103,7 @@ named_choices!(SumKind {
 
 /// The options of a periodic sum as a user gives them, each optional (a
 /// scene's `[interactions.boundary]` keys, the Python keywords); read by
-/// [`PeriodicSum::new`].
+/// [`super::Boundary::periodic`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SumOptions {
     /// `sum`: "ewald" (the default) or "cutoff" (the default when `cutoff`
@@ -87,7 +112,7 @@ pub struct SumOptions {
     /// `cutoff`: the spherical cutoff of `sum = "cutoff"` (required there, > 0).
     pub cutoff: Option<f64>,
     /// `accuracy`: the relative accuracy of `sum = "ewald"`, in (0, 1)
-    /// (default [`DEFAULT_ACCURACY`]).
+    /// (default [`Accuracy::DEFAULT`]).
     pub accuracy: Option<f64>,
     /// `surface`: the surroundings of `sum = "ewald"` (default conducting).
     pub surface: Option<Surface>,
@@ -106,73 +131,65 @@ pub(crate) struct ChosenSum {
     pub parameters: Option<EwaldParameters>,
 }
 
-impl PeriodicSum {
-    /// The sum the options ask for: its `sum` (or the one implied: `cutoff`
-    /// given means a truncated sum), with only the keys of that sum, the
-    /// defaults applied and the values checked ([`Self::check`]). Errors
-    /// name the option (`accuracy`, `cutoff`, `surface`).
-    pub fn new(options: &SumOptions) -> Result<PeriodicSum, PotentialError> {
-        let kind = options.sum.unwrap_or(match options.cutoff {
+impl SumOptions {
+    /// The sum the options ask for, its `sum` or the one implied (`cutoff`
+    /// given means a truncated sum), with only the keys of that sum (errors
+    /// name the key: `accuracy`, `cutoff`, `surface`): `Some(cutoff)` for a
+    /// truncated sum, `None` for the Ewald sum.
+    pub(super) fn truncation(&self) -> Result<Option<f64>, PotentialError> {
+        let kind = self.sum.unwrap_or(match self.cutoff {
             Some(_) => SumKind::Cutoff,
             None => SumKind::Ewald,
         });
-        let sum = match kind {
+        match kind {
             SumKind::Cutoff => {
-                let why = if options.sum.is_some() {
+                let why = if self.sum.is_some() {
                     "only for sum = \"ewald\", not with sum = \"cutoff\""
                 } else {
                     "only for sum = \"ewald\" (a cutoff without sum means sum = \"cutoff\")"
                 };
-                if options.accuracy.is_some() {
+                if self.accuracy.is_some() {
                     return Err(PotentialError::new("accuracy", why));
                 }
-                if options.surface.is_some() {
+                if self.surface.is_some() {
                     return Err(PotentialError::new("surface", why));
                 }
-                let cutoff = options.cutoff.ok_or_else(|| {
+                let cutoff = self.cutoff.ok_or_else(|| {
                     PotentialError::new("cutoff", "required with sum = \"cutoff\"")
                 })?;
-                PeriodicSum::Cutoff { cutoff }
+                Ok(Some(cutoff))
             }
             SumKind::Ewald => {
-                if options.cutoff.is_some() {
+                if self.cutoff.is_some() {
                     return Err(PotentialError::new(
                         "cutoff",
                         "not with sum = \"ewald\" (its real- and reciprocal-space cutoffs \
                          follow from accuracy)",
                     ));
                 }
-                PeriodicSum::ewald(options.accuracy, options.surface)
-            }
-        };
-        Ok(sum)
-    }
-
-    /// The Ewald sum, its accuracy and surface defaulted when not given.
-    pub(crate) fn ewald(accuracy: Option<f64>, surface: Option<Surface>) -> PeriodicSum {
-        PeriodicSum::Ewald {
-            accuracy: accuracy.unwrap_or(DEFAULT_ACCURACY),
-            surface: surface.unwrap_or_default(),
-        }
-    }
-
-    /// Checks the value of the sum's option: the cutoff (path `cutoff`,
-    /// finite and > 0) or the accuracy (path `accuracy`, in (0, 1)).
-    pub fn check(&self) -> Result<(), PotentialError> {
-        match *self {
-            PeriodicSum::Cutoff { cutoff } => {
-                let _ = positive(cutoff).map_err(|e| e.at("cutoff"))?;
-            }
-            PeriodicSum::Ewald { accuracy, .. } => {
-                if !(accuracy > 0.0 && accuracy < 1.0) {
-                    return Err(PotentialError::new(
-                        "accuracy",
-                        format!("must be in (0, 1), got {accuracy}"),
-                    ));
-                }
+                Ok(None)
             }
         }
-        Ok(())
+    }
+}
+
+impl PeriodicSum {
+    /// The sum `options` ask for, given its [`SumOptions::truncation`]: the
+    /// defaults applied and the accuracy checked ([`Accuracy::new`]); the
+    /// cutoff is checked with the box by [`super::Boundary::validate`].
+    pub(super) fn new(
+        truncation: Option<f64>,
+        options: &SumOptions,
+    ) -> Result<PeriodicSum, PotentialError> {
+        Ok(match truncation {
+            Some(cutoff) => PeriodicSum::Cutoff { cutoff },
+            None => PeriodicSum::Ewald {
+                accuracy: options
+                    .accuracy
+                    .map_or(Ok(Accuracy::DEFAULT), Accuracy::new)?,
+                surface: options.surface.unwrap_or_default(),
+            },
+        })
     }
 
     /// The option `sum` this sum answers to.
@@ -203,6 +220,7 @@ impl PeriodicSum {
                 parameters: None,
             }),
             PeriodicSum::Ewald { accuracy, .. } => {
+                let accuracy = accuracy.get();
                 let parameters = ewald_parameters::choose(
                     accuracy,
                     density,
@@ -264,8 +282,6 @@ fn enumerable(
     ))
 }
 
-impl PeriodicSum {}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -279,28 +295,37 @@ mod tests {
         }
     }
 
+    /// The sum `o` asks for (the unit cube's boundary's).
+    fn sum_of(o: SumOptions) -> Result<PeriodicSum, String> {
+        match super::super::Boundary::periodic(Vector3::repeat(1.0), &o) {
+            Ok(super::super::Boundary::Periodic { sum, .. }) => Ok(sum),
+            Ok(open) => Err(format!("not periodic: {open:?}")),
+            Err(e) => Err(e.to_string()),
+        }
+    }
+
     /// No option is the Ewald sum at 1e-12 in a conductor; a cutoff alone is
     /// the truncated sum of older scene files, the same as with `sum`.
     #[test]
     fn defaults_are_ewald_and_a_lone_cutoff_truncates() {
-        let ewald = PeriodicSum::new(&SumOptions::default());
+        assert_eq!(Accuracy::DEFAULT.get(), 1e-12);
         assert_eq!(
-            ewald,
+            sum_of(SumOptions::default()),
             Ok(PeriodicSum::Ewald {
-                accuracy: 1e-12,
+                accuracy: Accuracy::DEFAULT,
                 surface: Surface::Conducting
             })
         );
         let truncated = Ok(PeriodicSum::Cutoff { cutoff: 2.5 });
-        assert_eq!(PeriodicSum::new(&options(None, Some(2.5), None)), truncated);
+        assert_eq!(sum_of(options(None, Some(2.5), None)), truncated);
         let explicit = options(Some(SumKind::Cutoff), Some(2.5), None);
-        assert_eq!(PeriodicSum::new(&explicit), truncated);
+        assert_eq!(sum_of(explicit), truncated);
     }
 
     /// Each sum takes only its own keys, and the error names the key.
     #[test]
     fn keys_of_the_other_sum_are_refused_by_name() {
-        let refused = |o: SumOptions| PeriodicSum::new(&o).unwrap_err().to_string();
+        let refused = |o: SumOptions| sum_of(o).unwrap_err();
         assert_eq!(
             refused(options(Some(SumKind::Ewald), Some(1.0), None)),
             "cutoff: not with sum = \"ewald\" (its real- and reciprocal-space cutoffs follow \
@@ -324,27 +349,38 @@ mod tests {
         );
     }
 
-    /// The values are checked once, by [`PeriodicSum::check`].
+    /// An accuracy is made only by [`Accuracy::new`], which takes (0, 1)
+    /// exclusive and refuses the rest naming `accuracy`; the sum's options
+    /// go through it.
     #[test]
-    fn values_out_of_range_are_refused() {
-        let check = |o: SumOptions| {
-            PeriodicSum::new(&o)
-                .unwrap()
-                .check()
+    fn accuracies_outside_zero_one_are_refused() {
+        for bad in [0.0, -0.0, 1.0, -1e-3, 2.0, f64::NAN, f64::INFINITY] {
+            let e = Accuracy::new(bad).unwrap_err();
+            assert_eq!(e.path, "accuracy", "{bad}");
+            assert_eq!(
+                e.to_string(),
+                format!("accuracy: must be in (0, 1), got {bad}")
+            );
+        }
+        for good in [f64::MIN_POSITIVE, 1e-12, 0.5, 1.0 - f64::EPSILON] {
+            assert_eq!(Accuracy::new(good).map(Accuracy::get), Ok(good));
+        }
+        assert_eq!(
+            sum_of(options(None, None, Some(1.0))).unwrap_err(),
+            "accuracy: must be in (0, 1), got 1"
+        );
+    }
+
+    /// A truncated sum's cutoff is checked with the box, after it.
+    #[test]
+    fn cutoffs_are_checked_with_the_box() {
+        let check = |edge: f64, cutoff: f64| {
+            super::super::Boundary::periodic_cutoff(Vector3::repeat(edge), cutoff)
+                .validate(2)
                 .unwrap_err()
                 .to_string()
         };
-        assert_eq!(
-            check(options(None, None, Some(1.0))),
-            "accuracy: must be in (0, 1), got 1"
-        );
-        assert_eq!(
-            check(options(None, Some(-2.0), None)),
-            "cutoff: must be > 0, got -2"
-        );
-        assert!(PeriodicSum::new(&options(None, None, Some(0.5)))
-            .unwrap()
-            .check()
-            .is_ok());
+        assert_eq!(check(1.0, -2.0), "cutoff: must be > 0, got -2");
+        assert_eq!(check(-1.0, -2.0), "box_lengths[0]: must be > 0, got -1");
     }
 }
