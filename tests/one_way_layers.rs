@@ -3,7 +3,8 @@
 //! no file of either folder imports the other, and the hook imports
 //! neither (issue 35's one-way rule; the README's architecture section).
 //! Facts issue 35 gave one owner keep it: the Ewald accuracy is range-checked
-//! only where an [`quatrot::potential::Accuracy`] is made.
+//! only where an [`quatrot::potential::Accuracy`] is made, and the scene's
+//! field paths travel outside the messages.
 
 use std::path::Path;
 
@@ -116,4 +117,18 @@ fn the_accuracy_is_checked_in_one_place() {
             "{needle}: {found:#?}"
         );
     }
+}
+
+/// Field paths are typed in the scene layer: no marker character puts a path
+/// inside an error message to be parsed back out (the `PATH_MARK` NUL of
+/// the tagged tables, read back by `split_inner_path`).
+#[test]
+fn scene_paths_travel_outside_messages() {
+    let markers = ["\\u{0}", "\\0", "PATH_MARK", "split_inner_path"];
+    let found: Vec<String> = sources("scene")
+        .into_iter()
+        .filter(|(_, text)| markers.iter().any(|m| text.contains(m)) || text.contains('\0'))
+        .map(|(path, _)| path)
+        .collect();
+    assert!(found.is_empty(), "{found:#?}");
 }

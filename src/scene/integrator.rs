@@ -3,24 +3,26 @@
 //! its check and its documentation, and whose list of integrators (and their
 //! `kind`s) is the physics' own: nothing here names an integrator.
 
-use super::tagged::{take_kind, variant, variant_with, with_inner_path};
+use super::tagged::{read_variant, take_kind, unknown_kind, TaggedError};
 use crate::integrators::IntegratorSpec;
-use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// `kind = "..."` and the options of that integrator, with errors naming the
 /// option's path inside the table.
+fn read_spec(mut table: toml::Table) -> Result<IntegratorSpec, TaggedError> {
+    let kind = take_kind(&mut table)?;
+    if !IntegratorSpec::KINDS.contains(&kind.as_str()) {
+        return Err(unknown_kind(&kind, IntegratorSpec::KINDS));
+    }
+    read_variant(table, |options| {
+        IntegratorSpec::deserialize_kind(&kind, options)
+    })
+}
+
+/// [`read_spec`] inside serde (the path travels beside the error).
 impl<'de> Deserialize<'de> for IntegratorSpec {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let mut table = toml::Table::deserialize(deserializer)?;
-        let kind = take_kind::<D::Error>(&mut table)?;
-        if !IntegratorSpec::KINDS.contains(&kind.as_str()) {
-            let e = D::Error::unknown_variant(&kind, IntegratorSpec::KINDS);
-            return Err(with_inner_path("kind", &e.to_string()));
-        }
-        variant_with(table, |options| {
-            IntegratorSpec::deserialize_kind(&kind, options)
-        })
+        read_spec(toml::Table::deserialize(deserializer)?).map_err(TaggedError::into_serde)
     }
 }
 
@@ -35,16 +37,16 @@ pub struct RawIntegrator {
 }
 
 impl RawIntegrator {
-    /// The table of an integrator with its default options (`kind = name`).
-    pub fn named(name: &str) -> Result<Self, String> {
+    /// The table of an integrator with its default options (`kind = name`);
+    /// the error's path is below the table.
+    pub(super) fn named(name: &str) -> Result<Self, TaggedError> {
         let mut table = toml::Table::new();
         let _ = table.insert("kind".into(), toml::Value::String(name.into()));
         Self::from_table(table)
     }
 
-    fn from_table(table: toml::Table) -> Result<Self, String> {
-        let spec = variant::<IntegratorSpec, toml::de::Error>(table.clone())
-            .map_err(|e| e.message().trim_end().to_string())?;
+    fn from_table(table: toml::Table) -> Result<Self, TaggedError> {
+        let spec = read_spec(table.clone())?;
         Ok(RawIntegrator {
             spec,
             written: table,
@@ -55,7 +57,7 @@ impl RawIntegrator {
 impl<'de> Deserialize<'de> for RawIntegrator {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let table = toml::Table::deserialize(deserializer)?;
-        RawIntegrator::from_table(table).map_err(serde::de::Error::custom)
+        RawIntegrator::from_table(table).map_err(TaggedError::into_serde)
     }
 }
 

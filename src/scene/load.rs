@@ -6,7 +6,6 @@ use super::error::SceneError;
 use super::model::Scene;
 use super::parse::{parse_table, parse_toml};
 use super::raw::{RawIntegrator, RawScene};
-use super::tagged::join_path;
 use super::validate::validate;
 
 /// Values given on the command line (or as Python keywords) that replace the scene's.
@@ -32,8 +31,8 @@ impl Overrides {
         }
         if let Some(name) = &self.integrator {
             raw.integrator = RawIntegrator::named(name).map_err(|e| {
-                let (path, message) = join_path("integrator", &e);
-                SceneError::field(path, message)
+                let e = e.below("integrator");
+                SceneError::field(e.path, e.message)
             })?;
         }
         Ok(())

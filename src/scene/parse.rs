@@ -3,35 +3,39 @@
 
 use super::error::SceneError;
 use super::raw::RawScene;
-use super::tagged::join_path;
+use super::tagged::{forget_pending_path, locate, TaggedError};
 use serde::de::DeserializeOwned;
 
 /// Reads `T` from a TOML value, turning the error into a field error at the
 /// path where it occurred (`(top level)` for the root).
 pub(super) fn parse_value<T: DeserializeOwned>(value: toml::Value) -> Result<T, SceneError> {
+    forget_pending_path();
     serde_path_to_error::deserialize(value).map_err(|e| {
-        let outer = e.path().to_string();
-        let outer = if outer == "." { "" } else { outer.as_str() };
         let message = e.inner().to_string();
         // toml appends "\nin `path`"; the path is reported in front instead.
         let message = message.lines().next().unwrap_or_default();
-        let (path, message) = join_path(outer, message);
-        // A missing field is named by its own path.
-        let (path, message) = match message
-            .strip_prefix("missing field `")
-            .and_then(|m| m.strip_suffix('`'))
-        {
-            Some(field) if path.is_empty() => (field.to_string(), "missing".to_string()),
-            Some(field) => (format!("{path}.{field}"), "missing".to_string()),
-            None => (path, message),
-        };
-        let path = if path.is_empty() {
-            "(top level)".to_string()
-        } else {
-            path
-        };
-        SceneError::field(path, message)
+        field_error(locate(e.path(), message))
     })
+}
+
+/// The scene's error for an error at `e.path` (relative to the scene); a
+/// missing field is named by its own path.
+fn field_error(e: TaggedError) -> SceneError {
+    let TaggedError { path, message } = e;
+    let (path, message) = match message
+        .strip_prefix("missing field `")
+        .and_then(|m| m.strip_suffix('`'))
+    {
+        Some(field) if path.is_empty() => (field.to_string(), "missing".to_string()),
+        Some(field) => (format!("{path}.{field}"), "missing".to_string()),
+        None => (path, message),
+    };
+    let path = if path.is_empty() {
+        "(top level)".to_string()
+    } else {
+        path
+    };
+    SceneError::field(path, message)
 }
 
 /// Line and column (1-based) of a byte offset in `text`.

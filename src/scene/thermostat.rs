@@ -7,28 +7,30 @@
 //! the thermostat (`thermostat.kind`).
 
 use super::error::SceneError;
-use super::tagged::{take_kind, variant_with, with_inner_path};
+use super::tagged::{read_variant, take_kind, unknown_kind, TaggedError};
 use crate::integrators::IntegratorSpec;
 use crate::thermostats::ThermostatSpec;
-use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// `kind = "..."` and the options of that thermostat, checked, with errors
 /// naming the option's path inside the table.
+fn read_spec(mut table: toml::Table) -> Result<ThermostatSpec, TaggedError> {
+    let kind = take_kind(&mut table)?;
+    if !ThermostatSpec::KINDS.contains(&kind.as_str()) {
+        return Err(unknown_kind(&kind, ThermostatSpec::KINDS));
+    }
+    let spec = read_variant(table, |options| {
+        ThermostatSpec::deserialize_kind(&kind, options)
+    })?;
+    spec.check()
+        .map_err(|e| TaggedError::at(&e.path, e.message))?;
+    Ok(spec)
+}
+
+/// [`read_spec`] inside serde (the path travels beside the error).
 impl<'de> Deserialize<'de> for ThermostatSpec {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let mut table = toml::Table::deserialize(deserializer)?;
-        let kind = take_kind::<D::Error>(&mut table)?;
-        if !ThermostatSpec::KINDS.contains(&kind.as_str()) {
-            let e = D::Error::unknown_variant(&kind, ThermostatSpec::KINDS);
-            return Err(with_inner_path("kind", &e.to_string()));
-        }
-        let spec: ThermostatSpec = variant_with(table, |options| {
-            ThermostatSpec::deserialize_kind(&kind, options)
-        })?;
-        spec.check()
-            .map_err(|e| with_inner_path(&e.path, &e.message))?;
-        Ok(spec)
+        read_spec(toml::Table::deserialize(deserializer)?).map_err(TaggedError::into_serde)
     }
 }
 
@@ -45,8 +47,7 @@ pub struct RawThermostat {
 impl<'de> Deserialize<'de> for RawThermostat {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let table = toml::Table::deserialize(deserializer)?;
-        let spec = super::tagged::variant::<ThermostatSpec, toml::de::Error>(table.clone())
-            .map_err(|e| D::Error::custom(e.message()))?;
+        let spec = read_spec(table.clone()).map_err(TaggedError::into_serde)?;
         Ok(RawThermostat {
             spec,
             written: table,
