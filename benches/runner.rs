@@ -13,7 +13,7 @@
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use quatrot::integrators::{Dlm, GearB, Integrator};
-use quatrot::parallel::on_worker;
+use quatrot::internals::on_worker;
 use quatrot::potential::{Boundary, ExternalFields, Free, MultipolePotential, Potential};
 use quatrot::rotor::Inertia;
 use quatrot::run::{CsvTarget, RunError, SeriesObserver};

@@ -3,14 +3,12 @@
 //! Source: M. P. Allen, "Quaternion parameter algorithms" (equation numbers
 //! in the doc comments refer to that note; corrections are in ERRATA.md).
 //!
-//! The physics core knows nothing of files, the command line or Python:
+//! The public modules are the library's API. The physics core knows nothing
+//! of files, the command line or Python:
 //!
 //! * [`quaternion`]: the conventions (stated once) and the quaternion algebra.
-//! * [`checks`]: the checks of input values every constructor shares.
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
 //! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
-//! * [`memory`]: the memory limit that every size decided by input is
-//!   checked against before allocation.
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, [`integrators::IntegratorSpec`]
 //!   (the one dispatch), Allen's schemes A and B, the baselines.
@@ -26,14 +24,20 @@
 //! * [`stats`]: least-squares lines, block means, energy drift.
 //! * [`simulation`]: the one run loop, its observers and stop conditions.
 //! * [`experiments`]: the note's experiment on the corrections of scheme B.
-//! * [`parallel`]: where long computations run (a worker of rayon's pool).
 //!
 //! The outer layers build physics objects and call them:
 //!
 //! * [`scene`]: scene files (TOML), read into the physics types.
 //! * [`run`]: the outputs of a scene's run, and the run itself.
-//! * [`cli`]: the `quatrot` command line; the Python extension (feature
-//!   `python`) beside it.
+//!
+//! [`InputError`] is the error of every input check (a field path and a
+//! message). Internal, not part of the API: the checks every constructor
+//! shares (`checks`), the memory limit every size decided by input is
+//! checked against before allocation (`memory`, set by the environment
+//! variable `QUATROT_MEMORY_LIMIT`), where long computations run
+//! (`parallel`), the `quatrot` command line (`cli`) and the Python extension
+//! (feature `python`). The binary, the tests and the benchmarks reach the
+//! few internals they need through the hidden module `internals`.
 
 #![warn(
     missing_docs,
@@ -47,15 +51,15 @@
 #[cfg(test)]
 mod allocation_meter;
 pub mod analysis;
-pub mod checks;
-pub mod cli;
+pub(crate) mod checks;
+pub(crate) mod cli;
 pub mod dynamics;
 pub mod experiments;
 pub mod integrators;
 pub mod lattice;
-pub mod memory;
+pub(crate) mod memory;
 pub mod observables;
-pub mod parallel;
+pub(crate) mod parallel;
 pub mod potential;
 pub mod quaternion;
 pub mod rotor;
@@ -69,4 +73,16 @@ pub mod thermostats;
 #[cfg(feature = "python")]
 mod python;
 
+pub use checks::InputError;
 pub use quaternion::Quat;
+
+/// What the `quatrot` binary, the tests and the benchmarks reach of the
+/// internals: not part of the library's API (hidden from its documentation,
+/// no stability promised).
+#[doc(hidden)]
+pub mod internals {
+    pub use crate::checks::from_name;
+    pub use crate::cli::main as cli_main;
+    pub use crate::memory::{set_limit, LIMIT_VARIABLE};
+    pub use crate::parallel::on_worker;
+}

@@ -1,5 +1,5 @@
-//! The `quatrot` command-line interface (see [`quatrot::cli`]).
+//! The `quatrot` command-line interface (`src/cli`, reached through `quatrot::internals`).
 
 fn main() {
-    std::process::exit(quatrot::cli::main());
+    std::process::exit(quatrot::internals::cli_main());
 }

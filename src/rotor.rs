@@ -7,6 +7,8 @@
 use crate::checks::{each, finite, finite_matrix, symmetric, traceless, InputError};
 use nalgebra::{Matrix3, Vector3};
 
+pub use crate::checks::TENSOR_TOLERANCE;
+
 /// Principal moments of inertia about the body axes 1, 2, 3.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Inertia {
@@ -92,7 +94,7 @@ pub fn check_dipole(dipole_body: &Vector3<f64>) -> Result<(), InputError> {
 
 /// A body quadrupole (Buckingham, `potential::multipole::convention`):
 /// every entry finite (path `[i][j]`), symmetric and traceless within
-/// [`crate::checks::TENSOR_TOLERANCE`] of its largest entry.
+/// [`TENSOR_TOLERANCE`] of its largest entry.
 pub fn check_quadrupole(quadrupole_body: &Matrix3<f64>) -> Result<(), InputError> {
     finite_matrix(quadrupole_body)?;
     symmetric(quadrupole_body)?;

@@ -55,7 +55,7 @@ fn fails_with_its_stated_message(path: &Path) -> Result<(), Failed> {
 }
 
 fn main() {
-    quatrot::memory::set_limit(MEMORY_LIMIT, quatrot::memory::LIMIT_VARIABLE)
+    quatrot::internals::set_limit(MEMORY_LIMIT, quatrot::internals::LIMIT_VARIABLE)
         .expect("the limit is set first");
     let paths = corpus();
     let count = paths.len();

@@ -10,7 +10,7 @@ mod multipole_support;
 
 use multipole_support::*;
 use nalgebra::{Matrix3, Vector3};
-use quatrot::checks::from_name;
+use quatrot::internals::from_name;
 use quatrot::lattice::{Lattice, LatticeKind};
 use quatrot::potential::multipole::MAX_FFT_BYTES;
 use quatrot::potential::{

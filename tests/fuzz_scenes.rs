@@ -216,7 +216,7 @@ fn check_case(text: &str) -> Result<(), String> {
 
 #[test]
 fn mutated_scenes_never_panic_and_every_error_names_a_field() {
-    quatrot::memory::set_limit(MEMORY_LIMIT, "the fuzz test").expect("limit set first");
+    quatrot::internals::set_limit(MEMORY_LIMIT, "the fuzz test").expect("limit set first");
     let cases = env_or("QUATROT_FUZZ_CASES", DEFAULT_CASES);
     let seed = env_or("QUATROT_FUZZ_SEED", DEFAULT_SEED);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);

@@ -138,3 +138,75 @@ fn named_modules_are_read_from_code_only() {
     let text = "use crate::checks::num;\n/// [`crate::run`]\nlet x = crate::stats::line_fit(a); // crate::cli\n";
     assert_eq!(named(text), ["checks", "stats"]);
 }
+
+/// The `public` and `internal` lists of `docs/architecture.md`, in order.
+fn surface() -> (Vec<String>, Vec<String>) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/architecture.md");
+    let text = std::fs::read_to_string(path).expect("docs/architecture.md");
+    let start = text
+        .find("The crate's public surface is")
+        .expect("the public surface's sentence");
+    let block = text[start..]
+        .split("```text")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("the public surface's block");
+    let (mut public, mut internal) = (Vec::new(), Vec::new());
+    let mut list = &mut public;
+    for line in block.lines() {
+        let mut rest = line.trim();
+        if let Some(r) = rest.strip_prefix("public") {
+            (list, rest) = (&mut public, r);
+        } else if let Some(r) = rest.strip_prefix("internal") {
+            (list, rest) = (&mut internal, r);
+        }
+        list.extend(
+            rest.split(',')
+                .map(str::trim)
+                .filter(|n| !n.is_empty())
+                .map(String::from),
+        );
+    }
+    (public, internal)
+}
+
+/// The modules `src/lib.rs` declares, public (`pub mod`) and not, sorted.
+fn declared() -> (Vec<String>, Vec<String>) {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/lib.rs"))
+        .expect("src/lib.rs");
+    let (mut public, mut internal) = (Vec::new(), Vec::new());
+    for line in text.lines().map(str::trim) {
+        let Some(name) = line.strip_suffix(';') else {
+            continue;
+        };
+        if let Some(name) = name.strip_prefix("pub mod ") {
+            public.push(name.to_string());
+        } else if let Some(name) = name
+            .strip_prefix("pub(crate) mod ")
+            .or_else(|| name.strip_prefix("mod "))
+        {
+            internal.push(name.to_string());
+        }
+    }
+    public.sort();
+    internal.sort();
+    (public, internal)
+}
+
+/// The public and internal modules of `src/lib.rs` are those
+/// `docs/architecture.md` lists (the test-only allocation meter aside), and
+/// every public module is on the layer block.
+#[test]
+fn the_public_modules_are_the_documented_ones() {
+    let (mut public, mut internal) = surface();
+    public.sort();
+    internal.sort();
+    let (declared_public, mut declared_internal) = declared();
+    declared_internal.retain(|m| m != "allocation_meter");
+    assert_eq!(declared_public, public, "public modules");
+    assert_eq!(declared_internal, internal, "internal modules");
+    let layers = layers();
+    for module in public.iter().chain(&internal) {
+        assert!(layers.contains_key(module), "{module} is on no layer");
+    }
+}

@@ -2,7 +2,7 @@
 //!
 //! Every integrator implements [`Integrator`]: it is set up once from the
 //! initial orientations and body angular velocities (validated by
-//! [`setup_checks::validate_setup`], allocating all its scratch buffers then),
+//! `setup_checks::validate_setup`, allocating all its scratch buffers then),
 //! and then advanced one step at a time without allocating. The trait is
 //! object safe (the potential arrives as `&dyn Potential`, one virtual call
 //! per evaluation); the per-rotor loops inside each step are monomorphised.
@@ -20,12 +20,12 @@
 //!   (`scheme_b`; scheme A also with the extended equations of a
 //!   [`crate::thermostat_hook::ChainEquations`]), built on the Nordsieck machinery of [`gear`], the Euler
 //!   equations and eq 12 of [`rigid_body`] and the start-up of [`startup`].
-//! * Shared pieces: [`setup_checks`] (argument validation, all five),
+//! * Shared pieces (internal): `setup_checks` (argument validation, all five),
 //!   `torque` (torques into a reused buffer, body-frame components),
-//!   [`checkpoint`] (flat layouts) and `rotor_chunks` (per-rotor passes over
+//!   `checkpoint` (flat layouts) and `rotor_chunks` (per-rotor passes over
 //!   fixed chunks of rotors across the rayon pool, all five).
 
-pub mod checkpoint;
+pub(crate) mod checkpoint;
 mod dlm;
 pub mod free_rotation;
 pub mod gear;
@@ -37,7 +37,7 @@ pub mod rigid_body;
 mod rotor_chunks;
 pub mod scheme_a;
 pub mod scheme_b;
-pub mod setup_checks;
+pub(crate) mod setup_checks;
 mod spec;
 pub mod startup;
 mod torque;

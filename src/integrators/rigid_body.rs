@@ -21,7 +21,7 @@ pub struct PrincipalMoments {
 
 impl PrincipalMoments {
     /// From the principal moments `(I1, I2, I3)`, all finite and > 0 (as
-    /// [`super::setup_checks::validate_setup`] checks with [`super::setup_checks::Moments::Positive`]).
+    /// every integrator's setup checks them).
     pub fn new(moments: Vector3<f64>) -> Self {
         PrincipalMoments {
             moments,

@@ -28,7 +28,7 @@ pub struct ValidSetup {
 
 /// Checks `dt` (finite, > 0), one inertia per initial state, the moments of
 /// inertia (finite, >= 0, not all zero, and all > 0 when `required` says so)
-/// and the initial states ([`orientation`], angular velocity finite);
+/// and the initial states (orientation and angular velocity finite);
 /// returns the principal moments and the states with normalised
 /// orientations. Errors name the first offending rotor; the check that
 /// moments are positive comes after all the others.

@@ -19,7 +19,7 @@ use super::order::unit_axis;
 /// eigenvector of its eigenvalue largest in magnitude (sign: its first
 /// nonzero component positive); `Ok(None)` for a zero quadrupole; an error
 /// when two eigenvalues share the largest magnitude to within
-/// [`TENSOR_TOLERANCE`] of it (`diag(1, -1, 0)`: no axis stands out), with
+/// [`crate::rotor::TENSOR_TOLERANCE`] of it (`diag(1, -1, 0)`: no axis stands out), with
 /// the eigenvalues in the message.
 pub fn quadrupole_axis(theta: &Matrix3<f64>) -> Result<Option<Unit<Vector3<f64>>>, InputError> {
     let eigen = theta.symmetric_eigen();

@@ -25,7 +25,7 @@ pub enum TorqueAxes {
 
 /// The torque directions of a rotor with body dipole `dipole` and body
 /// quadrupole `quadrupole` (zero or absent when it has none), symmetry judged
-/// within [`TENSOR_TOLERANCE`] of the largest entry.
+/// within [`crate::rotor::TENSOR_TOLERANCE`] of the largest entry.
 pub fn multipole_torque_axes(
     dipole: Option<&Vector3<f64>>,
     quadrupole: Option<&Matrix3<f64>>,

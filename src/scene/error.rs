@@ -11,7 +11,7 @@ const MESSAGE_CHARS: usize = 400;
 /// Why a scene could not be read or validated. Every message names the
 /// field (as a path such as `rotors.sites[3].inertia`) and the offending value;
 /// what it quotes from the input is shown without control characters and
-/// cut to an excerpt ([`printable`]).
+/// cut to an excerpt.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SceneError {
     /// The text is not valid TOML (or JSON).

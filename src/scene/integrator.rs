@@ -19,7 +19,7 @@ fn read_spec(mut table: toml::Table) -> Result<IntegratorSpec, TaggedError> {
     })
 }
 
-/// [`read_spec`] inside serde (the path travels beside the error).
+/// `read_spec` inside serde (the path travels beside the error).
 impl<'de> Deserialize<'de> for IntegratorSpec {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         read_spec(toml::Table::deserialize(deserializer)?).map_err(TaggedError::into_serde)

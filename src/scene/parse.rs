@@ -109,7 +109,7 @@ fn too_deep(text: &str) -> Option<usize> {
 }
 
 /// Parses a scene written in TOML. Text that would need more memory to
-/// parse than the limit ([`crate::memory`]), or nests arrays and inline
+/// parse than the memory limit, or nests arrays and inline
 /// tables deeper than [`MAX_NESTING`], is refused before parsing.
 pub fn parse_toml(text: &str) -> Result<RawScene, SceneError> {
     crate::memory::check("(scene text)", text.len() as f64 * PARSE_BYTES_PER_BYTE)?;

@@ -24,12 +24,12 @@
 //! minus the heat the stochastic ones put into the rotors ([`HeatNoise`],
 //! their one record). [`ThermostatSpec`] (the scene's `[thermostat]` table)
 //! chooses one; [`crate::dynamics`] pairs it with an integrator, or refuses
-//! the pair naming `thermostat.kind`. [`noise`] holds the seeded,
-//! checkpointed random numbers.
+//! the pair naming `thermostat.kind`. The seeded, checkpointed random
+//! numbers are internal (`noise`).
 
 mod bussi;
 mod langevin;
-pub mod noise;
+pub(crate) mod noise;
 mod nose_hoover;
 mod spec;
 

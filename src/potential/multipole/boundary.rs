@@ -15,7 +15,7 @@ pub const MAX_PAIRS: usize = 100_000_000;
 /// is built, at most: its partner and geometry index (8), a geometry of its
 /// own when its offset is shared by no other pair (96, and about 56 in the
 /// map of offsets), and the two directed entries of the quad kernel's build
-/// (64). Sizes are checked against [`crate::memory`] with it.
+/// (64). Sizes are checked against the memory limit with it.
 pub const BYTES_PER_PAIR: f64 = 224.0;
 
 /// How site pairs are enumerated and summed.
@@ -56,7 +56,7 @@ impl Boundary {
     /// The periodic box `box_lengths` summed as `options` say: the one
     /// reading of the sum's options, by the scene and the Python keywords
     /// alike. Refused, in this order, for keys of the other sum
-    /// ([`SumOptions::truncation`]), a bad box (path `box_lengths`) and an
+    /// (`SumOptions::truncation`), a bad box (path `box_lengths`) and an
     /// accuracy outside (0, 1) ([`Accuracy::new`]); the cutoff and the size
     /// of the sum are checked by [`Self::validate`].
     pub fn periodic(

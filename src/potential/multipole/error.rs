@@ -2,5 +2,5 @@
 
 /// An invalid potential definition: the offending input (`cutoff`,
 /// `rotors[3].quadrupole_body`, `field[1]`) and what is wrong with it, with
-/// the value found, in the message style of [`crate::checks`].
+/// the value found ([`crate::InputError`]).
 pub type PotentialError = crate::checks::InputError;

@@ -29,7 +29,7 @@ impl ExternalFields {
 
     /// Checks the fields: every component finite (paths `field[k]`,
     /// `field_gradient[i][j]`), the gradient symmetric within
-    /// [`crate::checks::TENSOR_TOLERANCE`] (path `field_gradient`).
+    /// [`crate::rotor::TENSOR_TOLERANCE`] (path `field_gradient`).
     pub fn validate(&self) -> Result<(), PotentialError> {
         if let Some(e0) = &self.field {
             each(e0.as_slice(), finite).map_err(|e| e.at("field"))?;
