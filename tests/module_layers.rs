@@ -7,18 +7,22 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// The layer block of `docs/architecture.md`: each module with its line.
-fn layers() -> BTreeMap<String, usize> {
+/// The first `text` block of `docs/architecture.md` after `sentence`.
+fn block_after(sentence: &str) -> String {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/architecture.md");
     let text = std::fs::read_to_string(path).expect("docs/architecture.md");
-    let start = text
-        .find("Each layer uses only the layers above it")
-        .expect("the layer block's sentence");
-    let block = text[start..]
+    let start = text.find(sentence).expect(sentence);
+    text[start..]
         .split("```text")
         .nth(1)
         .and_then(|b| b.split("```").next())
-        .expect("the layer block");
+        .expect("a text block")
+        .to_string()
+}
+
+/// The layer block of `docs/architecture.md`: each module with its line.
+fn layers() -> BTreeMap<String, usize> {
+    let block = block_after("Each layer uses only the layers above it");
     let mut layers = BTreeMap::new();
     let mut line_number = 0;
     for line in block.lines() {
@@ -141,16 +145,7 @@ fn named_modules_are_read_from_code_only() {
 
 /// The `public` and `internal` lists of `docs/architecture.md`, in order.
 fn surface() -> (Vec<String>, Vec<String>) {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/architecture.md");
-    let text = std::fs::read_to_string(path).expect("docs/architecture.md");
-    let start = text
-        .find("The crate's public surface is")
-        .expect("the public surface's sentence");
-    let block = text[start..]
-        .split("```text")
-        .nth(1)
-        .and_then(|b| b.split("```").next())
-        .expect("the public surface's block");
+    let block = block_after("The crate's public surface is");
     let (mut public, mut internal) = (Vec::new(), Vec::new());
     let mut list = &mut public;
     for line in block.lines() {
