@@ -120,16 +120,7 @@ pub fn run_scene(
             },
         )
     });
-    let options = RunOptions {
-        start_step,
-        end_step: scene.steps,
-        checks: Some(BlowUpChecks {
-            every: scene.record.check_every,
-            energy_error_threshold: scene.record.energy_error_threshold,
-        }),
-        reference,
-        control: outputs.control.clone(),
-    };
+    let options = run_options(scene, outputs, start_step, reference);
     let mut scheduled = scheduled(scene, &mut series, &mut trajectory, progress);
     let report = run(
         integrator,
@@ -165,6 +156,26 @@ pub fn run_scene(
         stop: report.stop,
         written: dir.zip(placement),
     })
+}
+
+/// The loop's options for a run of `scene` from `start_step` (its blow-up
+/// checks, the energy reference of a restart, the control of `outputs`).
+fn run_options(
+    scene: &Scene,
+    outputs: &Outputs,
+    start_step: u64,
+    reference: Option<EnergyReference>,
+) -> RunOptions {
+    RunOptions {
+        start_step,
+        end_step: scene.steps,
+        checks: Some(BlowUpChecks {
+            every: scene.record.check_every,
+            energy_error_threshold: scene.record.energy_error_threshold,
+        }),
+        reference,
+        control: outputs.control.clone(),
+    }
 }
 
 /// The locked output folder of a run, where its files go and the folder
