@@ -229,7 +229,7 @@ impl GearA {
     }
 
     /// Scheme A with the thermostat chain `chain` (a Nose-Hoover chain;
-    /// see [`GearChain`] for how the extended equations are integrated).
+    /// see `GearChain` in the source for how the extended equations are integrated).
     pub fn with_chain(options: GearAOptions, chain: Box<dyn ChainEquations>) -> Self {
         let mut gear = GearA::new(options);
         gear.thermostat = Some(GearChain {
