@@ -324,7 +324,7 @@ impl MultipolePotential {
     ) -> SiteFields {
         let n = self.rotor_count();
         let blocks = balanced_blocks(pairs.starts(), rayon::current_num_threads());
-        let mut partial: Vec<(usize, SiteFields)> = blocks
+        let partial: Vec<(usize, SiteFields)> = blocks
             .into_par_iter()
             .map(|rows| {
                 let mut fields = SiteFields::zeros::<K>(n);
@@ -333,11 +333,7 @@ impl MultipolePotential {
                 (first, fields)
             })
             .collect();
-        let (_, mut total) = partial.remove(0);
-        for (first, fields) in &partial {
-            total.add_from(fields, *first);
-        }
-        total
+        SiteFields::sum_blocks::<K>(partial, n)
     }
 
     /// The energy `1/2 sum (-mu.E + Theta:W)` of the pair fields plus the
