@@ -107,7 +107,7 @@ pub(super) fn choose_threads(
     let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
     let count = automatic_threads(rotors, cores);
     let reason = format!(
-        "{rotors} rotors, {cores} cores: one thread per {ROTORS_PER_THREAD} rotors, \
+        "rotors {rotors}, cores {cores}: one thread per {ROTORS_PER_THREAD} rotors, \
          at least 1, at most the cores"
     );
     (Some(count), "automatic", reason)
