@@ -64,11 +64,13 @@ pub fn in_pool<R: Send>(
 }
 
 /// Rotors per thread of the automatic count: a run takes one thread per
-/// this many rotors (at least one, at most the cores). Measured on the
-/// built-in lattices (benchmarks/RESULTS.md, "Threads"): below it, the
-/// synchronisation of a step's sections costs more than a second thread
-/// saves.
-pub const ROTORS_PER_THREAD: usize = 500;
+/// this many rotors (at least one, at most the cores). Conservative, from
+/// the idle measurements of issue 38 before the parallel step above (2
+/// threads 0.8x at 1,000 rotors, 1.04x and 1.24x at 27,000, Ewald and
+/// cutoff lattices): the step's were taken on a shared machine
+/// (benchmarks/RESULTS.md, threads sections), and `make bench-threads` on an
+/// idle one says how far below 8,000 rotors a second thread pays.
+pub const ROTORS_PER_THREAD: usize = 4_000;
 
 /// The thread count of a run of `rotors` rotors whose count is not fixed,
 /// on a machine with `cores` hardware threads: `rotors /`
@@ -77,7 +79,8 @@ pub const ROTORS_PER_THREAD: usize = 500;
 /// ```
 /// use quatrot::parallel::automatic_threads;
 /// assert_eq!(automatic_threads(1, 8).get(), 1);
-/// assert_eq!(automatic_threads(1000, 2).get(), 2);
+/// assert_eq!(automatic_threads(1000, 2).get(), 1);
+/// assert_eq!(automatic_threads(8000, 2).get(), 2);
 /// assert_eq!(automatic_threads(1_000_000, 8).get(), 8);
 /// assert_eq!(automatic_threads(1000, 0).get(), 1);
 /// ```

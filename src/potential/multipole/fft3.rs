@@ -220,7 +220,6 @@ impl RealFft3 {
         let [nx, ny, nz] = self.n;
         let half = self.half;
         let parallel = (sources + fields) * nx * ny * nz >= CONVOLVE_PARALLEL_MIN;
-        let line_scratch = |fft: &Arc<dyn Fft<f64>>| fft.get_inplace_scratch_len();
         // z: [l][g][kz].
         let mut along_z = vec![C64::default(); nx * ny * sources * half];
         let r2c = &self.r2c;
@@ -245,28 +244,14 @@ impl RealFft3 {
             },
         );
         // y: [kz x][g][y], gathered from [x y][g][kz].
-        let mut along_y = vec![C64::default(); half * nx * sources * ny];
-        for_units(
-            &mut along_y,
-            sources * ny,
-            parallel,
-            || vec![C64::default(); line_scratch(&self.y[0])],
-            |first, out, scratch| {
-                for (p, out) in out.chunks_mut(sources * ny).enumerate() {
-                    let (kz, x) = ((first + p) / nx, (first + p) % nx);
-                    for (g, line) in out.chunks_mut(ny).enumerate() {
-                        for (y, v) in line.iter_mut().enumerate() {
-                            *v = along_z[((x * ny + y) * sources + g) * half + kz];
-                        }
-                    }
-                }
-                self.y[0].process_with_scratch(out, scratch);
-            },
-        );
+        let along_y = self.y_pass(&self.y[0], sources, parallel, |kz, x, g, y| {
+            along_z[((x * ny + y) * sources + g) * half + kz]
+        });
         drop(along_z);
         // x, the products and x back: [kz ky][t][x], gathered from [kz x][g][y].
         let mut spectra = vec![C64::default(); half * ny * fields * nx];
-        let x_scratch = line_scratch(&self.x[0]).max(line_scratch(&self.x[1]));
+        let x_scratch =
+            (self.x[0].get_inplace_scratch_len()).max(self.x[1].get_inplace_scratch_len());
         for_units(
             &mut spectra,
             fields * nx,
@@ -293,24 +278,9 @@ impl RealFft3 {
         );
         drop(along_y);
         // y back: [kz x][t][y], gathered from [kz ky][t][x].
-        let mut back_y = vec![C64::default(); half * nx * fields * ny];
-        for_units(
-            &mut back_y,
-            fields * ny,
-            parallel,
-            || vec![C64::default(); line_scratch(&self.y[1])],
-            |first, out, scratch| {
-                for (p, out) in out.chunks_mut(fields * ny).enumerate() {
-                    let (kz, x) = ((first + p) / nx, (first + p) % nx);
-                    for (t, line) in out.chunks_mut(ny).enumerate() {
-                        for (ky, v) in line.iter_mut().enumerate() {
-                            *v = spectra[((kz * ny + ky) * fields + t) * nx + x];
-                        }
-                    }
-                }
-                self.y[1].process_with_scratch(out, scratch);
-            },
-        );
+        let back_y = self.y_pass(&self.y[1], fields, parallel, |kz, x, t, ky| {
+            spectra[((kz * ny + ky) * fields + t) * nx + x]
+        });
         drop(spectra);
         // z back: [l][t][z], gathered from [kz x][t][y].
         let mut real = vec![0.0; nx * ny * fields * nz];
@@ -343,6 +313,37 @@ impl RealFft3 {
             },
         );
         real
+    }
+
+    /// A y pass of [`Self::convolve`]: the `[kz x][g][y]` lines of `grids`
+    /// grids, each value `at(kz, x, g, y)`, transformed by `fft`.
+    fn y_pass(
+        &self,
+        fft: &Arc<dyn Fft<f64>>,
+        grids: usize,
+        parallel: bool,
+        at: impl Fn(usize, usize, usize, usize) -> C64 + Sync,
+    ) -> Vec<C64> {
+        let [nx, ny, _] = self.n;
+        let mut out = vec![C64::default(); self.half * nx * grids * ny];
+        for_units(
+            &mut out,
+            grids * ny,
+            parallel,
+            || vec![C64::default(); fft.get_inplace_scratch_len()],
+            |first, out, scratch| {
+                for (p, out) in out.chunks_mut(grids * ny).enumerate() {
+                    let (kz, x) = ((first + p) / nx, (first + p) % nx);
+                    for (g, line) in out.chunks_mut(ny).enumerate() {
+                        for (y, v) in line.iter_mut().enumerate() {
+                            *v = at(kz, x, g, y);
+                        }
+                    }
+                }
+                fft.process_with_scratch(out, scratch);
+            },
+        );
+        out
     }
 
     /// `fft` on every line of `len` points of `buffer`.

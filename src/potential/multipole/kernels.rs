@@ -123,30 +123,44 @@ impl SiteFields {
             return SiteFields::zeros::<K>(n);
         };
         let rest: Vec<(usize, SiteFields)> = blocks.collect();
-        total
-            .field
-            .par_iter_mut()
-            .with_min_len(ROTORS_PER_MERGE)
-            .enumerate()
-            .for_each(|(i, a)| {
-                for (_, other) in rest.iter().filter(|(first, _)| *first <= i) {
-                    for k in 0..4 {
-                        a[k] += other.field[i][k];
-                    }
+        add_blocks(
+            &mut total.field,
+            &rest,
+            |f| &f.field,
+            |a, b| {
+                for k in 0..4 {
+                    a[k] += b[k];
                 }
-            });
-        total
-            .quadrupole_conjugate
-            .par_iter_mut()
-            .with_min_len(ROTORS_PER_MERGE)
-            .enumerate()
-            .for_each(|(i, a)| {
-                for (_, other) in rest.iter().filter(|(first, _)| *first <= i) {
-                    *a += other.quadrupole_conjugate[i];
-                }
-            });
+            },
+        );
+        add_blocks(
+            &mut total.quadrupole_conjugate,
+            &rest,
+            |f| &f.quadrupole_conjugate,
+            |a, b| *a += b,
+        );
         total
     }
+}
+
+/// Adds to each rotor's entry of `total` the entries (`entries`) of the
+/// blocks of `rest` whose first row is at or before the rotor, in block
+/// order; one parallel pass over the rotors.
+fn add_blocks<T: Send + Sync>(
+    total: &mut [T],
+    rest: &[(usize, SiteFields)],
+    entries: impl Fn(&SiteFields) -> &[T] + Sync,
+    add: impl Fn(&mut T, &T) + Sync,
+) {
+    total
+        .par_iter_mut()
+        .with_min_len(ROTORS_PER_MERGE)
+        .enumerate()
+        .for_each(|(i, a)| {
+            for (_, other) in rest.iter().filter(|(first, _)| *first <= i) {
+                add(a, &entries(other)[i]);
+            }
+        });
 }
 
 /// Accumulates into `out` the fields of all pairs `(i, j)` with `i` in `rows`
