@@ -113,12 +113,12 @@ def _value(v) -> str:
     raise TypeError(f"cannot write {v!r} as TOML")
 
 
-def timed_run(scene_file: Path, steps: int, threads: int, out: Path) -> dict:
+def timed_run(cli: Path, scene_file: Path, steps: int, threads: int, out: Path) -> dict:
     """One CLI run: the process's wall time and the loop's (summary)."""
     env = {k: v for k, v in os.environ.items() if k != "RAYON_NUM_THREADS"}
     started = time.perf_counter()
     subprocess.run(
-        [str(CLI), "run", str(scene_file), "--steps", str(steps), "--threads", str(threads), "--out", str(out)],
+        [str(cli), "run", str(scene_file), "--steps", str(steps), "--threads", str(threads), "--out", str(out)],
         check=True,
         capture_output=True,
         env=env,
@@ -129,7 +129,7 @@ def timed_run(scene_file: Path, steps: int, threads: int, out: Path) -> dict:
     return {"wall": wall, "loop": summary["wall_seconds"]}
 
 
-def measure(name: str, scene: dict, rotors: int, repeats: int, work: Path) -> dict:
+def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: Path) -> dict:
     """`repeats` pairs of runs on 1 and 2 threads, the order alternating."""
     cells = cells_for(scene, rotors)
     n = SITES_PER_CELL[scene["rotors"]["lattice"]] * cells**3
@@ -140,7 +140,7 @@ def measure(name: str, scene: dict, rotors: int, repeats: int, work: Path) -> di
     loads = [os.getloadavg()[0]]
     for repeat in range(repeats):
         for threads in (1, 2) if repeat % 2 == 0 else (2, 1):
-            times[threads].append(timed_run(scene_file, steps, threads, work / f"out_{threads}"))
+            times[threads].append(timed_run(cli, scene_file, steps, threads, work / f"out_{threads}"))
         loads.append(os.getloadavg()[0])
     row = {"scene": name, "cells": cells, "rotors": n, "steps": steps, "repeats": repeats, "load_averages": loads}
     for key in ("wall", "loop"):
@@ -175,7 +175,8 @@ def section(result: dict) -> str:
         "## Threads: whole runs on 1 and 2 threads (issue 38, `make bench-threads`)",
         "",
         f"- Machine: {m['cpu']}, {cores} hardware threads, {m['platform']}; {m['date']}.",
-        f"- Command: `make bench-threads` (`python -m validation.bench.threads --out benchmarks`), {result['seconds']:.0f} s.",
+        f"- Command: `python -m validation.bench.threads {' '.join(result['argv'])}` (`make bench-threads` runs it "
+        f"with `--out benchmarks`), {result['seconds']:.0f} s.",
         (
             f"- The machine was idle (1-minute load average at most {busiest:.2f})."
             if idle
@@ -210,9 +211,10 @@ def main(argv=None) -> int:
     parser.add_argument("--repeats", type=int, default=5, help="pairs of runs per case (default 5)")
     parser.add_argument("--sizes", type=int, nargs="+", default=list(TARGET_ROTORS), help="rotor counts asked for")
     parser.add_argument("--scenes", nargs="+", help="only these built-in scenes")
+    parser.add_argument("--cli", type=Path, default=CLI, help=f"the quatrot binary (default {CLI})")
     args = parser.parse_args(argv)
-    if not CLI.exists():
-        sys.exit(f"{CLI} is missing: run `cargo build --release` first")
+    if not args.cli.exists():
+        sys.exit(f"{args.cli} is missing: run `cargo build --release` first")
     started = time.perf_counter()
     machine = results_md.machine()
     if machine["load_average"] > IDLE_LOAD_PER_CORE * (machine["cpus"] or 1):
@@ -224,8 +226,8 @@ def main(argv=None) -> int:
                 continue
             for rotors in args.sizes:
                 if periodic(scene) or rotors <= MAX_OPEN_ROTORS:
-                    rows.append(measure(name, scene, rotors, args.repeats, Path(tmp)))
-    result = {"machine": machine, "rows": rows, "seconds": time.perf_counter() - started}
+                    rows.append(measure(args.cli, name, scene, rotors, args.repeats, Path(tmp)))
+    result = {"machine": machine, "rows": rows, "seconds": time.perf_counter() - started, "argv": sys.argv[1:] if argv is None else argv}
     args.out.mkdir(parents=True, exist_ok=True)
     results_md.update_json(args.out / "results.json", {"threads": result})
     results_md.replace_section(args.out / "RESULTS.md", BEGIN, END, section(result))

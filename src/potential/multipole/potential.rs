@@ -224,12 +224,12 @@ impl MultipolePotential {
         torques_space: Option<&mut [Vector3<f64>]>,
         energy: bool,
     ) -> f64 {
-        let out = (gradient, torques_space, energy);
+        let (q, g, t, e) = (orientations, gradient, torques_space, energy);
         match self.carried {
             Carried::Nothing => 0.0,
-            Carried::Dipoles => self.evaluate_kind::<Dipoles>(orientations, out),
-            Carried::Quadrupoles => self.evaluate_kind::<Quadrupoles>(orientations, out),
-            Carried::Both => self.evaluate_kind::<DipolesAndQuadrupoles>(orientations, out),
+            Carried::Dipoles => self.evaluate_kind::<Dipoles>(q, g, t, e),
+            Carried::Quadrupoles => self.evaluate_kind::<Quadrupoles>(q, g, t, e),
+            Carried::Both => self.evaluate_kind::<DipolesAndQuadrupoles>(q, g, t, e),
         }
     }
 
@@ -245,7 +245,9 @@ impl MultipolePotential {
     fn evaluate_kind<K: MultipoleKind>(
         &self,
         orientations: &[Quat],
-        (gradient, torques, energy): (Option<&mut [Quat]>, Option<&mut [Vector3<f64>]>, bool),
+        gradient: Option<&mut [Quat]>,
+        torques: Option<&mut [Vector3<f64>]>,
+        energy: bool,
     ) -> f64 {
         let n = self.rotor_count();
         assert_eq!(orientations.len(), n, "orientations: one per rotor");
