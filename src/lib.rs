@@ -76,13 +76,13 @@ mod python;
 pub use checks::InputError;
 pub use quaternion::Quat;
 
-/// What the `quatrot` binary, the tests and the benchmarks reach of the
-/// internals: not part of the library's API (hidden from its documentation,
-/// no stability promised).
+/// What the `quatrot` binary, the tests, the doc examples and the benchmarks
+/// reach of the internals: not part of the library's API (hidden from its
+/// documentation, no stability promised).
 #[doc(hidden)]
 pub mod internals {
     pub use crate::checks::from_name;
     pub use crate::cli::main as cli_main;
     pub use crate::memory::{set_limit, LIMIT_VARIABLE};
-    pub use crate::parallel::on_worker;
+    pub use crate::parallel::{automatic_threads, on_worker};
 }

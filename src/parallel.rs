@@ -77,7 +77,7 @@ pub const ROTORS_PER_THREAD: usize = 4_000;
 /// [`ROTORS_PER_THREAD`], at least 1 and at most `cores`.
 ///
 /// ```
-/// use quatrot::parallel::automatic_threads;
+/// use quatrot::internals::automatic_threads;
 /// assert_eq!(automatic_threads(1, 8).get(), 1);
 /// assert_eq!(automatic_threads(1000, 2).get(), 1);
 /// assert_eq!(automatic_threads(8000, 2).get(), 2);
