@@ -8,7 +8,9 @@ mod commands;
 mod progress;
 mod sweep;
 
-pub use commands::{main, main_from};
+pub use commands::main;
+#[cfg(feature = "python")]
+pub use commands::main_from;
 
 /// Exit code of a scene or run error (and of a sweep that cannot start).
 const EXIT_ERROR: i32 = 2;
