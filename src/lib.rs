@@ -47,6 +47,7 @@
 #[cfg(test)]
 mod allocation_meter;
 pub mod analysis;
+pub mod bodies;
 pub mod checks;
 pub mod cli;
 pub mod dynamics;
