@@ -126,28 +126,26 @@ fn forces_and_torques_are_minus_the_energy_gradients() {
     for i in 0..system.bodies.len() {
         for a in 0..3 {
             let axis = Vector3::from_fn(|k, _| if k == a { 1.0 } else { 0.0 });
-            let moved = |system: &mut BodySystem, s: f64| {
+            // Minus the central difference of the energy as body i is changed by `change`.
+            let slope = |system: &mut BodySystem, change: &dyn Fn(&mut Body, f64)| {
                 let saved = system.bodies[i].clone();
-                system.bodies[i].position += axis * s;
-                let u = energy(system);
-                system.bodies[i] = saved;
-                u
+                let mut at = |s: f64| {
+                    change(&mut system.bodies[i], s);
+                    let u = energy(system);
+                    system.bodies[i] = saved.clone();
+                    u
+                };
+                -(at(h) - at(-h)) / (2.0 * h)
             };
-            let fd = -(moved(&mut system, h) - moved(&mut system, -h)) / (2.0 * h);
+            let fd = slope(&mut system, &|b, s| b.position += axis * s);
             assert!(
                 (e.force[i][a] - fd).abs() < TOLERANCE,
                 "force {i} {a}: {} {fd}",
                 e.force[i][a]
             );
-            let turned = |system: &mut BodySystem, s: f64| {
-                let saved = system.bodies[i].clone();
-                let q = system.bodies[i].orientation;
-                system.bodies[i].orientation = Quat::exp(&(axis * s)) * q;
-                let u = energy(system);
-                system.bodies[i] = saved;
-                u
-            };
-            let fd = -(turned(&mut system, h) - turned(&mut system, -h)) / (2.0 * h);
+            let fd = slope(&mut system, &|b, s| {
+                b.orientation = Quat::exp(&(axis * s)) * b.orientation
+            });
             assert!(
                 (e.torque[i][a] - fd).abs() < TOLERANCE,
                 "torque {i} {a}: {} {fd}",

@@ -74,9 +74,7 @@ impl BodySystem {
             );
             out.lennard_jones = sums.energy;
             virial += sums.virial;
-            for (total, f) in out.site_force.iter_mut().zip(&sums.force) {
-                *total += f;
-            }
+            add(&mut out.site_force, &sums.force);
             if let Some(volume) = self.space.volume() {
                 (out.lennard_jones_tail, out.pressure_tail) = term.tail(&self.lj_counts, volume);
             }
@@ -95,9 +93,7 @@ impl BodySystem {
             );
             out.electrostatic = response.energy;
             virial += response.virial;
-            for (total, f) in out.site_force.iter_mut().zip(&response.force) {
-                *total += f;
-            }
+            add(&mut out.site_force, &response.force);
         }
         self.body_sums(out, virial);
     }
@@ -163,5 +159,12 @@ impl BodySystem {
             virial -= d * f.transpose();
         }
         out.virial = virial;
+    }
+}
+
+/// `total[i] += part[i]` for every site.
+fn add(total: &mut [Vector3<f64>], part: &[Vector3<f64>]) {
+    for (t, p) in total.iter_mut().zip(part) {
+        *t += p;
     }
 }
