@@ -4,8 +4,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
-    Body, BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, Evaluation, InteractionOptions,
-    LennardJones, LennardJonesOptions, Mixing, Site, Space, Truncation,
+    random_start, Body, BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, Evaluation,
+    InteractionOptions, LennardJones, LennardJonesOptions, Mixing, RandomStart, Site, Space,
+    Truncation,
 };
 use quatrot::integrators::NoSquishOptions;
 use quatrot::Quat;
@@ -327,5 +328,61 @@ fn bad_systems_are_refused_naming_the_field() {
     assert_eq!(
         message(unknown, Space::Open, ok),
         "bodies[0].kind: must be below the number of body types (1), got 1"
+    );
+}
+
+/// A random start of 1000 bent molecules and 1000 dipolar spheres: no two
+/// centres closer than asked (a direct check of every pair), zero total
+/// momentum to round-off, degrees of freedom 3N - 3 and 3 per molecule + 2
+/// per sphere (its spin about the dipole left out), and temperatures within
+/// five standard deviations `T sqrt(2 / N_f)` of the one asked.
+#[test]
+fn a_random_start_is_apart_at_rest_and_at_its_temperature() {
+    let types = vec![bent_molecule(), stockmayer()];
+    let kinds: Vec<usize> = (0..2000).map(|i| i % 2).collect();
+    let start = RandomStart {
+        density: 0.3,
+        closest: 1.0,
+        temperature: 1.5,
+        seed: 11,
+    };
+    let (space, bodies) = random_start(&types, &kinds, &start).unwrap();
+    let Space::Periodic(lengths) = space else {
+        panic!("a periodic cube")
+    };
+    assert!((lengths.x.powi(3) * 0.3 - 2000.0).abs() < 1e-9);
+    for i in 0..bodies.len() {
+        for j in 0..i {
+            let d = space.minimum_image(bodies[i].position - bodies[j].position);
+            assert!(d.norm() >= 1.0, "bodies {i} and {j} are {} apart", d.norm());
+        }
+    }
+    let system =
+        BodySystem::new(types, bodies, space, &options(Truncation::Plain, 2.5, 2.5)).unwrap();
+    assert!(system.linear_momentum().norm() < 1e-11);
+    assert_eq!(system.translational_degrees(), 5997);
+    assert_eq!(system.rotational_degrees(), 5000);
+    for (t, dof) in [
+        (system.translational_temperature().unwrap(), 5997.0),
+        (system.rotational_temperature().unwrap(), 5000.0),
+    ] {
+        let sigma = 1.5 * (2.0f64 / dof).sqrt();
+        assert!((t - 1.5).abs() < 5.0 * sigma, "{t}");
+    }
+}
+
+/// A density that random insertion cannot pack is refused naming it.
+#[test]
+fn an_impossible_density_is_refused() {
+    let start = RandomStart {
+        density: 0.8,
+        closest: 1.0,
+        temperature: 1.0,
+        seed: 1,
+    };
+    let e = random_start(&[stockmayer()], &[0; 10], &start).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "density: cannot be packed at random with centres 1 apart: packing fraction 0.41887902047863906 > 0.3"
     );
 }

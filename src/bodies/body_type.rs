@@ -12,7 +12,9 @@
 
 use super::site::Site;
 use crate::checks::{finite_matrix, num, positive, symmetric, InputError};
+use crate::potential::symmetric_about;
 use crate::quaternion::Quat;
+use crate::thermostat_hook::Spin;
 use nalgebra::{Matrix3, Vector3};
 
 /// A principal moment at most this fraction of the largest is zero (a
@@ -116,7 +118,35 @@ impl BodyType {
     pub fn rotational_degrees(&self) -> usize {
         self.moments.iter().filter(|&&m| m > 0.0).count()
     }
+
+    /// The spin no torque reaches (`thermostat_hook::degrees`' rule, as for
+    /// the rotors): every site's position and dipole along one body axis
+    /// `a` through the centre (no quadrupole), the inertia symmetric about
+    /// `a` with a positive moment about it; `L_b . a` is then conserved
+    /// (a dipolar sphere's spin about its dipole). `None` when no site
+    /// defines an axis (no torque at all: every moment counts).
+    pub fn conserved_spin(&self) -> Option<Spin> {
+        if self.sites.iter().any(|s| s.quadrupole.is_some()) {
+            return None;
+        }
+        let vectors: Vec<Vector3<f64>> = self
+            .sites
+            .iter()
+            .flat_map(|s| std::iter::once(s.position).chain(s.dipole))
+            .filter(|v| v.norm() > 0.0)
+            .collect();
+        let axis = vectors.first()?.normalize();
+        let along = |v: &Vector3<f64>| v.cross(&axis).norm() <= PARALLEL_TOLERANCE * v.norm();
+        let moment = axis.dot(&self.moments.component_mul(&axis));
+        let inertia = Matrix3::from_diagonal(&self.moments);
+        let spinning = moment > ZERO_MOMENT_TOLERANCE * self.moments.max();
+        (vectors.iter().all(along) && spinning && symmetric_about(&inertia, &axis))
+            .then_some(Spin { axis, moment })
+    }
 }
+
+/// Vectors within this fraction of their length from an axis lie along it.
+const PARALLEL_TOLERANCE: f64 = 1e-12;
 
 /// `sum_s m_s (|d_s|^2 1 - d_s d_s^T)` with `d_s` the site position about `centre`.
 fn site_inertia(sites: &[Site], centre: &Vector3<f64>) -> Matrix3<f64> {
@@ -239,6 +269,40 @@ mod tests {
         assert_eq!(body.moments[0], 0.0);
         assert!((body.moments[1] - 0.5).abs() < 1e-14 && (body.moments[2] - 0.5).abs() < 1e-14);
         assert_eq!(body.rotational_degrees(), 2);
+        assert_eq!(body.conserved_spin(), None);
+    }
+
+    /// A dipolar sphere keeps its spin about the dipole; a dipole off the
+    /// symmetry axis of a symmetric top, or a bent molecule, does not.
+    #[test]
+    fn the_spin_of_a_dipolar_sphere_is_conserved_and_no_other() {
+        let body = |dipole: [f64; 3], inertia: [f64; 3]| {
+            BodyType::new(&BodyTypeSpec {
+                sites: vec![Site {
+                    dipole: Some(Vector3::from(dipole)),
+                    ..point([0.0; 3], 0.0)
+                }],
+                mass: Some(1.0),
+                inertia: Some(Matrix3::from_diagonal(&Vector3::from(inertia))),
+            })
+            .unwrap()
+        };
+        let spin = body([0.0, 0.0, 2.0], [0.1; 3]).conserved_spin().unwrap();
+        assert_eq!((spin.axis, spin.moment), (Vector3::z(), 0.1));
+        // Symmetric about z, dipole along z: conserved; along x: not.
+        assert!(body([0.0, 0.0, 1.0], [0.1, 0.1, 0.3])
+            .conserved_spin()
+            .is_some());
+        assert!(body([1.0, 0.0, 0.0], [0.1, 0.1, 0.3])
+            .conserved_spin()
+            .is_none());
+        let bent = BodyTypeSpec {
+            sites: vec![point([0.0, 0.0, 0.1], 16.0), point([0.8, 0.0, -0.5], 1.0)],
+            ..BodyTypeSpec::default()
+        };
+        let two = BodyType::new(&bent).unwrap();
+        // Two sites: a linear body, its axis already without a moment.
+        assert_eq!((two.rotational_degrees(), two.conserved_spin()), (2, None));
     }
 
     /// Bad input is refused with the field named.
