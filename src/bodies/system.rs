@@ -125,9 +125,11 @@ impl BodySystem {
         };
         let electrostatics: Option<Box<dyn Electrostatics>> =
             match (options.electrostatic_cutoff, electrostatic) {
-                (Some(c), true) => Some(Box::new(
-                    CutoffSum::new(c).map_err(|e| e.at("electrostatic_cutoff"))?,
-                )),
+                (Some(c), true) => {
+                    Some(Box::new(CutoffSum::new(c).map_err(|e| {
+                        InputError::new("electrostatic_cutoff", e.message)
+                    })?))
+                }
                 (None, true) => return Err(required("electrostatic_cutoff", "charges or dipoles")),
                 (_, false) => None,
             };

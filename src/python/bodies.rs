@@ -17,6 +17,9 @@ use pyo3::types::PyDict;
 /// The library's path of a body's value as the argument that holds it
 /// (`bodies[3].orientation` is `orientations[3]`).
 fn argument_path(e: InputError) -> PyErr {
+    if e.path == "lennard_jones.cutoff" {
+        return invalid("lj_cutoff", e.message);
+    }
     let renamed = [
         ("kind", "kinds"),
         ("position", "positions"),
