@@ -14,6 +14,13 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex;
 use std::f64::consts::PI;
 
+/// Bytes of the buffers of a `grid` mesh: the mesh, its half spectrum and
+/// work buffer (complex) and the influence function.
+pub(crate) fn mesh_bytes(grid: [usize; 3]) -> f64 {
+    let points: f64 = grid.iter().map(|&k| k as f64).product();
+    8.0 * points + RealFft3::spectrum_len_of(grid) as f64 * (16.0 + 16.0 + 8.0)
+}
+
 /// A smooth particle-mesh Ewald sum for a fixed number of sites in a fixed
 /// orthorhombic box (see the module doc for the terms).
 #[derive(Clone, Debug)]
@@ -55,12 +62,10 @@ impl MeshEwald {
         parameters.check(&box_lengths)?;
         let grid = parameters.grid;
         let points: f64 = grid.iter().map(|&k| k as f64).product();
-        let half = RealFft3::spectrum_len_of(grid) as f64;
         let cells: f64 = (0..3)
             .map(|a| (box_lengths[a] / parameters.real_cutoff).floor().max(1.0))
             .product();
-        let bytes = 8.0 * points
-            + half * (2.0 * 16.0 + 8.0)
+        let bytes = mesh_bytes(grid)
             + sites as f64
                 * (SiteWeights::bytes_per_site() + 24.0 + 8.0 * (2 * SOURCES + DERIVATIVES) as f64)
             + CellList::bytes(sites as f64, cells);

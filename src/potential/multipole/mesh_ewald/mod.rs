@@ -40,9 +40,11 @@
 //! mesh plane) and the gathering are rayon loops whose sums do not depend
 //! on the number of threads.
 //!
-//! Left out so far: the virial, the choice of parameters from an
-//! accuracy, scenes and Python.
+//! **Parameters** from a requested accuracy: [`for_charges`] (Kolafa &
+//! Perram; Deserno & Holm). Left out so far: the estimates for dipoles and
+//! quadrupoles (Cerda et al. 2008), the virial, scenes and Python.
 
+mod accuracy;
 mod bspline;
 mod cartesian;
 mod gather;
@@ -53,6 +55,9 @@ mod real_space;
 mod sites;
 mod spread;
 
+pub use accuracy::{
+    for_charges, ChargeEstimate, ACCURACY_RANGE, DEFAULT_ORDER, ESTIMATED_ORDERS, MESH_SAFETY,
+};
 pub use bspline::ORDERS;
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;

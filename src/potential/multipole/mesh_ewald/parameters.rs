@@ -48,17 +48,25 @@ impl MeshParameters {
                 ));
             }
         }
-        let shortest = box_lengths.min();
-        if !(self.real_cutoff > 0.0 && self.real_cutoff <= 0.5 * shortest) {
-            return Err(PotentialError::new(
-                "real_cutoff",
-                format!(
-                    "must be > 0 and at most half the shortest box side ({:.6}), got {}",
-                    0.5 * shortest,
-                    self.real_cutoff
-                ),
-            ));
-        }
+        check_cutoff(self.real_cutoff, box_lengths)?;
         Ok(())
     }
+}
+
+/// Refuses a real-space cutoff the box does not fit (minimum image: at most
+/// half the shortest side), path `real_cutoff`.
+pub(crate) fn check_cutoff(
+    real_cutoff: f64,
+    box_lengths: &Vector3<f64>,
+) -> Result<(), PotentialError> {
+    let half = 0.5 * box_lengths.min();
+    if !(real_cutoff > 0.0 && real_cutoff <= half) {
+        return Err(PotentialError::new(
+            "real_cutoff",
+            format!(
+                "must be > 0 and at most half the shortest box side ({half:.6}), got {real_cutoff}"
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -4,6 +4,7 @@
 //! forms of lattices, finite differences of the energy) and its guarantees
 //! ([`guarantees`]: threads, allocations, refusals).
 
+mod accuracy;
 mod guarantees;
 mod references;
 
