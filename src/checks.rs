@@ -218,6 +218,47 @@ pub fn deserialize_at_least_one<'de, D: Deserializer<'de>>(
         .ok_or_else(|| D::Error::custom(format!("must be <= {}, got {n}", u32::MAX)))
 }
 
+/// The largest seed: seeds drawn when a scene gives none are below 2^63, so
+/// that every seed a summary records can be written back into a TOML scene
+/// (whose integers are 64-bit signed).
+pub const MAX_SEED: u64 = i64::MAX as u64;
+
+/// Deserialises an optional seed, an integer in `[0, MAX_SEED]`, refusing
+/// anything else with one message: `must be an integer between 0 and
+/// 9223372036854775807, got -1` (also for `1.5`, `"3"` or `true`).
+pub fn deserialize_seed<'de, D: Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Option<u64>, D::Error> {
+    struct Seed;
+    fn refuse<E: serde::de::Error>(got: impl std::fmt::Display) -> E {
+        E::custom(format!(
+            "must be an integer between 0 and {MAX_SEED}, got {got}"
+        ))
+    }
+    impl serde::de::Visitor<'_> for Seed {
+        type Value = u64;
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            write!(f, "an integer between 0 and {MAX_SEED}")
+        }
+        fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<u64, E> {
+            u64::try_from(v).map_err(|_| refuse(v))
+        }
+        fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<u64, E> {
+            (v <= MAX_SEED).then_some(v).ok_or_else(|| refuse(v))
+        }
+        fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<u64, E> {
+            Err(refuse(num(v)))
+        }
+        fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<u64, E> {
+            Err(refuse(v))
+        }
+        fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<u64, E> {
+            Err(refuse(format!("\"{}\"", printable(v, 40))))
+        }
+    }
+    deserializer.deserialize_any(Seed).map(Some)
+}
+
 /// Implements `Deserialize` and `Serialize` for a field-less enum by names,
 /// and `as_str` giving a value's name:
 /// `named_choices!(Startup { "consistent" => Startup::Consistent, ... })`

@@ -349,3 +349,25 @@ fn an_unknown_integrator_option_is_refused_in_one_clean_line() {
          `no_squish`, `dlm`, `richardson`\n"
     );
 }
+
+/// The PDB topology's coordinate columns bound only a DCD trajectory: the
+/// scene whose sites reach beyond them (`tests/bad_scenes/`) passes `check`
+/// with a GSD trajectory, which writes no PDB (issue 37: it was refused
+/// for "the PDB topology's columns").
+#[test]
+fn sites_beyond_the_pdb_columns_are_fine_for_a_gsd_trajectory() {
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/bad_scenes/trajectory_beyond_pdb_columns.toml");
+    let text = std::fs::read_to_string(bad).expect("bad scene");
+    assert!(text.contains("marker_length = 0.3"));
+    let gsd = text.replace("marker_length = 0.3", "format = \"gsd\"");
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let file = dir.path().join("far.toml");
+    std::fs::write(&file, gsd).expect("scene written");
+    let out = quatrot(&["check", file.to_str().expect("utf-8")]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -130,16 +130,22 @@ pub fn open_existing(path: &Path) -> std::io::Result<File> {
 /// Writes `bytes` to `path` through a temporary file in the same folder and
 /// a rename, so that readers (and a run killed meanwhile) see the old file
 /// or the new one, never a part; with `durable`, the data reach the disk
-/// before the rename.
+/// before the rename. The temporary file is removed when any of it fails
+/// (a full disk leaves nothing behind).
 pub fn write_atomically(path: &Path, bytes: &[u8], durable: bool) -> Result<(), RunError> {
     let mut partial = path.as_os_str().to_os_string();
     partial.push(".partial");
     let partial = PathBuf::from(partial);
     let mut file = create_file(&partial).map_err(|e| RunError::io(&partial, e))?;
-    file.write_all(bytes)
+    let written = file
+        .write_all(bytes)
         .and_then(|()| if durable { file.sync_all() } else { Ok(()) })
-        .map_err(|e| RunError::io(&partial, e))?;
-    std::fs::rename(&partial, path).map_err(|e| RunError::io(path, e))
+        .map_err(|e| RunError::io(&partial, e))
+        .and_then(|()| std::fs::rename(&partial, path).map_err(|e| RunError::io(path, e)));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&partial);
+    }
+    written
 }
 
 #[cfg(unix)]

@@ -6,7 +6,7 @@
 //! 9999.999). Errors name the scene field.
 
 use crate::memory;
-use crate::scene::{Scene, SceneError};
+use crate::scene::{Scene, SceneError, TrajectoryFormat, TrajectorySpec};
 
 /// Bytes per sample of the energy history (time, kinetic and total energy).
 const HISTORY_BYTES: f64 = 24.0;
@@ -61,34 +61,41 @@ pub fn check_run_limits(scene: &Scene, keep: bool) -> Result<(), SceneError> {
             )?;
         }
     }
-    if let Some(t) = &record.trajectory {
-        let limit = i32::MAX as u64;
-        if scene.steps > limit || t.every > limit {
-            return Err(SceneError::field(
-                "record.trajectory",
-                format!(
-                    "the DCD trajectory counts steps in 32 bits: run.steps ({}) and every ({}) must be at most {limit}",
-                    scene.steps, t.every
-                ),
-            ));
-        }
-        let reach = scene
-            .rotors
-            .iter()
-            .flat_map(|r| r.site.iter().copied())
-            .fold((0.0f64, 0.0f64), |(lo, hi), x| (lo.min(x), hi.max(x)));
-        let (lo, hi) = (reach.0 - t.marker_length, reach.1 + t.marker_length);
-        if lo <= PDB_RANGE.0 || hi >= PDB_RANGE.1 {
-            return Err(SceneError::field(
-                "record.trajectory",
-                format!(
-                    "the sites and markers reach coordinates from {} to {}, beyond the PDB topology's columns (-999.999 to 9999.999): \
-                     readers could not load the trajectory; move the sites nearer the origin or record no trajectory",
-                    crate::checks::num(lo),
-                    crate::checks::num(hi)
-                ),
-            ));
-        }
+    match &record.trajectory {
+        Some(t) if t.format == TrajectoryFormat::Dcd => check_dcd(scene, t),
+        _ => Ok(()),
+    }
+}
+
+/// Checks the ranges of a DCD trajectory and its PDB topology (a GSD
+/// counts steps in 64 bits and its writer checks its coordinates).
+fn check_dcd(scene: &Scene, t: &TrajectorySpec) -> Result<(), SceneError> {
+    let limit = i32::MAX as u64;
+    if scene.steps > limit || t.every > limit {
+        return Err(SceneError::field(
+            "record.trajectory",
+            format!(
+                "the DCD trajectory counts steps in 32 bits: run.steps ({}) and every ({}) must be at most {limit}",
+                scene.steps, t.every
+            ),
+        ));
+    }
+    let reach = scene
+        .rotors
+        .iter()
+        .flat_map(|r| r.site.iter().copied())
+        .fold((0.0f64, 0.0f64), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    let (lo, hi) = (reach.0 - t.marker_length, reach.1 + t.marker_length);
+    if lo <= PDB_RANGE.0 || hi >= PDB_RANGE.1 {
+        return Err(SceneError::field(
+            "record.trajectory",
+            format!(
+                "the sites and markers reach coordinates from {} to {}, beyond the PDB topology's columns (-999.999 to 9999.999): \
+                 readers could not load the trajectory; move the sites nearer the origin or record no trajectory",
+                crate::checks::num(lo),
+                crate::checks::num(hi)
+            ),
+        ));
     }
     Ok(())
 }

@@ -109,13 +109,14 @@ pub fn run_scene(
         mut trajectory,
         checkpoints,
     } = Recorders::open(scene, integrator, files, outputs.keep, start_step)?;
+    keep_earlier_summary(files, start_step)?;
     let running = running_summary(scene, &definition, interactions, start_step, files)?;
     let mut checkpoints = checkpoints.map(|(every, checkpoint)| {
         (
             every,
             SummaryAfterCheckpoint {
                 checkpoint,
-                summary: running,
+                summary: running.clone(),
             },
         )
     });
@@ -130,19 +131,22 @@ pub fn run_scene(
         control: outputs.control.clone(),
     };
     let mut scheduled = scheduled(scene, &mut series, &mut trajectory, progress);
-    let checkpoints = checkpoints.as_mut().map(|(every, sink)| Checkpoints {
-        every: *every,
-        sink,
-    });
     let report = run(
         integrator,
         potential,
         &inertia,
         &mut scheduled,
-        checkpoints,
+        checkpoints.as_mut().map(|(every, sink)| Checkpoints {
+            every: *every,
+            sink,
+        }),
         &options,
-    )?;
+    );
     drop(scheduled);
+    let report = report.map_err(|e| {
+        let last = checkpoints.and_then(|(_, sink)| sink.summary);
+        record_failure(last.or(running), e)
+    })?;
     let summary = Summary::new(
         scene,
         definition,
@@ -168,8 +172,7 @@ pub fn run_scene(
 type OpenedFolder = (Option<OutputFolder>, Option<Placement>, Option<PathBuf>);
 
 /// Locks the output folder of a run, plans where its files go ([`plan`] for
-/// a restart) and creates the folder they are written to when it is new. An
-/// earlier summary of a run appended to is kept under another name.
+/// a restart) and creates the folder they are written to when it is new.
 fn open_folder(
     outputs: &Outputs,
     scene: &Scene,
@@ -189,14 +192,40 @@ fn open_folder(
         (Some(f), _) => Some(f.dir().to_path_buf()),
         (None, _) => None,
     };
-    if let Some((dir, Placement::Append(_))) = dir.as_deref().zip(placement.as_ref()) {
+    Ok((folder, placement, dir))
+}
+
+/// Keeps the summary of the earlier run that a restart appends to under
+/// another name (done once the outputs are open, so that a restart refused
+/// before leaves the folder as it was).
+fn keep_earlier_summary(
+    files: Option<(&Path, &Placement)>,
+    start_step: u64,
+) -> Result<(), RunError> {
+    if let Some((dir, Placement::Append(_))) = files {
         let summary = dir.join(SUMMARY_FILE);
         if summary.exists() {
             let kept = kept_summary_name(dir, start_step);
             std::fs::rename(&summary, &kept).map_err(|e| RunError::io(&kept, e))?;
         }
     }
-    Ok((folder, placement, dir))
+    Ok(())
+}
+
+/// Status of the summary of a run that stopped on an error.
+const FAILED: &str = "failed";
+
+/// The error `error` of a run, after rewriting the summary written at its
+/// start (`running`, brought to its last checkpoint) with status [`FAILED`]
+/// and the error. A summary that cannot be written either (a full disk)
+/// keeps saying "running"; the run's own error is the one reported.
+fn record_failure(running: Option<(PathBuf, Summary)>, error: RunError) -> RunError {
+    if let Some((path, mut summary)) = running {
+        summary.status = FAILED;
+        summary.message = Some(error.to_string());
+        let _ = write_summary(&path, &summary);
+    }
+    error
 }
 
 /// `summary` with where the outputs went (`files`: the folder and the

@@ -177,9 +177,10 @@ pub struct Summary {
     pub start_step: u64,
     /// The step the run ended at.
     pub last_step: u64,
-    /// "completed", "blew_up" or "interrupted"; "running" in the file of a
-    /// run that has not ended (written at its start and after each
-    /// checkpoint: what a killed run leaves).
+    /// "completed", "blew_up" or "interrupted"; "failed" (with the error
+    /// as `message`) when the run stopped on an error, such as a write that
+    /// failed; "running" in the file of a run that has not ended (written
+    /// at its start and after each checkpoint: what a killed run leaves).
     pub status: &'static str,
     /// The blow-up message (step and rotor), if any.
     pub message: Option<String>,

@@ -58,6 +58,7 @@ pub struct RawExplicitInitial {
 #[serde(deny_unknown_fields)]
 pub struct RawRandomInitial {
     /// The seed (drawn from the OS if absent, below 2^63).
+    #[serde(default, deserialize_with = "crate::checks::deserialize_seed")]
     pub seed: Option<u64>,
     /// The reduced temperature (>= 0).
     pub temperature: f64,

@@ -50,7 +50,11 @@ pub struct LangevinOptions {
     pub friction: f64,
     /// The seed of the noise; a scene without one takes the seed of its
     /// random initial state, or draws one (recorded in the run summary).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "crate::checks::deserialize_seed",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub seed: Option<u64>,
 }
 

@@ -28,14 +28,34 @@ class InternalError(RuntimeError):
     """
 
 
+_PROCESSING = "while processing '"
+
+
+def _name_the_argument(error):
+    """Puts the argument whose conversion failed in front of `error`'s
+    message (`dt: must be real number, not str`), as quatrot's own argument
+    errors do: pyo3 names it only in a note (`while processing 'dt'`),
+    which `str(error)` does not show."""
+    notes = getattr(error, "__notes__", [])
+    for note in notes:
+        if note.startswith(_PROCESSING) and note.endswith("'") and len(error.args) == 1:
+            error.args = (f"{note[len(_PROCESSING):-1]}: {error.args[0]}",)
+            notes.remove(note)
+            return
+
+
 def _guarded(function):
     """`function` with a Rust panic (pyo3's `PanicException`) raised as
-    `InternalError` naming the function."""
+    `InternalError` naming the function, and an argument that could not be
+    converted named in the message."""
 
     @functools.wraps(function)
     def guarded(*args, **kwargs):
         try:
             return function(*args, **kwargs)
+        except Exception as e:
+            _name_the_argument(e)
+            raise
         except BaseException as e:
             if type(e).__name__ != "PanicException":
                 raise
