@@ -10,16 +10,16 @@
 //! potential derivatives `d^A phi(r_i)` up to the third order are the sum of:
 //!
 //! * real space: the pairs within `r_c` with the kernel `erfc(alpha r)/r`
-//!   ([`real_space`]);
+//!   (`real_space`);
 //! * reciprocal space: `phi(r) = (4 pi / V) sum_(k != 0) exp(-k^2 / 4
 //!   alpha^2) / k^2 S(k) exp(i k.r)` with `S(k) = sum_j D_j exp(-i k.r_j)`,
 //!   computed on a mesh of `K_x x K_y x K_z` points with B-splines of order
-//!   `p` ([`bspline`], [`spread`], [`influence`], [`gather`]); the
+//!   `p` (`bspline`, `spread`, `influence`, `gather`); the
 //!   interpolation error falls as `(h / L)^p`;
 //! * self: minus each site's own smooth `D_i erf(alpha |r - r_i|) / |r - r_i|`
 //!   at `r = r_i` (energy `-alpha q^2 / sqrt(pi) - 2 alpha^3 mu^2 / (3
 //!   sqrt(pi)) - 8 alpha^5 Theta:Theta / (45 sqrt(pi))`, the terms of
-//!   [`crate::potential::multipole::ewald_terms`] with charges);
+//!   `crate::potential::multipole::ewald_terms` with charges);
 //! * background: a net charge `Q` with its neutralising background,
 //!   `phi = -pi Q / (V alpha^2)` (energy `-pi Q^2 / (2 V alpha^2)`);
 //! * surface, vacuum only (de Leeuw, Perram & Smith 1980): `V = 2 pi |M|^2

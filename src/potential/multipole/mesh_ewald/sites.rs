@@ -65,7 +65,7 @@ impl Sources<'_> {
 }
 
 /// The response of every site, with the conventions of
-/// [`crate::potential::multipole::kernels`]: `E_i = -dV/dmu_i`, `W_i =
+/// `crate::potential::multipole::kernels`: `E_i = -dV/dmu_i`, `W_i =
 /// dV/dTheta_i`, and the force `F_i = -dV/dr_i` at fixed multipoles.
 #[derive(Clone, Debug, Default)]
 pub struct SiteResponse {

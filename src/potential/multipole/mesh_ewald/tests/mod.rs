@@ -101,14 +101,7 @@ impl Configuration {
     /// spaces), as energy and fields (dipoles and quadrupoles only).
     pub(super) fn direct(&self, surface: Surface) -> (f64, Vec<Vector3<f64>>, Vec<Matrix3<f64>>) {
         let n = self.positions.len();
-        let alpha = 1.2;
-        let parameters = EwaldParameters {
-            alpha,
-            real_cutoff: 7.0 / alpha,
-            reciprocal_cutoff: 14.0 * alpha,
-            real_estimate: 0.0,
-            reciprocal_estimate: 0.0,
-        };
+        let parameters = EwaldParameters::converged(1.2);
         let sum = EwaldSum::with_parameters(&self.positions, self.box_lengths, parameters, surface)
             .unwrap();
         let multipoles = SpaceMultipoles {

@@ -97,11 +97,8 @@ pub(super) fn textbook_charges(c: &Configuration) -> (f64, Vec<Vector3<f64>>) {
                 if (h, k, m) == (0, 0, 0) {
                     continue;
                 }
-                let kv = Vector3::new(
-                    2.0 * PI * h as f64 / l.x,
-                    2.0 * PI * k as f64 / l.y,
-                    2.0 * PI * m as f64 / l.z,
-                );
+                let index = [h, k, m];
+                let kv = Vector3::from_fn(|a, _| 2.0 * PI * index[a] as f64 / l[a]);
                 let k2 = kv.norm_squared();
                 let weight = 4.0 * PI / volume * (-k2 / (4.0 * alpha * alpha)).exp() / k2;
                 let (mut re, mut im) = (0.0, 0.0);
