@@ -10,15 +10,14 @@ use super::spread::SiteWeights;
 use crate::potential::multipole::fft3::RealFft3;
 use crate::potential::multipole::{PotentialError, Surface};
 use nalgebra::Vector3;
-use rayon::prelude::*;
-use rustfft::num_complex::Complex;
 use std::f64::consts::PI;
 
-/// Bytes of the buffers of a `grid` mesh: the mesh, its half spectrum and
-/// work buffer (complex) and the influence function.
+/// Bytes of the buffers of a `grid` mesh: the mesh and the influence
+/// function, held; at most two complex half spectra and the real result,
+/// transient in [`RealFft3::convolve`].
 pub(crate) fn mesh_bytes(grid: [usize; 3]) -> f64 {
     let points: f64 = grid.iter().map(|&k| k as f64).product();
-    8.0 * points + RealFft3::spectrum_len_of(grid) as f64 * (16.0 + 16.0 + 8.0)
+    16.0 * points + RealFft3::spectrum_len_of(grid) as f64 * (8.0 + 2.0 * 16.0)
 }
 
 /// A smooth particle-mesh Ewald sum for a fixed number of sites in a fixed
@@ -31,8 +30,6 @@ pub struct MeshEwald {
     fft: RealFft3,
     influence: Vec<f64>,
     mesh: Vec<f64>,
-    spectrum: Vec<Complex<f64>>,
-    work: Vec<Complex<f64>>,
     weights: SiteWeights,
     cells: CellList,
     wrapped: Vec<Vector3<f64>>,
@@ -87,15 +84,12 @@ impl MeshEwald {
         });
         let mut smooth_at_origin = [0.0; 56];
         radial_derivatives(&Vector3::zeros(), &smooth, 56, &mut smooth_at_origin);
-        let spectrum_len = fft.spectrum_len();
         Ok(MeshEwald {
             parameters,
             surface,
             box_lengths,
             influence,
             mesh: vec![0.0; points as usize],
-            spectrum: vec![Complex::new(0.0, 0.0); spectrum_len],
-            work: vec![Complex::new(0.0, 0.0); spectrum_len],
             fft,
             weights: SiteWeights::new(sites, grid, parameters.order),
             cells: CellList::new(sites, &box_lengths, parameters.real_cutoff),
@@ -198,17 +192,19 @@ impl MeshEwald {
             .compute(&self.wrapped, &self.box_lengths, derivative_order);
         self.weights
             .spread(&self.scaled, source_order, &mut self.mesh);
-        self.fft
-            .forward(&mut self.mesh, &mut self.spectrum, &mut self.work);
-        self.spectrum
-            .par_iter_mut()
-            .zip(&self.influence)
-            .with_min_len(4096)
-            .for_each(|(s, g)| *s *= g);
-        self.fft
-            .inverse(&mut self.spectrum, &mut self.mesh, &mut self.work);
+        let [nx, _, nz] = self.parameters.grid;
+        let (mesh, influence) = (&self.mesh, &self.influence);
+        let phi = self.fft.convolve(
+            (1, 1),
+            |l, line| line.copy_from_slice(&mesh[l * nz..(l + 1) * nz]),
+            |m, s, f| {
+                for ((f, s), g) in f.iter_mut().zip(s).zip(&influence[m * nx..(m + 1) * nx]) {
+                    *f = s * g;
+                }
+            },
+        );
         self.weights
-            .gather(&self.mesh, scale, count, &mut self.derivatives);
+            .gather(&phi, scale, count, &mut self.derivatives);
     }
 
     /// Removes each site's own smooth potential, adds the neutralising
