@@ -356,7 +356,8 @@ fn an_unknown_integrator_option_is_refused_in_one_clean_line() {
 /// for "the PDB topology's columns").
 #[test]
 fn sites_beyond_the_pdb_columns_are_fine_for_a_gsd_trajectory() {
-    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_scenes/trajectory_beyond_pdb_columns.toml");
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/bad_scenes/trajectory_beyond_pdb_columns.toml");
     let text = std::fs::read_to_string(bad).expect("bad scene");
     assert!(text.contains("marker_length = 0.3"));
     let gsd = text.replace("marker_length = 0.3", "format = \"gsd\"");
@@ -364,5 +365,9 @@ fn sites_beyond_the_pdb_columns_are_fine_for_a_gsd_trajectory() {
     let file = dir.path().join("far.toml");
     std::fs::write(&file, gsd).expect("scene written");
     let out = quatrot(&["check", file.to_str().expect("utf-8")]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

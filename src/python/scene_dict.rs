@@ -60,14 +60,14 @@ impl ToToml {
             return Ok(toml::Value::Boolean(b.is_true()));
         }
         if let Ok(i) = value.cast::<PyInt>() {
-            return i
-                .extract::<i64>()
-                .map(toml::Value::Integer)
-                .map_err(|_| {
-                    let range = format!("between {} and {}", i64::MIN, i64::MAX);
-                    let why = "a scene's integers are 64-bit signed";
-                    field(here(path), format!("must be an integer {range} ({why}), got {i}"))
-                });
+            return i.extract::<i64>().map(toml::Value::Integer).map_err(|_| {
+                let range = format!("between {} and {}", i64::MIN, i64::MAX);
+                let why = "a scene's integers are 64-bit signed";
+                field(
+                    here(path),
+                    format!("must be an integer {range} ({why}), got {i}"),
+                )
+            });
         }
         if let Ok(f) = value.cast::<PyFloat>() {
             return Ok(toml::Value::Float(f.value()));
