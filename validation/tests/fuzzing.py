@@ -1,7 +1,8 @@
 """The seeded fuzz of the Python tests (issue 37, item 10), shared by
 `test_fuzz_analysis.py`, `test_fuzz_sweep_cli.py` and
 `test_fuzz_output_links.py`: the seed and the number of cases, hostile
-values, the report of a failing case, and snapshots of folder trees.
+values, the report of a failing case, a tiny scene and snapshots of
+folder trees.
 
 Each case draws from its own generator, seeded by (seed, test, case), so a
 failing case is reproduced by its seed alone: `QUATROT_FUZZ_SEED` sets the
@@ -38,7 +39,7 @@ class Failures:
     naming the seed and the case."""
 
     #: Failures shown in the report (the count says how many there were).
-    SHOWN = 50
+    SHOWN = 10
 
     def __init__(self):
         self.found: list[str] = []
@@ -77,6 +78,30 @@ def hostile_scalar(rng: np.random.Generator) -> Any:
     if kind == 7:
         return pick(rng, ([], [1.0], {"a": 1}, (), b"bytes"))
     return object()
+
+
+#: The scene of the fuzz's runs and sweeps: one dipole in a field, 20 steps, energies every 5.
+TINY = """version = 1
+[rotors]
+kind = "sites"
+sites = [{ position = [0.0, 0.0, 0.0] }]
+default = { inertia = 0.1, dipole = [0.0, 0.0, 1.0] }
+[fields]
+uniform = [0.0, 0.0, 1.0]
+[initial]
+kind = "uniform"
+orientation = [1.0, 0.0, 0.0, 0.0]
+omega_body = [0.0, 1.0, 0.0]
+[integrator]
+kind = "dlm"
+[run]
+dt = 0.01
+steps = 20
+[[record.series]]
+name = "energies"
+every = 5
+quantities = ["total_energy"]
+"""
 
 
 def tree(root: Path, skip: Path | None = None) -> dict[str, str]:

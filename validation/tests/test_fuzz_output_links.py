@@ -23,9 +23,8 @@ import distributed
 import pytest
 
 import quatrot.sweep
-from fuzzing import Failures, cases, changes, pick, tree
+from fuzzing import TINY, Failures, cases, changes, pick, tree
 from quatrot.sweep.cli import main as sweep_main
-from test_fuzz_sweep_cli import TINY
 
 CASES = 16
 #: Seconds a run or a sweep of this test may take (the slowest seen: 3 s).

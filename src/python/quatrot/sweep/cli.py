@@ -21,6 +21,7 @@ from typing import Any
 
 import quatrot
 from quatrot.sweep.execute import run
+from quatrot.sweep.folder import sweep_folder
 from quatrot.sweep.plan import Run, format_overrides, iter_runs, printable
 from quatrot.sweep.table import NAME, Table
 
@@ -193,7 +194,7 @@ class _Progress:
 def _dry_run(runs: Iterable[Run], args) -> int:
     """Lists the runs as they are made (a grid is refused past
     `plan.MAX_RUNS` before the first)."""
-    path = Path(args.out) / NAME
+    path = sweep_folder(args.out) / NAME
     table = Table(path) if path.exists() else None
     for r in runs:
         done = table is not None and table.finished(r.id, args.threads_per_run)
