@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import zlib
 from collections.abc import Iterator
 from pathlib import Path
@@ -21,6 +22,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+
+import quatrot
 
 DEFAULT_SEED = 37
 SEED = int(os.environ.get("QUATROT_FUZZ_SEED", DEFAULT_SEED))
@@ -80,28 +83,10 @@ def hostile_scalar(rng: np.random.Generator) -> Any:
     return object()
 
 
-#: The scene of the fuzz's runs and sweeps: one dipole in a field, 20 steps, energies every 5.
-TINY = """version = 1
-[rotors]
-kind = "sites"
-sites = [{ position = [0.0, 0.0, 0.0] }]
-default = { inertia = 0.1, dipole = [0.0, 0.0, 1.0] }
-[fields]
-uniform = [0.0, 0.0, 1.0]
-[initial]
-kind = "uniform"
-orientation = [1.0, 0.0, 0.0, 0.0]
-omega_body = [0.0, 1.0, 0.0]
-[integrator]
-kind = "dlm"
-[run]
-dt = 0.01
-steps = 20
-[[record.series]]
-name = "energies"
-every = 5
-quantities = ["total_energy"]
-"""
+#: The scene of the fuzz's runs and sweeps: the built-in dipole in a field,
+#: 20 steps, energies every 5.
+TINY = re.sub(r"(?m)^steps = \d+$", "steps = 20", quatrot.builtin_scenes()["dipole_in_field"]).replace("every = 10", "every = 5")
+assert "steps = 20" in TINY and "every = 5" in TINY
 
 
 def tree(root: Path, skip: Path | None = None) -> dict[str, str]:
