@@ -13,7 +13,7 @@ export PATH := $(abspath $(VENV))/bin:$(PATH)
 export LD_LIBRARY_PATH := $(abspath $(VENV))/lib:$(LD_LIBRARY_PATH)
 RESULTS ?= results
 
-.PHONY: all test validate fixtures bench develop lint rust-test py-test stubtest docs screenshots mutants mutants-report clean
+.PHONY: all test validate fixtures bench bench-threads develop lint rust-test py-test stubtest docs screenshots mutants mutants-report clean
 
 all: test
 
@@ -99,6 +99,14 @@ bench: develop
 	$(PY) -m validation.bench.sweep --out benchmarks
 	$(PY) -m validation.bench.longrun --out benchmarks
 	$(PY) -m validation.bench.thermostats --out benchmarks
+	$(MAKE) bench-threads
+
+# Whole runs of every built-in lattice scene at about 1,000, 8,000 and 64,000
+# rotors on 1 and 2 threads, side by side (issue 38); runnable alone, on an
+# idle machine (the section says when it was not).
+bench-threads:
+	cargo build --release
+	$(PY) -m validation.bench.threads --out benchmarks
 
 # Mutation testing of the physics modules (scope and exclusions in
 # .cargo/mutants.toml; most of a day of this machine for the full set, so not

@@ -9,7 +9,34 @@
 //! The periodic pair loop sums its per-thread blocks in an order that
 //! depends on the pool's size, so a run's last bits depend on it too:
 //! [`in_pool`] fixes the size (a sweep's runs then give the same numbers on
-//! any machine).
+//! any machine). A run whose count is not fixed takes
+//! [`automatic_threads`].
+//!
+//! # The parallel step
+//!
+//! A step opens few parallel sections, each over all rotors or all grid
+//! lines, with no serial work between them that grows with the number of
+//! rotors. A kick-based step (NO_SQUISH, DLM, Richardson) opens:
+//!
+//! 1. the first half kick and the free flow, one pass over chunks of rotors
+//!    (`integrators::rotor_chunks`, two loops per chunk);
+//! 2. the space-frame multipoles, one pass over the rotors;
+//! 3. the pair fields: one section for a cutoff sum (blocks of rows), five
+//!    for the FFT lattice sum (passes over grid lines, the scatter and
+//!    gather fused into the first and last; `fft3::RealFft3::convolve`),
+//!    one plus the reciprocal passes for a direct Ewald sum;
+//! 4. the external fields, gradient and torques, one pass over the rotors;
+//! 5. the second half kick, one pass over chunks of rotors.
+//!
+//! The Gear schemes open the same sections with the predictor in place of
+//! 1 and the corrector in place of 5. A new per-rotor or per-body pass (the
+//! moving bodies, another sum) joins the pass of the same kind: work on one
+//! rotor or body goes into the per-rotor pass that reads the same inputs
+//! (as the external fields joined the torque pass), work on the grid into
+//! the grid passes of `convolve`; a pass of its own only where it needs the
+//! results of all rotors of the previous one. Each pass computes every
+//! rotor's or grid line's values in the same order whatever the cuts, so
+//! results depend on the thread count only where the pair loop's blocks do.
 
 use std::num::NonZeroUsize;
 
@@ -34,4 +61,30 @@ pub fn in_pool<R: Send>(
         .num_threads(threads.get())
         .build()?;
     Ok(pool.install(op))
+}
+
+/// Rotors per thread of the automatic count: a run takes one thread per
+/// this many rotors (at least one, at most the cores). Conservative, from
+/// the idle measurements of issue 38 before the parallel step above (2
+/// threads 0.8x at 1,000 rotors, 1.04x and 1.24x at 27,000, Ewald and
+/// cutoff lattices): the step's were taken on a shared machine
+/// (benchmarks/RESULTS.md, threads sections), and `make bench-threads` on an
+/// idle one says how far below 8,000 rotors a second thread pays.
+pub const ROTORS_PER_THREAD: usize = 4_000;
+
+/// The thread count of a run of `rotors` rotors whose count is not fixed,
+/// on a machine with `cores` hardware threads: `rotors /`
+/// [`ROTORS_PER_THREAD`], at least 1 and at most `cores`.
+///
+/// ```
+/// use quatrot::parallel::automatic_threads;
+/// assert_eq!(automatic_threads(1, 8).get(), 1);
+/// assert_eq!(automatic_threads(1000, 2).get(), 1);
+/// assert_eq!(automatic_threads(8000, 2).get(), 2);
+/// assert_eq!(automatic_threads(1_000_000, 8).get(), 8);
+/// assert_eq!(automatic_threads(1000, 0).get(), 1);
+/// ```
+pub fn automatic_threads(rotors: usize, cores: usize) -> NonZeroUsize {
+    let count = (rotors / ROTORS_PER_THREAD).clamp(1, cores.max(1));
+    NonZeroUsize::new(count).unwrap_or(NonZeroUsize::MIN)
 }

@@ -350,6 +350,64 @@ fn an_unknown_integrator_option_is_refused_in_one_clean_line() {
     );
 }
 
+/// The `threads` entry of `summary.json` after `quatrot run dipole_in_field`
+/// with `args`, `RAYON_NUM_THREADS` set to `env` (or unset).
+fn run_threads(dir: &Path, args: &[&str], env: Option<&str>) -> serde_json::Value {
+    let out_dir = dir.join("threads");
+    let mut command = Command::new(BIN);
+    command
+        .args(["run", "dipole_in_field", "--steps", "4", "--out"])
+        .arg(&out_dir)
+        .args(args)
+        .env_remove("RAYON_NUM_THREADS");
+    if let Some(value) = env {
+        command.env("RAYON_NUM_THREADS", value);
+    }
+    let out = command.output().expect("the binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(out_dir.join("summary.json")).expect("summary");
+    let summary: serde_json::Value = serde_json::from_str(&text).expect("json");
+    summary["threads"].clone()
+}
+
+/// The thread count: `--threads N` is honoured exactly (3, more than this
+/// machine's cores) and recorded as given, also over `RAYON_NUM_THREADS`;
+/// without it `RAYON_NUM_THREADS` sizes the run; without either the
+/// one-rotor scene takes one thread (automatic: one per 4,000 rotors, at
+/// least one). Counts outside 1..=1024 are refused naming the option.
+#[test]
+fn the_thread_count_is_given_from_the_environment_or_automatic() {
+    let dir = tempfile::tempdir().expect("dir");
+    let given = run_threads(dir.path(), &["--threads", "3"], Some("1"));
+    assert_eq!(given["count"], 3);
+    assert_eq!(given["chosen"], "given");
+    let environment = run_threads(dir.path(), &[], Some("2"));
+    assert_eq!(environment["count"], 2);
+    assert_eq!(environment["chosen"], "RAYON_NUM_THREADS");
+    assert_eq!(environment["reason"], "RAYON_NUM_THREADS=2");
+    let automatic = run_threads(dir.path(), &[], None);
+    assert_eq!(automatic["count"], 1);
+    assert_eq!(automatic["chosen"], "automatic");
+    assert!(
+        automatic["reason"]
+            .as_str()
+            .is_some_and(|r| r.starts_with("rotors 1, cores ")),
+        "{automatic}"
+    );
+    for bad in ["0", "1025", "-2"] {
+        let out = quatrot(&["run", "dipole_in_field", "--threads", bad]);
+        assert_eq!(out.status.code(), Some(EXIT_ERROR));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr).trim_end(),
+            format!("error: --threads: must be between 1 and 1024, got {bad}")
+        );
+    }
+}
+
 /// The PDB topology's coordinate columns bound only a DCD trajectory: the
 /// scene whose sites reach beyond them (`tests/bad_scenes/`) passes `check`
 /// with a GSD trajectory, which writes no PDB (issue 37: it was refused

@@ -186,6 +186,7 @@ fn an_interrupted_run_ends_cleanly_and_its_restart_continues_bit_for_bit() {
         dir: Some(cut.path().to_path_buf()),
         keep: false,
         control: Some(Arc::clone(&control)),
+        threads: None,
     };
     let progress = Progress {
         every: 5,

@@ -121,6 +121,7 @@ fn counted<P: Potential>(
         dir: None,
         keep: true,
         control: None,
+        threads: None,
     };
     let result = run_scene(
         scene,

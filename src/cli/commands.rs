@@ -4,12 +4,14 @@
 use super::args::{Cli, Command};
 use super::progress::ProgressBarObserver;
 use super::{sweep, EXIT_ERROR};
+use crate::parallel::MAX_THREADS;
 use crate::run::{execute, prepare, Outputs, Placement, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use crate::simulation::{Control, Stop};
 use clap::Parser;
 use std::ffi::OsString;
 use std::io::{IsTerminal, Write};
+use std::num::NonZeroUsize;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -65,13 +67,17 @@ where
             steps,
             integrator,
             restart,
+            threads,
         } => {
             let overrides = Overrides {
                 dt,
                 steps,
                 integrator,
             };
-            run(&scene, &overrides, out, restart)
+            match threads.map(thread_count).transpose() {
+                Ok(threads) => run(&scene, &overrides, out, restart, threads),
+                Err(e) => fail(&e),
+            }
         }
         Command::Sweep { args } => match sweep::launch(&args) {
             Ok(code) => code,
@@ -134,7 +140,22 @@ fn describe(scene: &Scene) -> String {
     )
 }
 
-fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<PathBuf>) -> i32 {
+/// The `--threads` value: 1 to [`MAX_THREADS`].
+fn thread_count(threads: i64) -> Result<NonZeroUsize, String> {
+    usize::try_from(threads)
+        .ok()
+        .filter(|&n| n <= MAX_THREADS)
+        .and_then(NonZeroUsize::new)
+        .ok_or_else(|| format!("--threads: must be between 1 and {MAX_THREADS}, got {threads}"))
+}
+
+fn run(
+    name: &str,
+    overrides: &Overrides,
+    out: Option<PathBuf>,
+    restart: Option<PathBuf>,
+    threads: Option<NonZeroUsize>,
+) -> i32 {
     let (raw, scene) = match load(name, overrides) {
         Ok(loaded) => loaded,
         Err(e) => return fail(&e),
@@ -147,6 +168,7 @@ fn run(name: &str, overrides: &Overrides, out: Option<PathBuf>, restart: Option<
         dir: Some(dir.clone()),
         keep: false,
         control: Some(control),
+        threads,
     };
     let show_progress = std::io::stderr().is_terminal() && scene.steps >= PROGRESS_MIN_STEPS;
     let mut bar = show_progress.then(|| ProgressBarObserver::new(scene.steps));

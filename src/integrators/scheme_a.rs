@@ -59,13 +59,13 @@ impl TopStep for GearA {
             q.predict();
             omega_body.predict();
         });
-        // (c): torque at the predicted Q; the chain, corrected with the
-        // kinetic energy of the predicted w_b, gives the predicted friction.
+        // (c): torque at the predicted Q; the chain, advanced with the
+        // kinetic energy of the predicted w_b, gives the friction at t + h.
         evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
         let friction = self
             .thermostat
             .as_mut()
-            .map(|t| t.step(&self.omega_body.r[0], h));
+            .map(|t| t.step(&self.omega_body, h));
         let rotors = (
             self.q.as_chunk(),
             self.omega_body.as_chunk(),
@@ -141,57 +141,76 @@ pub struct GearA {
     spins: Vec<Option<Spin>>,
 }
 
-/// A thermostat chain in scheme A: the extended equations of a
-/// [`ChainEquations`] (friction `-p_1/Q_1 w_b` in Euler's equations on the
-/// thermostatted components, a conserved spin of [`CoupledDegrees`] left
-/// out; the chain's own equations) integrated by the same 5-value
-/// first-order Gear predictor-corrector, the chain's right-hand sides
-/// evaluated at the predicted values (the kinetic energy from the predicted
-/// `w_b`), as the rotors' are.
+/// A thermostat chain in scheme A: the friction `-p_1/Q_1 w_b` of a
+/// [`ChainEquations`] in Euler's equations on the thermostatted components
+/// (a conserved spin of [`CoupledDegrees`] left out), integrated by the
+/// rotors' predictor-corrector with the chain's friction at the end of the
+/// step; the chain's own equations advanced over the step by
+/// [`ChainEquations::advance`] composed to sixth order ([`YOSHIDA_6`]),
+/// with the thermostatted kinetic energy of the predicted `w_b` polynomial.
+/// (Integrated by the same Gear corrector, as they were until issue 37, the
+/// chain's couplings `p_j p_{j+1}/Q_{j+1}` made the step unstable once
+/// `dt p_{j+1}/Q_{j+1}` reached order one: a random start of the 1,000-rotor
+/// dipole lattice, tau = 0.4, blew up at dt = 0.005 and 0.01, where plain
+/// scheme A is stable. The start-up still integrates the chain with the
+/// rotors, for the rotors' derivatives.)
 #[derive(Clone, Debug)]
 struct GearChain {
-    /// The chain's masses, and its current positions and momenta (copied
-    /// from `positions.r[0]`, `momenta.r[0]` after each step).
+    /// The chain: its masses, positions and momenta.
     chain: Box<dyn ChainEquations>,
     /// The degrees of freedom it acts on, and the principal moments.
     coupled: CoupledDegrees,
     principal: Vec<Vector3<f64>>,
-    positions: Nordsieck<f64, 5>,
-    momenta: Nordsieck<f64, 5>,
-    /// Scratch: the chain's rates.
-    positions_dot: Vec<f64>,
-    momenta_dot: Vec<f64>,
+    /// Scratch: the body angular velocities at a time within the step.
+    omega_scratch: Vec<Vector3<f64>>,
 }
 
+/// The weights of the sixth-order symmetric composition of a second-order
+/// symmetric step (Yoshida, Phys. Lett. A 150, 262 (1990), solution A):
+/// the chain's step over `h` is its [`ChainEquations::advance`] over
+/// `w_k h` in turn (backwards in time for the negative weights), so that
+/// its error is of order 6 and scheme A stays of order 5 with a chain.
+const YOSHIDA_6: [f64; 7] = {
+    let (w1, w2, w3) = (
+        -1.177_679_984_178_87,
+        0.235_573_213_359_357,
+        0.784_513_610_477_560,
+    );
+    let w0 = 1.0 - 2.0 * (w1 + w2 + w3);
+    [w3, w2, w1, w0, w1, w2, w3]
+};
+
 impl GearChain {
-    /// Predicts, evaluates the rates at the predicted values (the
-    /// thermostatted kinetic energy from the predicted `omega_body`) and
-    /// corrects; returns the predicted friction `p_1/Q_1` on the rotors.
-    fn step(&mut self, omega_body: &[Vector3<f64>], h: f64) -> f64 {
-        let kinetic = self.coupled.kinetic_energy_of(&self.principal, omega_body);
-        self.positions.predict();
-        self.momenta.predict();
-        let predicted = &self.momenta.r[0];
-        let friction = self.chain.friction(predicted);
-        self.chain.rates(
-            predicted,
-            kinetic,
-            &mut self.positions_dot,
-            &mut self.momenta_dot,
-        );
-        for j in 0..self.chain.len() {
-            let delta = self.positions_dot[j] * h - self.positions.r[1][j];
-            self.positions.correct(j, &FIRST_ORDER_5, delta);
-            let delta = self.momenta_dot[j] * h - self.momenta.r[1][j];
-            self.momenta.correct(j, &FIRST_ORDER_5, delta);
+    /// The thermostatted kinetic energy at the time `t + h (1 + x)`, for
+    /// `x` in `[-1, 0]`, of the body angular velocities whose predicted
+    /// Nordsieck vector (at `t + h`) is `omega_body` (their polynomial over
+    /// the step: the predictor is an exact Taylor shift).
+    fn kinetic_energy_at(&mut self, omega_body: &Nordsieck<Vector3<f64>, 5>, x: f64) -> f64 {
+        for (i, w) in self.omega_scratch.iter_mut().enumerate() {
+            *w = omega_body
+                .r
+                .iter()
+                .rev()
+                .fold(Vector3::zeros(), |acc, r| acc * x + r[i]);
         }
-        self.sync();
-        friction
+        self.coupled
+            .kinetic_energy_of(&self.principal, &self.omega_scratch)
     }
 
-    /// The chain's current values from the Nordsieck vectors.
-    fn sync(&mut self) {
-        self.chain.set(&self.positions.r[0], &self.momenta.r[0]);
+    /// Advances the chain over the step `h` by the composition
+    /// [`YOSHIDA_6`], each part with the kinetic energy of the predicted
+    /// `omega_body` at its start and end; returns the friction `p_1/Q_1` at
+    /// the end of the step.
+    fn step(&mut self, omega_body: &Nordsieck<Vector3<f64>, 5>, h: f64) -> f64 {
+        let mut x = -1.0;
+        let mut start = self.kinetic_energy_at(omega_body, x);
+        for w in YOSHIDA_6 {
+            x += w;
+            let end = self.kinetic_energy_at(omega_body, x);
+            self.chain.advance(start, end, w * h);
+            start = end;
+        }
+        self.chain.friction(self.chain.momenta())
     }
 }
 
@@ -209,19 +228,15 @@ impl GearA {
         }
     }
 
-    /// Scheme A with the thermostat chain `chain` (a Nose-Hoover chain):
-    /// the extended equations by the same predictor-corrector (and the same
-    /// start-up, which integrates the chain too).
+    /// Scheme A with the thermostat chain `chain` (a Nose-Hoover chain;
+    /// see [`GearChain`] for how the extended equations are integrated).
     pub fn with_chain(options: GearAOptions, chain: Box<dyn ChainEquations>) -> Self {
         let mut gear = GearA::new(options);
         gear.thermostat = Some(GearChain {
             chain,
             coupled: CoupledDegrees::default(),
             principal: Vec::new(),
-            positions: Nordsieck::zeros(0),
-            momenta: Nordsieck::zeros(0),
-            positions_dot: Vec::new(),
-            momenta_dot: Vec::new(),
+            omega_scratch: Vec::new(),
         });
         gear
     }
@@ -247,6 +262,7 @@ impl Integrator for GearA {
     ) -> Result<(), IntegratorError> {
         if let Some(t) = &mut self.thermostat {
             t.principal = inertia.iter().map(Inertia::principal).collect();
+            t.omega_scratch = vec![Vector3::zeros(); inertia.len()];
             t.coupled = CoupledDegrees::new(&t.principal, potential);
             t.chain.reset(t.coupled.dof);
         }
@@ -264,13 +280,6 @@ impl Integrator for GearA {
             Some(t) => t.coupled.spins.clone(),
             None => vec![None; initial.len()],
         };
-        if let Some(t) = &mut self.thermostat {
-            t.positions = derivatives.chain_positions.truncated();
-            t.momenta = derivatives.chain_momenta.truncated();
-            t.positions_dot = vec![0.0; t.chain.len()];
-            t.momenta_dot = vec![0.0; t.chain.len()];
-            t.sync();
-        }
         Ok(())
     }
 
@@ -291,14 +300,13 @@ impl Integrator for GearA {
     }
 
     /// Layout: `[dt, Q..., w_b...]` (Nordsieck vectors), then the chain's
-    /// positions and momenta (Nordsieck vectors) when there is one.
+    /// checkpoint (its positions and momenta) when there is one.
     fn checkpoint(&self) -> Vec<f64> {
         let mut out = vec![self.frame.dt];
         self.q.write_flat(&mut out);
         self.omega_body.write_flat(&mut out);
         if let Some(t) = &self.thermostat {
-            t.positions.write_flat(&mut out);
-            t.momenta.write_flat(&mut out);
+            t.chain.write_checkpoint(&mut out);
         }
         out
     }
@@ -307,15 +315,13 @@ impl Integrator for GearA {
         let chain_len = self
             .thermostat
             .as_ref()
-            .map_or(0, |t| t.positions.flat_len() + t.momenta.flat_len());
+            .map_or(0, |t| t.chain.checkpoint_len());
         let len = self.q.flat_len() + self.omega_body.flat_len() + chain_len;
         let data = checkpoint_data(state, self.frame.dt, len)?;
         let rest = self.q.read_flat(data);
         let rest = self.omega_body.read_flat(rest);
         if let Some(t) = &mut self.thermostat {
-            let rest = t.positions.read_flat(rest);
-            let _ = t.momenta.read_flat(rest);
-            t.sync();
+            t.chain.read_checkpoint(rest)?;
         }
         Ok(())
     }

@@ -95,17 +95,13 @@ named_choices!(Startup {
 });
 
 /// Scaled derivatives at t = 0, orders 0..=5, of the orientation and of the
-/// body angular velocity of every rotor, and of the variables of a
-/// thermostat chain integrated with them (none without one).
+/// body angular velocity of every rotor (with the friction of a thermostat
+/// chain, if any, integrated with them).
 pub struct InitialDerivatives {
     /// `h^k/k! Q^(k)(0)`.
     pub q: Nordsieck<Quat, 6>,
     /// `h^k/k! w_b^(k)(0)`.
     pub omega_body: Nordsieck<Vector3<f64>, 6>,
-    /// `h^k/k! eta_j^(k)(0)` of the chain's positions (no entries without a chain).
-    pub chain_positions: Nordsieck<f64, 6>,
-    /// `h^k/k! p_j^(k)(0)` of the chain's momenta (no entries without a chain).
-    pub chain_momenta: Nordsieck<f64, 6>,
 }
 
 /// The state of all rotors (and of the chain, if any) in the start-up
@@ -253,7 +249,6 @@ pub fn initial_derivatives<K: TopKind>(
             .map(|c| c.chain.momenta().to_vec())
             .unwrap_or_default(),
     };
-    let m = y0.p.len();
     let mut rk = Rk4::<K> {
         moments,
         potential,
@@ -265,8 +260,6 @@ pub fn initial_derivatives<K: TopKind>(
     let mut out = InitialDerivatives {
         q: Nordsieck::zeros(n),
         omega_body: Nordsieck::zeros(n),
-        chain_positions: Nordsieck::zeros(m),
-        chain_momenta: Nordsieck::zeros(m),
     };
     if startup == Startup::Consistent {
         let mut samples = vec![y0.clone(); SAMPLES];
@@ -291,10 +284,6 @@ pub fn initial_derivatives<K: TopKind>(
             samples.iter().map(|s| s.omega_body.clone()).collect();
         fit_into(&fit, &q_samples, 3, &mut out.q);
         fit_into(&fit, &w_samples, 2, &mut out.omega_body);
-        let eta_samples: Vec<Vec<f64>> = samples.iter().map(|s| s.eta.clone()).collect();
-        let p_samples: Vec<Vec<f64>> = samples.iter().map(|s| s.p.clone()).collect();
-        fit_into(&fit, &eta_samples, 2, &mut out.chain_positions);
-        fit_into(&fit, &p_samples, 2, &mut out.chain_momenta);
     }
     // The orders given directly by the equations of motion, exactly.
     for i in 0..n {
@@ -305,12 +294,6 @@ pub fn initial_derivatives<K: TopKind>(
         out.q.r[2][i] = acceleration * (0.5 * dt * dt);
         out.omega_body.r[0][i] = y0.omega_body[i];
         out.omega_body.r[1][i] = rate0.omega_body[i] * dt;
-    }
-    for j in 0..m {
-        out.chain_positions.r[0][j] = y0.eta[j];
-        out.chain_positions.r[1][j] = rate0.eta[j] * dt;
-        out.chain_momenta.r[0][j] = y0.p[j];
-        out.chain_momenta.r[1][j] = rate0.p[j] * dt;
     }
     out
 }

@@ -9,7 +9,6 @@
 
 use super::args::{integer, invalid, path_or, text_or, wrong_type};
 use super::scene_dict::{field, load_scene, scene_error, SceneError};
-use crate::parallel::in_pool;
 use crate::run::{execute, Outputs, RunError, RunResult};
 use crate::scene::{Overrides, Scene, BUILTINS};
 use crate::simulation::{Control, Stop};
@@ -137,8 +136,10 @@ const POLL: Duration = Duration::from_millis(20);
 /// restart : str or path, optional
 ///     A checkpoint file to continue from.
 /// threads : int, optional
-///     Runs on a pool of that many threads (>= 1; default the shared pool,
-///     one thread per core; the periodic pair loop's last bits depend on it).
+///     Runs on a pool of that many threads (1 to `MAX_THREADS`; default
+///     the shared pool when `RAYON_NUM_THREADS` is set, else one thread per
+///     4,000 rotors, at least 1, at most the cores; recorded in the summary's
+///     `threads`). The periodic pair loop's last bits depend on it.
 /// progress : bool, default False
 ///     A progress bar (tqdm if installed, else a line on stderr).
 /// on_progress : callable, optional
@@ -213,6 +214,7 @@ fn run<'py>(
         dir: out_dir,
         keep: true,
         control: Some(Arc::clone(&control)),
+        threads,
     };
     let mut reporters: Vec<Bound<'py, PyAny>> = on_progress.into_iter().cloned().collect();
     if progress {
@@ -225,11 +227,7 @@ fn run<'py>(
     let (finished, stopped_by) = std::thread::scope(|s| {
         let (send, receive) = mpsc::channel();
         let _ = s.spawn(move || {
-            let result = match threads {
-                None => Ok(go()),
-                Some(n) => in_pool(n, go),
-            };
-            let _ = send.send(result);
+            let _ = send.send(go());
         });
         watch(py, receive, &control, scene.steps, &reporters)
     });
@@ -239,9 +237,8 @@ fn run<'py>(
     {
         let _ = r.call_method0("close")?;
     }
-    let result = finished
-        .ok_or_else(|| PyRuntimeError::new_err("the run ended without a result"))?
-        .map_err(|e| PyRuntimeError::new_err(format!("threads: {e}")))??;
+    let result =
+        finished.ok_or_else(|| PyRuntimeError::new_err("the run ended without a result"))??;
     let message = result.stop.message();
     let stop = result.stop.clone();
     let dict = result_dict(py, &scene, result)?;

@@ -40,6 +40,9 @@ pub enum RunError {
         /// Who holds its lock.
         holder: String,
     },
+    /// The pool of threads for the run could not be started.
+    #[error("threads: {}", printable(.0, SHOWN))]
+    Threads(String),
     /// A checkpoint does not belong to this scene.
     #[error("checkpoint {}: {}", printable(.path, SHOWN), printable(.message, SHOWN))]
     Checkpoint {

@@ -6,10 +6,14 @@ use super::error::RunError;
 use super::limits::check_run_limits;
 use super::scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
-use crate::parallel::on_worker;
+use crate::parallel::{automatic_threads, in_pool, on_worker, ROTORS_PER_THREAD};
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
 use crate::scene::{boundary_error, Interactions, Scene};
+use std::num::NonZeroUsize;
 use std::path::Path;
+
+/// The environment variable that sizes rayon's shared pool.
+const RAYON_NUM_THREADS: &str = "RAYON_NUM_THREADS";
 
 /// The potential of a scene: `None` for rotors without interactions or
 /// fields (they run with [`Free`]), otherwise the [`MultipolePotential`]
@@ -43,7 +47,10 @@ pub fn prepare(scene: &Scene, keep: bool) -> Result<Option<MultipolePotential>, 
 }
 
 /// Runs a validated scene (`definition` is its raw form, for the summary)
-/// on a worker of the rayon pool.
+/// on a worker of a rayon pool of `outputs.threads` threads when given, else of the
+/// shared pool when `RAYON_NUM_THREADS` sizes it, else of
+/// [`automatic_threads`] for its rotors; the count and the reason are
+/// recorded in the summary ([`super::Threads`]).
 pub fn execute(
     scene: &Scene,
     definition: serde_json::Value,
@@ -51,7 +58,8 @@ pub fn execute(
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
-    on_worker(|| {
+    let (pool, _, _) = choose_threads(scene.rotors.len(), outputs.threads);
+    let go = move || {
         let built = prepare(scene, outputs.keep)?;
         let interactions = scene
             .interactions
@@ -75,5 +83,32 @@ pub fn execute(
             restart,
             progress,
         )
-    })
+    };
+    match pool {
+        Some(count) => in_pool(count, go).map_err(|e| RunError::Threads(e.to_string()))?,
+        None => on_worker(go),
+    }
+}
+
+/// The pool a run of `rotors` rotors takes (`None`: the shared pool), who
+/// chose it and why: `given` threads, else the shared pool when
+/// `RAYON_NUM_THREADS` sizes it, else [`automatic_threads`].
+pub(super) fn choose_threads(
+    rotors: usize,
+    given: Option<NonZeroUsize>,
+) -> (Option<NonZeroUsize>, &'static str, String) {
+    if let Some(count) = given {
+        return (Some(count), "given", format!("{count} threads given"));
+    }
+    if let Some(value) = std::env::var_os(RAYON_NUM_THREADS).filter(|v| !v.is_empty()) {
+        let reason = format!("{RAYON_NUM_THREADS}={}", value.to_string_lossy());
+        return (None, RAYON_NUM_THREADS, reason);
+    }
+    let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
+    let count = automatic_threads(rotors, cores);
+    let reason = format!(
+        "rotors {rotors}, cores {cores}: one thread per {ROTORS_PER_THREAD} rotors, \
+         at least 1, at most the cores"
+    );
+    (Some(count), "automatic", reason)
 }

@@ -4,12 +4,13 @@
 
 use super::checkpoint::{Checkpoint, CheckpointWriter, Identity};
 use super::error::RunError;
+use super::execute::choose_threads;
 use super::folder::{
     write_atomically, OutputFolder, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE,
 };
 use super::resume::{kept_summary_name, plan, Placement};
 use super::series::{CsvTarget, SeriesObserver, SeriesTable};
-use super::summary::{InteractionsSummary, Summary};
+use super::summary::{InteractionsSummary, Summary, Threads};
 use super::trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
 use crate::integrators::Integrator;
 use crate::potential::Potential;
@@ -18,6 +19,7 @@ use crate::simulation::{
     run, BlowUpChecks, CheckpointSink, Checkpoints, Control, EnergyHistory, EnergyReference,
     Observer, RunOptions, RunReport, Scheduled, Stop,
 };
+use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -33,6 +35,9 @@ pub struct Outputs {
     /// Stops the run from another thread (a signal handler, Ctrl-C in
     /// Python) at the end of a step.
     pub control: Option<Arc<Control>>,
+    /// The threads of the run (`None`: `RAYON_NUM_THREADS` if set, else
+    /// [`crate::parallel::automatic_threads`]; see [`super::execute`]).
+    pub threads: Option<NonZeroUsize>,
 }
 
 /// A progress reporter and its interval in steps.
@@ -82,7 +87,8 @@ pub struct RunResult {
 /// Runs `scene` with an integrator and a potential (both built from the
 /// scene by the caller, possibly wrapped), from t = 0 or from the checkpoint
 /// `restart`. The output folder is locked for the run; a restart keeps the
-/// files an earlier run left there (see [`Placement`]).
+/// files an earlier run left there (see [`Placement`]). The summary records
+/// the size of the rayon pool it runs in and why ([`choose_threads`]).
 pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,
@@ -92,6 +98,12 @@ pub fn run_scene(
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
+    let (_, chosen, reason) = choose_threads(scene.rotors.len(), outputs.threads);
+    let threads = &Threads {
+        count: rayon::current_num_threads(),
+        chosen,
+        reason,
+    };
     let ScenePotential {
         potential,
         interactions,
@@ -110,7 +122,13 @@ pub fn run_scene(
         checkpoints,
     } = Recorders::open(scene, integrator, files, outputs.keep, start_step)?;
     keep_earlier_summary(files, start_step)?;
-    let running = running_summary(scene, &definition, interactions, start_step, files)?;
+    let running = running_summary(
+        scene,
+        &definition,
+        interactions,
+        (start_step, threads),
+        files,
+    )?;
     let mut checkpoints = checkpoints.map(|(every, checkpoint)| {
         (
             every,
@@ -152,7 +170,7 @@ pub fn run_scene(
         definition,
         interactions.cloned(),
         &report,
-        start_step,
+        (start_step, threads),
     );
     let summary = placed(summary, files)?;
     Ok(RunResult {
@@ -245,13 +263,13 @@ fn running_summary(
     scene: &Scene,
     definition: &serde_json::Value,
     interactions: Option<&InteractionsSummary>,
-    start_step: u64,
+    start: (u64, &Threads),
     files: Option<(&Path, &Placement)>,
 ) -> Result<Option<(PathBuf, Summary)>, RunError> {
     let Some((dir, _)) = files else {
         return Ok(None);
     };
-    let summary = in_progress(scene, definition, interactions.cloned(), start_step);
+    let summary = in_progress(scene, definition, interactions.cloned(), start);
     Ok(Some((dir.join(SUMMARY_FILE), placed(summary, files)?)))
 }
 
@@ -264,7 +282,7 @@ fn in_progress(
     scene: &Scene,
     definition: &serde_json::Value,
     interactions: Option<InteractionsSummary>,
-    start_step: u64,
+    (start_step, threads): (u64, &Threads),
 ) -> Summary {
     let report = RunReport {
         stop: Stop::Completed,
@@ -274,7 +292,13 @@ fn in_progress(
         energy_history: EnergyHistory::default(),
         wall_seconds: 0.0,
     };
-    let mut summary = Summary::new(scene, definition.clone(), interactions, &report, start_step);
+    let mut summary = Summary::new(
+        scene,
+        definition.clone(),
+        interactions,
+        &report,
+        (start_step, threads),
+    );
     summary.status = RUNNING;
     summary
 }

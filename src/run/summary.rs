@@ -149,6 +149,19 @@ impl InteractionsSummary {
     }
 }
 
+/// How many threads a run used and why.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Threads {
+    /// The size of the rayon pool the run loop ran in.
+    pub count: usize,
+    /// Who chose it: `"given"` (`--threads`, Python's `threads=`),
+    /// `"RAYON_NUM_THREADS"` (the environment) or `"automatic"` (from the
+    /// number of rotors, [`crate::parallel::automatic_threads`]).
+    pub chosen: &'static str,
+    /// The rule or the setting that gave the count.
+    pub reason: String,
+}
+
 /// The summary written to `summary.json` and returned to Python.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Summary {
@@ -186,6 +199,8 @@ pub struct Summary {
     pub message: Option<String>,
     /// Wall-clock seconds of the run loop.
     pub wall_seconds: f64,
+    /// The threads the run used.
+    pub threads: Threads,
     /// The energy reference.
     pub initial_energy: Option<EnergyReference>,
     /// The last energies computed.
@@ -217,13 +232,14 @@ fn drift(report: &RunReport) -> Option<Drift> {
 
 impl Summary {
     /// The summary of `report` for `scene` (whose raw form is `definition`),
-    /// whose pair interactions were summed as `interactions` says.
+    /// whose pair interactions were summed as `interactions` says, run on
+    /// `threads`.
     pub fn new(
         scene: &Scene,
         definition: serde_json::Value,
         interactions: Option<InteractionsSummary>,
         report: &RunReport,
-        start_step: u64,
+        (start_step, threads): (u64, &Threads),
     ) -> Self {
         let final_energies = report
             .last_energies
@@ -258,6 +274,7 @@ impl Summary {
             },
             message: report.stop.message(),
             wall_seconds: report.wall_seconds,
+            threads: threads.clone(),
             initial_energy: report.reference,
             final_energies,
             drift: drift(report),

@@ -4,7 +4,7 @@ use super::ThermostatState;
 use std::fmt::Debug;
 
 /// A thermostat whose variables (positions `eta_j`, momenta `p_j`) obey
-/// first-order equations integrated with the rotors' (scheme A's
+/// first-order equations integrated beside the rotors' (scheme A's
 /// predictor-corrector and start-up): a friction `p_1/Q_1` on the coupled
 /// body angular velocities, and its own rates, which depend on the rotors'
 /// thermostatted kinetic energy.
@@ -27,12 +27,16 @@ pub trait ChainEquations: ThermostatState + Debug + Send + Sync {
     /// The current momenta `p_j`.
     fn momenta(&self) -> &[f64];
 
-    /// Sets the current positions and momenta (each [`ChainEquations::len`]
-    /// values).
-    fn set(&mut self, positions: &[f64], momenta: &[f64]);
-
     /// The friction on the angular velocities at the chain momenta `momenta`.
     fn friction(&self, momenta: &[f64]) -> f64;
+
+    /// Advances the chain's own equations over `h`, the rotors'
+    /// thermostatted kinetic energy being `kinetic_start` at the start and
+    /// `kinetic_end` at the end, by exact exponential factors for the
+    /// couplings `p_j p_{j+1} / Q_{j+1}` (stable however large they grow,
+    /// as they do when a start far from equilibrium releases heat); the
+    /// rotors' friction is the caller's.
+    fn advance(&mut self, kinetic_start: f64, kinetic_end: f64, h: f64);
 
     /// The time derivatives at the chain momenta `momenta` and the rotors'
     /// thermostatted kinetic energy `kinetic`: `eta_j'` into `positions_dot`,

@@ -21,11 +21,17 @@ pub trait SplitDynamics {
     /// The torques at the current orientations.
     fn evaluate_torques(&mut self, potential: &dyn Potential);
 
+    /// Half kick, then the free flow over `duration` (an integrator may do
+    /// both in one parallel pass over its rotors).
+    fn half_kick_then_flow(&mut self, duration: f64) {
+        self.half_kick();
+        self.free_flow(duration);
+    }
+
     /// The step without a thermostat: half kick, free flow over `dt`,
     /// torques at the new orientations, half kick.
     fn kick_flow_kick(&mut self, potential: &dyn Potential) {
-        self.half_kick();
-        self.free_flow(self.dt());
+        self.half_kick_then_flow(self.dt());
         self.evaluate_torques(potential);
         self.half_kick();
     }

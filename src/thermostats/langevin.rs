@@ -131,8 +131,7 @@ impl Thermostat for Langevin {
     /// B, A(dt/2), O(dt), A(dt/2), torques, B.
     fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
         let half = 0.5 * dynamics.dt();
-        dynamics.half_kick();
-        dynamics.free_flow(half);
+        dynamics.half_kick_then_flow(half);
         self.ornstein_uhlenbeck(dynamics);
         dynamics.free_flow(half);
         dynamics.evaluate_torques(potential);

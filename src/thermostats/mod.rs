@@ -12,8 +12,8 @@
 //! * [`Bussi`] (`bussi`): stochastic rescaling of the kinetic energy;
 //! * [`NoseHoover`] (`nose_hoover`): Nose-Hoover chains, a reversible
 //!   splitting; scheme A integrates the same chain ([`NoseHooverChain`], a
-//!   [`crate::thermostat_hook::ChainEquations`]) with its
-//!   predictor-corrector.
+//!   [`crate::thermostat_hook::ChainEquations`]): the friction with its
+//!   predictor-corrector, the chain by a composition of the same splitting.
 //!
 //! Bussi and Nose-Hoover act on the degrees of freedom of
 //! [`crate::thermostat_hook::CoupledDegrees`]: a spin the dynamics conserves

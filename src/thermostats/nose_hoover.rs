@@ -30,8 +30,10 @@
 //! the positions and the scaling of every angular momentum by
 //! `exp(-h p_1/Q_1)` over `h`, the momenta back over `h/2`. The step is time
 //! reversible; `H'` is conserved up to the splitting error (measured like the
-//! NVE drift). Scheme A integrates the same equations with its
-//! predictor-corrector (the [`ChainEquations`] of [`NoseHooverChain`]).
+//! NVE drift). Scheme A integrates the rotors' friction with its
+//! predictor-corrector and the chain by [`ChainEquations::advance`] (the same
+//! factorisation without the scaling, composed to sixth order), with the
+//! rotors' kinetic energy along the step.
 
 use crate::checks::{positive, InputError};
 use crate::potential::Potential;
@@ -143,13 +145,23 @@ impl NoseHooverChain {
         }
     }
 
-    /// The chain's flow over `h` (module doc) with the rotors' kinetic
-    /// energy `kinetic`; returns the factor by which every angular momentum
-    /// must be scaled.
-    pub fn half_step(&mut self, kinetic: f64, h: f64) -> f64 {
+    /// The momenta from the end of the chain to the first over `h/2`, with
+    /// the rotors' kinetic energy `kinetic`.
+    fn kick_down(&mut self, kinetic: f64, h: f64) {
         for j in (0..self.len()).rev() {
             self.kick_momentum(j, kinetic, h);
         }
+    }
+
+    /// The momenta from the first to the end of the chain over `h/2`.
+    fn kick_up(&mut self, kinetic: f64, h: f64) {
+        for j in 0..self.len() {
+            self.kick_momentum(j, kinetic, h);
+        }
+    }
+
+    /// The positions over `h`.
+    fn drift(&mut self, h: f64) {
         for ((eta, p), q) in self
             .positions
             .iter_mut()
@@ -158,11 +170,16 @@ impl NoseHooverChain {
         {
             *eta += h * p / q;
         }
+    }
+
+    /// The chain's flow over `h` (module doc) with the rotors' kinetic
+    /// energy `kinetic`; returns the factor by which every angular momentum
+    /// must be scaled.
+    pub fn half_step(&mut self, kinetic: f64, h: f64) -> f64 {
+        self.kick_down(kinetic, h);
+        self.drift(h);
         let scale = (-h * self.friction(&self.momenta)).exp();
-        let kinetic = kinetic * scale * scale;
-        for j in 0..self.len() {
-            self.kick_momentum(j, kinetic, h);
-        }
+        self.kick_up(kinetic * scale * scale, h);
         scale
     }
 }
@@ -227,14 +244,20 @@ impl ChainEquations for NoseHooverChain {
         &self.momenta
     }
 
-    fn set(&mut self, positions: &[f64], momenta: &[f64]) {
-        self.positions.copy_from_slice(positions);
-        self.momenta.copy_from_slice(momenta);
-    }
-
     /// `p_1 / Q_1`.
     fn friction(&self, momenta: &[f64]) -> f64 {
         momenta[0] / self.masses[0]
+    }
+
+    /// The chain's own equations over `h` by the factorisation of the
+    /// module doc without the scaling of the rotors (which the caller's
+    /// friction term does): momenta down the chain over `h/2` with
+    /// `kinetic_start`, positions over `h`, momenta up over `h/2` with
+    /// `kinetic_end`.
+    fn advance(&mut self, kinetic_start: f64, kinetic_end: f64, h: f64) {
+        self.kick_down(kinetic_start, h);
+        self.drift(h);
+        self.kick_up(kinetic_end, h);
     }
 
     /// The chain's equations (module doc).

@@ -173,6 +173,7 @@ pub fn outputs(dir: Option<&Path>, keep: bool) -> Outputs {
         dir: dir.map(Path::to_path_buf),
         keep,
         control: None,
+        threads: None,
     }
 }
 

@@ -145,13 +145,19 @@ def test_threads_fixes_the_pool_of_a_run():
     the same bits every time (here on the 2-core machine, whose shared pool
     has 2 threads), `threads=2` other last bits. Should the kernel become
     independent of the thread count, the second assertion fails and the
-    sweep may stop keying finished runs by their thread count."""
+    sweep may stop keying finished runs by their thread count. A given
+    count is honoured exactly and recorded in the summary."""
     scene = tomllib.loads(quatrot.builtin_scenes()["quadrupole_lattice_fcc"])
     scene["record"] = {"series": [{"every": 1, "quantities": ["total_energy"]}]}
     energy = {t: quatrot.run(scene, steps=5, threads=t)["series"]["observables"]["total_energy"] for t in (1, 2)}
     np.testing.assert_array_equal(quatrot.run(scene, steps=5, threads=1)["series"]["observables"]["total_energy"], energy[1])
     assert not np.array_equal(energy[1], energy[2])
     np.testing.assert_allclose(energy[1], energy[2], rtol=1e-12)
+    assert quatrot.run(scene, steps=1, threads=3)["summary"]["threads"] == {
+        "count": 3,
+        "chosen": "given",
+        "reason": "3 threads given",
+    }
     for bad in (0, -1):
         with pytest.raises(ValueError, match=rf"^threads: must be between 1 and 1024, got {bad}$"):
             quatrot.run("dipole_in_field", threads=bad)

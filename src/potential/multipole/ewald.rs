@@ -214,12 +214,7 @@ impl EwaldSum {
                 (first, out)
             })
             .collect();
-        let mut iter = partial.into_iter();
-        let (_, mut total) = iter.next().unwrap_or((0, SiteFields::zeros::<K>(n)));
-        for (first, fields) in iter {
-            total.add_from(&fields, first);
-        }
-        total
+        SiteFields::sum_blocks::<K>(partial, n)
     }
 
     /// The phases `exp(i 2 pi m x_a / L_a)` of one site for `m` in

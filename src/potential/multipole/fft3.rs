@@ -1,11 +1,13 @@
 //! Three-dimensional real-to-complex FFTs on an `n_x x n_y x n_z` grid:
 //! `realfft` along z, then `rustfft` along y and x, each axis as a batch of
 //! contiguous lines (the data is transposed between the axes). Large grids
-//! split their lines among the rayon threads.
+//! split their lines among the rayon threads. [`RealFft3::convolve`] runs a
+//! whole convolution (forward transforms, products per frequency, inverse
+//! transforms of several grids) in five parallel passes.
 //!
 //! Layouts: a real field is `[x][y][z]`; its half spectrum (the `n_z / 2 + 1`
 //! non-negative z frequencies) is `[k_z][k_y][k_x]`. The transforms are
-//! unnormalised: `inverse(forward(f)) = n_x n_y n_z f`.
+//! unnormalised: the inverse of the forward transform is `n_x n_y n_z f`.
 
 use rayon::prelude::*;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
@@ -15,6 +17,13 @@ use std::sync::Arc;
 
 /// Grids with fewer points run on the calling thread (threads cost more).
 const PARALLEL_MIN: usize = 1 << 15;
+
+/// [`RealFft3::convolve`] runs on the calling thread below this many grid
+/// points (over all its source and field grids).
+const CONVOLVE_PARALLEL_MIN: usize = 2048;
+
+/// Tasks per thread in a pass of [`RealFft3::convolve`].
+const TASKS_PER_THREAD: usize = 2;
 
 type C64 = Complex<f64>;
 
@@ -57,6 +66,31 @@ fn for_lines<T: Send>(
     );
 }
 
+/// Runs `f(first, units, scratch)` on runs of whole units (`unit` values
+/// each) of `buffer`, `first` the index of the run's first unit: one call on
+/// the calling thread when not `parallel` or on one thread, otherwise
+/// [`TASKS_PER_THREAD`] runs per thread of the pool, each task with its own
+/// scratch.
+fn for_units<T: Send, S>(
+    buffer: &mut [T],
+    unit: usize,
+    parallel: bool,
+    scratch: impl Fn() -> S + Sync + Send,
+    f: impl Fn(usize, &mut [T], &mut S) + Sync + Send,
+) {
+    let threads = rayon::current_num_threads();
+    if !parallel || threads == 1 || buffer.is_empty() {
+        f(0, buffer, &mut scratch());
+        return;
+    }
+    let units = buffer.len() / unit;
+    let per_task = units.div_ceil(TASKS_PER_THREAD * threads).max(1);
+    buffer
+        .par_chunks_mut(per_task * unit)
+        .enumerate()
+        .for_each_init(scratch, |s, (k, run)| f(k * per_task, run, s));
+}
+
 /// `to[(a * n_c + c) * n_b + b] = from[(a * n_b + b) * n_c + c]`: swaps the
 /// two inner axes of an `n_a x n_b x n_c` array.
 fn swap_inner(from: &[C64], to: &mut [C64], n_b: usize, n_c: usize) {
@@ -93,20 +127,6 @@ fn rotate(from: &[C64], to: &mut [C64], n_a: usize, n_b: usize, n_c: usize) {
         to.par_chunks_mut(n_a * n_b)
             .enumerate()
             .for_each(move_plane);
-    }
-}
-
-/// The inverse of [`rotate`]: `to[(a * n_b + b) * n_c + c] = from[(c * n_a + a) * n_b + b]`.
-fn unrotate(from: &[C64], to: &mut [C64], n_a: usize, n_b: usize, n_c: usize) {
-    let fill = |(ab, to): (usize, &mut [C64])| {
-        for (c, value) in to.iter_mut().enumerate() {
-            *value = from[c * n_a * n_b + ab];
-        }
-    };
-    if from.len() < PARALLEL_MIN {
-        to.chunks_mut(n_c).enumerate().for_each(fill);
-    } else {
-        to.par_chunks_mut(n_c).enumerate().for_each(fill);
     }
 }
 
@@ -150,23 +170,26 @@ impl RealFft3 {
         (k[2] * self.n[1] + k[1]) * self.n[0] + k[0]
     }
 
-    /// The half spectrum of `field` (destroyed) into `spectrum`, with `work`
-    /// (both `spectrum_len()` long).
-    pub fn forward(&self, field: &mut [f64], spectrum: &mut [C64], work: &mut [C64]) {
+    /// The half spectrum of `field` into `spectrum`, with `work` (both
+    /// `spectrum_len()` long).
+    pub fn forward(&self, field: &[f64], spectrum: &mut [C64], work: &mut [C64]) {
         let [nx, ny, nz] = self.n;
         let half = self.half;
         // z: [x][y][z] -> [x][y][kz]
         let r2c = &self.r2c;
-        let mut pairs: Vec<(&mut [f64], &mut [C64])> = field
-            .chunks_mut(nz)
-            .zip(spectrum.chunks_mut(half))
-            .collect();
-        for_lines(&mut pairs, 1, r2c.get_scratch_len(), |lines, scratch| {
-            for (input, output) in lines.iter_mut() {
-                r2c.process_with_scratch(input, output, scratch)
-                    .expect("line lengths match the plan");
-            }
-        });
+        for_units(
+            spectrum,
+            half,
+            field.len() >= PARALLEL_MIN,
+            || (vec![0.0; nz], vec![C64::default(); r2c.get_scratch_len()]),
+            |first, out, (line, scratch)| {
+                for (l, output) in out.chunks_mut(half).enumerate() {
+                    line.copy_from_slice(&field[(first + l) * nz..][..nz]);
+                    r2c.process_with_scratch(line, output, scratch)
+                        .expect("line lengths match the plan");
+                }
+            },
+        );
         // y: -> [kz][x][y], transform, -> [kz][ky][x]... see below
         rotate(spectrum, work, nx, ny, half);
         self.lines(&self.y[0], work, ny);
@@ -175,32 +198,152 @@ impl RealFft3 {
         debug_assert_eq!(spectrum.len(), nx * ny * half);
     }
 
-    /// The real field (times `n_x n_y n_z`) of `spectrum` (destroyed), with
-    /// `work`. The imaginary parts that a real field's spectrum lacks (its
-    /// `k_z = 0` and `k_z = n_z / 2` planes after the x and y transforms)
-    /// are dropped.
-    pub fn inverse(&self, spectrum: &mut [C64], field: &mut [f64], work: &mut [C64]) {
+    /// The batched circular convolution of `sources` real grids into
+    /// `fields` real grids, in five passes over grid lines (each one parallel
+    /// section on large grids, see [`for_units`]): `fill(l, lines)` writes
+    /// the `sources` real z lines `[g][z]` of grid line `l = x n_y + y`; each
+    /// is transformed along z, then y, then x; `multiply(m, s, f)` turns the
+    /// x lines `s` (`[g][k_x]`) of `m = k_z n_y + k_y` into the field x lines
+    /// `f` (`[t][k_x]`); those are transformed back along x, y and z.
+    /// Returns the real fields (times `n_x n_y n_z`) as `[l][t][z]`.
+    ///
+    /// Each line is transformed on its own and the gathers are copies, so
+    /// the result does not depend on the number of threads or tasks. The
+    /// imaginary parts that a real field's spectrum lacks (its `k_z = 0` and
+    /// `k_z = n_z / 2` planes after the x and y transforms) are dropped.
+    pub fn convolve(
+        &self,
+        (sources, fields): (usize, usize),
+        fill: impl Fn(usize, &mut [f64]) + Sync,
+        multiply: impl Fn(usize, &[C64], &mut [C64]) + Sync,
+    ) -> Vec<f64> {
         let [nx, ny, nz] = self.n;
         let half = self.half;
-        self.lines(&self.x[1], spectrum, nx);
-        swap_inner(spectrum, work, ny, nx);
-        self.lines(&self.y[1], work, ny);
-        unrotate(work, spectrum, nx, ny, half);
-        let c2r = &self.c2r;
-        let mut pairs: Vec<(&mut [C64], &mut [f64])> = spectrum
-            .chunks_mut(half)
-            .zip(field.chunks_mut(nz))
-            .collect();
-        for_lines(&mut pairs, 1, c2r.get_scratch_len(), |lines, scratch| {
-            for (input, output) in lines.iter_mut() {
-                input[0].im = 0.0;
-                if nz % 2 == 0 {
-                    input[half - 1].im = 0.0;
+        let parallel = (sources + fields) * nx * ny * nz >= CONVOLVE_PARALLEL_MIN;
+        // z: [l][g][kz].
+        let mut along_z = vec![C64::default(); nx * ny * sources * half];
+        let r2c = &self.r2c;
+        for_units(
+            &mut along_z,
+            sources * half,
+            parallel,
+            || {
+                (
+                    vec![0.0; sources * nz],
+                    vec![C64::default(); r2c.get_scratch_len()],
+                )
+            },
+            |first, out, (real, scratch)| {
+                for (l, out) in out.chunks_mut(sources * half).enumerate() {
+                    fill(first + l, real);
+                    for (input, output) in real.chunks_mut(nz).zip(out.chunks_mut(half)) {
+                        r2c.process_with_scratch(input, output, scratch)
+                            .expect("line lengths match the plan");
+                    }
                 }
-                c2r.process_with_scratch(input, output, scratch)
-                    .expect("line lengths match the plan");
-            }
+            },
+        );
+        // y: [kz x][g][y], gathered from [x y][g][kz].
+        let along_y = self.y_pass(&self.y[0], sources, parallel, |kz, x, g, y| {
+            along_z[((x * ny + y) * sources + g) * half + kz]
         });
+        drop(along_z);
+        // x, the products and x back: [kz ky][t][x], gathered from [kz x][g][y].
+        let mut spectra = vec![C64::default(); half * ny * fields * nx];
+        let x_scratch =
+            (self.x[0].get_inplace_scratch_len()).max(self.x[1].get_inplace_scratch_len());
+        for_units(
+            &mut spectra,
+            fields * nx,
+            parallel,
+            || {
+                (
+                    vec![C64::default(); sources * nx],
+                    vec![C64::default(); x_scratch],
+                )
+            },
+            |first, out, (s, scratch)| {
+                for (m, out) in out.chunks_mut(fields * nx).enumerate() {
+                    let (kz, ky) = ((first + m) / ny, (first + m) % ny);
+                    for (g, line) in s.chunks_mut(nx).enumerate() {
+                        for (x, v) in line.iter_mut().enumerate() {
+                            *v = along_y[((kz * nx + x) * sources + g) * ny + ky];
+                        }
+                    }
+                    self.x[0].process_with_scratch(s, scratch);
+                    multiply(first + m, s, out);
+                }
+                self.x[1].process_with_scratch(out, scratch);
+            },
+        );
+        drop(along_y);
+        // y back: [kz x][t][y], gathered from [kz ky][t][x].
+        let back_y = self.y_pass(&self.y[1], fields, parallel, |kz, x, t, ky| {
+            spectra[((kz * ny + ky) * fields + t) * nx + x]
+        });
+        drop(spectra);
+        // z back: [l][t][z], gathered from [kz x][t][y].
+        let mut real = vec![0.0; nx * ny * fields * nz];
+        let c2r = &self.c2r;
+        for_units(
+            &mut real,
+            fields * nz,
+            parallel,
+            || {
+                (
+                    vec![C64::default(); half],
+                    vec![C64::default(); c2r.get_scratch_len()],
+                )
+            },
+            |first, out, (line, scratch)| {
+                for (l, out) in out.chunks_mut(fields * nz).enumerate() {
+                    let (x, y) = ((first + l) / ny, (first + l) % ny);
+                    for (t, output) in out.chunks_mut(nz).enumerate() {
+                        for (kz, v) in line.iter_mut().enumerate() {
+                            *v = back_y[((kz * nx + x) * fields + t) * ny + y];
+                        }
+                        line[0].im = 0.0;
+                        if nz % 2 == 0 {
+                            line[half - 1].im = 0.0;
+                        }
+                        c2r.process_with_scratch(line, output, scratch)
+                            .expect("line lengths match the plan");
+                    }
+                }
+            },
+        );
+        real
+    }
+
+    /// A y pass of [`Self::convolve`]: the `[kz x][g][y]` lines of `grids`
+    /// grids, each value `at(kz, x, g, y)`, transformed by `fft`.
+    fn y_pass(
+        &self,
+        fft: &Arc<dyn Fft<f64>>,
+        grids: usize,
+        parallel: bool,
+        at: impl Fn(usize, usize, usize, usize) -> C64 + Sync,
+    ) -> Vec<C64> {
+        let [nx, ny, _] = self.n;
+        let mut out = vec![C64::default(); self.half * nx * grids * ny];
+        for_units(
+            &mut out,
+            grids * ny,
+            parallel,
+            || vec![C64::default(); fft.get_inplace_scratch_len()],
+            |first, out, scratch| {
+                for (p, out) in out.chunks_mut(grids * ny).enumerate() {
+                    let (kz, x) = ((first + p) / nx, (first + p) % nx);
+                    for (g, line) in out.chunks_mut(ny).enumerate() {
+                        for (y, v) in line.iter_mut().enumerate() {
+                            *v = at(kz, x, g, y);
+                        }
+                    }
+                }
+                fft.process_with_scratch(out, scratch);
+            },
+        );
+        out
     }
 
     /// `fft` on every line of `len` points of `buffer`.
@@ -221,18 +364,62 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
+    /// `a f + b g` for two grids `f`, `g` (the linear map of a convolution
+    /// with a constant kernel), as `convolve` returns them, divided by `N`.
+    fn linear_map(plan: &RealFft3, grids: [&[f64]; 2], weights: &[[f64; 2]]) -> Vec<Vec<f64>> {
+        let [nx, ny, nz] = plan.dims();
+        let fields = weights.len();
+        let real = plan.convolve(
+            (2, fields),
+            |l, lines| {
+                for (g, line) in lines.chunks_mut(nz).enumerate() {
+                    line.copy_from_slice(&grids[g][l * nz..(l + 1) * nz]);
+                }
+            },
+            |_, s, f| {
+                for (t, w) in weights.iter().enumerate() {
+                    for kx in 0..nx {
+                        f[t * nx + kx] = s[kx] * w[0] + s[nx + kx] * w[1];
+                    }
+                }
+            },
+        );
+        let total = (nx * ny * nz) as f64;
+        (0..fields)
+            .map(|t| {
+                (0..nx * ny * nz)
+                    .map(|cell| real[((cell / nz) * fields + t) * nz + cell % nz] / total)
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Three linear maps of two grids, `convolve` against the values computed
+    /// directly, to the rounding of two transforms.
+    fn assert_linear_maps(plan: &RealFft3, f: &[f64], g: &[f64], tolerance: f64) {
+        let weights = [[1.0, 0.0], [0.0, 1.0], [0.5, -2.0]];
+        for (t, got) in linear_map(plan, [f, g], &weights).iter().enumerate() {
+            let [a, b] = weights[t];
+            for (cell, v) in got.iter().enumerate() {
+                let want = a * f[cell] + b * g[cell];
+                assert!((v - want).abs() < tolerance, "field {t}, cell {cell}");
+            }
+        }
+    }
+
     /// The forward transform equals the direct DFT `sum f(x) exp(-2 pi i k.x / n)`
-    /// on an odd and an even grid, and the inverse returns `n f`.
+    /// on odd and even grids; `convolve` with a constant kernel returns `N`
+    /// times the linear map of its source grids, for each field grid.
     #[test]
-    fn forward_matches_the_direct_dft_and_inverse_inverts() {
+    fn forward_matches_the_direct_dft_and_convolve_maps_grids() {
         for n in [[3, 4, 5], [4, 2, 6], [1, 1, 7]] {
             let plan = RealFft3::new(n);
             let total: usize = n.iter().product();
             let field: Vec<f64> = (0..total).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
-            let mut input = field.clone();
+            let other: Vec<f64> = (0..total).map(|i| ((i * 31) % 7) as f64 * 0.5).collect();
             let mut spectrum = vec![C64::default(); plan.spectrum_len()];
             let mut work = spectrum.clone();
-            plan.forward(&mut input, &mut spectrum, &mut work);
+            plan.forward(&field, &mut spectrum, &mut work);
             for kx in 0..n[0] {
                 for ky in 0..n[1] {
                     for kz in 0..n[2] / 2 + 1 {
@@ -255,27 +442,26 @@ mod tests {
                     }
                 }
             }
-            let mut back = vec![0.0; total];
-            plan.inverse(&mut spectrum, &mut back, &mut work);
-            for (a, b) in back.iter().zip(&field) {
-                assert!((a / total as f64 - b).abs() < 1e-13);
-            }
+            assert_linear_maps(&plan, &field, &other, 1e-13);
         }
     }
 
-    /// A grid above [`PARALLEL_MIN`] (48 x 40 x 64, and its half spectrum)
-    /// takes the parallel paths. A sum of plane waves
-    /// `a cos(2 pi k.x / n + phi)` has the closed-form spectrum
-    /// `N a / 2 exp(i phi)` at `k` and its conjugate at `-k` (in the half
-    /// spectrum only when `k_z = 0`), zero elsewhere; the inverse returns
-    /// `N f`. Rounding: a few ulps of the largest entry per transform stage.
-    /// Run in a pool of eight threads, as on a machine with more cores.
+    /// A grid above [`PARALLEL_MIN`] and [`CONVOLVE_PARALLEL_MIN`]
+    /// (48 x 40 x 64, and its half spectrum) takes the parallel paths. A sum
+    /// of plane waves `a cos(2 pi k.x / n + phi)` has the closed-form
+    /// spectrum `N a / 2 exp(i phi)` at `k` and its conjugate at `-k` (in
+    /// the half spectrum only when `k_z = 0`), zero elsewhere; `convolve`
+    /// returns `N` times the linear maps of two grids, and the same bits on
+    /// one thread and on eight. Rounding: a few ulps of the largest entry per
+    /// transform stage. Run in a pool of eight threads, as on a machine with
+    /// more cores.
     #[test]
     fn large_grids_transform_plane_waves_exactly() {
         let n = [48, 40, 64];
         let plan = RealFft3::new(n);
         let total: usize = n.iter().product();
         assert!(total >= PARALLEL_MIN && plan.spectrum_len() >= PARALLEL_MIN);
+        assert!(total >= CONVOLVE_PARALLEL_MIN);
         let waves = [
             ([3, 5, 7], 1.0, 0.3),
             ([47, 1, 20], 0.5, -1.1),
@@ -305,15 +491,16 @@ mod tests {
                 expected[plan.spectrum_index(minus)] += C64::from_polar(half, -phi);
             }
         }
-        let mut input = field.clone();
         let mut spectrum = vec![C64::default(); plan.spectrum_len()];
         let mut work = spectrum.clone();
         // Eight threads, more than this machine's cores, as on a larger machine.
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(8)
-            .build()
-            .unwrap();
-        pool.install(|| plan.forward(&mut input, &mut spectrum, &mut work));
+        let pool = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+        };
+        pool(8).install(|| plan.forward(&field, &mut spectrum, &mut work));
         let largest = total as f64 / 2.0;
         for (i, (got, want)) in spectrum.iter().zip(&expected).enumerate() {
             assert!(
@@ -321,10 +508,14 @@ mod tests {
                 "entry {i}: {got} vs {want}"
             );
         }
-        let mut back = vec![0.0; total];
-        pool.install(|| plan.inverse(&mut spectrum, &mut back, &mut work));
-        for (a, b) in back.iter().zip(&field) {
-            assert!((a / total as f64 - b).abs() < 1e-12);
-        }
+        let other: Vec<f64> = field.iter().map(|v| v * v - 0.25).collect();
+        pool(8).install(|| assert_linear_maps(&plan, &field, &other, 1e-12));
+        let weights = [[0.5, -2.0]];
+        let on_eight = pool(8).install(|| linear_map(&plan, [&field, &other], &weights));
+        let on_one = pool(1).install(|| linear_map(&plan, [&field, &other], &weights));
+        assert!(on_eight[0]
+            .iter()
+            .zip(&on_one[0])
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
     }
 }

@@ -25,7 +25,11 @@
 use super::pairs::PairTable;
 use super::pairs::{PairGeometry, PairRows};
 use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
 use std::ops::Range;
+
+/// Rotors per rayon task when blocks of fields are summed.
+const ROTORS_PER_MERGE: usize = 1024;
 
 /// Which multipoles the system carries (chosen once per evaluation).
 pub(crate) trait MultipoleKind: Send + Sync {
@@ -108,22 +112,55 @@ impl SiteFields {
         }
     }
 
-    /// Adds `other`'s entries from rotor `from` on (the rotors it may have touched).
-    pub fn add_from(&mut self, other: &SiteFields, from: usize) {
-        for (a, b) in self.field.iter_mut().zip(&other.field).skip(from) {
-            for k in 0..4 {
-                a[k] += b[k];
-            }
-        }
-        for (a, b) in self
-            .quadrupole_conjugate
-            .iter_mut()
-            .zip(&other.quadrupole_conjugate)
-            .skip(from)
-        {
-            *a += b;
-        }
+    /// The sum of the fields of blocks of rows, `(first row, fields)` in
+    /// block order: each rotor's entry is the first block's plus each later
+    /// block's whose first row is at or before the rotor (the rotors a
+    /// block may have touched), added in block order; one parallel pass
+    /// over the rotors. No blocks give zero fields for `n` rotors.
+    pub fn sum_blocks<K: MultipoleKind>(blocks: Vec<(usize, SiteFields)>, n: usize) -> SiteFields {
+        let mut blocks = blocks.into_iter();
+        let Some((_, mut total)) = blocks.next() else {
+            return SiteFields::zeros::<K>(n);
+        };
+        let rest: Vec<(usize, SiteFields)> = blocks.collect();
+        add_blocks(
+            &mut total.field,
+            &rest,
+            |f| &f.field,
+            |a, b| {
+                for k in 0..4 {
+                    a[k] += b[k];
+                }
+            },
+        );
+        add_blocks(
+            &mut total.quadrupole_conjugate,
+            &rest,
+            |f| &f.quadrupole_conjugate,
+            |a, b| *a += b,
+        );
+        total
     }
+}
+
+/// Adds to each rotor's entry of `total` the entries (`entries`) of the
+/// blocks of `rest` whose first row is at or before the rotor, in block
+/// order; one parallel pass over the rotors.
+fn add_blocks<T: Send + Sync>(
+    total: &mut [T],
+    rest: &[(usize, SiteFields)],
+    entries: impl Fn(&SiteFields) -> &[T] + Sync,
+    add: impl Fn(&mut T, &T) + Sync,
+) {
+    total
+        .par_iter_mut()
+        .with_min_len(ROTORS_PER_MERGE)
+        .enumerate()
+        .for_each(|(i, a)| {
+            for (_, other) in rest.iter().filter(|(first, _)| *first <= i) {
+                add(a, &entries(other)[i]);
+            }
+        });
 }
 
 /// Accumulates into `out` the fields of all pairs `(i, j)` with `i` in `rows`

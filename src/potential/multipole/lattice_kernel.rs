@@ -208,12 +208,10 @@ fn add_transformed(
     let spectrum = plan.spectrum_len();
     let cells = tensor.len() / shape.block();
     let scale = 1.0 / cells as f64;
-    let mut real = vec![0.0; cells];
     let mut transformed = vec![C64::default(); spectrum];
     let mut work = vec![C64::default(); spectrum];
     for (fc, grid) in tensor.chunks_exact(cells).enumerate() {
-        real.copy_from_slice(grid);
-        plan.forward(&mut real, &mut transformed, &mut work);
+        plan.forward(grid, &mut transformed, &mut work);
         let (f, c) = (fc / shape.sources, fc % shape.sources);
         for (q, value) in transformed.iter().enumerate() {
             kernel[shape.index(q, (target, f), (source, c))] = value * scale;

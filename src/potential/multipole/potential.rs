@@ -212,17 +212,24 @@ impl MultipolePotential {
         gradient: Option<&mut [Quat]>,
         torques_space: Option<&mut [Vector3<f64>]>,
     ) -> f64 {
+        self.evaluate_with(orientations, gradient, torques_space, true)
+    }
+
+    /// [`Self::evaluate`], the energy summed only when `energy` (otherwise
+    /// 0 is returned): the steps of the integrators need no energy.
+    fn evaluate_with(
+        &self,
+        orientations: &[Quat],
+        gradient: Option<&mut [Quat]>,
+        torques_space: Option<&mut [Vector3<f64>]>,
+        energy: bool,
+    ) -> f64 {
+        let (q, g, t, e) = (orientations, gradient, torques_space, energy);
         match self.carried {
             Carried::Nothing => 0.0,
-            Carried::Dipoles => {
-                self.evaluate_kind::<Dipoles>(orientations, gradient, torques_space)
-            }
-            Carried::Quadrupoles => {
-                self.evaluate_kind::<Quadrupoles>(orientations, gradient, torques_space)
-            }
-            Carried::Both => {
-                self.evaluate_kind::<DipolesAndQuadrupoles>(orientations, gradient, torques_space)
-            }
+            Carried::Dipoles => self.evaluate_kind::<Dipoles>(q, g, t, e),
+            Carried::Quadrupoles => self.evaluate_kind::<Quadrupoles>(q, g, t, e),
+            Carried::Both => self.evaluate_kind::<DipolesAndQuadrupoles>(q, g, t, e),
         }
     }
 
@@ -230,25 +237,30 @@ impl MultipolePotential {
         self.dipoles_body.len().max(self.quadrupoles_body.len())
     }
 
+    /// One evaluation in three parallel passes and the pair sum: the
+    /// space-frame multipoles (per rotor), the pair fields (the sum's own
+    /// sections), the energy when asked (in rotor order, on one thread), and
+    /// one per-rotor pass that adds the external fields and writes the
+    /// gradient and the torques ([`Self::add_per_rotor`]).
     fn evaluate_kind<K: MultipoleKind>(
         &self,
         orientations: &[Quat],
         gradient: Option<&mut [Quat]>,
-        torques_space: Option<&mut [Vector3<f64>]>,
+        torques: Option<&mut [Vector3<f64>]>,
+        energy: bool,
     ) -> f64 {
         let n = self.rotor_count();
         assert_eq!(orientations.len(), n, "orientations: one per rotor");
         let multipoles = self.space_multipoles::<K>(orientations);
-        let mut fields = self.pair_fields::<K>(&multipoles);
-        let energy = self.energy_and_external_fields::<K>(&multipoles, &mut fields);
-        if let Some(gradient) = gradient {
-            assert_eq!(gradient.len(), n, "gradient: one per rotor");
-            self.add_gradient::<K>(orientations, &fields, gradient);
-        }
-        if let Some(torques) = torques_space {
-            assert_eq!(torques.len(), n, "torques_space: one per rotor");
-            add_torques::<K>(&multipoles, &fields, torques);
-        }
+        let fields = self.pair_fields::<K>(&multipoles);
+        let energy = if energy {
+            self.energy::<K>(&multipoles, &fields)
+        } else {
+            0.0
+        };
+        let gradient = gradient.inspect(|g| assert_eq!(g.len(), n, "gradient: one per rotor"));
+        let torques = torques.inspect(|t| assert_eq!(t.len(), n, "torques_space: one per rotor"));
+        self.add_per_rotor::<K>(orientations, &multipoles, &fields, gradient, torques);
         energy
     }
 
@@ -314,7 +326,7 @@ impl MultipolePotential {
     ) -> SiteFields {
         let n = self.rotor_count();
         let blocks = balanced_blocks(pairs.starts(), rayon::current_num_threads());
-        let mut partial: Vec<(usize, SiteFields)> = blocks
+        let partial: Vec<(usize, SiteFields)> = blocks
             .into_par_iter()
             .map(|rows| {
                 let mut fields = SiteFields::zeros::<K>(n);
@@ -323,21 +335,12 @@ impl MultipolePotential {
                 (first, fields)
             })
             .collect();
-        let (_, mut total) = partial.remove(0);
-        for (first, fields) in &partial {
-            total.add_from(fields, *first);
-        }
-        total
+        SiteFields::sum_blocks::<K>(partial, n)
     }
 
     /// The energy `1/2 sum (-mu.E + Theta:W)` of the pair fields plus the
-    /// external terms `-mu.E0 - 1/3 Theta:G0`; then adds the external fields
-    /// (`E0`, and `W0 = -G0/3`) to the site fields.
-    fn energy_and_external_fields<K: MultipoleKind>(
-        &self,
-        multipoles: &SpaceMultipoles,
-        fields: &mut SiteFields,
-    ) -> f64 {
+    /// external terms `-mu.E0 - 1/3 Theta:G0`, summed in rotor order.
+    fn energy<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles, fields: &SiteFields) -> f64 {
         let mut energy = 0.0;
         if K::DIPOLES {
             let pair: f64 = multipoles
@@ -352,11 +355,6 @@ impl MultipolePotential {
                     acc + Vector3::new(mu[0], mu[1], mu[2])
                 });
                 energy -= total_dipole.dot(&e0);
-                for e in &mut fields.field {
-                    for k in 0..3 {
-                        e[k] += e0[k];
-                    }
-                }
             }
         }
         if K::QUADRUPOLES {
@@ -368,61 +366,93 @@ impl MultipolePotential {
                 .sum();
             energy += 0.5 * pair;
             if let Some(g0) = self.external.field_gradient {
-                let w0 = (g0 + g0.transpose()) / -6.0;
                 let total: Matrix3<f64> = multipoles.quadrupoles.iter().sum();
-                energy += total.dot(&w0);
-                for w in &mut fields.quadrupole_conjugate {
-                    *w += w0;
-                }
+                energy += total.dot(&external_conjugate(&g0));
             }
         }
         energy
     }
 
-    /// Adds `dV/dq_k = dA/dq_k : B` (eq 14), `B = -mu_b E^T + 2 Theta_b A W`.
-    fn add_gradient<K: MultipoleKind>(
+    /// One parallel pass over the rotors: the external fields (`E0`, and
+    /// `W0 = -G0/3`) added to each rotor's pair fields, then
+    /// `dV/dq_k = dA/dq_k : B` (eq 14), `B = -mu_b E^T + 2 Theta_b A W`,
+    /// added to `gradient` and `mu_s x E - 2 vec(Theta_s W)` to `torques`.
+    fn add_per_rotor<K: MultipoleKind>(
         &self,
         orientations: &[Quat],
+        multipoles: &SpaceMultipoles,
         fields: &SiteFields,
-        gradient: &mut [Quat],
+        gradient: Option<&mut [Quat]>,
+        torques: Option<&mut [Vector3<f64>]>,
     ) {
-        gradient
-            .par_iter_mut()
-            .with_min_len(ROTORS_PER_TASK)
-            .enumerate()
-            .for_each(|(i, g)| {
-                let q = &orientations[i];
-                let mut b = Matrix3::zeros();
-                if K::DIPOLES {
-                    let e = &fields.field[i];
-                    b -= self.dipoles_body[i] * Vector3::new(e[0], e[1], e[2]).transpose();
-                }
-                if K::QUADRUPOLES {
-                    let a = q.space_to_body_matrix();
-                    b += self.quadrupoles_body[i] * a * fields.quadrupole_conjugate[i] * 2.0;
-                }
-                let d = q.space_to_body_matrix_derivatives();
-                *g += Quat(std::array::from_fn(|k| d[k].dot(&b)));
-            });
+        let e0 = self.external.field.filter(|_| K::DIPOLES);
+        let w0 = self
+            .external
+            .field_gradient
+            .filter(|_| K::QUADRUPOLES)
+            .map(|g0| external_conjugate(&g0));
+        let field = |i: usize| {
+            let e = &fields.field[i];
+            match e0 {
+                Some(e0) => Vector3::new(e[0] + e0[0], e[1] + e0[1], e[2] + e0[2]),
+                None => Vector3::new(e[0], e[1], e[2]),
+            }
+        };
+        let conjugate = |i: usize| match w0 {
+            Some(w0) => fields.quadrupole_conjugate[i] + w0,
+            None => fields.quadrupole_conjugate[i],
+        };
+        let gradient_of = |i: usize| {
+            let q = &orientations[i];
+            let mut b = Matrix3::zeros();
+            if K::DIPOLES {
+                b -= self.dipoles_body[i] * field(i).transpose();
+            }
+            if K::QUADRUPOLES {
+                let a = q.space_to_body_matrix();
+                b += self.quadrupoles_body[i] * a * conjugate(i) * 2.0;
+            }
+            let d = q.space_to_body_matrix_derivatives();
+            Quat(std::array::from_fn(|k| d[k].dot(&b)))
+        };
+        let add_torque = |i: usize, torque: &mut Vector3<f64>| {
+            if K::DIPOLES {
+                let mu = &multipoles.dipoles[i];
+                *torque += Vector3::new(mu[0], mu[1], mu[2]).cross(&field(i));
+            }
+            if K::QUADRUPOLES {
+                let m = multipoles.quadrupoles[i] * conjugate(i);
+                *torque -= Vector3::new(m.m23 - m.m32, m.m31 - m.m13, m.m12 - m.m21) * 2.0;
+            }
+        };
+        match (gradient, torques) {
+            (Some(gradient), Some(torques)) => gradient
+                .par_iter_mut()
+                .zip(torques)
+                .with_min_len(ROTORS_PER_TASK)
+                .enumerate()
+                .for_each(|(i, (g, t))| {
+                    *g += gradient_of(i);
+                    add_torque(i, t);
+                }),
+            (Some(gradient), None) => gradient
+                .par_iter_mut()
+                .with_min_len(ROTORS_PER_TASK)
+                .enumerate()
+                .for_each(|(i, g)| *g += gradient_of(i)),
+            (None, Some(torques)) => torques
+                .par_iter_mut()
+                .with_min_len(ROTORS_PER_TASK)
+                .enumerate()
+                .for_each(|(i, t)| add_torque(i, t)),
+            (None, None) => {}
+        }
     }
 }
 
-/// Adds `mu_s x E - 2 vec(Theta_s W)` to each rotor's space-frame torque.
-fn add_torques<K: MultipoleKind>(
-    multipoles: &SpaceMultipoles,
-    fields: &SiteFields,
-    torques: &mut [Vector3<f64>],
-) {
-    for (i, torque) in torques.iter_mut().enumerate() {
-        if K::DIPOLES {
-            let (mu, e) = (&multipoles.dipoles[i], &fields.field[i]);
-            *torque += Vector3::new(mu[0], mu[1], mu[2]).cross(&Vector3::new(e[0], e[1], e[2]));
-        }
-        if K::QUADRUPOLES {
-            let m = multipoles.quadrupoles[i] * fields.quadrupole_conjugate[i];
-            *torque -= Vector3::new(m.m23 - m.m32, m.m31 - m.m13, m.m12 - m.m21) * 2.0;
-        }
-    }
+/// `W0 = -G0/3` of the field gradient `G0` (symmetrised).
+fn external_conjugate(g0: &Matrix3<f64>) -> Matrix3<f64> {
+    (g0 + g0.transpose()) / -6.0
 }
 
 impl Potential for MultipolePotential {
@@ -431,11 +461,11 @@ impl Potential for MultipolePotential {
     }
 
     fn accumulate_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) {
-        let _ = self.evaluate(orientations, Some(gradient), None);
+        let _ = self.evaluate_with(orientations, Some(gradient), None, false);
     }
 
     fn accumulate_torques(&self, orientations: &[Quat], torques_space: &mut [Vector3<f64>]) {
-        let _ = self.evaluate(orientations, None, Some(torques_space));
+        let _ = self.evaluate_with(orientations, None, Some(torques_space), false);
     }
 
     fn energy_and_gradient(&self, orientations: &[Quat], gradient: &mut [Quat]) -> f64 {

@@ -29,7 +29,13 @@
 
 use super::kernels::{Lanes, MulAdd};
 use super::pairs::PairTable;
+use rayon::prelude::*;
 use std::collections::HashMap;
+
+/// Entries per rayon task when the dipoles are copied into component
+/// arrays: a copy costs a few nanoseconds, so the 1000-rotor lattice stays
+/// on one thread and larger ones split.
+const ENTRIES_PER_TASK: usize = 2048;
 
 /// Largest overhead (ghost entries plus padded lanes, as a fraction of the
 /// directed pairs) for which the quad kernel is used.
@@ -238,19 +244,32 @@ impl RowQuads {
         self.start.len() - 1
     }
 
-    /// The dipoles in component arrays, with the ghost copies.
+    /// The dipoles in component arrays, with the ghost copies (the three
+    /// entries after them stay zero), in parallel chunks of
+    /// [`ENTRIES_PER_TASK`] entries.
     pub fn extend(&self, dipoles: &[Lanes]) -> ExtendedDipoles {
         let len = self.rotors + self.ghosts.len() + 3;
         let (mut x, mut y, mut z) = (vec![0.0; len], vec![0.0; len], vec![0.0; len]);
         let zero = Lanes::default();
-        let ghosts = self
-            .ghosts
-            .iter()
-            .map(|&j| dipoles.get(j as usize).unwrap_or(&zero));
-        let entries = x.iter_mut().zip(&mut y).zip(&mut z);
-        for (((x, y), z), mu) in entries.zip(dipoles.iter().chain(ghosts)) {
-            (*x, *y, *z) = (mu[0], mu[1], mu[2]);
-        }
+        let source = |k: usize| match dipoles.get(k) {
+            Some(mu) => Some(mu),
+            None => self
+                .ghosts
+                .get(k - dipoles.len())
+                .map(|&j| dipoles.get(j as usize).unwrap_or(&zero)),
+        };
+        x.par_chunks_mut(ENTRIES_PER_TASK)
+            .zip(y.par_chunks_mut(ENTRIES_PER_TASK))
+            .zip(z.par_chunks_mut(ENTRIES_PER_TASK))
+            .enumerate()
+            .for_each(|(c, ((x, y), z))| {
+                let entries = x.iter_mut().zip(y).zip(z).enumerate();
+                for (k, ((x, y), z)) in entries {
+                    if let Some(mu) = source(c * ENTRIES_PER_TASK + k) {
+                        (*x, *y, *z) = (mu[0], mu[1], mu[2]);
+                    }
+                }
+            });
         ExtendedDipoles { x, y, z }
     }
 

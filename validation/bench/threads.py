@@ -1,0 +1,239 @@
+"""`python -m validation.bench.threads --out benchmarks` (`make bench-threads`):
+whole-run speed-up of 2 threads over 1 for every built-in lattice scene at
+about 1,000, 8,000 and 64,000 rotors, through the `quatrot` CLI
+(`target/release/quatrot`, `--threads 1` against `--threads 2`). Each pair of
+runs is timed side by side, the order alternating from repeat to repeat;
+the medians, the spread and the efficiency `t1 / (2 t2)` go into
+`<out>/results.json` (key `threads`) and this benchmark's section of
+`<out>/RESULTS.md`. The load average is read before and after every pair:
+the section says when the machine was not idle."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import tomllib
+from pathlib import Path
+
+from validation.bench import results_md
+
+BEGIN = "<!-- make bench-threads: threads section begin -->"
+END = "<!-- make bench-threads: threads section end -->"
+CLI = Path("target/release/quatrot")
+SCENES = Path("scenes")
+
+#: Sites per cell of each lattice kind.
+SITES_PER_CELL = {"simple_cubic": 1, "bcc": 2, "fcc": 4}
+#: The system sizes asked for (cells chosen to come closest).
+TARGET_ROTORS = (1_000, 8_000, 64_000)
+#: Rotor-steps per run of a periodic scene (cost linear in N): about a
+#: second on one thread of this machine for the dipole lattices.
+ROTOR_STEPS = 4e6
+#: Pair-steps per run of an open cluster (cost quadratic in N).
+PAIR_STEPS = 2e8
+#: Fewest steps per run.
+MIN_STEPS = 2
+#: The largest open cluster measured: its sum is O(N^2) (about 0.8 s an
+#: evaluation at 8,000 rotors, 50 s at 64,000: "Build, test and command
+#: times"), and its Gear start-up takes 65 evaluations a run.
+MAX_OPEN_ROTORS = 2_000
+#: Above this 1-minute load average (per core) the machine is not idle.
+IDLE_LOAD_PER_CORE = 0.1
+
+
+def lattice_scenes() -> list[tuple[str, dict]]:
+    """The built-in scenes whose rotors are a lattice, parsed."""
+    out = []
+    for path in sorted(SCENES.glob("*.toml")):
+        scene = tomllib.loads(path.read_text())
+        if scene.get("rotors", {}).get("kind") == "lattice":
+            out.append((path.stem, scene))
+    return out
+
+
+def cells_for(scene: dict, rotors: int) -> int:
+    """The cells per edge whose lattice comes closest to `rotors` sites."""
+    per_cell = SITES_PER_CELL[scene["rotors"]["lattice"]]
+    return min(range(1, 200), key=lambda c: abs(per_cell * c**3 - rotors))
+
+
+def periodic(scene: dict) -> bool:
+    return scene.get("interactions", {}).get("boundary", {}).get("kind") == "periodic"
+
+
+def steps_for(scene: dict, rotors: int) -> int:
+    """Steps of one run: a fixed work per run (module constants)."""
+    steps = ROTOR_STEPS / rotors if periodic(scene) else PAIR_STEPS / (rotors * rotors / 2)
+    return max(MIN_STEPS, round(steps))
+
+
+def scene_text(scene: dict, cells: int) -> str:
+    """The scene's TOML with `cells` cells (written by hand: tomllib reads only)."""
+    return _toml({**scene, "rotors": {**scene["rotors"], "cells": cells}})
+
+
+def _toml(table: dict, prefix: str = "") -> str:
+    """A minimal TOML writer for the built-in scenes' tables."""
+    lines, subtables = [], []
+    for key, value in table.items():
+        if isinstance(value, dict):
+            subtables.append((key, value))
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            subtables.append((key, value))
+        else:
+            lines.append(f"{key} = {_value(value)}")
+    text = "\n".join(lines) + "\n"
+    for key, value in subtables:
+        name = f"{prefix}.{key}" if prefix else key
+        if isinstance(value, list):
+            for item in value:
+                text += f"\n[[{name}]]\n" + _toml(item, name)
+        else:
+            text += f"\n[{name}]\n" + _toml(value, name)
+    return text
+
+
+def _value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {_value(x)}" for k, x in v.items()) + " }"
+    raise TypeError(f"cannot write {v!r} as TOML")
+
+
+def timed_run(cli: Path, scene_file: Path, steps: int, threads: int, out: Path) -> dict:
+    """One CLI run: the process's wall time and the loop's (summary)."""
+    env = {k: v for k, v in os.environ.items() if k != "RAYON_NUM_THREADS"}
+    started = time.perf_counter()
+    subprocess.run(
+        [str(cli), "run", str(scene_file), "--steps", str(steps), "--threads", str(threads), "--out", str(out)],
+        check=True,
+        capture_output=True,
+        env=env,
+    )
+    wall = time.perf_counter() - started
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["threads"]["count"] == threads, summary["threads"]
+    return {"wall": wall, "loop": summary["wall_seconds"]}
+
+
+def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: Path) -> dict:
+    """`repeats` pairs of runs on 1 and 2 threads, the order alternating."""
+    cells = cells_for(scene, rotors)
+    n = SITES_PER_CELL[scene["rotors"]["lattice"]] * cells**3
+    steps = steps_for(scene, n)
+    scene_file = work / f"{name}_{cells}.toml"
+    scene_file.write_text(scene_text(scene, cells))
+    times: dict[int, list[dict]] = {1: [], 2: []}
+    loads = [os.getloadavg()[0]]
+    for repeat in range(repeats):
+        for threads in (1, 2) if repeat % 2 == 0 else (2, 1):
+            times[threads].append(timed_run(cli, scene_file, steps, threads, work / f"out_{threads}"))
+        loads.append(os.getloadavg()[0])
+    row = {"scene": name, "cells": cells, "rotors": n, "steps": steps, "repeats": repeats, "load_averages": loads}
+    for key in ("wall", "loop"):
+        t1 = [t[key] for t in times[1]]
+        t2 = [t[key] for t in times[2]]
+        ratios = [a / b for a, b in zip(t1, t2)]
+        row[key] = {
+            "seconds_1": t1,
+            "seconds_2": t2,
+            "median_1": statistics.median(t1),
+            "median_2": statistics.median(t2),
+            "speedup": statistics.median(t1) / statistics.median(t2),
+            "pair_ratios": ratios,
+            "efficiency": statistics.median(t1) / (2 * statistics.median(t2)),
+        }
+    print(
+        f"  {name} N = {n}: {row['wall']['median_1']:.3f} s / {row['wall']['median_2']:.3f} s, "
+        f"x{row['wall']['speedup']:.2f} (pairs {min(row['wall']['pair_ratios']):.2f}-{max(row['wall']['pair_ratios']):.2f}), "
+        f"load {max(loads):.2f}",
+        flush=True,
+    )
+    return row
+
+
+def section(result: dict) -> str:
+    m = result["machine"]
+    cores = m["cpus"] or 1
+    busiest = max(max(r["load_averages"]) for r in result["rows"])
+    idle = busiest <= IDLE_LOAD_PER_CORE * cores
+    lines = [
+        BEGIN,
+        "## Threads: whole runs on 1 and 2 threads (issue 38, `make bench-threads`)",
+        "",
+        f"- Machine: {m['cpu']}, {cores} hardware threads, {m['platform']}; {m['date']}.",
+        f"- Command: `python -m validation.bench.threads {' '.join(result['argv'])}` (`make bench-threads` runs it "
+        f"with `--out benchmarks`), {result['seconds']:.0f} s.",
+        (
+            f"- The machine was idle (1-minute load average at most {busiest:.2f})."
+            if idle
+            else f"- **The machine was not idle**: the 1-minute load average reached {busiest:.2f} on {cores} hardware "
+            "threads during the measurement (other processes shared the cores), so the speed-ups below understate "
+            "what an idle machine gives and their spread is wide."
+        ),
+        "- Each built-in lattice scene as written (its integrator, thermostat, sum and recording), its `cells` "
+        "set for about 1,000, 8,000 and 64,000 rotors, through the CLI (`--threads 1`, `--threads 2`); "
+        f"{ROTOR_STEPS:.0e} rotor-steps per periodic run, {PAIR_STEPS:.0e} pair-steps per open-cluster run "
+        f"(at least {MIN_STEPS} steps); open clusters (O(N^2)) up to {MAX_OPEN_ROTORS:,} rotors. Each repeat runs the pair side by side, the order alternating; medians over "
+        "the repeats. Whole run: the process's wall time (set-up, start-up, outputs included); loop: the run loop "
+        "(`wall_seconds` of `summary.json`). Efficiency `t1 / (2 t2)`; pairs: the range of the repeats' ratios.",
+        "",
+        "| scene | N | steps | repeats | 1 thread s | 2 threads s | speed-up (pairs) | efficiency | loop speed-up | max load |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in result["rows"]:
+        w, lp = r["wall"], r["loop"]
+        lines.append(
+            f"| `{r['scene']}` | {r['rotors']:,} | {r['steps']} | {r['repeats']} | {w['median_1']:.3f} | {w['median_2']:.3f} | "
+            f"{w['speedup']:.2f}x ({min(w['pair_ratios']):.2f}-{max(w['pair_ratios']):.2f}) | {w['efficiency']:.2f} | "
+            f"{lp['speedup']:.2f}x | {max(r['load_averages']):.2f} |"
+        )
+    lines += ["", END]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", type=Path, default=Path("benchmarks"))
+    parser.add_argument("--repeats", type=int, default=5, help="pairs of runs per case (default 5)")
+    parser.add_argument("--sizes", type=int, nargs="+", default=list(TARGET_ROTORS), help="rotor counts asked for")
+    parser.add_argument("--scenes", nargs="+", help="only these built-in scenes")
+    parser.add_argument("--cli", type=Path, default=CLI, help=f"the quatrot binary (default {CLI})")
+    args = parser.parse_args(argv)
+    if not args.cli.exists():
+        sys.exit(f"{args.cli} is missing: run `cargo build --release` first")
+    started = time.perf_counter()
+    machine = results_md.machine()
+    if machine["load_average"] > IDLE_LOAD_PER_CORE * (machine["cpus"] or 1):
+        print(f"warning: the machine is not idle (1-minute load average {machine['load_average']:.2f})", flush=True)
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="quatrot-threads-") as tmp:
+        for name, scene in lattice_scenes():
+            if args.scenes and name not in args.scenes:
+                continue
+            for rotors in args.sizes:
+                if periodic(scene) or rotors <= MAX_OPEN_ROTORS:
+                    rows.append(measure(args.cli, name, scene, rotors, args.repeats, Path(tmp)))
+    result = {"machine": machine, "rows": rows, "seconds": time.perf_counter() - started, "argv": sys.argv[1:] if argv is None else argv}
+    args.out.mkdir(parents=True, exist_ok=True)
+    results_md.update_json(args.out / "results.json", {"threads": result})
+    results_md.replace_section(args.out / "RESULTS.md", BEGIN, END, section(result))
+    print(f"wrote the threads entry of {args.out / 'results.json'} and its section of {args.out / 'RESULTS.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
