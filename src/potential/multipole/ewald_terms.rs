@@ -31,11 +31,17 @@ use std::f64::consts::PI;
 /// so that `grad g = -r B_1`, `grad grad g = r r^T B_2 - I B_1`, and so on.
 /// With `alpha = 0` they are the bare `(2l - 1)!! / r^(2l + 1)`.
 pub(crate) fn radial(alpha: f64, r: f64) -> [f64; 5] {
+    radial_functions(alpha, r)
+}
+
+/// [`radial`] for `l < L` (the mesh Ewald's site forces between quadrupoles
+/// need `B_5`).
+pub(crate) fn radial_functions<const L: usize>(alpha: f64, r: f64) -> [f64; L] {
     let inv_r2 = 1.0 / (r * r);
-    let mut b = [0.0; 5];
+    let mut b = [0.0; L];
     if alpha == 0.0 {
         b[0] = 1.0 / r;
-        for l in 1..5 {
+        for l in 1..L {
             b[l] = (2 * l - 1) as f64 * b[l - 1] * inv_r2;
         }
         return b;
@@ -43,7 +49,7 @@ pub(crate) fn radial(alpha: f64, r: f64) -> [f64; 5] {
     let x = alpha * r;
     b[0] = libm::erfc(x) / r;
     let mut gauss = (-x * x).exp() / (alpha * PI.sqrt());
-    for l in 1..5 {
+    for l in 1..L {
         gauss *= 2.0 * alpha * alpha;
         b[l] = ((2 * l - 1) as f64 * b[l - 1] + gauss) * inv_r2;
     }

@@ -17,6 +17,7 @@ mod kernels;
 mod lattice_fft;
 mod lattice_grid;
 mod lattice_kernel;
+pub mod mesh_ewald;
 mod pairs;
 mod periodic_sum;
 mod potential;
