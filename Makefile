@@ -75,12 +75,15 @@ test:
 fixtures: develop
 	$(PY) -m validation.fixtures
 
-# The scene fuzz at ten times the cases of `make test` (tests/fuzz_scenes.rs).
+# The fuzz tests at ten times the cases of `make test`: the scenes
+# (tests/fuzz_scenes.rs), the analysis functions, the sweep's command line
+# and output folders seeded with links (validation/tests/test_fuzz_*.py).
 # Then the site with the full gallery and this report, whose home page and
 # report page headless Chromium opens (Debian's, installed when missing):
 # a console error fails, the screenshots go into the report.
 validate: develop
 	QUATROT_FUZZ_CASES=20000 cargo test --release --test fuzz_scenes
+	QUATROT_FUZZ_SCALE=10 $(PY) -m pytest -q validation/tests/test_fuzz_*.py
 	$(PY) -m validation.report --out $(RESULTS)
 	$(MAKE) docs QUATROT_REPORT=$(abspath $(RESULTS))/report.md
 	$(MAKE) screenshots

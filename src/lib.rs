@@ -9,6 +9,7 @@
 //! * [`quaternion`]: the conventions (stated once) and the quaternion algebra.
 //! * [`rotor`]: the rotor model (fixed site, inertia, body multipoles).
 //! * [`lattice`]: sc, bcc and fcc lattices of fixed sites.
+//! * [`bodies`]: rigid bodies that move (translation and rotation).
 //! * [`potential`]: the potential-energy trait and its terms.
 //! * [`integrators`]: the integrator trait, [`integrators::IntegratorSpec`]
 //!   (the one dispatch), Allen's schemes A and B, the baselines.
@@ -51,6 +52,7 @@
 #[cfg(test)]
 mod allocation_meter;
 pub mod analysis;
+pub mod bodies;
 pub(crate) mod checks;
 pub(crate) mod cli;
 pub mod dynamics;

@@ -74,7 +74,7 @@ pub const ROTORS_PER_THREAD: usize = 4_000;
 
 /// The thread count of a run of `rotors` rotors whose count is not fixed,
 /// on a machine with `cores` hardware threads: `rotors /`
-/// [`ROTORS_PER_THREAD`], at least 1 and at most `cores`.
+/// `ROTORS_PER_THREAD`, at least 1 and at most `cores`.
 ///
 /// ```
 /// use quatrot::internals::automatic_threads;

@@ -171,6 +171,22 @@ fn refusals_name_what_is_missing() {
         "temperature: give it, or record \"temperature\" in the series `observables` with \"M\""
     );
     assert!(dielectric_of_run(Some(&conducting), &without_t, Some(1.0)).is_ok());
+    // Found by the analysis fuzz (issue 37): the run's total dipoles were
+    // named `dipoles`, an argument of another function.
+    let mut huge = table.clone();
+    huge.values[2] = f64::INFINITY;
+    assert_eq!(
+        err(Some(&conducting), &huge, None),
+        "series `observables`: M[0]: must be finite"
+    );
+    huge.values[2] = 1e200;
+    assert_eq!(
+        err(Some(&conducting), &huge, None),
+        "series `observables`: M: |M|^2 overflows float64: the dipoles are too large"
+    );
+    assert!(err(Some(&conducting), &table, Some(1e-320)).starts_with(
+        "interactions.box, temperature: 4 pi / (9 V T) overflows float64 (V = 64, T = 1e-320)"
+    ));
     assert_eq!(
         dipole_series(&[without_m.clone()], None)
             .unwrap_err()

@@ -128,6 +128,7 @@ pub fn block_average(series: &[f64]) -> Result<BlockAverage, AnalysisError> {
     let chosen =
         (0..levels.len()).find(|&k| statistic[k] <= chi_squared_quantile(levels.len() - k));
     let converged = chosen.is_some();
+    overflow_refused(series, mean, &levels)?;
     let level = levels[chosen.unwrap_or(levels.len() - 1)];
     Ok(BlockAverage {
         mean,
@@ -137,6 +138,23 @@ pub fn block_average(series: &[f64]) -> Result<BlockAverage, AnalysisError> {
         converged,
         levels,
     })
+}
+
+/// Refuses a series whose sum or variance overflows float64 (values near
+/// 1e154 and beyond): an infinite mean or error is no answer.
+fn overflow_refused(series: &[f64], mean: f64, levels: &[BlockLevel]) -> Result<(), AnalysisError> {
+    let finite = |l: &BlockLevel| l.error.is_finite() && l.error_of_error.is_finite();
+    if mean.is_finite() && levels.iter().all(finite) {
+        return Ok(());
+    }
+    let largest = series.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    Err(AnalysisError::new(
+        "series",
+        format!(
+            "its mean or variance overflows float64 (values up to {}): rescale it",
+            crate::checks::num(largest)
+        ),
+    ))
 }
 
 #[cfg(test)]
@@ -241,5 +259,24 @@ mod tests {
             block_average(&[1.0, f64::NAN]).unwrap_err().path,
             "series[1]"
         );
+    }
+
+    /// Found by the analysis fuzz (issue 37): values of 1e231 gave an
+    /// infinite error and 1e308 an infinite mean, returned as results.
+    #[test]
+    fn overflowing_series_are_refused() {
+        for series in [vec![1e231, -1e231, 3e230], vec![1e308, 1e308]] {
+            let e = block_average(&series).unwrap_err();
+            assert_eq!(e.path, "series");
+            assert!(
+                e.message
+                    .starts_with("its mean or variance overflows float64"),
+                "{e}"
+            );
+        }
+        assert!(block_average(&[1e150, -1e150, 2e150])
+            .unwrap()
+            .error
+            .is_finite());
     }
 }

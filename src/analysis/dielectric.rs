@@ -103,7 +103,9 @@ pub fn dielectric_constant(
     let volume = finite_and_positive("volume", volume)?;
     let temperature = finite_and_positive("temperature", temperature)?;
     let (mean_dipole, mean_squared_dipole, deviations) = moments(dipoles)?;
-    let fluctuation = block_average(&deviations)?;
+    // The deviations are finite: the blocking can only overflow.
+    let fluctuation = block_average(&deviations)
+        .map_err(|e| AnalysisError::new("dipoles", format!("|M - <M>|^2: {}", e.message)))?;
     let scale = 4.0 * std::f64::consts::PI / (9.0 * volume * temperature);
     if !scale.is_finite() {
         return Err(AnalysisError::new(
@@ -292,6 +294,23 @@ mod tests {
         assert_eq!(
             from_name("boundary", "vacuum"),
             Ok(DielectricBoundary::Vacuum)
+        );
+    }
+
+    /// Found by the analysis fuzz (issue 37): `|M|^2` within float64 whose
+    /// fluctuation's variance overflows is refused naming `dipoles` (the
+    /// blocking's own error named `series`, no argument here).
+    #[test]
+    fn an_overflowing_fluctuation_names_the_dipoles() {
+        let m: Vec<Vector3<f64>> = (0..8)
+            .map(|k| Vector3::new(1e120 * (k % 3) as f64, 0.0, 0.0))
+            .collect();
+        let err = dielectric_constant(&m, 1.0, 1.0, DielectricBoundary::Conducting).unwrap_err();
+        assert_eq!(err.path, "dipoles");
+        assert!(
+            err.message
+                .starts_with("|M - <M>|^2: its mean or variance overflows"),
+            "{err}"
         );
     }
 }

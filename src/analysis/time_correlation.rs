@@ -102,6 +102,7 @@ pub fn orientational_correlations(
         .enumerate()
         .map(|(a, v)| checked_unit_axis(&format!("axes_body[{a}]"), v).map(Unit::into_inner))
         .collect::<Result<Vec<_>, _>>()?;
+    check_memory(orientations.frames(), axes.len(), max_lag)?;
     let plan = Plan::new(orientations.frames());
     let weight = 1.0 / orientations.rotors() as f64;
     let empty = || -> Vec<(PowerSum<'_>, PowerSum<'_>)> {
@@ -144,6 +145,18 @@ pub fn orientational_correlations(
                 .collect(),
         })
         .collect())
+}
+
+/// Refuses, before anything is allocated, correlations whose buffers pass
+/// the memory limit: per thread, two FFT power sums (input, spectrum and
+/// power, about `3 x 8` bytes per padded sample) for each axis, and the
+/// `C1` and `C2` of each axis (found by the analysis fuzz: 10^5 axes of
+/// 10^5 frames aborted the process on a failed allocation).
+fn check_memory(frames: usize, axes: usize, max_lag: usize) -> Result<(), AnalysisError> {
+    let padded = (2.0 * frames as f64).log2().ceil().exp2();
+    let threads = rayon::current_num_threads() as f64;
+    let per_axis = threads * 2.0 * 3.0 * 8.0 * padded + 2.0 * 8.0 * (max_lag as f64 + 1.0);
+    crate::memory::check("axes_body, orientations", axes as f64 * per_axis)
 }
 
 /// `<v(0).v(k dt)>` at lags `0..=max_lag` (default: every lag) of per-rotor

@@ -10,7 +10,7 @@
 //! to 0 for isotropic axes as `N` grows (for finite `N` it is positive,
 //! `O(N^-1/2)`: the largest eigenvalue of a noisy zero tensor).
 
-use crate::checks::InputError;
+use crate::checks::{num, InputError};
 use crate::quaternion::Quat;
 use nalgebra::{Matrix3, Unit, Vector3};
 
@@ -29,11 +29,18 @@ pub struct NematicOrder {
 
 /// `v / |v|`, or `None` unless `v` is finite and nonzero.
 pub fn unit_axis(v: &Vector3<f64>) -> Option<Unit<Vector3<f64>>> {
-    if v.iter().all(|x| x.is_finite()) {
-        Unit::try_new(*v, 0.0)
-    } else {
-        None
+    if !v.iter().all(|x| x.is_finite()) {
+        return None;
     }
+    let norm = v.norm();
+    if norm.is_finite() && norm > 0.0 {
+        return Unit::try_new(*v, 0.0);
+    }
+    // |v| overflowed (1e200) or underflowed (1e-300): rescaled first, so
+    // that every finite nonzero axis is one (the plain division gave a zero
+    // "unit" vector or none).
+    let largest = v.amax();
+    (largest > 0.0).then(|| Unit::new_normalize(v / largest))
 }
 
 /// [`unit_axis`] of an axis given as input at `path` (an analysis' body
@@ -45,7 +52,9 @@ pub fn checked_unit_axis(path: &str, v: &Vector3<f64>) -> Result<Unit<Vector3<f6
             path,
             format!(
                 "must be finite and nonzero, got [{}, {}, {}]",
-                v.x, v.y, v.z
+                num(v.x),
+                num(v.y),
+                num(v.z)
             ),
         )
     })
@@ -189,6 +198,18 @@ mod tests {
         assert!((p1 - 0.5).abs() < 1e-15);
         assert!(unit_axis(&Vector3::zeros()).is_none());
         assert!(unit_axis(&Vector3::new(f64::NAN, 0.0, 1.0)).is_none());
+    }
+
+    /// Found by the analysis fuzz (issue 37): an axis of 1e200 became the
+    /// zero vector (its norm overflowed) and one of 1e-300 was refused as
+    /// zero (its norm underflowed); any finite nonzero axis is a direction.
+    #[test]
+    fn huge_and_tiny_axes_are_directions() {
+        for scale in [1e200, 1e307, 1e-300, 5e-324] {
+            let u = unit_axis(&(Vector3::new(3.0, 0.0, -4.0) * scale)).expect("nonzero");
+            let expected = Vector3::new(0.6, 0.0, -0.8);
+            assert!((u.into_inner() - expected).norm() < 1e-15, "{scale}: {u:?}");
+        }
     }
 
     /// An axis given as input is refused by name when it is zero or not

@@ -13,6 +13,7 @@ use crate::analysis::{
     lag_times, order_parameters as order_of, orientational_correlations as correlations_of,
     vector_autocorrelation, FrameOrder, Frames,
 };
+use crate::checks::InputError;
 use crate::observables::order::checked_unit_axis;
 use crate::observables::polarization;
 use crate::quaternion::Quat;
@@ -103,10 +104,27 @@ fn orientational_correlations<'py>(
         Values::Quaternions,
     )?)?;
     let (axes, single) = body_axes(axes)?;
-    let result = py.detach(|| {
-        let frames = Frames::new(&q, rotors, "orientations")?;
-        correlations_of(&frames, &axes, max_lag)
-    })?;
+    let result = py
+        .detach(|| {
+            let frames = Frames::new(&q, rotors, "orientations")?;
+            correlations_of(&frames, &axes, max_lag)
+        })
+        .map_err(|e| match e.path.strip_prefix("axes_body") {
+            // The library's `axes_body` is this function's `axes`.
+            Some(rest) => InputError {
+                // One axis given as (3,): no index.
+                path: format!(
+                    "axes{}",
+                    if single && rest.starts_with('[') {
+                        ""
+                    } else {
+                        rest
+                    }
+                ),
+                ..e
+            },
+            None => e,
+        })?;
     let lags = result[0].c1.len();
     let out = PyDict::new(py);
     out.set_item("time", array(py, &[lags], lag_times(dt, lags)?)?)?;

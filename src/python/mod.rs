@@ -18,6 +18,7 @@ mod analysis;
 mod args;
 mod arrays;
 mod baselines;
+mod bodies;
 mod cli;
 mod dynamics;
 mod fluctuations;
@@ -62,6 +63,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     baselines::register(m)?;
+    bodies::register(m)?;
     potential::register(m)?;
     dynamics::register(m)?;
     quaternion::register(m)?;

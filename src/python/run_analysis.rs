@@ -2,12 +2,11 @@
 //! (`crate::run::dielectric_of_run`), from the dict `quatrot.run` returns or
 //! from a run's output directory.
 
-use super::args::{expected, invalid};
+use super::args::{expected, invalid, optional_text, path_or};
 use super::fluctuations::dielectric_dict;
 use crate::run::{dielectric_of_run, dipole_series, read_run, InteractionsSummary, SeriesTable};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
-use std::path::PathBuf;
 
 /// The `interactions` of a run's summary dict and its series, from the dict
 /// `quatrot.run` returns.
@@ -127,21 +126,21 @@ fn from_result(
 fn run_dielectric_constant<'py>(
     py: Python<'py>,
     run: &Bound<'py, PyAny>,
-    series: Option<&str>,
+    series: Option<&Bound<'py, PyAny>>,
     temperature: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let series = optional_text(series, "series")?;
     let (interactions, tables) = if let Ok(result) = run.cast::<PyDict>() {
         from_result(py, result)?
     } else if run.is_instance_of::<PyString>() || run.hasattr("__fspath__")? {
-        let dir: PathBuf = run.extract()?;
-        read_run(&dir)?
+        read_run(&path_or(run, "run", invalid)?)?
     } else {
         return Err(expected(
             "run",
             "the dict quatrot.run returns or a run's output directory",
         ));
     };
-    let table = dipole_series(&tables, series)?;
+    let table = dipole_series(&tables, series.as_deref())?;
     let eps = py.detach(|| dielectric_of_run(interactions.as_ref(), table, temperature))?;
     dielectric_dict(py, "run_dielectric_constant", &eps)
 }

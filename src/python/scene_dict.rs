@@ -143,6 +143,12 @@ impl ToToml {
     }
 }
 
+/// A Python value (a dict, a list of dicts, numbers, ...) as TOML, its
+/// errors naming the paths below `path`.
+pub(super) fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
+    ToToml::default().value(value, path)
+}
+
 /// TOML text if it has a newline or `=`, otherwise a built-in name or a path.
 pub(super) fn load_scene(
     scene: &Bound<'_, PyAny>,

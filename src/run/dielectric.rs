@@ -89,7 +89,18 @@ pub fn dielectric_of_run(
             ))
         }
     };
-    dielectric_constant(&dipoles, volume, temperature, boundary)
+    dielectric_constant(&dipoles, volume, temperature, boundary).map_err(|e| {
+        // The total dipoles and the volume are the run's: named by their
+        // series and by the summary's field.
+        let path = if let Some(row) = e.path.strip_prefix("dipoles") {
+            format!("series `{}`: M{row}", series.name)
+        } else if let Some(rest) = e.path.strip_prefix("volume") {
+            format!("interactions.box{rest}")
+        } else {
+            return e;
+        };
+        InputError { path, ..e }
+    })
 }
 
 /// The series among `tables` that records `M`: the one called `name`, or

@@ -62,7 +62,7 @@ impl OutputFolder {
             .create(true)
             .truncate(false)
             .open(&path)
-            .map_err(|e| RunError::io(&path, e))?;
+            .map_err(|e| RunError::io(&path, said_plainly(e)))?;
         if !try_lock(&file).map_err(|e| RunError::io(&path, e))? {
             let mut holder = String::new();
             let _ = file.read_to_string(&mut holder);
@@ -110,6 +110,18 @@ fn options() -> OpenOptions {
     options
 }
 
+/// The refusal of `O_NOFOLLOW` said plainly (the system's "Too many levels
+/// of symbolic links" misleads).
+fn said_plainly(e: std::io::Error) -> std::io::Error {
+    #[cfg(unix)]
+    if e.raw_os_error() == Some(libc::ELOOP) {
+        return std::io::Error::other(
+            "is a symbolic link; a run writes only inside its output folder, never through a link",
+        );
+    }
+    e
+}
+
 /// Creates (or truncates) the file at `path` for reading and writing,
 /// refusing a symbolic link there: every output is created through here.
 pub fn create_file(path: &Path) -> std::io::Result<File> {
@@ -119,12 +131,17 @@ pub fn create_file(path: &Path) -> std::io::Result<File> {
         .create(true)
         .truncate(true)
         .open(path)
+        .map_err(said_plainly)
 }
 
 /// Opens the existing file at `path` for reading and writing, refusing a
 /// symbolic link there.
 pub fn open_existing(path: &Path) -> std::io::Result<File> {
-    options().read(true).write(true).open(path)
+    options()
+        .read(true)
+        .write(true)
+        .open(path)
+        .map_err(said_plainly)
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same folder and

@@ -36,7 +36,7 @@ pub struct Outputs {
     /// Python) at the end of a step.
     pub control: Option<Arc<Control>>,
     /// The threads of the run (`None`: `RAYON_NUM_THREADS` if set, else
-    /// [`crate::parallel::automatic_threads`]; see [`super::execute`]).
+    /// [`crate::parallel::automatic_threads`]; see [`super::execute()`]).
     pub threads: Option<NonZeroUsize>,
 }
 
@@ -88,7 +88,7 @@ pub struct RunResult {
 /// scene by the caller, possibly wrapped), from t = 0 or from the checkpoint
 /// `restart`. The output folder is locked for the run; a restart keeps the
 /// files an earlier run left there (see [`Placement`]). The summary records
-/// the size of the rayon pool it runs in and why ([`choose_threads`]).
+/// the size of the rayon pool it runs in and why (`choose_threads`).
 pub fn run_scene(
     scene: &Scene,
     definition: serde_json::Value,

@@ -7,6 +7,7 @@
 //! One file per section holds its raw types and its checks. The format is
 //! documented in `docs/scenes.md`.
 
+mod bodies;
 mod builtin;
 mod error;
 mod fields;
@@ -24,6 +25,7 @@ mod tagged;
 mod thermostat;
 mod validate;
 
+pub use bodies::{body_types, RawBodySite, RawBodyType, RawLennardJones};
 pub use builtin::{builtin, Builtin, BUILTINS};
 pub use error::SceneError;
 pub use initial::random_states;

@@ -191,3 +191,31 @@ def test_dielectric_workflow_on_the_dipole_builtins():
     scene["rotors"]["cells"] = 4
     eps = quatrot.run_dielectric_constant(quatrot.run(scene, steps=40), temperature=1.0)
     assert np.isfinite(eps["epsilon"]) and eps["epsilon"] > 1
+
+
+def test_what_the_analysis_fuzz_found():
+    """Issue 37, item 10: an axis of 1e200 gave C1 = 0 (its norm overflowed
+    to a zero "unit" axis) and one of 1e-300 was refused as zero; a bad axis
+    was named `axes_body`, a name only the Rust library has; a series of
+    1e231 gave an infinite blocking error; a `series` name that is not
+    valid text raised a `UnicodeEncodeError` naming nothing; 10^5 axes of
+    10^5 frames aborted the process on a failed allocation."""
+    q = random_walk(8, 3, seed=4)
+    reference = quatrot.orientational_correlations(q, 0.1, axes=[0.0, 0.6, 0.8])["c1"]
+    for scale in (1e200, 1e-300):
+        c1 = quatrot.orientational_correlations(q, 0.1, axes=np.array([0.0, 0.6, 0.8]) * scale)["c1"]
+        np.testing.assert_allclose(c1, reference, rtol=0, atol=DOUBLE_TOLERANCE)
+    order = quatrot.order_parameters(q[0], axis=[0.0, 0.0, 1e-310], direction=[1e300, 0.0, 0.0])
+    np.testing.assert_allclose(order["p1_direction"], quatrot.order_parameters(q[0], direction=[1.0, 0.0, 0.0])["p1_direction"], rtol=0, atol=DOUBLE_TOLERANCE)
+    with pytest.raises(ValueError, match=r"^axes: must be finite and nonzero, got \[0, 0, 0\]$"):
+        quatrot.orientational_correlations(q, 0.1, axes=[0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^axes\[1\]: must be finite and nonzero, got \[0, 0, 0\]$"):
+        quatrot.orientational_correlations(q, 0.1, axes=[[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"^series: its mean or variance overflows float64 \(values up to 3e231\)"):
+        quatrot.block_average([1e231, -3e231, 2e231])
+    many_axes = np.broadcast_to([1.0, 0.0, 0.0], (100_000, 3))  # 10^5 x 10^5 frames: terabytes
+    with pytest.raises(ValueError, match=r"^axes, orientations: needs about .* of memory, more than the limit"):
+        quatrot.orientational_correlations(np.broadcast_to(q[:1], (100_000, 3, 4)), 0.1, axes=many_axes)
+    run = {"summary": {"interactions": None}, "series": {}}
+    with pytest.raises(ValueError, match=r"^series: not valid text \(a lone surrogate\)$"):
+        quatrot.run_dielectric_constant(run, series="bad\ud800")

@@ -63,6 +63,12 @@ VALID = {
         sites=_sites(), orientations=_unit((N,)), dipoles_body=_vectors(), quadrupoles_body=_quadrupoles(),
         field=np.array([0.1, 0.0, 0.2]), field_gradient=np.diag([0.1, 0.2, -0.3]),
     ),
+    "bodies_evaluate": lambda tmp: dict(
+        body_types=[{"sites": [{"position": [0.0, 0.0, 0.0], "lennard_jones": {"epsilon": 1.0, "sigma": 1.0}, "dipole": [0.0, 0.0, 1.0]}],
+                     "mass": 1.0, "inertia": np.eye(3) * 0.1}],
+        positions=_sites(), orientations=_unit((N,)), velocities=_vectors(), box_lengths=np.array([6.0, 6.0, 6.0]),
+        lj_cutoff=2.5, electrostatic_cutoff=2.5,
+    ),
     "dlm_dipoles": lambda tmp: dict(
         sites=_sites(), dipoles_body=_vectors(), inertia=np.full(N, 0.5), orientations=_unit((N,)),
         omega_body=_vectors(), field=np.array([0.0, 0.0, 0.3]), dt=0.01, steps=3, split=False,

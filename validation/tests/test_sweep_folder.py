@@ -7,6 +7,7 @@ refused, or done by the task itself, before one would start."""
 
 import itertools
 import os
+import re
 import stat
 import subprocess
 import sys
@@ -191,3 +192,15 @@ def test_a_sweep_refuses_more_threads_or_workers_than_a_run_may_have(tmp_path: P
     code = sweep_main(["dipole_in_field", "--out", str(tmp_path), "--workers", "1000000000"])
     assert code == 2
     assert "workers: must be between 1 and 1024, got 1000000000" in capsys.readouterr().err
+
+
+def test_an_empty_sweep_folder_path_is_refused(tmp_path: Path, capsys, monkeypatch):
+    """Found by the sweep fuzz (issue 37): `--out ''` swept into the current
+    directory (a run's empty output path is refused)."""
+    monkeypatch.chdir(tmp_path)
+    message = "out: a sweep folder's path must not be empty (\".\" is the current directory)"
+    assert sweep_main(["dipole_in_field", "--out", "", "--dry-run"]) == 2
+    assert capsys.readouterr().err == f"error: {message}\n"
+    with pytest.raises(ValueError, match="^" + re.escape(message) + "$"):
+        quatrot.sweep.run(SCENE, {"run.steps": [10, 20]}, out="")
+    assert list(tmp_path.iterdir()) == []

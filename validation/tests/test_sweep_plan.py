@@ -181,3 +181,27 @@ def test_an_override_named_as_a_summary_column_keeps_its_own_column(tmp_path: Pa
     with (tmp_path / "results.csv").open() as f:
         row = next(csv.DictReader(f))
     assert row["set:integrator"] == '{"kind":"dlm"}' and row["integrator"] == "dlm"
+
+
+def test_text_that_is_not_unicode_is_refused_naming_its_path(tmp_path: Path, capsys):
+    """Found by the sweep fuzz (issue 37): a command-line word that is not
+    UTF-8 (`--set run.dt=$'\\xff'`) ended in "error: 'utf-8' codec can't
+    encode character '\\udcff' in position 534", naming nothing."""
+    from quatrot.sweep.cli import main
+
+    with pytest.raises(quatrot.SceneError, match=r"^run\.dt: not valid text \(a lone surrogate\)$"):
+        expand(BASE, {"run.dt": ["\udcff"]})
+    with pytest.raises(quatrot.SceneError, match=r"^initial: a key: not valid text"):
+        expand({"initial": {"\udcff": 1}})
+    code = main(["dipole_in_field", "--set", "run.dt=\udcff", "--out", str(tmp_path), "--dry-run"])
+    assert (code, capsys.readouterr().err) == (2, "error: run.dt: not valid text (a lone surrogate)\n")
+
+
+def test_messages_quote_input_with_control_characters_escaped_and_long_text_cut():
+    """Found by the sweep fuzz (issue 37): a value such as `a ESC [31m b`
+    was echoed raw to the terminal, a 5000-character one whole."""
+    with pytest.raises(ValueError, match=r"^`a\\x1b\[31mb\\n` is neither a TOML value nor a bare word$"):
+        parse_value("a\x1b[31mb\n")
+    with pytest.raises(ValueError) as e:
+        expand(BASE, {"x" * 5000 + " ": [1]})
+    assert str(e.value) == "`" + "x" * 60 + "... (4941 more characters)`: not a scene field path (keys joined by `.`, array items as `[n]`)"

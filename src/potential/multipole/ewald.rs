@@ -428,13 +428,7 @@ mod tests {
         let energy = |f: &SiteFields| energy(&multipoles, f);
         for surface in [Surface::Conducting, Surface::Vacuum] {
             let evaluate = |alpha: f64| {
-                let parameters = EwaldParameters {
-                    alpha,
-                    real_cutoff: 7.0 / alpha,
-                    reciprocal_cutoff: 14.0 * alpha,
-                    real_estimate: 0.0,
-                    reciprocal_estimate: 0.0,
-                };
+                let parameters = EwaldParameters::converged(alpha);
                 let sum =
                     EwaldSum::with_parameters(&sites, box_lengths, parameters, surface).unwrap();
                 sum.fields::<DipolesAndQuadrupoles>(&multipoles)

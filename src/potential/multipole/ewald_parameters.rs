@@ -46,6 +46,21 @@ pub struct EwaldParameters {
     pub reciprocal_estimate: f64,
 }
 
+impl EwaldParameters {
+    /// Parameters converged far below round-off for `alpha` (`s = 7` in
+    /// both spaces: `exp(-49)`), for reference sums in tests.
+    #[cfg(test)]
+    pub(crate) fn converged(alpha: f64) -> Self {
+        EwaldParameters {
+            alpha,
+            real_cutoff: 7.0 / alpha,
+            reciprocal_cutoff: 14.0 * alpha,
+            real_estimate: 0.0,
+            reciprocal_estimate: 0.0,
+        }
+    }
+}
+
 /// The tensor ranks the carried multipoles need (2 between dipoles, 3
 /// between a dipole and a quadrupole, 4 between quadrupoles).
 pub(crate) fn ranks(dipoles: bool, quadrupoles: bool) -> Vec<i32> {

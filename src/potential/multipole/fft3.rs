@@ -220,7 +220,33 @@ impl RealFft3 {
         let [nx, ny, nz] = self.n;
         let half = self.half;
         let parallel = (sources + fields) * nx * ny * nz >= CONVOLVE_PARALLEL_MIN;
-        // z: [l][g][kz].
+        let along_z = self.forward_z(sources, parallel, fill);
+        // y: [kz x][g][y], gathered from [x y][g][kz].
+        let along_y = self.y_pass(&self.y[0], sources, parallel, |kz, x, g, y| {
+            along_z[((x * ny + y) * sources + g) * half + kz]
+        });
+        drop(along_z);
+        let spectra = self.x_products(&along_y, (sources, fields), parallel, multiply);
+        drop(along_y);
+        // y back: [kz x][t][y], gathered from [kz ky][t][x].
+        let back_y = self.y_pass(&self.y[1], fields, parallel, |kz, x, t, ky| {
+            spectra[((kz * ny + ky) * fields + t) * nx + x]
+        });
+        drop(spectra);
+        self.inverse_z(&back_y, fields, parallel)
+    }
+
+    /// The first pass of [`Self::convolve`]: the `sources` real z lines of
+    /// each grid line `l`, written by `fill`, transformed along z, as
+    /// `[l][g][kz]`.
+    fn forward_z(
+        &self,
+        sources: usize,
+        parallel: bool,
+        fill: impl Fn(usize, &mut [f64]) + Sync,
+    ) -> Vec<C64> {
+        let [nx, ny, nz] = self.n;
+        let half = self.half;
         let mut along_z = vec![C64::default(); nx * ny * sources * half];
         let r2c = &self.r2c;
         for_units(
@@ -243,13 +269,22 @@ impl RealFft3 {
                 }
             },
         );
-        // y: [kz x][g][y], gathered from [x y][g][kz].
-        let along_y = self.y_pass(&self.y[0], sources, parallel, |kz, x, g, y| {
-            along_z[((x * ny + y) * sources + g) * half + kz]
-        });
-        drop(along_z);
-        // x, the products and x back: [kz ky][t][x], gathered from [kz x][g][y].
-        let mut spectra = vec![C64::default(); half * ny * fields * nx];
+        along_z
+    }
+
+    /// The middle pass of [`Self::convolve`]: x transforms of the sources'
+    /// lines gathered from `along_y` (`[kz x][g][y]`), the products
+    /// `multiply`, and the fields' x lines transformed back, as
+    /// `[kz ky][t][x]`.
+    fn x_products(
+        &self,
+        along_y: &[C64],
+        (sources, fields): (usize, usize),
+        parallel: bool,
+        multiply: impl Fn(usize, &[C64], &mut [C64]) + Sync,
+    ) -> Vec<C64> {
+        let [nx, ny, _] = self.n;
+        let mut spectra = vec![C64::default(); self.half * ny * fields * nx];
         let x_scratch =
             (self.x[0].get_inplace_scratch_len()).max(self.x[1].get_inplace_scratch_len());
         for_units(
@@ -276,13 +311,15 @@ impl RealFft3 {
                 self.x[1].process_with_scratch(out, scratch);
             },
         );
-        drop(along_y);
-        // y back: [kz x][t][y], gathered from [kz ky][t][x].
-        let back_y = self.y_pass(&self.y[1], fields, parallel, |kz, x, t, ky| {
-            spectra[((kz * ny + ky) * fields + t) * nx + x]
-        });
-        drop(spectra);
-        // z back: [l][t][z], gathered from [kz x][t][y].
+        spectra
+    }
+
+    /// The last pass of [`Self::convolve`]: the `fields` real z lines of
+    /// each grid line, gathered from `back_y` (`[kz x][t][y]`) and
+    /// transformed back along z, as `[l][t][z]`.
+    fn inverse_z(&self, back_y: &[C64], fields: usize, parallel: bool) -> Vec<f64> {
+        let [nx, ny, nz] = self.n;
+        let half = self.half;
         let mut real = vec![0.0; nx * ny * fields * nz];
         let c2r = &self.c2r;
         for_units(

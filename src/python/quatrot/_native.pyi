@@ -14,6 +14,7 @@ __all__ = [
     "__version__",
     "dlm_dipoles",
     "multipole_evaluate",
+    "bodies_evaluate",
     "gear_corrections_table",
     "quaternion",
     "run",
@@ -70,6 +71,19 @@ def multipole_evaluate(
     method: str | None = None,
     details: bool = False,
 ) -> tuple[Any, ...]: ...
+def bodies_evaluate(
+    body_types: Sequence[dict[str, Any]],
+    positions: _Array,
+    orientations: _Array,
+    *,
+    kinds: Sequence[int] | None = None,
+    velocities: _Array | None = None,
+    box_lengths: _Array | None = None,
+    lj_cutoff: float | None = None,
+    truncation: str | None = None,
+    mixing: str | None = None,
+    electrostatic_cutoff: float | None = None,
+) -> dict[str, Any]: ...
 def gear_corrections_table(
     sites: _Array,
     inertia: _Array,

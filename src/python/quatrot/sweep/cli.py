@@ -21,7 +21,8 @@ from typing import Any
 
 import quatrot
 from quatrot.sweep.execute import run
-from quatrot.sweep.plan import Run, format_overrides, iter_runs
+from quatrot.sweep.folder import sweep_folder
+from quatrot.sweep.plan import Run, format_overrides, iter_runs, printable
 from quatrot.sweep.table import NAME, Table
 
 EXIT_UNFINISHED = 1
@@ -75,13 +76,13 @@ def parse_value(text: str) -> Any:
     except tomllib.TOMLDecodeError:
         if _BARE_WORD.fullmatch(text):
             return text
-        raise ValueError(f"`{text}` is neither a TOML value nor a bare word") from None
+        raise ValueError(f"`{printable(text)}` is neither a TOML value nor a bare word") from None
 
 
 def _assignment(text: str, many: bool) -> tuple[str, Any]:
     path, sep, values = text.partition("=")
     if not sep or not path.strip():
-        raise ValueError(f"`{text}`: expected PATH=VALUE{',VALUE...' if many else ''}")
+        raise ValueError(f"`{printable(text)}`: expected PATH=VALUE{',VALUE...' if many else ''}")
     if many:
         return path.strip(), [parse_value(v) for v in split_top_level(values, ",")]
     return path.strip(), parse_value(values.strip())
@@ -93,7 +94,7 @@ def parse_grid(entries: list[str]) -> dict[str, list[Any]]:
     for entry in entries:
         path, values = _assignment(entry, many=True)
         if path in grid:
-            raise ValueError(f"--set {path}: given twice")
+            raise ValueError(f"--set {printable(path)}: given twice")
         grid[path] = values
     return grid
 
@@ -193,7 +194,7 @@ class _Progress:
 def _dry_run(runs: Iterable[Run], args) -> int:
     """Lists the runs as they are made (a grid is refused past
     `plan.MAX_RUNS` before the first)."""
-    path = Path(args.out) / NAME
+    path = sweep_folder(args.out) / NAME
     table = Table(path) if path.exists() else None
     for r in runs:
         done = table is not None and table.finished(r.id, args.threads_per_run)

@@ -41,7 +41,7 @@ except ImportError as e:  # the `sweep` extra is not installed
     ) from e
 
 import quatrot
-from quatrot.sweep.folder import locked, real_folder
+from quatrot.sweep.folder import locked, real_folder, sweep_folder
 from quatrot.sweep.plan import Run, expand
 from quatrot.sweep.table import FINISHED, NAME, Table
 from quatrot.sweep.task import RESULT_FILE, run_task
@@ -122,8 +122,8 @@ def run(
         _count("workers", workers)
         if client is not None:
             raise ValueError("workers: only for the local cluster (not with a client or scheduler address)")
+    out = sweep_folder(out)
     runs = expand(scene, grid, cases)
-    out = Path(out).resolve()
     with locked(out):
         real_folder(out / RUNS)
         table = Table(out / NAME)

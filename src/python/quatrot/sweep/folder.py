@@ -36,6 +36,14 @@ class FolderInUse(OSError):
     """
 
 
+def sweep_folder(out: str | os.PathLike) -> Path:
+    """The sweep's folder `out` as an absolute path; an empty path is
+    refused (as a run's is: it would be the current directory unsaid)."""
+    if not os.fspath(out):
+        raise ValueError("out: a sweep folder's path must not be empty (\".\" is the current directory)")
+    return Path(out).resolve()
+
+
 def refuse_link(path: Path) -> None:
     """An `OSError` naming `path` if it is a symbolic link."""
     try:

@@ -108,10 +108,10 @@ def iter_runs(
     """
     base = load_base(scene)
     paths = list(grid or {})
-    values = [_bounded(grid[p], f"grid: `{p}`") for p in paths]  # type: ignore[index]
+    values = [_bounded(grid[p], f"grid: `{printable(p)}`") for p in paths]  # type: ignore[index]
     for p, v in zip(paths, values):
         if not v:
-            raise ValueError(f"grid: `{p}` has no values")
+            raise ValueError(f"grid: `{printable(p)}` has no values")
     case_list = _bounded(cases or [], "cases")
     count = (math.prod(len(v) for v in values) if paths else 0) + len(case_list)
     if count > MAX_RUNS:
@@ -179,7 +179,7 @@ def _named(name: str) -> str:
 
 def _read(path: Path) -> str:
     if not path.is_file():
-        raise quatrot.SceneError(f"no built-in scene or file named `{path}`")
+        raise quatrot.SceneError(f"no built-in scene or file named `{printable(str(path))}`")
     return path.read_text()
 
 
@@ -204,7 +204,7 @@ def apply(base: Mapping[str, Any], overrides: Mapping[str, Any]) -> dict[str, An
 
 def _segments(path: str) -> list[str | int]:
     if not isinstance(path, str) or not _PATH.fullmatch(path):
-        raise ValueError(f"`{path}`: not a scene field path (keys joined by `.`, array items as `[n]`)")
+        raise ValueError(f"`{printable(str(path))}`: not a scene field path (keys joined by `.`, array items as `[n]`)")
     return [key if key else int(index) for key, index in _SEGMENT.findall(path)]
 
 
@@ -247,16 +247,54 @@ def _name(segments: list[str | int]) -> str:
 
 def plain(value: Any, path: str) -> Any:
     """`value` as plain Python (dict, list, str, int, float, bool; numpy
-    arrays and scalars through `tolist`), or a `SceneError` naming `path`."""
-    if value is None or isinstance(value, (bool, int, float, str)):
+    arrays and scalars through `tolist`), or a `SceneError` naming `path`
+    (text that is not valid Unicode, such as a command-line word that was
+    not UTF-8, is refused)."""
+    if isinstance(value, str):
+        return _text(value, path)
+    if value is None or isinstance(value, (bool, int, float)):
         return value
     if isinstance(value, Mapping):
-        return {str(k): plain(v, f"{path}.{k}".lstrip(".")) for k, v in value.items()}
+        return {_text(str(k), f"{path}: a key"): plain(v, f"{path}.{k}".lstrip(".")) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [plain(v, f"{path}[{i}]") for i, v in enumerate(value)]
     if hasattr(value, "tolist"):
         return plain(value.tolist(), path)
     raise quatrot.SceneError(f"{path or '(top level)'}: unsupported value of type {type(value).__name__}")
+
+
+def _text(text: str, path: str) -> str:
+    try:
+        text.encode()
+    except UnicodeEncodeError:
+        raise quatrot.SceneError(f"{printable(path) or '(top level)'}: not valid text (a lone surrogate)") from None
+    return text
+
+
+#: The most characters of input a message quotes.
+QUOTED_CHARS = 60
+
+
+def printable(text: str, max_chars: int = QUOTED_CHARS) -> str:
+    r"""Text from the input as a message quotes it, as the engine's messages
+    do: control characters and lone surrogates escaped, at most `max_chars`
+    characters shown (escapes counted as written), the length of the rest
+    stated.
+
+    Examples
+    --------
+    >>> print(quatrot.sweep.plan.printable("a\x1b[31mb\n" + "x" * 60))
+    a\x1b[31mb\nxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (12 more characters)
+    """
+    out, shown = [], 0
+    for k, c in enumerate(text):
+        piece = c if c.isprintable() else c.encode("unicode_escape", "backslashreplace").decode()
+        if shown + len(piece) > max_chars:
+            out.append(f"... ({len(text) - k} more characters)")
+            break
+        shown += len(piece)
+        out.append(piece)
+    return "".join(out)
 
 
 def canonical_json(scene: Mapping[str, Any]) -> str:
@@ -303,4 +341,4 @@ def format_overrides(overrides: Mapping[str, Any]) -> str:
     """`{path=value, ...}`, or `{base scene}` for none."""
     if not overrides:
         return "{base scene}"
-    return "{" + ", ".join(f"{p}={format_value(v)}" for p, v in overrides.items()) + "}"
+    return "{" + ", ".join(f"{p}={printable(format_value(v))}" for p, v in overrides.items()) + "}"

@@ -1,0 +1,170 @@
+//! One evaluation of a body system: energies by term, forces on sites and
+//! bodies, torques, the molecular virial and the pressure.
+//!
+//! Site forces `F_s` sum into the body force `F = sum_s F_s` and the
+//! space-frame torque `tau = sum_s (d_s x F_s + mu_s x E_s)` (`d_s` the
+//! site's offset from the centre, `E_s` the field at the site). The
+//! molecular virial is `W = sum_pairs R_IJ f_ij^T = W_sites - sum_s d_s F_s^T`
+//! (`R_IJ` the centre separation of the pair's minimum image), and the
+//! pressure `P = (2 K_trans + tr W) / (3 V) + P_tail`.
+
+use super::system::BodySystem;
+use nalgebra::{Matrix3, Vector3};
+
+/// The state of a body system's interactions at one configuration.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Evaluation {
+    /// Lennard-Jones energy of the site pairs within the cutoff.
+    pub lennard_jones: f64,
+    /// The tail correction of the plain truncation (periodic only).
+    pub lennard_jones_tail: f64,
+    /// Electrostatic energy.
+    pub electrostatic: f64,
+    /// The force on each site (bodies in order, their sites in order).
+    pub site_force: Vec<Vector3<f64>>,
+    /// The force on each body.
+    pub force: Vec<Vector3<f64>>,
+    /// The torque on each body about its centre, space frame.
+    pub torque: Vec<Vector3<f64>>,
+    /// The molecular virial `sum_pairs R_IJ f_ij^T`.
+    pub virial: Matrix3<f64>,
+    /// The tail correction to the pressure (periodic, plain truncation).
+    pub pressure_tail: f64,
+}
+
+impl Evaluation {
+    /// The potential energy: every term, the tail included.
+    pub fn potential_energy(&self) -> f64 {
+        self.lennard_jones + self.lennard_jones_tail + self.electrostatic
+    }
+}
+
+impl BodySystem {
+    /// Evaluates the interactions at the bodies' positions and
+    /// orientations, first rebuilding the neighbour list (after wrapping
+    /// the centres into a periodic box) if a site has moved more than half
+    /// the skin.
+    pub fn evaluate(&mut self, out: &mut Evaluation) {
+        let mut positions = std::mem::take(&mut self.scratch.multipoles.positions);
+        self.site_positions(&mut positions);
+        if self.neighbours.is_stale(&positions) {
+            let space = self.space;
+            for body in &mut self.bodies {
+                space.wrap(&mut body.position, &mut body.image);
+            }
+            self.site_positions(&mut positions);
+            self.neighbours
+                .build(&positions, &self.site_body, &self.space);
+        }
+        self.scratch.multipoles.positions = positions;
+        let n = self.sites();
+        out.site_force.clear();
+        out.site_force.resize(n, Vector3::zeros());
+        let mut virial = Matrix3::zeros();
+        (out.lennard_jones, out.lennard_jones_tail, out.pressure_tail) = (0.0, 0.0, 0.0);
+        if let Some(term) = &self.lennard_jones {
+            let sums = &mut self.scratch.lennard_jones;
+            let positions = &self.scratch.multipoles.positions;
+            term.evaluate(
+                positions,
+                &self.lj_kind,
+                &self.space,
+                &self.neighbours,
+                sums,
+            );
+            out.lennard_jones = sums.energy;
+            virial += sums.virial;
+            add(&mut out.site_force, &sums.force);
+            if let Some(volume) = self.space.volume() {
+                (out.lennard_jones_tail, out.pressure_tail) = term.tail(&self.lj_counts, volume);
+            }
+        }
+        out.electrostatic = 0.0;
+        if self.electrostatics.is_some() {
+            self.space_multipoles();
+        }
+        if let Some(method) = &self.electrostatics {
+            let response = &mut self.scratch.response;
+            method.evaluate(
+                &self.scratch.multipoles,
+                &self.space,
+                &self.neighbours,
+                response,
+            );
+            out.electrostatic = response.energy;
+            virial += response.virial;
+            add(&mut out.site_force, &response.force);
+        }
+        self.body_sums(out, virial);
+    }
+
+    /// The pressure of an evaluation `e` of the current state, `None` in
+    /// open space.
+    pub fn pressure(&self, e: &Evaluation) -> Option<f64> {
+        let volume = self.space.volume()?;
+        let kinetic = 2.0 * self.translational_kinetic_energy();
+        Some((kinetic + e.virial.trace()) / (3.0 * volume) + e.pressure_tail)
+    }
+
+    /// Each site's position (and its offset into the scratch).
+    fn site_positions(&mut self, positions: &mut Vec<Vector3<f64>>) {
+        let offsets = &mut self.scratch.offsets;
+        positions.clear();
+        offsets.clear();
+        for body in &self.bodies {
+            let rotation = body.orientation.body_to_space_matrix();
+            for site in &self.types[body.kind].sites {
+                let offset = rotation * site.position;
+                offsets.push(offset);
+                positions.push(body.position + offset);
+            }
+        }
+    }
+
+    /// Charges and space-frame dipoles of every site.
+    fn space_multipoles(&mut self) {
+        let m = &mut self.scratch.multipoles;
+        m.charges.clear();
+        m.dipoles.clear();
+        for body in &self.bodies {
+            let rotation = body.orientation.body_to_space_matrix();
+            for site in &self.types[body.kind].sites {
+                m.charges.push(site.charge);
+                m.dipoles
+                    .push(site.dipole.map_or(Vector3::zeros(), |mu| rotation * mu));
+            }
+        }
+    }
+
+    /// Body forces, torques and the molecular virial from the site forces.
+    fn body_sums(&self, out: &mut Evaluation, site_virial: Matrix3<f64>) {
+        let nbodies = self.bodies.len();
+        out.force.clear();
+        out.force.resize(nbodies, Vector3::zeros());
+        out.torque.clear();
+        out.torque.resize(nbodies, Vector3::zeros());
+        let fields = self
+            .electrostatics
+            .as_ref()
+            .map(|_| &self.scratch.response.field);
+        let dipoles = &self.scratch.multipoles.dipoles;
+        let mut virial = site_virial;
+        for (s, (&b, f)) in self.site_body.iter().zip(&out.site_force).enumerate() {
+            let (b, d) = (b as usize, self.scratch.offsets[s]);
+            out.force[b] += f;
+            out.torque[b] += d.cross(f);
+            if let Some(field) = fields {
+                out.torque[b] += dipoles[s].cross(&field[s]);
+            }
+            virial -= d * f.transpose();
+        }
+        out.virial = virial;
+    }
+}
+
+/// `total[i] += part[i]` for every site.
+fn add(total: &mut [Vector3<f64>], part: &[Vector3<f64>]) {
+    for (t, p) in total.iter_mut().zip(part) {
+        *t += p;
+    }
+}

@@ -1,0 +1,40 @@
+//! Rigid bodies that move: centres and orientations, body-fixed sites with
+//! Lennard-Jones, charges and point dipoles, interacting between bodies
+//! (never within one) through Verlet lists, integrated by velocity Verlet
+//! with NO_SQUISH.
+//!
+//! * [`site`], [`body_type`]: a site's parameters; a body type's mass,
+//!   principal moments and sites in the principal frame.
+//! * [`space`]: open space or a periodic orthorhombic box.
+//! * [`neighbours`]: cell and Verlet lists with a skin.
+//! * [`lennard_jones`], [`electrostatics`]: the site-pair terms (the
+//!   electrostatic methods behind one trait).
+//! * [`system`], [`evaluate`]: bodies with their interactions; energies,
+//!   forces, torques, virial and pressure of a configuration.
+//! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
+//! * [`generate`]: random non-overlapping starts at a density, with
+//!   Maxwell-Boltzmann velocities and zero total momentum.
+//! * [`integrator`]: velocity Verlet + NO_SQUISH.
+
+pub mod body_type;
+pub mod electrostatics;
+pub mod evaluate;
+pub mod generate;
+pub mod integrator;
+pub mod lennard_jones;
+pub mod neighbours;
+pub mod site;
+pub mod space;
+pub mod system;
+pub mod temperature;
+
+pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
+pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
+pub use evaluate::Evaluation;
+pub use generate::{random_start, RandomStart, MAX_PACKING};
+pub use integrator::BodyNoSquish;
+pub use lennard_jones::{LennardJonesOptions, LennardJonesTerm, Mixing, Truncation};
+pub use neighbours::NeighbourList;
+pub use site::{LennardJones, Site};
+pub use space::Space;
+pub use system::{Body, BodySystem, InteractionOptions};

@@ -1,0 +1,283 @@
+//! Verlet neighbour lists of sites built through a cell list: every pair of
+//! sites of different bodies closer than `cutoff + skin`, rebuilt when a
+//! site has moved more than half the skin since the last build (then no
+//! pair can have come within the cutoff unseen).
+//!
+//! Cost and memory O(N): cells at least `cutoff + skin` wide (wider in open
+//! space when the sites' bounding box would need more than
+//! [`CELLS_PER_SITE`] cells per site), each site compared with the sites of
+//! its 27 neighbouring cells. The list is full (each pair listed from both
+//! ends), so per-site sums need no shared writes: the results are the same
+//! bit for bit for any number of threads.
+
+use super::space::Space;
+use crate::checks::{non_negative, positive, InputError};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+/// Open space: at most this many cells per site (plus 27).
+pub const CELLS_PER_SITE: usize = 8;
+/// Sites per parallel task of a build.
+const SITES_PER_TASK: usize = 512;
+
+/// A full Verlet list of the sites.
+#[derive(Clone, Debug, Default)]
+pub struct NeighbourList {
+    cutoff: f64,
+    skin: f64,
+    /// Site `i`'s partners are `partner[start[i]..start[i + 1]]`.
+    start: Vec<usize>,
+    partner: Vec<u32>,
+    /// Site positions at the last build.
+    reference: Vec<Vector3<f64>>,
+    builds: u64,
+}
+
+/// A grid of cells over the sites.
+struct Cells {
+    counts: [usize; 3],
+    /// Sites of cell `c` are `order[first[c]..first[c + 1]]`.
+    first: Vec<usize>,
+    order: Vec<u32>,
+    cell_of: Vec<usize>,
+    periodic: bool,
+}
+
+impl NeighbourList {
+    /// An empty list for pairs within `cutoff` (> 0) with a skin (>= 0).
+    pub fn new(cutoff: f64, skin: f64) -> Result<Self, InputError> {
+        Ok(NeighbourList {
+            cutoff: positive(cutoff).map_err(|e| e.at("cutoff"))?,
+            skin: non_negative(skin).map_err(|e| e.at("skin"))?,
+            ..NeighbourList::default()
+        })
+    }
+
+    /// `cutoff + skin`: the reach of the list.
+    pub fn reach(&self) -> f64 {
+        self.cutoff + self.skin
+    }
+
+    /// How many times the list was built.
+    pub fn builds(&self) -> u64 {
+        self.builds
+    }
+
+    /// The partners of site `i`.
+    #[inline]
+    pub fn partners(&self, i: usize) -> &[u32] {
+        &self.partner[self.start[i]..self.start[i + 1]]
+    }
+
+    /// Whether the list must be rebuilt for `sites`: never built, another
+    /// number of sites, or a site more than half the skin from where it was
+    /// at the last build.
+    pub fn is_stale(&self, sites: &[Vector3<f64>]) -> bool {
+        let limit = (0.5 * self.skin).powi(2);
+        self.reference.len() != sites.len()
+            || self.start.is_empty()
+            || sites
+                .par_iter()
+                .zip(&self.reference)
+                .any(|(x, x0)| (x - x0).norm_squared() > limit)
+    }
+
+    /// Builds the list of `sites` (`body[i]` the body of site `i`; pairs
+    /// within one body are left out).
+    pub fn build(&mut self, sites: &[Vector3<f64>], body: &[u32], space: &Space) {
+        let reach = self.reach();
+        let cells = Cells::new(sites, space, reach);
+        let reach2 = reach * reach;
+        let tasks: Vec<(Vec<usize>, Vec<u32>)> = (0..sites.len().div_ceil(SITES_PER_TASK))
+            .into_par_iter()
+            .map(|task| {
+                let range = task * SITES_PER_TASK..((task + 1) * SITES_PER_TASK).min(sites.len());
+                let (mut counts, mut partners) = (Vec::with_capacity(range.len()), Vec::new());
+                for i in range {
+                    let before = partners.len();
+                    for c in cells.neighbours(cells.cell_of[i]) {
+                        for &j in cells.sites(c) {
+                            let ju = j as usize;
+                            if ju != i
+                                && body[ju] != body[i]
+                                && space.minimum_image(sites[i] - sites[ju]).norm_squared() < reach2
+                            {
+                                partners.push(j);
+                            }
+                        }
+                    }
+                    counts.push(partners.len() - before);
+                }
+                (counts, partners)
+            })
+            .collect();
+        self.start.clear();
+        self.start.push(0);
+        self.partner.clear();
+        for (counts, partners) in tasks {
+            for c in counts {
+                self.start.push(self.start.last().copied().unwrap_or(0) + c);
+            }
+            self.partner.extend_from_slice(&partners);
+        }
+        self.reference.clear();
+        self.reference.extend_from_slice(sites);
+        self.builds += 1;
+    }
+}
+
+impl Cells {
+    fn new(sites: &[Vector3<f64>], space: &Space, reach: f64) -> Cells {
+        let (origin, width, counts, periodic) = match space {
+            Space::Periodic(l) => {
+                let counts = [0, 1, 2].map(|k| ((l[k] / reach).floor() as usize).max(1));
+                let width = Vector3::from_fn(|k, _| l[k] / counts[k] as f64);
+                (Vector3::zeros(), width, counts, true)
+            }
+            Space::Open => {
+                let (lo, hi) = sites.iter().fold(
+                    (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN)),
+                    |(lo, hi), x| (lo.inf(x), hi.sup(x)),
+                );
+                let extent = (hi - lo).sup(&Vector3::zeros());
+                let limit = 27 + CELLS_PER_SITE * sites.len();
+                let mut size = reach;
+                let count = |size: f64| [0, 1, 2].map(|k| (extent[k] / size) as usize + 1);
+                while count(size).iter().product::<usize>() > limit {
+                    size *= 1.5;
+                }
+                (lo, Vector3::repeat(size), count(size), false)
+            }
+        };
+        let index = |x: &Vector3<f64>| {
+            let mut c = [0; 3];
+            for k in 0..3 {
+                let mut u = (x[k] - origin[k]) / width[k];
+                if periodic {
+                    u = u.rem_euclid(counts[k] as f64);
+                }
+                c[k] = (u.max(0.0) as usize).min(counts[k] - 1);
+            }
+            (c[0] * counts[1] + c[1]) * counts[2] + c[2]
+        };
+        let cell_of: Vec<usize> = sites.iter().map(index).collect();
+        let total = counts.iter().product::<usize>();
+        let mut first = vec![0; total + 1];
+        for &c in &cell_of {
+            first[c + 1] += 1;
+        }
+        for c in 0..total {
+            first[c + 1] += first[c];
+        }
+        let mut fill = first.clone();
+        let mut order = vec![0; sites.len()];
+        for (i, &c) in cell_of.iter().enumerate() {
+            order[fill[c]] = i as u32;
+            fill[c] += 1;
+        }
+        Cells {
+            counts,
+            first,
+            order,
+            cell_of,
+            periodic,
+        }
+    }
+
+    fn sites(&self, c: usize) -> &[u32] {
+        &self.order[self.first[c]..self.first[c + 1]]
+    }
+
+    /// The distinct cells next to `c` (itself included), ascending.
+    fn neighbours(&self, c: usize) -> Vec<usize> {
+        let [_, ny, nz] = self.counts;
+        let own = [c / (ny * nz), (c / nz) % ny, c % nz];
+        let mut out = Vec::with_capacity(27);
+        for dx in -1i64..=1 {
+            for dy in -1i64..=1 {
+                for dz in -1i64..=1 {
+                    let mut cell = [0usize; 3];
+                    let mut inside = true;
+                    for (k, d) in [dx, dy, dz].into_iter().enumerate() {
+                        let n = self.counts[k] as i64;
+                        let u = own[k] as i64 + d;
+                        if self.periodic {
+                            cell[k] = u.rem_euclid(n) as usize;
+                        } else if (0..n).contains(&u) {
+                            cell[k] = u as usize;
+                        } else {
+                            inside = false;
+                        }
+                    }
+                    if inside {
+                        out.push((cell[0] * ny + cell[1]) * nz + cell[2]);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The pairs of the list are exactly those a direct double loop finds
+    /// within the reach (different bodies only), periodic and open, for
+    /// boxes with 2, 3 and more cells per edge.
+    #[test]
+    fn the_list_holds_exactly_the_pairs_within_reach() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        for (lengths, n) in [([5.0, 6.5, 12.0], 300), ([5.2, 5.2, 5.2], 40)] {
+            let lengths = Vector3::from(lengths);
+            let sites: Vec<Vector3<f64>> = (0..n)
+                .map(|_| Vector3::from_fn(|k, _| rng.random::<f64>() * lengths[k] * 1.2 - 0.1))
+                .collect();
+            let body: Vec<u32> = (0..n as u32).map(|i| i / 2).collect();
+            for space in [Space::Periodic(lengths), Space::Open] {
+                let mut list = NeighbourList::new(2.0, 0.5).unwrap();
+                list.build(&sites, &body, &space);
+                for i in 0..n {
+                    let mut found: Vec<u32> = list.partners(i).to_vec();
+                    found.sort_unstable();
+                    let direct: Vec<u32> = (0..n as u32)
+                        .filter(|&j| {
+                            body[j as usize] != body[i]
+                                && space.minimum_image(sites[i] - sites[j as usize]).norm() < 2.5
+                        })
+                        .collect();
+                    assert_eq!(found, direct, "site {i} in {space:?}");
+                }
+            }
+        }
+    }
+
+    /// The list is stale once a site has moved more than half the skin, not before.
+    #[test]
+    fn the_list_is_stale_after_half_a_skin() {
+        let mut sites = vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
+        let mut list = NeighbourList::new(1.0, 0.4).unwrap();
+        assert!(list.is_stale(&sites));
+        list.build(&sites, &[0, 1], &Space::Open);
+        sites[1].y = 0.19;
+        assert!(!list.is_stale(&sites));
+        sites[1].y = 0.21;
+        assert!(list.is_stale(&sites));
+    }
+
+    /// Open space with sites spread along a line far longer than the
+    /// reach: the cells stay within the bound per site.
+    #[test]
+    fn open_cells_stay_within_the_bound() {
+        let sites: Vec<Vector3<f64>> = (0..10)
+            .map(|k| Vector3::new(1e6 * k as f64, 0.0, 0.0))
+            .collect();
+        let cells = Cells::new(&sites, &Space::Open, 1.0);
+        assert!(cells.first.len() - 1 <= 27 + CELLS_PER_SITE * 10);
+    }
+}

@@ -1,0 +1,261 @@
+//! A system of rigid bodies: their types, their state, the space and the
+//! interactions between sites of different bodies.
+
+use super::body_type::BodyType;
+use super::electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
+use super::lennard_jones::{LennardJonesOptions, LennardJonesTerm, PairSums};
+use super::neighbours::NeighbourList;
+use super::site::LennardJones;
+use super::space::Space;
+use crate::checks::{each, finite, non_negative, orientation, InputError};
+use crate::quaternion::Quat;
+use nalgebra::Vector3;
+
+/// The state of one body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    /// Index of its type.
+    pub kind: usize,
+    /// The centre, space frame (wrapped into a periodic box at each
+    /// neighbour-list build).
+    pub position: Vector3<f64>,
+    /// Box lengths crossed by the centre's wrapping (unwrapped position
+    /// `position + image * L`).
+    pub image: [i64; 3],
+    /// The centre's velocity.
+    pub velocity: Vector3<f64>,
+    /// Unit orientation, body (principal) frame to space.
+    pub orientation: Quat,
+    /// Angular momentum, body frame (zero about a linear body's axis).
+    pub angular_momentum_body: Vector3<f64>,
+}
+
+/// The interactions' options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InteractionOptions {
+    /// Lennard-Jones (required when a site has Lennard-Jones parameters).
+    pub lennard_jones: Option<LennardJonesOptions>,
+    /// The cutoff of charges and dipoles (required when a site has one).
+    pub electrostatic_cutoff: Option<f64>,
+    /// The neighbour lists' skin (length, >= 0; 0.3 is LAMMPS's default in
+    /// LJ units).
+    pub skin: f64,
+}
+
+/// Bodies, their types, the space and the interactions.
+#[derive(Debug)]
+pub struct BodySystem {
+    /// The body types.
+    pub types: Vec<BodyType>,
+    /// The bodies.
+    pub bodies: Vec<Body>,
+    /// The space.
+    pub space: Space,
+    pub(super) lennard_jones: Option<LennardJonesTerm>,
+    pub(super) electrostatics: Option<Box<dyn Electrostatics>>,
+    pub(super) neighbours: NeighbourList,
+    /// Per site (bodies in order, each body's sites in order): its body
+    /// and its Lennard-Jones parameters' index.
+    pub(super) site_body: Vec<u32>,
+    pub(super) lj_kind: Vec<Option<u32>>,
+    /// Sites of each Lennard-Jones parameter set (the tail corrections).
+    pub(super) lj_counts: Vec<usize>,
+    pub(super) scratch: Scratch,
+}
+
+/// Buffers reused by every evaluation.
+#[derive(Debug, Default)]
+pub(super) struct Scratch {
+    pub multipoles: SiteMultipoles,
+    pub response: SiteResponse,
+    pub lennard_jones: PairSums,
+    /// Site offsets from their centres, space frame.
+    pub offsets: Vec<Vector3<f64>>,
+}
+
+impl BodySystem {
+    /// The system; errors name the field (`bodies[3].orientation`,
+    /// `body_types[0].sites[1].quadrupole`, `electrostatic_cutoff`,
+    /// `box_lengths[0]`).
+    pub fn new(
+        types: Vec<BodyType>,
+        bodies: Vec<Body>,
+        space: Space,
+        options: &InteractionOptions,
+    ) -> Result<BodySystem, InputError> {
+        let mut bodies = bodies;
+        for (i, body) in bodies.iter_mut().enumerate() {
+            check_body(body, &types).map_err(|e| e.at(&format!("bodies[{i}]")))?;
+        }
+        let (mut kinds, mut lj_kind, mut site_body) = (vec![], vec![], vec![]);
+        let (mut lj_counts, mut electrostatic) = (Vec::new(), false);
+        for (t, kind) in types.iter().enumerate() {
+            for (k, site) in kind.sites.iter().enumerate() {
+                if site.quadrupole.is_some() {
+                    return Err(InputError::new(
+                        format!("body_types[{t}].sites[{k}].quadrupole"),
+                        "point quadrupoles between moving bodies are not supported yet",
+                    ));
+                }
+                if let Some(lj) = site.lennard_jones {
+                    if !kinds.contains(&lj) {
+                        kinds.push(lj);
+                    }
+                }
+                electrostatic |= site.is_electrostatic();
+            }
+        }
+        for (b, body) in bodies.iter().enumerate() {
+            for site in &types[body.kind].sites {
+                let index = site.lennard_jones.map(|lj| lj_index(&kinds, &lj));
+                if let Some(a) = index {
+                    lj_counts.resize(kinds.len(), 0);
+                    lj_counts[a as usize] += 1;
+                }
+                lj_kind.push(index);
+                site_body.push(b as u32);
+            }
+        }
+        let lennard_jones = match (options.lennard_jones, kinds.is_empty()) {
+            (Some(o), false) => {
+                Some(LennardJonesTerm::new(o, kinds).map_err(|e| e.at("lennard_jones"))?)
+            }
+            (None, false) => return Err(required("lennard_jones", "Lennard-Jones parameters")),
+            (_, true) => None,
+        };
+        let electrostatics: Option<Box<dyn Electrostatics>> =
+            match (options.electrostatic_cutoff, electrostatic) {
+                (Some(c), true) => {
+                    Some(Box::new(CutoffSum::new(c).map_err(|e| {
+                        InputError::new("electrostatic_cutoff", e.message)
+                    })?))
+                }
+                (None, true) => return Err(required("electrostatic_cutoff", "charges or dipoles")),
+                (_, false) => None,
+            };
+        let cutoff = [
+            lennard_jones.as_ref().map(|t| t.cutoff()),
+            electrostatics.as_ref().map(|e| e.pair_cutoff()),
+        ]
+        .into_iter()
+        .flatten()
+        .fold(0.0, f64::max);
+        let skin = non_negative(options.skin).map_err(|e| e.at("skin"))?;
+        // Bodies without interacting sites still get a (never used) list.
+        let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
+        space.check(neighbours.reach())?;
+        Ok(BodySystem {
+            types,
+            bodies,
+            space,
+            lennard_jones,
+            electrostatics,
+            neighbours,
+            site_body,
+            lj_kind,
+            lj_counts,
+            scratch: Scratch::default(),
+        })
+    }
+
+    /// The number of sites.
+    pub fn sites(&self) -> usize {
+        self.site_body.len()
+    }
+
+    /// How many times the neighbour list was built.
+    pub fn neighbour_builds(&self) -> u64 {
+        self.neighbours.builds()
+    }
+
+    /// The translational kinetic energy `sum m v^2 / 2`.
+    pub fn translational_kinetic_energy(&self) -> f64 {
+        let each = |b: &Body| 0.5 * self.types[b.kind].mass * b.velocity.norm_squared();
+        self.bodies.iter().map(each).sum()
+    }
+
+    /// The rotational kinetic energy `sum_k L_k^2 / (2 I_k)` (axes with a
+    /// zero moment carry none).
+    pub fn rotational_kinetic_energy(&self) -> f64 {
+        let each = |b: &Body| {
+            let moments = &self.types[b.kind].moments;
+            (0..3)
+                .filter(|&k| moments[k] > 0.0)
+                .map(|k| 0.5 * b.angular_momentum_body[k].powi(2) / moments[k])
+                .sum::<f64>()
+        };
+        self.bodies.iter().map(each).sum()
+    }
+
+    /// The total linear momentum `sum m v`.
+    pub fn linear_momentum(&self) -> Vector3<f64> {
+        self.bodies
+            .iter()
+            .map(|b| b.velocity * self.types[b.kind].mass)
+            .sum()
+    }
+
+    /// The total angular momentum about the origin, `sum (R x m v + L_s)`
+    /// (unwrapped centres).
+    pub fn angular_momentum(&self) -> Vector3<f64> {
+        self.bodies
+            .iter()
+            .map(|b| {
+                let centre = self.unwrapped(b);
+                centre.cross(&(b.velocity * self.types[b.kind].mass))
+                    + b.orientation.body_to_space(&b.angular_momentum_body)
+            })
+            .sum()
+    }
+
+    /// A body's centre with its image counts undone.
+    pub fn unwrapped(&self, body: &Body) -> Vector3<f64> {
+        match self.space {
+            Space::Open => body.position,
+            Space::Periodic(l) => {
+                body.position + Vector3::from_fn(|k, _| body.image[k] as f64 * l[k])
+            }
+        }
+    }
+}
+
+/// The index of `lj` in `kinds` (it is there: collected above).
+fn lj_index(kinds: &[LennardJones], lj: &LennardJones) -> u32 {
+    kinds.iter().position(|k| k == lj).unwrap_or(0) as u32
+}
+
+fn required(field: &str, what: &str) -> InputError {
+    InputError::new(field, format!("required when sites carry {what}"))
+}
+
+/// One body's values: a known type, finite vectors, no angular momentum
+/// about a linear body's axis, a non-zero orientation (normalised here).
+fn check_body(body: &mut Body, types: &[BodyType]) -> Result<(), InputError> {
+    let Some(kind) = types.get(body.kind) else {
+        return Err(InputError::new(
+            "kind",
+            format!(
+                "must be below the number of body types ({}), got {}",
+                types.len(),
+                body.kind
+            ),
+        ));
+    };
+    each(body.position.as_slice(), finite).map_err(|e| e.at("position"))?;
+    each(body.velocity.as_slice(), finite).map_err(|e| e.at("velocity"))?;
+    each(body.angular_momentum_body.as_slice(), finite)
+        .map_err(|e| e.at("angular_momentum_body"))?;
+    if let Some(k) =
+        (0..3).find(|&k| kind.moments[k] == 0.0 && body.angular_momentum_body[k] != 0.0)
+    {
+        return Err(InputError::new(
+            format!("angular_momentum_body[{k}]"),
+            format!(
+                "must be 0 about a linear body's axis, got {}",
+                body.angular_momentum_body[k]
+            ),
+        ));
+    }
+    body.orientation = orientation(&body.orientation).map_err(|e| e.at("orientation"))?;
+    Ok(())
+}

@@ -1,0 +1,68 @@
+//! Smooth particle-mesh Ewald (PME) for charges, point dipoles and
+//! Buckingham quadrupoles at any sites of an orthorhombic box (Essmann et
+//! al., J. Chem. Phys. 103, 8577 (1995); point multipoles as in Sagui,
+//! Pedersen & Darden, J. Chem. Phys. 120, 73 (2004)), in the reduced units
+//! of the crate (`4 pi eps0 = 1`).
+//!
+//! Site `i` acts as the operator `D_i = q_i + mu_i.grad + 1/3 Theta_i:grad
+//! grad` on its position, and the energy is `V = 1/2 sum_i D_i phi(r_i)`
+//! with the potential `phi` of all the other sites and images. Each site's
+//! potential derivatives `d^A phi(r_i)` up to the third order are the sum of:
+//!
+//! * real space: the pairs within `r_c` with the kernel `erfc(alpha r)/r`
+//!   (`real_space`);
+//! * reciprocal space: `phi(r) = (4 pi / V) sum_(k != 0) exp(-k^2 / 4
+//!   alpha^2) / k^2 S(k) exp(i k.r)` with `S(k) = sum_j D_j exp(-i k.r_j)`,
+//!   computed on a mesh of `K_x x K_y x K_z` points with B-splines of order
+//!   `p` (`bspline`, `spread`, `influence`, `gather`); the
+//!   interpolation error falls as `(h / L)^p`;
+//! * self: minus each site's own smooth `D_i erf(alpha |r - r_i|) / |r - r_i|`
+//!   at `r = r_i` (energy `-alpha q^2 / sqrt(pi) - 2 alpha^3 mu^2 / (3
+//!   sqrt(pi)) - 8 alpha^5 Theta:Theta / (45 sqrt(pi))`, the terms of
+//!   `crate::potential::multipole::ewald_terms` with charges);
+//! * background: a net charge `Q` with its neutralising background,
+//!   `phi = -pi Q / (V alpha^2)` (energy `-pi Q^2 / (2 V alpha^2)`);
+//! * surface, vacuum only (de Leeuw, Perram & Smith 1980): `V = 2 pi |M|^2
+//!   / (3 V)` with `M = sum_i (q_i r_i + mu_i)` over the sites wrapped into
+//!   `[0, L_a)` (with net charge `M` depends on that convention).
+//!
+//! Then `E_i = -grad phi`, `W_i = 1/3 grad grad phi`, and the force `F_i =
+//! -grad_(r_i) V = -D_i grad phi(r_i)` is the exact gradient of the PME
+//! energy (the mesh part included), as the tests check by finite
+//! differences.
+//!
+//! **Interface.** [`MeshEwald::new`] builds the mesh, the FFT plans, the
+//! influence function and every buffer for a number of sites and a box;
+//! [`MeshEwald::evaluate`] takes [`Sources`] (positions, charges, dipoles,
+//! quadrupoles: the sites may move between calls) and fills a
+//! [`SiteResponse`] (energy; potential, fields and force of every site);
+//! every buffer sized by the sites is built once (the FFT convolution of
+//! `fft3.rs` still allocates its mesh-sized transients at each call). The real-space part, the spreading (one task per
+//! mesh plane) and the gathering are rayon loops whose sums do not depend
+//! on the number of threads.
+//!
+//! **Parameters** from a requested accuracy: [`for_charges`] (Kolafa &
+//! Perram; Deserno & Holm). Left out so far: the estimates for dipoles and
+//! quadrupoles (Cerda et al. 2008), the virial, scenes and Python.
+
+mod accuracy;
+mod bspline;
+mod cartesian;
+mod gather;
+mod influence;
+mod mesh;
+mod parameters;
+mod real_space;
+mod sites;
+mod spread;
+
+pub use accuracy::{
+    for_charges, ChargeEstimate, ACCURACY_RANGE, DEFAULT_ORDER, ESTIMATED_ORDERS, MESH_SAFETY,
+};
+pub use bspline::ORDERS;
+pub use mesh::MeshEwald;
+pub use parameters::MeshParameters;
+pub use sites::{SiteResponse, Sources};
+
+#[cfg(test)]
+mod tests;

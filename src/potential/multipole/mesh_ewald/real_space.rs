@@ -1,0 +1,157 @@
+//! The real-space part of the mesh Ewald sum: every pair closer than `r_c`
+//! (minimum image, `r_c <= L_a / 2`), found by a cell list rebuilt at each
+//! evaluation into buffers sized once. Each site sums its own partners
+//! (every pair is visited from both ends), so sites are independent rayon
+//! tasks and the sums do not depend on the number of threads.
+//!
+//! A source `j` contributes `d^A phi(r_i) = sum_E c_E (-1)^|E| d^(A + E)
+//! g(r_i - r_j)` with `g = erfc(alpha r) / r` (the Ewald real-space kernel
+//! of [`crate::potential::multipole::ewald_terms`]).
+
+use super::cartesian::{radial_derivatives, Tables, DERIVATIVES, SOURCES, UP_TO};
+use crate::potential::multipole::ewald_terms::radial_functions;
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+/// The cell list of one box (cells at least `r_c` wide).
+#[derive(Clone, Debug)]
+pub(crate) struct CellList {
+    cells: [usize; 3],
+    /// The distinct neighbour offsets (`-1, 0, 1` modulo the cell count) per axis.
+    offsets: [Vec<usize>; 3],
+    /// First entry of each cell in `members` (`cells + 1` entries).
+    start: Vec<usize>,
+    /// Site indices, by cell, in increasing order within a cell.
+    members: Vec<usize>,
+    cell_of: Vec<usize>,
+}
+
+impl CellList {
+    /// Buffers for `sites` sites in `box_lengths` with cutoff `cutoff`
+    /// (`cutoff <= L_a / 2`, checked by the caller).
+    pub fn new(sites: usize, box_lengths: &Vector3<f64>, cutoff: f64) -> Self {
+        let cells: [usize; 3] =
+            std::array::from_fn(|a| ((box_lengths[a] / cutoff).floor() as usize).max(1));
+        let offsets = std::array::from_fn(|a| {
+            let mut out: Vec<usize> = [cells[a] - 1, 0, 1].map(|o| o % cells[a]).to_vec();
+            out.sort_unstable();
+            out.dedup();
+            out
+        });
+        CellList {
+            cells,
+            offsets,
+            start: vec![0; cells.iter().product::<usize>() + 1],
+            members: vec![0; sites],
+            cell_of: vec![0; sites],
+        }
+    }
+
+    /// Bytes held for `sites` sites in `cells` cells.
+    pub fn bytes(sites: f64, cells: f64) -> f64 {
+        16.0 * sites + 8.0 * cells
+    }
+
+    fn cell_index(&self, c: [usize; 3]) -> usize {
+        (c[0] * self.cells[1] + c[1]) * self.cells[2] + c[2]
+    }
+
+    /// Sorts the wrapped positions (in `[0, L)`) into cells.
+    fn build(&mut self, wrapped: &[Vector3<f64>], box_lengths: &Vector3<f64>) {
+        let cells = self.cells;
+        for (i, r) in wrapped.iter().enumerate() {
+            let c = std::array::from_fn(|a| {
+                ((r[a] / box_lengths[a] * cells[a] as f64) as usize).min(cells[a] - 1)
+            });
+            self.cell_of[i] = self.cell_index(c);
+        }
+        self.start.fill(0);
+        for &c in &self.cell_of {
+            self.start[c + 1] += 1;
+        }
+        for c in 1..self.start.len() {
+            self.start[c] += self.start[c - 1];
+        }
+        // Place each site at the next free slot of its cell (start shifted back after).
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            self.members[self.start[c]] = i;
+            self.start[c] += 1;
+        }
+        for c in (1..self.start.len()).rev() {
+            self.start[c] = self.start[c - 1];
+        }
+        self.start[0] = 0;
+    }
+
+    /// Adds the real-space derivatives of every site to `derivatives`
+    /// (`count` of them), from the sources' coefficients `coefficients` (of
+    /// order at most `source_order`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_derivatives(
+        &mut self,
+        wrapped: &[Vector3<f64>],
+        box_lengths: &Vector3<f64>,
+        alpha: f64,
+        cutoff: f64,
+        coefficients: &[[f64; SOURCES]],
+        source_order: usize,
+        count: usize,
+        derivatives: &mut [[f64; DERIVATIVES]],
+    ) {
+        self.build(wrapped, box_lengths);
+        let tables = Tables::get();
+        let sources = UP_TO[source_order];
+        let needed = UP_TO[tables.order(count - 1) + source_order];
+        let this = &*self;
+        derivatives
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(64)
+            .for_each(|(i, d)| {
+                let cells = this.cells;
+                let c = this.cell_of[i];
+                let home = [
+                    c / (cells[1] * cells[2]),
+                    (c / cells[2]) % cells[1],
+                    c % cells[2],
+                ];
+                let mut t = [0.0; 56];
+                for &ox in &this.offsets[0] {
+                    for &oy in &this.offsets[1] {
+                        for &oz in &this.offsets[2] {
+                            let o = [ox, oy, oz];
+                            let neighbour = this
+                                .cell_index(std::array::from_fn(|a| (home[a] + o[a]) % cells[a]));
+                            for &j in
+                                &this.members[this.start[neighbour]..this.start[neighbour + 1]]
+                            {
+                                if j == i {
+                                    continue;
+                                }
+                                let mut r = wrapped[i] - wrapped[j];
+                                for a in 0..3 {
+                                    r[a] -= box_lengths[a] * (r[a] / box_lengths[a]).round();
+                                }
+                                let distance = r.norm();
+                                if distance >= cutoff {
+                                    continue;
+                                }
+                                radial_derivatives(
+                                    &r,
+                                    &radial_functions(alpha, distance),
+                                    needed,
+                                    &mut t,
+                                );
+                                let cj = &coefficients[j];
+                                for (a, value) in d.iter_mut().enumerate().take(count) {
+                                    *value += (0..sources)
+                                        .map(|e| tables.parity[e] * cj[e] * t[tables.sum[a][e]])
+                                        .sum::<f64>();
+                                }
+                            }
+                        }
+                    }
+                }
+            });
+    }
+}

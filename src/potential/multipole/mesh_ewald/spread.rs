@@ -1,0 +1,122 @@
+//! Spreading the multipoles on the mesh (Essmann et al. 1995, eq 4.6;
+//! multipoles as in Sagui, Pedersen & Darden, J. Chem. Phys. 120, 73
+//! (2004)): `Q(l) = sum_j sum_E c_(j,E) d^E_(r_j) prod_a M_p(u_(j,a) - l_a)`,
+//! periodic in `l`, with `u_a = K_a x_a / L_a` so that `d/dx_a = (K_a / L_a)
+//! d/du_a`. Each x-plane of the mesh is one rayon task that takes the sites
+//! whose stencil reaches it in a fixed order (sites sorted by their base
+//! plane), so the mesh does not depend on the number of threads.
+
+use super::bspline::{AxisWeights, MAX_DERIVATIVE};
+use super::cartesian::{Tables, SOURCES, UP_TO};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+/// The spline weights of every site, and the sites sorted by base x-plane
+/// (buffers sized once).
+#[derive(Clone, Debug)]
+pub(crate) struct SiteWeights {
+    pub(super) order: usize,
+    pub(super) grid: [usize; 3],
+    /// Per site: the base point and the weights along each axis.
+    pub axes: Vec<[AxisWeights; 3]>,
+    /// First entry of each base x-plane in `by_plane` (`K_x + 1` entries).
+    plane_start: Vec<usize>,
+    by_plane: Vec<usize>,
+}
+
+impl SiteWeights {
+    pub fn new(sites: usize, grid: [usize; 3], order: usize) -> Self {
+        let empty = AxisWeights {
+            base: 0,
+            weight: [[0.0; 8]; MAX_DERIVATIVE + 1],
+        };
+        SiteWeights {
+            order,
+            grid,
+            axes: vec![[empty; 3]; sites],
+            plane_start: vec![0; grid[0] + 1],
+            by_plane: vec![0; sites],
+        }
+    }
+
+    /// Bytes held per site.
+    pub fn bytes_per_site() -> f64 {
+        (size_of::<[AxisWeights; 3]>() + 8) as f64
+    }
+
+    /// The weights (derivatives up to `derivatives`) of the wrapped positions.
+    pub fn compute(
+        &mut self,
+        wrapped: &[Vector3<f64>],
+        box_lengths: &Vector3<f64>,
+        derivatives: usize,
+    ) {
+        let (order, grid) = (self.order, self.grid);
+        self.axes
+            .par_iter_mut()
+            .zip(wrapped)
+            .with_min_len(256)
+            .for_each(|(axes, r)| {
+                *axes = std::array::from_fn(|a| {
+                    let points = grid[a] as f64;
+                    let u = r[a] / box_lengths[a] * points;
+                    // A coordinate rounded up to L_a is the point 0.
+                    AxisWeights::new(if u >= points { u - points } else { u }, order, derivatives)
+                });
+            });
+        self.plane_start.fill(0);
+        for axes in &self.axes {
+            self.plane_start[axes[0].base + 1] += 1;
+        }
+        for x in 1..self.plane_start.len() {
+            self.plane_start[x] += self.plane_start[x - 1];
+        }
+        for (i, axes) in self.axes.iter().enumerate() {
+            let x = axes[0].base;
+            self.by_plane[self.plane_start[x]] = i;
+            self.plane_start[x] += 1;
+        }
+        for x in (1..self.plane_start.len()).rev() {
+            self.plane_start[x] = self.plane_start[x - 1];
+        }
+        self.plane_start[0] = 0;
+    }
+
+    /// `Q` on `mesh` (layout `[x][y][z]`) from the coefficients scaled by
+    /// `prod_a (K_a / L_a)^(E_a)`, of order at most `source_order`.
+    pub fn spread(&self, scaled: &[[f64; SOURCES]], source_order: usize, mesh: &mut [f64]) {
+        let [kx, ky, kz] = self.grid;
+        let p = self.order;
+        let tables = Tables::get();
+        let sources = UP_TO[source_order];
+        mesh.par_chunks_mut(ky * kz)
+            .enumerate()
+            .for_each(|(x, plane)| {
+                plane.fill(0.0);
+                for t in 0..p {
+                    // Sites with base plane x + t reach plane x at stencil index t.
+                    let base = (x + t) % kx;
+                    for &i in &self.by_plane[self.plane_start[base]..self.plane_start[base + 1]] {
+                        let [wx, wy, wz] = &self.axes[i];
+                        let c = &scaled[i];
+                        for ty in 0..p {
+                            let y = (wy.base + ky - ty) % ky;
+                            // sum_E c_E wx^(E_x) wy^(E_y), per z-derivative order.
+                            let mut by_z = [0.0; 3];
+                            for (e, c) in c.iter().enumerate().take(sources) {
+                                let [ex, ey, ez] = tables.exponents[e];
+                                by_z[ez] += c * wx.weight[ex][t] * wy.weight[ey][ty];
+                            }
+                            let row = &mut plane[y * kz..(y + 1) * kz];
+                            for tz in 0..p {
+                                let z = (wz.base + kz - tz) % kz;
+                                row[z] += by_z[0] * wz.weight[0][tz]
+                                    + by_z[1] * wz.weight[1][tz]
+                                    + by_z[2] * wz.weight[2][tz];
+                            }
+                        }
+                    }
+                }
+            });
+    }
+}

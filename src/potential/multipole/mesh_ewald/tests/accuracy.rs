@@ -1,0 +1,53 @@
+//! The parameters chosen for an accuracy, checked against the converged sum.
+
+use super::references::textbook_charges;
+use super::{relative_rms, Configuration};
+use crate::potential::multipole::mesh_ewald::{for_charges, ACCURACY_RANGE};
+use crate::potential::multipole::Surface;
+use nalgebra::Vector3;
+
+/// The estimates hold: at each requested accuracy, the RMS force error of
+/// neutral random charges against the converged textbook sum, relative to
+/// `F_0 = (Q^2 / N) n^(2/3)`, is within the request, and the estimate is
+/// not wasteful by more than a factor 100 (a cheaper mesh would do).
+#[test]
+fn chosen_parameters_reach_the_requested_force_accuracy() {
+    let box_lengths = Vector3::new(5.0, 5.5, 6.0);
+    let c = Configuration::random(11, 100, box_lengths, (true, false, false));
+    let (_, force) = textbook_charges(&c);
+    let q = c.charges.as_ref().unwrap();
+    let n = q.len() as f64;
+    let f0 = q.iter().map(|q| q * q).sum::<f64>() / n * (n / box_lengths.product()).powf(2.0 / 3.0);
+    for accuracy in [1e-3, 1e-4, 1e-5, 1e-6] {
+        let (parameters, estimate) = for_charges(accuracy, q, &box_lengths, 2.0, None).unwrap();
+        let out = c.mesh(parameters, Surface::Conducting);
+        let rms = relative_rms(&super::flat3(&out.force), &super::flat3(&force))
+            * (force.iter().map(|f| f.norm_squared()).sum::<f64>() / n).sqrt()
+            / f0;
+        let estimated = estimate.real.hypot(estimate.mesh);
+        assert!(
+            rms <= accuracy && rms >= accuracy / 100.0,
+            "accuracy {accuracy}: measured {rms:.2e}, estimated {estimated:.2e}, {parameters:?}"
+        );
+    }
+}
+
+/// Requests the estimates cannot serve are refused, naming the field.
+#[test]
+fn unreachable_requests_are_refused_naming_the_field() {
+    let box_lengths = Vector3::repeat(4.0);
+    let q = [1.0, -1.0];
+    let (low, high) = ACCURACY_RANGE;
+    for (accuracy, cutoff, order, path) in [
+        (low / 2.0, 1.5, None, "accuracy"),
+        (high * 2.0, 1.5, None, "accuracy"),
+        (1e-5, 2.5, None, "real_cutoff"),
+        (1e-5, 1.5, Some(8), "order"),
+        (1e-5, 1.5, Some(6), "order"),
+    ] {
+        let e = for_charges(accuracy, &q, &box_lengths, cutoff, order).unwrap_err();
+        assert_eq!(e.path, path, "{e}");
+    }
+    let e = for_charges(1e-5, &[0.0, 0.0], &box_lengths, 1.5, None).unwrap_err();
+    assert_eq!(e.path, "charges", "{e}");
+}

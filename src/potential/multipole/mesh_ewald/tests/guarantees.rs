@@ -1,0 +1,105 @@
+//! What the mesh Ewald sum guarantees beyond its values: sums independent
+//! of the thread count, no buffers allocated per evaluation, refusals.
+
+use super::{fine, Configuration};
+use crate::allocation_meter::peak_above_start;
+use crate::potential::multipole::mesh_ewald::mesh::mesh_bytes;
+use crate::potential::multipole::mesh_ewald::{MeshEwald, MeshParameters, SiteResponse, Sources};
+use crate::potential::multipole::Surface;
+use nalgebra::Vector3;
+
+/// Results are bitwise the same with one and two threads (every sum runs
+/// in a fixed order per site or per mesh plane).
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let box_lengths = Vector3::new(5.0, 4.6, 5.2);
+    let c = Configuration::random(9, 300, box_lengths, (true, true, true));
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| c.mesh(fine(&box_lengths, 4.0), Surface::Vacuum))
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one.energy.to_bits(), two.energy.to_bits());
+    assert_eq!(one.force, two.force);
+    assert_eq!(one.quadrupole_conjugate, two.quadrupole_conjugate);
+}
+
+/// Parameters the sum cannot use are refused naming the field.
+#[test]
+fn unusable_parameters_are_refused_naming_the_field() {
+    let box_lengths = Vector3::repeat(3.0);
+    let good = fine(&box_lengths, 4.0);
+    let cases = [
+        (MeshParameters { order: 9, ..good }, "order"),
+        (
+            MeshParameters {
+                grid: [16, 5, 16],
+                order: 6,
+                ..good
+            },
+            "grid[1]",
+        ),
+        (
+            MeshParameters {
+                real_cutoff: 1.6,
+                ..good
+            },
+            "real_cutoff",
+        ),
+        (MeshParameters { alpha: 0.0, ..good }, "alpha"),
+    ];
+    for (parameters, path) in cases {
+        let e = MeshEwald::new(4, box_lengths, parameters, Surface::Conducting).unwrap_err();
+        assert_eq!(e.path, path, "{e}");
+    }
+    let mut sum = MeshEwald::new(2, box_lengths, good, Surface::Conducting).unwrap();
+    let positions = [Vector3::zeros(), Vector3::new(f64::NAN, 0.0, 0.0)];
+    let sources = Sources {
+        positions: &positions,
+        charges: Some(&[1.0, -1.0]),
+        dipoles: None,
+        quadrupoles: None,
+    };
+    let e = sum
+        .evaluate(&sources, &mut SiteResponse::zeros(2))
+        .unwrap_err();
+    assert_eq!(e.path, "positions[1]", "{e}");
+    let e = sum
+        .evaluate(&sources, &mut SiteResponse::zeros(3))
+        .unwrap_err();
+    assert_eq!(e.path, "positions", "{e}");
+}
+
+/// An evaluation holds nothing afterwards, and its transient allocations
+/// are those of the FFT convolution (mesh-sized, within the estimate
+/// `mesh_bytes`), the same for 60 and 600 sites on the same mesh: every
+/// buffer sized by the sites is built once (one thread, so that the calling
+/// thread does all the work).
+#[test]
+fn evaluations_allocate_no_site_or_mesh_buffers() {
+    let box_lengths = Vector3::repeat(4.0);
+    let parameters = fine(&box_lengths, 3.0);
+    let peak = |n: usize| {
+        let c = Configuration::random(10, n, box_lengths, (true, true, true));
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| {
+                let mut sum = MeshEwald::new(n, box_lengths, parameters, Surface::Vacuum).unwrap();
+                let mut out = SiteResponse::zeros(n);
+                sum.evaluate(&c.sources(), &mut out).unwrap();
+                let (result, peak, held) =
+                    peak_above_start(|| sum.evaluate(&c.sources(), &mut out));
+                result.unwrap();
+                assert_eq!(held, 0);
+                peak
+            })
+    };
+    let few = peak(60);
+    assert!(few as f64 <= mesh_bytes(parameters.grid), "{few} bytes");
+    assert_eq!(peak(600), few);
+}

@@ -1,0 +1,388 @@
+//! Moving rigid bodies (issue 39): forces, torques and the virial against
+//! finite differences of the energy, the conservation laws and the order of
+//! velocity Verlet + NO_SQUISH, the neighbour list's rebuilds.
+
+use nalgebra::{Matrix3, Vector3};
+use quatrot::bodies::{
+    random_start, Body, BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, Evaluation,
+    InteractionOptions, LennardJones, LennardJonesOptions, Mixing, RandomStart, Site, Space,
+    Truncation,
+};
+use quatrot::integrators::NoSquishOptions;
+use quatrot::Quat;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A bent three-site molecule: LJ on every site, charges summing to zero,
+/// a dipole off the centre.
+fn bent_molecule() -> BodyType {
+    let site = |p: [f64; 3], mass, sigma, charge, dipole: Option<[f64; 3]>| Site {
+        position: Vector3::from(p),
+        mass,
+        lennard_jones: Some(LennardJones {
+            epsilon: 1.0,
+            sigma,
+        }),
+        charge,
+        dipole: dipole.map(Vector3::from),
+        quadrupole: None,
+    };
+    BodyType::new(&BodyTypeSpec {
+        sites: vec![
+            site([0.0, 0.0, 0.0], 2.0, 1.0, -0.8, Some([0.0, 0.3, 0.5])),
+            site([0.5, 0.3, 0.0], 1.0, 0.8, 0.4, None),
+            site([-0.4, 0.35, 0.1], 1.0, 0.8, 0.4, None),
+        ],
+        mass: None,
+        inertia: None,
+    })
+    .expect("a valid molecule")
+}
+
+/// A dipolar LJ sphere (the Stockmayer particle).
+fn stockmayer() -> BodyType {
+    BodyType::new(&BodyTypeSpec {
+        sites: vec![Site {
+            lennard_jones: Some(LennardJones {
+                epsilon: 1.0,
+                sigma: 1.0,
+            }),
+            dipole: Some(Vector3::new(0.0, 0.0, 1.2)),
+            ..Site::default()
+        }],
+        mass: Some(1.0),
+        inertia: Some(Matrix3::identity() * 0.1),
+    })
+    .expect("a valid sphere")
+}
+
+/// `n` bodies of alternating types on a jittered cubic grid of spacing
+/// `spacing`, random orientations, velocities and angular momenta.
+fn bodies(n: usize, spacing: f64, seed: u64, types: usize) -> Vec<Body> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let side = (n as f64).cbrt().ceil() as usize;
+    (0..n)
+        .map(|i| {
+            let grid = Vector3::new(i % side, (i / side) % side, i / (side * side));
+            let jitter = Vector3::from_fn(|_, _| rng.random::<f64>() * 0.1);
+            let q = Quat::new(
+                rng.random::<f64>() - 0.5,
+                rng.random::<f64>() - 0.5,
+                rng.random::<f64>() - 0.5,
+                rng.random::<f64>() - 0.5,
+            );
+            Body {
+                kind: i % types,
+                position: grid.map(|x| x as f64 + 0.5) * spacing + jitter,
+                image: [0; 3],
+                velocity: Vector3::from_fn(|_, _| rng.random::<f64>() - 0.5),
+                orientation: q,
+                angular_momentum_body: Vector3::from_fn(|_, _| 0.3 * (rng.random::<f64>() - 0.5)),
+            }
+        })
+        .collect()
+}
+
+fn options(truncation: Truncation, lj_cutoff: f64, coulomb: f64) -> InteractionOptions {
+    InteractionOptions {
+        lennard_jones: Some(LennardJonesOptions {
+            cutoff: lj_cutoff,
+            truncation,
+            mixing: Mixing::LorentzBerthelot,
+        }),
+        electrostatic_cutoff: Some(coulomb),
+        skin: 0.3,
+    }
+}
+
+fn mixed_system(space: Space, truncation: Truncation, coulomb: f64, n: usize) -> BodySystem {
+    let types = vec![bent_molecule(), stockmayer()];
+    BodySystem::new(
+        types,
+        bodies(n, 1.6, 3, 2),
+        space,
+        &options(truncation, 2.5, coulomb),
+    )
+    .expect("a valid system")
+}
+
+fn energy(system: &mut BodySystem) -> f64 {
+    let mut e = Evaluation::default();
+    system.evaluate(&mut e);
+    e.potential_energy()
+}
+
+/// Every body's force and torque are minus the central differences of the
+/// energy under a translation and a rotation of that body about each space
+/// axis (an open cluster whose site pairs all lie within the cutoffs, so
+/// the energy is smooth; step 1e-6: truncation ~1e-12, round-off ~1e-9
+/// of an energy ~10).
+#[test]
+fn forces_and_torques_are_minus_the_energy_gradients() {
+    const TOLERANCE: f64 = 2e-6;
+    let mut system = mixed_system(Space::Open, Truncation::ForceShifted, 50.0, 12);
+    let mut e = Evaluation::default();
+    system.evaluate(&mut e);
+    let h = 1e-6;
+    for i in 0..system.bodies.len() {
+        for a in 0..3 {
+            let axis = Vector3::from_fn(|k, _| if k == a { 1.0 } else { 0.0 });
+            // Minus the central difference of the energy as body i is changed by `change`.
+            let slope = |system: &mut BodySystem, change: &dyn Fn(&mut Body, f64)| {
+                let saved = system.bodies[i].clone();
+                let mut at = |s: f64| {
+                    change(&mut system.bodies[i], s);
+                    let u = energy(system);
+                    system.bodies[i] = saved.clone();
+                    u
+                };
+                -(at(h) - at(-h)) / (2.0 * h)
+            };
+            let fd = slope(&mut system, &|b, s| b.position += axis * s);
+            assert!(
+                (e.force[i][a] - fd).abs() < TOLERANCE,
+                "force {i} {a}: {} {fd}",
+                e.force[i][a]
+            );
+            let fd = slope(&mut system, &|b, s| {
+                b.orientation = Quat::exp(&(axis * s)) * b.orientation
+            });
+            assert!(
+                (e.torque[i][a] - fd).abs() < TOLERANCE,
+                "torque {i} {a}: {} {fd}",
+                e.torque[i][a]
+            );
+        }
+    }
+}
+
+/// The trace of the molecular virial is minus the derivative of the energy
+/// under a uniform scaling of the centres and the box (orientations fixed):
+/// `dU/d lambda = -tr W` at `lambda = 1` (periodic box, shifted truncations
+/// so the energy has no jumps; step 1e-6).
+#[test]
+fn the_molecular_virial_is_the_scaling_derivative() {
+    let lengths = Vector3::repeat(6.4);
+    let mut system = mixed_system(Space::Periodic(lengths), Truncation::ForceShifted, 2.5, 64);
+    let mut e = Evaluation::default();
+    system.evaluate(&mut e);
+    // The electrostatic cutoff sum jumps where a pair crosses 2.5: check no
+    // pair sits within the step of it by comparing both one-sided differences.
+    let centres: Vec<Vector3<f64>> = system.bodies.iter().map(|b| b.position).collect();
+    let mut scaled = |s: f64| {
+        for (b, c) in system.bodies.iter_mut().zip(&centres) {
+            b.position = c * s;
+        }
+        system.space = Space::Periodic(lengths * s);
+        energy(&mut system)
+    };
+    let h = 1e-6;
+    let (up, mid, down) = (scaled(1.0 + h), scaled(1.0), scaled(1.0 - h));
+    let fd = (up - down) / (2.0 * h);
+    assert!(
+        ((up - mid) / h - (mid - down) / h).abs() < 1e-3 * (1.0 + fd.abs()),
+        "a jump"
+    );
+    let trace = e.virial.trace();
+    assert!(
+        (fd + trace).abs() < 1e-6 * (1.0 + trace.abs()),
+        "{fd} {trace}"
+    );
+}
+
+/// A run with the list rebuilt only when a site moved half the skin gives
+/// the same energies (to round-off of the summation order) as one rebuilt
+/// at every step (skin 0), and it did rebuild along the way.
+#[test]
+fn rebuilding_by_the_skin_misses_no_pair() {
+    let lengths = Vector3::repeat(6.4);
+    let run = |skin: f64| {
+        let types = vec![bent_molecule(), stockmayer()];
+        let options = InteractionOptions {
+            skin,
+            ..options(Truncation::Plain, 2.5, 2.5)
+        };
+        let mut system = BodySystem::new(
+            types,
+            bodies(64, 1.6, 3, 2),
+            Space::Periodic(lengths),
+            &options,
+        )
+        .unwrap();
+        let mut integrator =
+            BodyNoSquish::new(&mut system, 0.002, NoSquishOptions::default()).unwrap();
+        let mut energies = vec![];
+        for _ in 0..200 {
+            integrator.step(&mut system);
+            energies.push(integrator.evaluation().potential_energy());
+        }
+        (energies, system.neighbour_builds())
+    };
+    let (with_skin, builds) = run(0.3);
+    let (every_step, every) = run(0.0);
+    assert!(builds > 1 && builds < 200, "{builds} builds");
+    assert_eq!(every, 201);
+    for (a, b) in with_skin.iter().zip(&every_step) {
+        assert!((a - b).abs() < 1e-10 * (1.0 + b.abs()), "{a} {b}");
+    }
+}
+
+/// Total linear momentum is conserved to round-off in a periodic box, and
+/// the angular momentum of an open cluster too.
+#[test]
+fn momentum_and_angular_momentum_are_conserved() {
+    let mut system = mixed_system(
+        Space::Periodic(Vector3::repeat(6.4)),
+        Truncation::Plain,
+        2.5,
+        64,
+    );
+    let mut integrator = BodyNoSquish::new(&mut system, 0.002, NoSquishOptions::default()).unwrap();
+    let p0 = system.linear_momentum();
+    for _ in 0..300 {
+        integrator.step(&mut system);
+    }
+    assert!(
+        (system.linear_momentum() - p0).norm() < 1e-12,
+        "{}",
+        (system.linear_momentum() - p0).norm()
+    );
+    let mut cluster = mixed_system(Space::Open, Truncation::Shifted, 50.0, 12);
+    let mut integrator =
+        BodyNoSquish::new(&mut cluster, 0.002, NoSquishOptions::default()).unwrap();
+    let (p0, l0) = (cluster.linear_momentum(), cluster.angular_momentum());
+    for _ in 0..300 {
+        integrator.step(&mut cluster);
+    }
+    assert!((cluster.linear_momentum() - p0).norm() < 1e-12);
+    assert!(
+        (cluster.angular_momentum() - l0).norm() < 1e-11,
+        "{}",
+        (cluster.angular_momentum() - l0).norm()
+    );
+}
+
+/// The energy error over a fixed time falls as `dt^2`: the fitted order of
+/// the largest total-energy deviation over t = 0.4 (an open cluster, all
+/// pairs within the cutoffs, so the energy is smooth) is 2 within 0.15.
+#[test]
+fn energy_error_is_second_order_in_dt() {
+    let deviation = |dt: f64| {
+        let mut system = mixed_system(Space::Open, Truncation::ForceShifted, 50.0, 12);
+        let mut integrator =
+            BodyNoSquish::new(&mut system, dt, NoSquishOptions::default()).unwrap();
+        let total = |s: &BodySystem, e: &Evaluation| {
+            e.potential_energy() + s.translational_kinetic_energy() + s.rotational_kinetic_energy()
+        };
+        let e0 = total(&system, integrator.evaluation());
+        let mut worst: f64 = 0.0;
+        for _ in 0..(0.4 / dt).round() as usize {
+            integrator.step(&mut system);
+            worst = worst.max((total(&system, integrator.evaluation()) - e0).abs());
+        }
+        worst
+    };
+    let dts = [0.004, 0.002, 0.001];
+    let errors: Vec<f64> = dts.iter().map(|&dt| deviation(dt)).collect();
+    let order = (errors[0] / errors[2]).ln() / (dts[0] / dts[2]).ln();
+    assert!(
+        (order - 2.0).abs() < 0.15,
+        "order {order}, errors {errors:?}"
+    );
+}
+
+/// Bad systems are refused naming the field.
+#[test]
+fn bad_systems_are_refused_naming_the_field() {
+    let types = || vec![stockmayer()];
+    let message = |bodies: Vec<Body>, space: Space, options: InteractionOptions| {
+        BodySystem::new(types(), bodies, space, &options)
+            .unwrap_err()
+            .to_string()
+    };
+    let ok = options(Truncation::Plain, 2.5, 2.5);
+    let mut bad = bodies(2, 1.6, 1, 1);
+    bad[1].velocity.y = f64::INFINITY;
+    assert_eq!(
+        message(bad, Space::Open, ok),
+        "bodies[1].velocity[1]: must be finite, got inf"
+    );
+    assert_eq!(
+        message(
+            bodies(2, 1.6, 1, 1),
+            Space::Periodic(Vector3::new(6.0, 5.5, 6.0)),
+            ok
+        ),
+        "box_lengths[1]: must be at least twice the cutoff plus the skin (5.6), got 5.5"
+    );
+    let no_coulomb = InteractionOptions {
+        electrostatic_cutoff: None,
+        ..ok
+    };
+    assert_eq!(
+        message(bodies(2, 1.6, 1, 1), Space::Open, no_coulomb),
+        "electrostatic_cutoff: required when sites carry charges or dipoles"
+    );
+    let mut unknown = bodies(2, 1.6, 1, 1);
+    unknown[0].kind = 1;
+    assert_eq!(
+        message(unknown, Space::Open, ok),
+        "bodies[0].kind: must be below the number of body types (1), got 1"
+    );
+}
+
+/// A random start of 1000 bent molecules and 1000 dipolar spheres: no two
+/// centres closer than asked (a direct check of every pair), zero total
+/// momentum to round-off, degrees of freedom 3N - 3 and 3 per molecule + 2
+/// per sphere (its spin about the dipole left out), and temperatures within
+/// five standard deviations `T sqrt(2 / N_f)` of the one asked.
+#[test]
+fn a_random_start_is_apart_at_rest_and_at_its_temperature() {
+    let types = vec![bent_molecule(), stockmayer()];
+    let kinds: Vec<usize> = (0..2000).map(|i| i % 2).collect();
+    let start = RandomStart {
+        density: 0.3,
+        closest: 1.0,
+        temperature: 1.5,
+        seed: 11,
+    };
+    let (space, bodies) = random_start(&types, &kinds, &start).unwrap();
+    let Space::Periodic(lengths) = space else {
+        panic!("a periodic cube")
+    };
+    assert!((lengths.x.powi(3) * 0.3 - 2000.0).abs() < 1e-9);
+    for i in 0..bodies.len() {
+        for j in 0..i {
+            let d = space.minimum_image(bodies[i].position - bodies[j].position);
+            assert!(d.norm() >= 1.0, "bodies {i} and {j} are {} apart", d.norm());
+        }
+    }
+    let system =
+        BodySystem::new(types, bodies, space, &options(Truncation::Plain, 2.5, 2.5)).unwrap();
+    assert!(system.linear_momentum().norm() < 1e-11);
+    assert_eq!(system.translational_degrees(), 5997);
+    assert_eq!(system.rotational_degrees(), 5000);
+    for (t, dof) in [
+        (system.translational_temperature().unwrap(), 5997.0),
+        (system.rotational_temperature().unwrap(), 5000.0),
+    ] {
+        let sigma = 1.5 * (2.0f64 / dof).sqrt();
+        assert!((t - 1.5).abs() < 5.0 * sigma, "{t}");
+    }
+}
+
+/// A density that random insertion cannot pack is refused naming it.
+#[test]
+fn an_impossible_density_is_refused() {
+    let start = RandomStart {
+        density: 0.8,
+        closest: 1.0,
+        temperature: 1.0,
+        seed: 1,
+    };
+    let e = random_start(&[stockmayer()], &[0; 10], &start).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "density: cannot be packed at random with centres 1 apart: packing fraction 0.41887902047863906 > 0.3"
+    );
+}

@@ -1,0 +1,55 @@
+"""`quatrot.bodies_evaluate` (issue 39): the bindings convert and delegate;
+bad input is refused naming the argument or the body type's field."""
+
+import numpy as np
+import pytest
+
+import quatrot
+
+SPHERE = {
+    "sites": [{"position": [0, 0, 0], "lennard_jones": {"epsilon": 1.0, "sigma": 1.0}}],
+    "mass": 1.0,
+    "inertia": [[0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]],
+}
+
+
+def evaluate(types=(SPHERE,), **kwargs):
+    positions = kwargs.pop("positions", [[0, 0, 0], [1.5, 0, 0]])
+    orientations = kwargs.pop("orientations", [[1, 0, 0, 0]] * len(positions))
+    return quatrot.bodies_evaluate(list(types), positions, orientations, lj_cutoff=2.5, **kwargs)
+
+
+def test_two_spheres_give_the_closed_form_energy_and_opposite_forces():
+    """At r = 1.5: u = 4 (r^-12 - r^-6), the force -du/dr along the axis,
+    equal and opposite, no torque, and the virial's trace r f."""
+    r = 1.5
+    state = evaluate()
+    u = 4 * (r**-12 - r**-6)
+    f = 4 * (12 * r**-13 - 6 * r**-7)
+    assert state["energies"]["lennard_jones"] == pytest.approx(u, rel=1e-14)
+    np.testing.assert_allclose(state["forces"], [[-f, 0, 0], [f, 0, 0]], rtol=1e-14)
+    assert not state["torques"].any()
+    assert np.trace(state["virial"]) == pytest.approx(r * f, rel=1e-14)
+    assert state["pressure"] is None
+
+
+def test_bad_body_types_are_refused_naming_the_field():
+    with pytest.raises(quatrot.SceneError, match=r"^body_types\[0\]\.sites: a body needs at least one site$"):
+        evaluate(types=[{"sites": [], "mass": 1.0}])
+    bad_key = {**SPHERE, "sites": [{"position": [0, 0, 0], "colour": "red"}]}
+    with pytest.raises(quatrot.SceneError, match=r"^body_types\[0\]\.sites\[0\]\.colour: unknown field `colour`, expected one of `position`"):
+        evaluate(types=[bad_key])
+    indefinite = {**SPHERE, "inertia": [[1, 0, 0], [0, -1, 0], [0, 0, 1]]}
+    with pytest.raises(quatrot.SceneError, match=r"^body_types\[0\]\.inertia: must be symmetric positive-definite"):
+        evaluate(types=[indefinite])
+
+
+def test_bad_arguments_are_refused_naming_the_argument():
+    with pytest.raises(ValueError, match=r"^kinds\[1\]: must be below the number of body types \(1\), got 3$"):
+        evaluate(kinds=[0, 3])
+    with pytest.raises(ValueError, match=r"^kinds: expected 2 kinds \(one per body\), got 1$"):
+        evaluate(kinds=[0])
+    with pytest.raises(ValueError, match=r"^truncation: "):
+        evaluate(truncation="smooth")
+    with pytest.raises(ValueError, match=r"^box_lengths\[0\]: must be at least twice the cutoff plus the skin"):
+        evaluate(box_lengths=[5.0, 8.0, 8.0])
