@@ -16,6 +16,7 @@ mod resume;
 mod scene_run;
 mod series;
 mod summary;
+mod summary_file;
 mod trajectory;
 
 pub use checkpoint::{Checkpoint, CheckpointWriter, Identity};

@@ -5,19 +5,20 @@
 use super::checkpoint::{Checkpoint, CheckpointWriter, Identity};
 use super::error::RunError;
 use super::execute::choose_threads;
-use super::folder::{
-    write_atomically, OutputFolder, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE,
-};
-use super::resume::{kept_summary_name, plan, Placement};
+use super::folder::{OutputFolder, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, PDB_FILE};
+use super::resume::{plan, Placement};
 use super::series::{CsvTarget, SeriesObserver, SeriesTable};
 use super::summary::{InteractionsSummary, Summary, Threads};
+use super::summary_file::{
+    keep_earlier_summary, placed, record_failure, running_summary, SummaryAfterCheckpoint,
+};
 use super::trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver};
 use crate::integrators::Integrator;
 use crate::potential::Potential;
+use crate::rotor::Inertia;
 use crate::scene::Scene;
 use crate::simulation::{
-    run, BlowUpChecks, CheckpointSink, Checkpoints, Control, EnergyHistory, EnergyReference,
-    Observer, RunOptions, RunReport, Scheduled, Stop,
+    run, BlowUpChecks, Checkpoints, Control, EnergyReference, Observer, RunOptions, Scheduled, Stop,
 };
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
@@ -98,22 +99,13 @@ pub fn run_scene(
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
-    let (_, chosen, reason) = choose_threads(scene.rotors.len(), outputs.threads);
-    let threads = &Threads {
-        count: rayon::current_num_threads(),
-        chosen,
-        reason,
-    };
+    let threads = &thread_record(scene, outputs);
     let ScenePotential {
         potential,
         interactions,
     } = potential;
     let inertia = scene.inertia();
-    integrator.setup(&inertia, potential, &scene.initial, scene.dt)?;
-    let (start_step, reference) = match restart {
-        Some(path) => restore(integrator, scene, path)?,
-        None => (0, None),
-    };
+    let (start_step, reference) = set_up(integrator, scene, potential, &inertia, restart)?;
     let (_lock, placement, dir) = open_folder(outputs, scene, restart, start_step)?;
     let files = dir.as_deref().zip(placement.as_ref());
     let Recorders {
@@ -130,11 +122,12 @@ pub fn run_scene(
         files,
     )?;
     let mut checkpoints = checkpoints.map(|(every, checkpoint)| {
+        let summary = running.clone();
         (
             every,
             SummaryAfterCheckpoint {
                 checkpoint,
-                summary: running.clone(),
+                summary,
             },
         )
     });
@@ -174,6 +167,34 @@ pub fn run_scene(
         stop: report.stop,
         written: dir.zip(placement),
     })
+}
+
+/// Sets `integrator` up for `scene` and, for a restart, restores it from
+/// the checkpoint at `restart`: the step it starts at and the run's energy
+/// reference.
+fn set_up(
+    integrator: &mut dyn Integrator,
+    scene: &Scene,
+    potential: &dyn Potential,
+    inertia: &[Inertia],
+    restart: Option<&Path>,
+) -> Result<(u64, Option<EnergyReference>), RunError> {
+    integrator.setup(inertia, potential, &scene.initial, scene.dt)?;
+    match restart {
+        Some(path) => restore(integrator, scene, path),
+        None => Ok((0, None)),
+    }
+}
+
+/// The thread record of a run of `scene`: the size of the rayon pool it
+/// runs in, who chose it and why (`choose_threads`).
+fn thread_record(scene: &Scene, outputs: &Outputs) -> Threads {
+    let (_, chosen, reason) = choose_threads(scene.rotors.len(), outputs.threads);
+    Threads {
+        count: rayon::current_num_threads(),
+        chosen,
+        reason,
+    }
 }
 
 /// The loop's options for a run of `scene` from `start_step` (its blow-up
@@ -222,130 +243,6 @@ fn open_folder(
         (None, _) => None,
     };
     Ok((folder, placement, dir))
-}
-
-/// Keeps the summary of the earlier run that a restart appends to under
-/// another name (done once the outputs are open, so that a restart refused
-/// before leaves the folder as it was).
-fn keep_earlier_summary(
-    files: Option<(&Path, &Placement)>,
-    start_step: u64,
-) -> Result<(), RunError> {
-    if let Some((dir, Placement::Append(_))) = files {
-        let summary = dir.join(SUMMARY_FILE);
-        if summary.exists() {
-            let kept = kept_summary_name(dir, start_step);
-            std::fs::rename(&summary, &kept).map_err(|e| RunError::io(&kept, e))?;
-        }
-    }
-    Ok(())
-}
-
-/// Status of the summary of a run that stopped on an error.
-const FAILED: &str = "failed";
-
-/// The error `error` of a run, after rewriting the summary written at its
-/// start (`running`, brought to its last checkpoint) with status [`FAILED`]
-/// and the error. A summary that cannot be written either (a full disk)
-/// keeps saying "running"; the run's own error is the one reported.
-fn record_failure(running: Option<(PathBuf, Summary)>, error: RunError) -> RunError {
-    if let Some((path, mut summary)) = running {
-        summary.status = FAILED;
-        summary.message = Some(error.to_string());
-        let _ = write_summary(&path, &summary);
-    }
-    error
-}
-
-/// `summary` with where the outputs went (`files`: the folder and the
-/// placement), written there.
-fn placed(mut summary: Summary, files: Option<(&Path, &Placement)>) -> Result<Summary, RunError> {
-    summary.outputs = files.map(|(_, placement)| placement.as_str());
-    if let Some((dir, _)) = files {
-        write_summary(&dir.join(SUMMARY_FILE), &summary)?;
-    }
-    Ok(summary)
-}
-
-/// What a killed run leaves: a summary saying "running" (written in the
-/// folder of `files`, and its path), rewritten after each checkpoint with
-/// the checkpoint's step.
-fn running_summary(
-    scene: &Scene,
-    definition: &serde_json::Value,
-    interactions: Option<&InteractionsSummary>,
-    start: (u64, &Threads),
-    files: Option<(&Path, &Placement)>,
-) -> Result<Option<(PathBuf, Summary)>, RunError> {
-    let Some((dir, _)) = files else {
-        return Ok(None);
-    };
-    let summary = in_progress(scene, definition, interactions.cloned(), start);
-    Ok(Some((dir.join(SUMMARY_FILE), placed(summary, files)?)))
-}
-
-/// Status of the summary of a run in progress (or killed).
-const RUNNING: &str = "running";
-
-/// The summary of a run of `scene` from `start_step` that has not ended:
-/// status [`RUNNING`], no energies yet.
-fn in_progress(
-    scene: &Scene,
-    definition: &serde_json::Value,
-    interactions: Option<InteractionsSummary>,
-    (start_step, threads): (u64, &Threads),
-) -> Summary {
-    let report = RunReport {
-        stop: Stop::Completed,
-        last_step: start_step,
-        reference: None,
-        last_energies: None,
-        energy_history: EnergyHistory::default(),
-        wall_seconds: 0.0,
-    };
-    let mut summary = Summary::new(
-        scene,
-        definition.clone(),
-        interactions,
-        &report,
-        (start_step, threads),
-    );
-    summary.status = RUNNING;
-    summary
-}
-
-/// Writes `summary` to `path` atomically (readers, and a run killed
-/// meanwhile, see the old file or the new one).
-fn write_summary(path: &Path, summary: &Summary) -> Result<(), RunError> {
-    let text = serde_json::to_string_pretty(summary).map_err(|e| RunError::io(path, e))?;
-    write_atomically(path, (text + "\n").as_bytes(), false)
-}
-
-/// Checkpoints, each followed by the summary in progress (status
-/// [`RUNNING`]) brought to the checkpoint's step, so that a killed run's
-/// summary names the checkpoint to restart from.
-struct SummaryAfterCheckpoint {
-    checkpoint: CheckpointWriter,
-    summary: Option<(PathBuf, Summary)>,
-}
-
-impl CheckpointSink for SummaryAfterCheckpoint {
-    type Error = RunError;
-
-    fn write(
-        &mut self,
-        step: u64,
-        state: &[f64],
-        reference: Option<EnergyReference>,
-    ) -> Result<(), RunError> {
-        self.checkpoint.write(step, state, reference)?;
-        if let Some((path, summary)) = &mut self.summary {
-            summary.last_step = step;
-            summary.initial_energy = reference;
-            write_summary(path, summary)?;
-        }
-        Ok(())
-    }
 }
 
 /// Restores `integrator` (set up for `scene`) from the checkpoint at `path`:
