@@ -73,7 +73,7 @@ impl<'a> ScenePotential<'a> {
 /// Everything a run produced.
 #[derive(Clone, Debug)]
 pub struct RunResult {
-    /// The summary (also written to [`SUMMARY_FILE`]).
+    /// The summary (also written to [`super::SUMMARY_FILE`]).
     pub summary: Summary,
     /// The series kept in memory.
     pub series: Vec<SeriesTable>,
