@@ -64,13 +64,13 @@ pub fn in_pool<R: Send>(
 }
 
 /// Rotors per thread of the automatic count: a run takes one thread per
-/// this many rotors (at least one, at most the cores). Conservative, from
-/// the idle measurements of issue 38 before the parallel step above (2
-/// threads 0.8x at 1,000 rotors, 1.04x and 1.24x at 27,000, Ewald and
-/// cutoff lattices): the step's were taken on a shared machine
-/// (benchmarks/RESULTS.md, threads sections), and `make bench-threads` on an
-/// idle one says how far below 8,000 rotors a second thread pays.
-pub const ROTORS_PER_THREAD: usize = 4_000;
+/// this many rotors (at least one, at most the cores). From `make
+/// bench-threads` on an idle 2-core machine (2026-11-28,
+/// benchmarks/RESULTS.md): with the parallel step, a second thread paid at
+/// every size measured, from 1.05x to 1.16x at 1,000 rotors (dipole
+/// lattices) and 1.68x at 864 (quadrupoles) to 1.96x (multipole tops), so
+/// two threads from 1,000 rotors; smaller systems were not measured.
+pub const ROTORS_PER_THREAD: usize = 500;
 
 /// The thread count of a run of `rotors` rotors whose count is not fixed,
 /// on a machine with `cores` hardware threads: `rotors /`
@@ -79,7 +79,8 @@ pub const ROTORS_PER_THREAD: usize = 4_000;
 /// ```
 /// use quatrot::internals::automatic_threads;
 /// assert_eq!(automatic_threads(1, 8).get(), 1);
-/// assert_eq!(automatic_threads(1000, 2).get(), 1);
+/// assert_eq!(automatic_threads(999, 2).get(), 1);
+/// assert_eq!(automatic_threads(1000, 2).get(), 2);
 /// assert_eq!(automatic_threads(8000, 2).get(), 2);
 /// assert_eq!(automatic_threads(1_000_000, 8).get(), 8);
 /// assert_eq!(automatic_threads(1000, 0).get(), 1);

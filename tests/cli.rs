@@ -377,7 +377,7 @@ fn run_threads(dir: &Path, args: &[&str], env: Option<&str>) -> serde_json::Valu
 /// The thread count: `--threads N` is honoured exactly (3, more than this
 /// machine's cores) and recorded as given, also over `RAYON_NUM_THREADS`;
 /// without it `RAYON_NUM_THREADS` sizes the run; without either the
-/// one-rotor scene takes one thread (automatic: one per 4,000 rotors, at
+/// one-rotor scene takes one thread (automatic: one per 500 rotors, at
 /// least one). Counts outside 1..=1024 are refused naming the option.
 #[test]
 fn the_thread_count_is_given_from_the_environment_or_automatic() {

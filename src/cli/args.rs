@@ -42,7 +42,7 @@ pub(super) enum Command {
         #[arg(long)]
         restart: Option<PathBuf>,
         /// Threads of the run (1 to 1024); default RAYON_NUM_THREADS if set,
-        /// else one per 4,000 rotors, at least 1, at most the cores. Results
+        /// else one per 500 rotors, at least 1, at most the cores. Results
         /// are bitwise reproducible for a given count.
         #[arg(long, allow_negative_numbers = true)]
         threads: Option<i64>,

@@ -138,7 +138,7 @@ const POLL: Duration = Duration::from_millis(20);
 /// threads : int, optional
 ///     Runs on a pool of that many threads (1 to `MAX_THREADS`; default
 ///     the shared pool when `RAYON_NUM_THREADS` is set, else one thread per
-///     4,000 rotors, at least 1, at most the cores; recorded in the summary's
+///     500 rotors, at least 1, at most the cores; recorded in the summary's
 ///     `threads`). The periodic pair loop's last bits depend on it.
 /// progress : bool, default False
 ///     A progress bar (tqdm if installed, else a line on stderr).
