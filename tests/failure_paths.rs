@@ -7,9 +7,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-/// Two rotors.
-const PAIR: &str = r#"kind = "sites"
-sites = [{ position = [0.0, 0.0, 0.0] }, { position = [1.5, 0.0, 0.0] }]"#;
+mod common;
 
 /// 512 rotors: a checkpoint of about 80 kB.
 const LATTICE: &str = r#"kind = "lattice"
@@ -17,40 +15,28 @@ lattice = "simple_cubic"
 cells = 8
 spacing = 1.0"#;
 
-/// A run of `rotors` with a series, checkpoints every 50 steps, `steps`
-/// steps and a DCD trajectory when `trajectory`.
-fn scene(rotors: &str, steps: u64, trajectory: bool) -> String {
+/// The two rotors of [`common::two_rotors`] (NO_SQUISH, dt 0.01), or the
+/// rotors `lattice` in their place, for `steps` steps with a series,
+/// checkpoints every 50 steps and a DCD trajectory when `trajectory`.
+fn scene(lattice: Option<&str>, steps: i64, trajectory: bool) -> String {
     let trajectory = if trajectory {
-        "[record.trajectory]\nevery = 1\nformat = \"dcd\""
+        "[record.trajectory]\nevery = 1\nformat = \"dcd\"\n"
     } else {
         ""
     };
-    format!(
-        r#"
-version = 1
-[rotors]
-{rotors}
-default = {{ inertia = 1.0, dipole = [0.0, 0.0, 1.0] }}
-[interactions]
-boundary = {{ kind = "open" }}
-[initial]
-kind = "random"
-seed = 3
-temperature = 1.0
-[integrator]
-kind = "no_squish"
-[run]
-dt = 0.01
-steps = {steps}
-[record]
-checkpoint_every = 50
-[[record.series]]
-name = "energies"
-every = 1
-quantities = ["kinetic_energy", "potential_energy", "total_energy"]
-{trajectory}
-"#
-    )
+    let record = format!(
+        "[record]\ncheckpoint_every = 50\n[[record.series]]\nname = \"energies\"\nevery = 1\n\
+         quantities = [\"kinetic_energy\", \"potential_energy\", \"total_energy\"]\n{trajectory}"
+    );
+    let text = common::two_rotors("no_squish", 0.01, steps, &record);
+    match lattice {
+        Some(rotors) => {
+            let start = text.find("kind = \"sites\"").expect("the rotors' kind");
+            let end = text.find("default =").expect("the rotors' default");
+            format!("{}{rotors}\n{}", &text[..start], &text[end..])
+        }
+        None => text,
+    }
 }
 
 fn quatrot(work: &Path, args: &[&str]) -> Output {
@@ -72,7 +58,7 @@ fn summary(dir: &Path) -> serde_json::Value {
 #[test]
 fn a_refused_restart_keeps_the_earlier_summary() {
     let work = tempfile::tempdir().expect("temporary folder");
-    std::fs::write(work.path().join("scene.toml"), scene(PAIR, 100, true)).expect("scene written");
+    std::fs::write(work.path().join("scene.toml"), scene(None, 100, true)).expect("scene written");
     let first = quatrot(work.path(), &["run", "scene.toml", "--out", "o"]);
     assert!(
         first.status.success(),
@@ -117,14 +103,14 @@ fn a_refused_restart_keeps_the_earlier_summary() {
 #[test]
 fn a_run_whose_writes_fail_says_failed_and_leaves_no_partial_file() {
     let cases = [
-        (PAIR, 20_000, true, "trajectory.dcd"),
-        (LATTICE, 60, false, "checkpoint"),
+        (None, 20_000, true, "trajectory.dcd"),
+        (Some(LATTICE), 60, false, "checkpoint"),
     ];
-    for (rotors, steps, trajectory, failing) in cases {
+    for (lattice, steps, trajectory, failing) in cases {
         let work = tempfile::tempdir().expect("temporary folder");
         std::fs::write(
             work.path().join("scene.toml"),
-            scene(rotors, steps, trajectory),
+            scene(lattice, steps, trajectory),
         )
         .expect("scene");
         let run = format!(
@@ -153,6 +139,6 @@ fn a_run_whose_writes_fail_says_failed_and_leaves_no_partial_file() {
         let message = summary["message"].as_str().expect("a message");
         assert!(message.contains("File too large"), "{message}");
         let last = summary["last_step"].as_u64().expect("last_step");
-        assert!(last % 50 == 0 && last < steps, "{last}");
+        assert!(last % 50 == 0 && last < steps as u64, "{last}");
     }
 }
