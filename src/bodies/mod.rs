@@ -14,13 +14,13 @@
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
 //! * [`generate`]: random non-overlapping starts at a density, with
 //!   Maxwell-Boltzmann velocities and zero total momentum.
-//! * [`integrator`]: velocity Verlet + NO_SQUISH.
+//! * [`integrators`]: velocity Verlet + NO_SQUISH.
 
 pub mod body_type;
 pub mod electrostatics;
 pub mod evaluate;
 pub mod generate;
-pub mod integrator;
+pub mod integrators;
 pub mod lennard_jones;
 pub mod neighbours;
 pub mod site;
@@ -32,7 +32,7 @@ pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 pub use evaluate::Evaluation;
 pub use generate::{random_start, RandomStart, MAX_PACKING};
-pub use integrator::BodyNoSquish;
+pub use integrators::BodyNoSquish;
 pub use lennard_jones::{LennardJonesOptions, LennardJonesTerm, Mixing, Truncation};
 pub use neighbours::NeighbourList;
 pub use site::{LennardJones, Site};

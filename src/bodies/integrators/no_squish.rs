@@ -13,8 +13,8 @@
 //! opposite), and the angular momentum of an open cluster too. Stores per
 //! body `P` (4) besides the state, and the last evaluation.
 
-use super::evaluate::Evaluation;
-use super::system::BodySystem;
+use crate::bodies::evaluate::Evaluation;
+use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
 use crate::integrators::free_rotation::BodyMomentum;
 use crate::integrators::{NoSquishOptions, Splitting};
