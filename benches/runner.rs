@@ -243,7 +243,7 @@ fn runner(c: &mut Criterion) {
 
     let (mut raw, _) = load("multipole_tops_bcc", &Overrides::default()).expect("built-in");
     raw.interactions = None;
-    if let quatrot::scene::raw::RawRotors::Lattice(l) = &mut raw.rotors {
+    if let Some(quatrot::scene::raw::RawRotors::Lattice(l)) = &mut raw.rotors {
         l.cells = 8; // 1024 rotors
         l.default.dipole = None;
         l.default.quadrupole = None;

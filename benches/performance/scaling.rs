@@ -33,7 +33,7 @@ pub fn run(effort: Effort) -> Res<Value> {
     let mut out = Vec::new();
     for &n in cells {
         let mut raw = load_raw("dipole_lattice_sc_cutoff")?;
-        if let RawRotors::Lattice(l) = &mut raw.rotors {
+        if let Some(RawRotors::Lattice(l)) = &mut raw.rotors {
             l.cells = n;
         }
         let scene = validate(&raw)?;

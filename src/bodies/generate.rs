@@ -1,13 +1,15 @@
 //! Generated starts: random non-overlapping centres in a periodic cube at a
-//! number density (random sequential insertion), uniformly random
-//! orientations, and Maxwell-Boltzmann centre velocities (zero total
-//! momentum) and angular momenta (`L_k ~ N(0, I_k T)` about each axis with a
-//! positive moment) at a temperature.
+//! number density (random sequential insertion) or the sites of a simple
+//! cubic or face-centred cubic lattice filling it, uniformly random
+//! orientations (or one given orientation on a lattice), and
+//! Maxwell-Boltzmann centre velocities (zero total momentum) and angular
+//! momenta (`L_k ~ N(0, I_k T)` about each axis with a positive moment) at a
+//! temperature.
 
 use super::body_type::BodyType;
 use super::space::Space;
 use super::system::Body;
-use crate::checks::{non_negative, num, positive, InputError};
+use crate::checks::{named_choices, non_negative, num, orientation, positive, InputError};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 use rand::{RngExt, SeedableRng};
@@ -60,6 +62,111 @@ pub fn random_start(
     let side = (kinds.len() as f64 / density).cbrt();
     let mut rng = ChaCha8Rng::seed_from_u64(start.seed);
     let centres = insert(kinds.len(), side, closest, &mut rng)?;
+    let bodies = thermal(types, kinds, centres, None, temperature, &mut rng);
+    Ok((Space::Periodic(Vector3::repeat(side)), bodies))
+}
+
+/// A cubic lattice.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Lattice {
+    /// Simple cubic: one body per cubic cell.
+    SimpleCubic,
+    /// Face-centred cubic: four bodies per cubic cell (default).
+    #[default]
+    FaceCentredCubic,
+}
+
+named_choices!(Lattice {
+    "simple_cubic" => Lattice::SimpleCubic,
+    "fcc" => Lattice::FaceCentredCubic,
+});
+
+impl Lattice {
+    /// The sites of one cubic cell of unit edge.
+    fn basis(self) -> &'static [[f64; 3]] {
+        match self {
+            Lattice::SimpleCubic => &[[0.0; 3]],
+            Lattice::FaceCentredCubic => &[
+                [0.0, 0.0, 0.0],
+                [0.5, 0.5, 0.0],
+                [0.5, 0.0, 0.5],
+                [0.0, 0.5, 0.5],
+            ],
+        }
+    }
+}
+
+/// What a lattice start is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LatticeStart {
+    /// The lattice.
+    pub lattice: Lattice,
+    /// Number density of centres (> 0).
+    pub density: f64,
+    /// Every body's orientation (`None`: uniformly random).
+    pub orientation: Option<Quat>,
+    /// The temperature of the velocities and angular momenta (>= 0).
+    pub temperature: f64,
+    /// The seed of the random numbers.
+    pub seed: u64,
+}
+
+/// The periodic cube and the bodies of types `kinds` (one per body, in
+/// lattice order) of a lattice start: `kinds.len()` must fill `n^3` cells
+/// (`n^3` bodies simple cubic, `4 n^3` fcc). Errors name the field
+/// (`density`, `orientation`, `temperature`, `counts`).
+pub fn lattice_start(
+    types: &[BodyType],
+    kinds: &[usize],
+    start: &LatticeStart,
+) -> Result<(Space, Vec<Body>), InputError> {
+    let density = positive(start.density).map_err(|e| e.at("density"))?;
+    let temperature = non_negative(start.temperature).map_err(|e| e.at("temperature"))?;
+    let given = start
+        .orientation
+        .map(|q| orientation(&q).map_err(|e| e.at("orientation")))
+        .transpose()?;
+    let basis = start.lattice.basis();
+    let cells = ((kinds.len() / basis.len()) as f64).cbrt().round() as usize;
+    if cells == 0 || cells.pow(3) * basis.len() != kinds.len() {
+        return Err(InputError::new(
+            "counts",
+            format!(
+                "{} bodies do not fill a cube of n^3 lattice cells ({} bodies per cell)",
+                kinds.len(),
+                basis.len()
+            ),
+        ));
+    }
+    let side = (kinds.len() as f64 / density).cbrt();
+    let edge = side / cells as f64;
+    let mut centres = Vec::with_capacity(kinds.len());
+    for cell in 0..cells.pow(3) {
+        let corner = Vector3::new(
+            (cell / (cells * cells)) as f64,
+            ((cell / cells) % cells) as f64,
+            (cell % cells) as f64,
+        );
+        for b in basis {
+            centres.push((corner + Vector3::from(*b)) * edge);
+        }
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(start.seed);
+    let bodies = thermal(types, kinds, centres, given, temperature, &mut rng);
+    Ok((Space::Periodic(Vector3::repeat(side)), bodies))
+}
+
+/// Bodies of types `kinds` at `centres`, each with `orientation` (`None`:
+/// uniformly random) and thermal velocities and angular momenta at
+/// `temperature`, the total momentum removed.
+fn thermal(
+    types: &[BodyType],
+    kinds: &[usize],
+    centres: Vec<Vector3<f64>>,
+    orientation: Option<Quat>,
+    temperature: f64,
+    rng: &mut ChaCha8Rng,
+) -> Vec<Body> {
     let mut bodies: Vec<Body> = centres
         .into_iter()
         .zip(kinds)
@@ -67,7 +174,12 @@ pub fn random_start(
             let mass = types[kind].mass;
             let moments = types[kind].moments;
             let mut normal = || -> f64 { rng.sample(StandardNormal) };
-            let orientation = Quat(std::array::from_fn(|_| normal()));
+            let drawn = match orientation {
+                Some(q) => q,
+                None => Quat(std::array::from_fn(|_| normal()))
+                    .try_normalize()
+                    .unwrap_or(Quat::IDENTITY),
+            };
             let velocity = Vector3::from_fn(|_, _| normal() * (temperature / mass).sqrt());
             let angular_momentum_body =
                 Vector3::from_fn(|k, _| normal() * (moments[k] * temperature).sqrt());
@@ -76,7 +188,7 @@ pub fn random_start(
                 position,
                 image: [0; 3],
                 velocity,
-                orientation: orientation.try_normalize().unwrap_or(Quat::IDENTITY),
+                orientation: drawn,
                 angular_momentum_body,
             }
         })
@@ -90,7 +202,7 @@ pub fn random_start(
     for body in &mut bodies {
         body.velocity -= drift;
     }
-    Ok((Space::Periodic(Vector3::repeat(side)), bodies))
+    bodies
 }
 
 /// `n` centres in the cube of edge `side`, no two closer than `closest`

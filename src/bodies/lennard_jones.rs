@@ -127,6 +127,11 @@ impl LennardJonesTerm {
         self.options.cutoff
     }
 
+    /// The mixed sigma of kinds `a` and `b`.
+    pub fn sigma(&self, a: usize, b: usize) -> f64 {
+        mix(self.options.mixing, &self.kinds[a], &self.kinds[b]).1
+    }
+
     /// The energy and `-(1/r) du/dr` (force = that times the separation) of
     /// kinds `a`, `b` at squared distance `r2 < r_c^2`.
     #[inline]

@@ -12,9 +12,12 @@
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
-//! * [`generate`]: random non-overlapping starts at a density, with
-//!   Maxwell-Boltzmann velocities and zero total momentum.
-//! * [`integrators`]: velocity Verlet + NO_SQUISH.
+//! * [`generate`]: random non-overlapping starts and cubic lattices at a
+//!   density, with Maxwell-Boltzmann velocities and zero total momentum.
+//! * [`overlap`]: overlapping sites at the start.
+//! * [`quantity`]: the observables a run of bodies records.
+//! * [`integrators`]: velocity Verlet + NO_SQUISH, behind
+//!   [`BodyIntegrator`].
 
 pub mod body_type;
 pub mod electrostatics;
@@ -23,6 +26,8 @@ pub mod generate;
 pub mod integrators;
 pub mod lennard_jones;
 pub mod neighbours;
+pub mod overlap;
+pub mod quantity;
 pub mod site;
 pub mod space;
 pub mod system;
@@ -31,10 +36,12 @@ pub mod temperature;
 pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 pub use evaluate::Evaluation;
-pub use generate::{random_start, RandomStart, MAX_PACKING};
-pub use integrators::BodyNoSquish;
+pub use generate::{lattice_start, random_start, Lattice, LatticeStart, RandomStart, MAX_PACKING};
+pub use integrators::{BodyIntegrator, BodyNoSquish};
 pub use lennard_jones::{LennardJonesOptions, LennardJonesTerm, Mixing, Truncation};
 pub use neighbours::NeighbourList;
+pub use overlap::{Overlap, OVERLAP_FRACTION};
+pub use quantity::BodyQuantity;
 pub use site::{LennardJones, Site};
 pub use space::Space;
 pub use system::{Body, BodySystem, InteractionOptions};

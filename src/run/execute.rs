@@ -2,13 +2,14 @@
 //! integrator [`crate::dynamics::build`] makes of its integrator and
 //! thermostat.
 
+use super::bodies::run_bodies;
 use super::error::RunError;
 use super::limits::check_run_limits;
-use super::scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
+use super::scene_run::{run_scene, thread_record, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
 use crate::parallel::{automatic_threads, in_pool, on_worker, ROTORS_PER_THREAD};
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
-use crate::scene::{boundary_error, Interactions, Scene};
+use crate::scene::{boundary_error, Interactions, Scene, SceneError};
 use std::num::NonZeroUsize;
 use std::path::Path;
 
@@ -60,6 +61,16 @@ pub fn execute(
 ) -> Result<RunResult, RunError> {
     let (pool, _, _) = choose_threads(scene.rotors.len(), outputs.threads);
     let go = move || {
+        if let Some(bodies) = &scene.bodies {
+            if restart.is_some() {
+                return Err(RunError::Scene(SceneError::field(
+                    "restart",
+                    "scenes of bodies cannot restart from a checkpoint yet",
+                )));
+            }
+            let threads = thread_record(scene, outputs);
+            return run_bodies(scene, bodies, definition, outputs, &threads);
+        }
         let built = prepare(scene, outputs.keep)?;
         let interactions = scene
             .interactions

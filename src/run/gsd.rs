@@ -61,6 +61,8 @@ enum GsdType {
     Uint8 = 1,
     Uint32 = 3,
     Uint64 = 4,
+    Int8 = 5,
+    Int32 = 7,
     Float = 9,
 }
 
@@ -79,6 +81,51 @@ const BOX: u16 = 2;
 const PARTICLES: u16 = 3;
 const POSITION: u16 = 4;
 const ORIENTATION: u16 = 5;
+
+/// The chunk names of a trajectory of moving bodies, in name-id order
+/// (the first four as [`NAMES`]).
+const BODY_NAMES: [&str; 13] = [
+    "configuration/step",
+    "configuration/dimensions",
+    "configuration/box",
+    "particles/N",
+    "particles/types",
+    "particles/typeid",
+    "particles/mass",
+    "particles/moment_inertia",
+    "particles/position",
+    "particles/orientation",
+    "particles/velocity",
+    "particles/angmom",
+    "particles/image",
+];
+
+/// One frame of moving bodies, each array one row per body.
+pub struct BodyFrame<'a> {
+    /// Centres, HOOMD's centred box ([`GsdBox::hoomd_position`]).
+    pub position: &'a [[f32; 3]],
+    /// Unit quaternions, scalar first, principal frame to space.
+    pub orientation: &'a [[f32; 4]],
+    /// Centre velocities.
+    pub velocity: &'a [[f32; 3]],
+    /// HOOMD's angular momentum quaternion `P = 2 Q (0, L_body)`.
+    pub angmom: &'a [[f32; 4]],
+    /// Box lengths crossed (unwrapped centre `position + image * L`).
+    pub image: &'a [[i32; 3]],
+}
+
+/// What frame 0 of a trajectory of bodies holds besides the state: each
+/// body's type (named `type0`, `type1`, ...), mass and principal moments.
+pub struct BodyTypes<'a> {
+    /// The number of body types.
+    pub types: usize,
+    /// Each body's type.
+    pub typeid: &'a [u32],
+    /// Each body's mass.
+    pub mass: &'a [f32],
+    /// Each body's principal moments.
+    pub moment_inertia: &'a [[f32; 3]],
+}
 
 /// An orthorhombic box `[corner, corner + lengths)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -157,6 +204,23 @@ impl GsdBox {
     }
 }
 
+/// The chunks every frame 0 holds after the step: dimensions, box, N.
+fn frame_zero(cell: &GsdBox, particles: usize) -> Vec<Chunk> {
+    let l = cell.lengths;
+    let box_chunk = [l.x as f32, l.y as f32, l.z as f32, 0.0, 0.0, 0.0];
+    vec![
+        (DIMENSIONS, GsdType::Uint8, 1, 1, vec![3u8]),
+        (BOX, GsdType::Float, 6, 1, floats(&box_chunk)),
+        (
+            PARTICLES,
+            GsdType::Uint32,
+            1,
+            1,
+            (particles as u32).to_le_bytes().to_vec(),
+        ),
+    ]
+}
+
 /// One index entry (32 bytes on disk).
 #[derive(Clone, Copy)]
 struct Entry {
@@ -182,11 +246,14 @@ impl Entry {
     }
 }
 
-/// An open GSD trajectory of a fixed set of rotors.
+/// A chunk to write: name id, type, rows, columns, bytes.
+type Chunk = (u16, GsdType, u64, u32, Vec<u8>);
+
+/// An open GSD trajectory of a fixed set of rotors or of moving bodies.
 pub struct GsdWriter {
     file: BufWriter<File>,
-    positions: Vec<f32>,
-    box_chunk: [f32; 6],
+    /// The chunks of frame 0 only (in name-id order, before the frame's).
+    first: Vec<Chunk>,
     rotors: usize,
     frames: u64,
     entries: u64,
@@ -201,11 +268,54 @@ fn floats(values: &[f32]) -> Vec<u8> {
     values.iter().flat_map(|x| x.to_le_bytes()).collect()
 }
 
+fn rows<const M: usize, T: Copy>(values: &[[T; M]], bytes: fn(T) -> [u8; 4]) -> Vec<u8> {
+    values.iter().flatten().flat_map(|&x| bytes(x)).collect()
+}
+
 impl GsdWriter {
     /// Creates `path` for rotors on `sites` in `cell` (positions written
     /// once, in frame 0); the frames follow with [`GsdWriter::write_frame`].
     pub fn create(path: &Path, sites: &[Vector3<f64>], cell: &GsdBox) -> io::Result<Self> {
-        let mut names: Vec<u8> = NAMES
+        let positions: Vec<f32> = sites
+            .iter()
+            .flat_map(|s| {
+                let p = cell.hoomd_position(s);
+                [p.x as f32, p.y as f32, p.z as f32]
+            })
+            .collect();
+        let n = sites.len() as u64;
+        let mut first = frame_zero(cell, sites.len());
+        first.push((POSITION, GsdType::Float, n, 3, floats(&positions)));
+        Self::open(path, &NAMES, first, sites.len())
+    }
+
+    /// Creates `path` for moving bodies in `cell` of the types `types`;
+    /// the frames follow with [`GsdWriter::write_bodies`].
+    pub fn create_bodies(path: &Path, cell: &GsdBox, types: &BodyTypes<'_>) -> io::Result<Self> {
+        let n = types.typeid.len();
+        let mut first = frame_zero(cell, n);
+        // Names of at most 11 characters and a 0 byte, one row per type.
+        let mut names = vec![0u8; types.types * 12];
+        for (t, row) in names.chunks_mut(12).enumerate() {
+            let name = format!("type{t}");
+            row[..name.len()].copy_from_slice(name.as_bytes());
+        }
+        let ids: Vec<u8> = types.typeid.iter().flat_map(|t| t.to_le_bytes()).collect();
+        let masses = floats(types.mass);
+        let moments = rows(types.moment_inertia, f32::to_le_bytes);
+        first.extend([
+            (4, GsdType::Int8, types.types as u64, 12, names),
+            (5, GsdType::Uint32, n as u64, 1, ids),
+            (6, GsdType::Float, n as u64, 1, masses),
+            (7, GsdType::Float, n as u64, 3, moments),
+        ]);
+        Self::open(path, &BODY_NAMES, first, n)
+    }
+
+    /// Creates `path` with the chunk `names` for `particles` particles,
+    /// `first` the chunks of frame 0 alone.
+    fn open(path: &Path, names: &[&str], first: Vec<Chunk>, particles: usize) -> io::Result<Self> {
+        let mut names: Vec<u8> = names
             .iter()
             .flat_map(|n| n.bytes().chain(std::iter::once(0)))
             .collect();
@@ -213,18 +323,10 @@ impl GsdWriter {
         names.resize((names.len() / NAME_SEGMENT + 1) * NAME_SEGMENT, 0);
         let index_location = HEADER_BYTES;
         let namelist_location = index_location + INITIAL_INDEX_ENTRIES * ENTRY_BYTES;
-        let l = cell.lengths;
         let mut writer = GsdWriter {
             file: BufWriter::new(create_file(path)?),
-            positions: sites
-                .iter()
-                .flat_map(|s| {
-                    let p = cell.hoomd_position(s);
-                    [p.x as f32, p.y as f32, p.z as f32]
-                })
-                .collect(),
-            box_chunk: [l.x as f32, l.y as f32, l.z as f32, 0.0, 0.0, 0.0],
-            rotors: sites.len(),
+            first,
+            rotors: particles,
             frames: 0,
             entries: 0,
             index_location,
@@ -284,27 +386,82 @@ impl GsdWriter {
             .iter()
             .flat_map(|q| q.try_normalize().unwrap_or(*q).0.map(|x| x as f32))
             .collect();
-        let mut chunks: Vec<(u16, GsdType, u64, u32, Vec<u8>)> =
-            vec![(STEP, GsdType::Uint64, 1, 1, step.to_le_bytes().to_vec())];
-        if self.frames == 0 {
-            chunks.extend([
-                (DIMENSIONS, GsdType::Uint8, 1, 1, vec![3u8]),
-                (BOX, GsdType::Float, 6, 1, floats(&self.box_chunk)),
-                (
-                    PARTICLES,
-                    GsdType::Uint32,
-                    1,
-                    1,
-                    (self.rotors as u32).to_le_bytes().to_vec(),
-                ),
-                (POSITION, GsdType::Float, n, 3, floats(&self.positions)),
-            ]);
+        self.commit(
+            step,
+            vec![(ORIENTATION, GsdType::Float, n, 4, floats(&quaternions))],
+        )
+    }
+
+    /// Appends one frame of moving bodies at `step` and commits it.
+    pub fn write_bodies(&mut self, step: u64, frame: &BodyFrame<'_>) -> io::Result<()> {
+        let n = self.rotors as u64;
+        let lengths = [
+            frame.position.len(),
+            frame.orientation.len(),
+            frame.velocity.len(),
+            frame.angmom.len(),
+            frame.image.len(),
+        ];
+        if lengths.iter().any(|&l| l != self.rotors) {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("a frame of {lengths:?} rows for {} bodies", self.rotors),
+            ));
         }
-        chunks.push((ORIENTATION, GsdType::Float, n, 4, floats(&quaternions)));
+        self.commit(
+            step,
+            vec![
+                (
+                    8,
+                    GsdType::Float,
+                    n,
+                    3,
+                    rows(frame.position, f32::to_le_bytes),
+                ),
+                (
+                    9,
+                    GsdType::Float,
+                    n,
+                    4,
+                    rows(frame.orientation, f32::to_le_bytes),
+                ),
+                (
+                    10,
+                    GsdType::Float,
+                    n,
+                    3,
+                    rows(frame.velocity, f32::to_le_bytes),
+                ),
+                (
+                    11,
+                    GsdType::Float,
+                    n,
+                    4,
+                    rows(frame.angmom, f32::to_le_bytes),
+                ),
+                (
+                    12,
+                    GsdType::Int32,
+                    n,
+                    3,
+                    rows(frame.image, i32::to_le_bytes),
+                ),
+            ],
+        )
+    }
+
+    /// Writes the step, frame 0's own chunks (in the first frame) and
+    /// `chunks` (in name-id order), then their index entries.
+    fn commit(&mut self, step: u64, chunks: Vec<Chunk>) -> io::Result<()> {
+        let mut all: Vec<Chunk> = vec![(STEP, GsdType::Uint64, 1, 1, step.to_le_bytes().to_vec())];
+        if self.frames == 0 {
+            all.append(&mut self.first);
+        }
+        all.extend(chunks);
         // The data first, at the end of the file ...
         let _position = self.file.seek(SeekFrom::Start(self.end))?;
-        let mut entries = Vec::with_capacity(chunks.len());
-        for (id, kind, rows, columns, data) in chunks {
+        let mut entries = Vec::with_capacity(all.len());
+        for (id, kind, rows, columns, data) in all {
             entries.push(Entry {
                 frame: self.frames,
                 n: rows,

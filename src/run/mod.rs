@@ -3,6 +3,7 @@
 //! [`crate::simulation`], the run of a scene from its physics objects, and
 //! what is computed from a run's recorded outputs (its dielectric constant).
 
+mod bodies;
 mod checkpoint;
 mod dcd;
 mod dielectric;
@@ -27,14 +28,14 @@ pub use execute::{execute, potential, prepare};
 pub use folder::{
     OutputFolder, CHECKPOINT_FILE, DCD_FILE, GSD_FILE, LOCK_FILE, PDB_FILE, SUMMARY_FILE,
 };
-pub use gsd::{GsdBox, GsdWriter};
+pub use gsd::{BodyFrame, BodyTypes, GsdBox, GsdWriter};
 pub use limits::check_run_limits;
 pub use pdb::ROTOR_ATOMS;
 pub use resume::{AppendAfter, Placement};
 pub use scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 pub use series::{CsvTarget, SeriesObserver, SeriesTable};
 pub use summary::{
-    Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary, Summary, Threads,
-    Versions,
+    BodiesSummary, Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary,
+    Summary, Threads, Versions,
 };
 pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver, GSD_OPEN_MARGIN};

@@ -188,7 +188,7 @@ fn set_up(
 
 /// The thread record of a run of `scene`: the size of the rayon pool it
 /// runs in, who chose it and why (`choose_threads`).
-fn thread_record(scene: &Scene, outputs: &Outputs) -> Threads {
+pub(super) fn thread_record(scene: &Scene, outputs: &Outputs) -> Threads {
     let (_, chosen, reason) = choose_threads(scene.rotors.len(), outputs.threads);
     Threads {
         count: rayon::current_num_threads(),

@@ -86,11 +86,96 @@ impl SeriesTable {
 pub struct SeriesObserver {
     spec: Series,
     multipoles: MultipoleInputs,
+    rows: Rows,
+    row: Vec<f64>,
+}
+
+/// The rows of one table, written to a CSV file and/or kept in memory.
+pub(super) struct Rows {
     csv: Option<(PathBuf, BufWriter<File>)>,
     /// Samples at or before this step are already in the file.
     written_through: Option<u64>,
     table: Option<SeriesTable>,
-    row: Vec<f64>,
+}
+
+impl Rows {
+    /// The table `name` of `columns` (`step`, `time` first), written to
+    /// `csv` (if given; a new file gets the header now) and kept in memory
+    /// if `keep`.
+    pub(super) fn open(
+        name: &str,
+        columns: Vec<String>,
+        csv: Option<CsvTarget<'_>>,
+        keep: bool,
+    ) -> Result<Self, RunError> {
+        let mut written_through = None;
+        let csv = csv
+            .map(|target| {
+                let (path, file) = match target {
+                    CsvTarget::Create(path) => {
+                        let mut file = create_file(path).map_err(|e| RunError::io(path, e))?;
+                        let header = columns.join(",") + "\n";
+                        file.write_all(header.as_bytes())
+                            .map_err(|e| RunError::io(path, e))?;
+                        (path, file)
+                    }
+                    CsvTarget::Append { path, after } => {
+                        written_through = Some(after);
+                        let mut file = open_existing(path).map_err(|e| RunError::io(path, e))?;
+                        let _ = file
+                            .seek(SeekFrom::End(0))
+                            .map_err(|e| RunError::io(path, e))?;
+                        (path, file)
+                    }
+                };
+                Ok::<_, RunError>((path.to_path_buf(), BufWriter::new(file)))
+            })
+            .transpose()?;
+        Ok(Rows {
+            csv,
+            written_through,
+            table: keep.then(|| SeriesTable {
+                name: name.to_string(),
+                columns,
+                values: Vec::new(),
+            }),
+        })
+    }
+
+    /// Appends the row `values` of `step` at `time`.
+    pub(super) fn push(&mut self, step: u64, time: f64, values: &[f64]) -> Result<(), RunError> {
+        let in_file = self.written_through.is_some_and(|s| step <= s);
+        if let (Some((path, writer)), false) = (&mut self.csv, in_file) {
+            // `{:e}` is the shortest representation that reads back exactly.
+            let mut line = format!("{step},{time:e}");
+            for x in values {
+                line.push_str(&format!(",{x:e}"));
+            }
+            line.push('\n');
+            writer
+                .write_all(line.as_bytes())
+                .map_err(|e| RunError::io(path, e))?;
+        }
+        if let Some(table) = &mut self.table {
+            table.values.push(step as f64);
+            table.values.push(time);
+            table.values.extend_from_slice(values);
+        }
+        Ok(())
+    }
+
+    /// Flushes the file.
+    pub(super) fn flush(&mut self) -> Result<(), RunError> {
+        if let Some((path, writer)) = &mut self.csv {
+            writer.flush().map_err(|e| RunError::io(path, e))?;
+        }
+        Ok(())
+    }
+
+    /// The table kept in memory (`None` unless kept).
+    pub(super) fn into_table(self) -> Option<SeriesTable> {
+        self.table
+    }
 }
 
 impl SeriesObserver {
@@ -117,47 +202,18 @@ impl SeriesObserver {
         let multipoles = MultipoleInputs::new(rotors, &spec.quantities)
             .map_err(|e| SceneError::from(e.at(&format!("series `{}`", spec.name))))?;
         let columns = Self::columns(spec);
-        let columns_len = columns.len();
-        let mut written_through = None;
-        let csv = csv
-            .map(|target| {
-                let (path, file) = match target {
-                    CsvTarget::Create(path) => {
-                        let mut file = create_file(path).map_err(|e| RunError::io(path, e))?;
-                        let header = columns.join(",") + "\n";
-                        file.write_all(header.as_bytes())
-                            .map_err(|e| RunError::io(path, e))?;
-                        (path, file)
-                    }
-                    CsvTarget::Append { path, after } => {
-                        written_through = Some(after);
-                        let mut file = open_existing(path).map_err(|e| RunError::io(path, e))?;
-                        let _ = file
-                            .seek(SeekFrom::End(0))
-                            .map_err(|e| RunError::io(path, e))?;
-                        (path, file)
-                    }
-                };
-                Ok::<_, RunError>((path.to_path_buf(), BufWriter::new(file)))
-            })
-            .transpose()?;
+        let row = Vec::with_capacity(columns.len());
         Ok(SeriesObserver {
             spec: spec.clone(),
             multipoles,
-            csv,
-            written_through,
-            table: keep.then(|| SeriesTable {
-                name: spec.name.clone(),
-                columns,
-                values: Vec::new(),
-            }),
-            row: Vec::with_capacity(columns_len),
+            rows: Rows::open(&spec.name, columns, csv, keep)?,
+            row,
         })
     }
 
     /// The table kept in memory (empty unless `keep` was set).
     pub fn into_table(self) -> Option<SeriesTable> {
-        self.table
+        self.rows.into_table()
     }
 }
 
@@ -176,31 +232,11 @@ impl Observer for SeriesObserver {
         for q in &self.spec.quantities {
             q.write(sample, &mut self.multipoles, &mut self.row);
         }
-        let in_file = self.written_through.is_some_and(|s| sample.step <= s);
-        if let (Some((path, writer)), false) = (&mut self.csv, in_file) {
-            // `{:e}` is the shortest representation that reads back exactly.
-            let mut line = format!("{},{:e}", sample.step, sample.time);
-            for x in &self.row {
-                line.push_str(&format!(",{x:e}"));
-            }
-            line.push('\n');
-            writer
-                .write_all(line.as_bytes())
-                .map_err(|e| RunError::io(path, e))?;
-        }
-        if let Some(table) = &mut self.table {
-            table.values.push(sample.step as f64);
-            table.values.push(sample.time);
-            table.values.extend_from_slice(&self.row);
-        }
-        Ok(())
+        self.rows.push(sample.step, sample.time, &self.row)
     }
 
     fn flush(&mut self) -> Result<(), RunError> {
-        if let Some((path, writer)) = &mut self.csv {
-            writer.flush().map_err(|e| RunError::io(path, e))?;
-        }
-        Ok(())
+        self.rows.flush()
     }
 
     fn finish(&mut self) -> Result<(), RunError> {

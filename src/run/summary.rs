@@ -2,9 +2,10 @@
 //! pair interactions were summed, the time taken, the final energies and
 //! the drift.
 
+use crate::bodies::Space;
 use crate::potential::multipole::EwaldParameters;
 use crate::potential::{Boundary, MultipolePotential, PeriodicSum, SumKind, Surface};
-use crate::scene::{Interactions, Scene, SCENE_VERSION};
+use crate::scene::{BodyScene, Interactions, Scene, SCENE_VERSION};
 use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
 use serde::{Deserialize, Serialize};
 
@@ -149,6 +150,43 @@ impl InteractionsSummary {
     }
 }
 
+/// What a run of moving bodies ran.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct BodiesSummary {
+    /// The number of bodies.
+    pub count: usize,
+    /// Bodies of each type, in type order.
+    pub per_type: Vec<usize>,
+    /// The number of sites.
+    pub sites: usize,
+    /// The periodic box's edges (absent in open space).
+    #[serde(rename = "box", skip_serializing_if = "Option::is_none")]
+    pub box_lengths: Option<[f64; 3]>,
+    /// How many times the neighbour list was built.
+    pub neighbour_builds: u64,
+}
+
+impl BodiesSummary {
+    /// The summary of `bodies` (`per_type` of each type) after
+    /// `neighbour_builds` builds.
+    pub fn new(per_type: &[usize], bodies: &BodyScene, neighbour_builds: u64) -> Self {
+        BodiesSummary {
+            count: bodies.bodies.len(),
+            per_type: per_type.to_vec(),
+            sites: bodies
+                .bodies
+                .iter()
+                .map(|b| bodies.types[b.kind].sites.len())
+                .sum(),
+            box_lengths: match bodies.space {
+                Space::Periodic(l) => Some(l.into()),
+                Space::Open => None,
+            },
+            neighbour_builds,
+        }
+    }
+}
+
 /// How many threads a run used and why.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Threads {
@@ -207,6 +245,9 @@ pub struct Summary {
     pub final_energies: Option<FinalEnergies>,
     /// The energy drift, when energies were computed at two steps or more.
     pub drift: Option<Drift>,
+    /// The bodies of a scene of bodies (absent for rotors).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<BodiesSummary>,
     /// How the files were written: `"new"`, `"appended"` to an earlier
     /// run's, or `"new_folder"` (a restart whose folder held files that do
     /// not end at the checkpoint); absent when no file was written.
@@ -278,6 +319,7 @@ impl Summary {
             initial_energy: report.reference,
             final_energies,
             drift: drift(report),
+            bodies: None,
             outputs: None,
         }
     }

@@ -4,8 +4,16 @@
 //! (`body_types[0].sites[2].charge`).
 
 use super::error::SceneError;
+use super::initial::{drawn_seed, RawInitial};
 use super::parse::parse_value;
-use crate::bodies::{BodyType, BodyTypeSpec, LennardJones, Site};
+use super::tagged::tagged;
+use crate::bodies::{
+    lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, BodyTypeSpec,
+    InteractionOptions, Lattice, LatticeStart, LennardJones, LennardJonesOptions, Mixing,
+    RandomStart, Site, Space, Truncation, OVERLAP_FRACTION,
+};
+use crate::checks::{each, finite, num, InputError};
+use crate::quaternion::Quat;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -61,8 +69,12 @@ pub fn body_types(value: toml::Value) -> Result<Vec<BodyType>, SceneError> {
     let mut table = toml::Table::new();
     let _ = table.insert("body_types".to_string(), value);
     let raw: RawBodyTypes = parse_value(toml::Value::Table(table))?;
-    raw.body_types
-        .iter()
+    checked_types(&raw.body_types)
+}
+
+/// The physics' body types of raw ones, errors at `body_types[i]`.
+fn checked_types(raw: &[RawBodyType]) -> Result<Vec<BodyType>, SceneError> {
+    raw.iter()
         .enumerate()
         .map(|(i, t)| {
             BodyType::new(&spec(t)).map_err(|e| SceneError::from(e.at(&format!("body_types[{i}]"))))
@@ -91,4 +103,401 @@ fn spec(raw: &RawBodyType) -> BodyTypeSpec {
         mass: raw.mass,
         inertia: raw.inertia.as_ref().map(matrix),
     }
+}
+
+/// The `[bodies]` section: the bodies given one by one, or generated.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum RawBodies {
+    /// Each body's state written out.
+    Given(RawGivenBodies),
+    /// Random non-overlapping centres in a periodic cube.
+    Random(RawRandomBodies),
+    /// The sites of a cubic lattice filling a periodic cube.
+    Lattice(RawLatticeBodies),
+}
+
+tagged!(RawBodies {
+    "given" => Given(RawGivenBodies),
+    "random" => Random(RawRandomBodies),
+    "lattice" => Lattice(RawLatticeBodies),
+});
+
+/// Bodies given one by one, in open space or a periodic box.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawGivenBodies {
+    /// The bodies.
+    pub list: Vec<RawBody>,
+    /// The periodic box's edges (absent: open space).
+    #[serde(rename = "box")]
+    pub box_lengths: Option<[f64; 3]>,
+}
+
+/// One given body.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBody {
+    /// Its index in `body_types` (default 0).
+    #[serde(rename = "type")]
+    pub body_type: Option<usize>,
+    /// The centre.
+    pub position: [f64; 3],
+    /// The principal frame's orientation (default identity).
+    pub orientation: Option<[f64; 4]>,
+    /// The centre's velocity (default 0).
+    pub velocity: Option<[f64; 3]>,
+    /// The angular velocity, principal body frame.
+    pub angular_velocity: Option<[f64; 3]>,
+    /// The angular momentum, principal body frame.
+    pub angular_momentum: Option<[f64; 3]>,
+}
+
+/// Random sequential insertion ([`crate::bodies::random_start`]).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRandomBodies {
+    /// Bodies of each type, in type order.
+    pub counts: Vec<usize>,
+    /// Number density of centres.
+    pub density: f64,
+    /// The smallest distance between centres (default 1).
+    pub closest: Option<f64>,
+}
+
+/// A cubic lattice ([`crate::bodies::lattice_start`]).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLatticeBodies {
+    /// Bodies of each type, in type order.
+    pub counts: Vec<usize>,
+    /// Number density of centres.
+    pub density: f64,
+    /// The lattice (default fcc).
+    pub lattice: Option<Lattice>,
+    /// Every body's orientation (default uniformly random).
+    pub orientation: Option<[f64; 4]>,
+}
+
+/// The `[body_interactions]` section.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBodyInteractions {
+    /// `{ cutoff, truncation, mixing }`.
+    pub lennard_jones: Option<RawLennardJonesOptions>,
+    /// How charges and dipoles are summed.
+    pub electrostatics: Option<RawBodyElectrostatics>,
+    /// The neighbour lists' skin (default [`DEFAULT_SKIN`]).
+    pub skin: Option<f64>,
+}
+
+/// The Lennard-Jones options.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLennardJonesOptions {
+    /// The cutoff.
+    pub cutoff: f64,
+    /// Default plain.
+    pub truncation: Option<Truncation>,
+    /// Default Lorentz-Berthelot.
+    pub mixing: Option<Mixing>,
+}
+
+/// The electrostatics of bodies: the one choice of method.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum RawBodyElectrostatics {
+    /// Bare pair terms inside a spherical cutoff.
+    Cutoff(RawElectrostaticCutoff),
+}
+
+tagged!(RawBodyElectrostatics { "cutoff" => Cutoff(RawElectrostaticCutoff) });
+
+/// The cutoff of charges and dipoles.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawElectrostaticCutoff {
+    /// The cutoff.
+    pub cutoff: f64,
+}
+
+/// The neighbour lists' skin when a scene gives none (LAMMPS's default in
+/// LJ units).
+pub const DEFAULT_SKIN: f64 = 0.3;
+
+/// A validated system of bodies: what [`BodySystem::new`] is built from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyScene {
+    /// The body types.
+    pub types: Vec<BodyType>,
+    /// The bodies at t = 0.
+    pub bodies: Vec<Body>,
+    /// Open space or the periodic box.
+    pub space: Space,
+    /// The interactions.
+    pub interactions: InteractionOptions,
+    /// The series to record.
+    pub series: Vec<BodySeries>,
+}
+
+/// A table of body observables sampled every `every` steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodySeries {
+    /// File stem and key of the table.
+    pub name: String,
+    /// Sampling interval in steps (>= 1).
+    pub every: u64,
+    /// The columns after `step` and `time`.
+    pub quantities: Vec<BodyQuantity>,
+}
+
+impl BodyScene {
+    /// The system of the scene at t = 0.
+    pub fn system(&self) -> Result<BodySystem, SceneError> {
+        BodySystem::new(
+            self.types.clone(),
+            self.bodies.clone(),
+            self.space,
+            &self.interactions,
+        )
+        .map_err(|e| SceneError::renamed(e, SYSTEM_PATHS))
+    }
+}
+
+/// The scene paths of [`BodySystem::new`]'s errors.
+const SYSTEM_PATHS: &[(&str, &str)] = &[
+    ("bodies", "bodies.list"),
+    ("lennard_jones", "body_interactions.lennard_jones"),
+    (
+        "electrostatic_cutoff",
+        "body_interactions.electrostatics.cutoff",
+    ),
+    ("skin", "body_interactions.skin"),
+    ("box_lengths", "bodies.box"),
+];
+
+/// The body types, bodies, space and interactions of a scene, with the
+/// seed of a generated start; refuses overlapping sites
+/// ([`crate::bodies::OVERLAP_FRACTION`]).
+pub(super) fn body_scene(
+    raw_types: Option<&Vec<RawBodyType>>,
+    raw: &RawBodies,
+    interactions: Option<&RawBodyInteractions>,
+    initial: Option<&RawInitial>,
+) -> Result<(BodyScene, Option<u64>), SceneError> {
+    let Some(raw_types) = raw_types.filter(|t| !t.is_empty()) else {
+        return Err(SceneError::field(
+            "body_types",
+            "missing: a scene of bodies lists at least one body type",
+        ));
+    };
+    let types = checked_types(raw_types)?;
+    let (space, bodies, seed) = start(&types, raw, initial)?;
+    let interactions = interaction_options(interactions.cloned().unwrap_or_default());
+    let scene = BodyScene {
+        types,
+        bodies,
+        space,
+        interactions,
+        series: Vec::new(),
+    };
+    let mut system = scene.system().map_err(|e| match (e, raw) {
+        (SceneError::Field { path, message }, RawBodies::Random(_) | RawBodies::Lattice(_))
+            if path.starts_with("bodies.box") =>
+        {
+            SceneError::field(
+                "bodies.density",
+                format!("the cube of the bodies at this density is too small: {message}"),
+            )
+        }
+        (e, _) => e,
+    })?;
+    if let Some(o) = system.first_overlap() {
+        let path = match raw {
+            RawBodies::Given(_) => format!("bodies.list[{}].position", o.bodies.1),
+            RawBodies::Random(_) => "bodies.closest".to_string(),
+            RawBodies::Lattice(_) => "bodies.orientation".to_string(),
+        };
+        return Err(SceneError::field(
+            path,
+            format!(
+                "sites of bodies {} and {} start {} apart, closer than {OVERLAP_FRACTION} of their sigma ({})",
+                o.bodies.0,
+                o.bodies.1,
+                num(o.distance),
+                num(o.sigma)
+            ),
+        ));
+    }
+    Ok((scene, seed))
+}
+
+/// The interaction options of the section (checked by the system).
+fn interaction_options(raw: RawBodyInteractions) -> InteractionOptions {
+    InteractionOptions {
+        lennard_jones: raw.lennard_jones.map(|lj| LennardJonesOptions {
+            cutoff: lj.cutoff,
+            truncation: lj.truncation.unwrap_or_default(),
+            mixing: lj.mixing.unwrap_or_default(),
+        }),
+        electrostatic_cutoff: raw.electrostatics.map(|e| match e {
+            RawBodyElectrostatics::Cutoff(c) => c.cutoff,
+        }),
+        skin: raw.skin.unwrap_or(DEFAULT_SKIN),
+    }
+}
+
+/// The space and the bodies at t = 0, with the seed that drew them.
+fn start(
+    types: &[BodyType],
+    raw: &RawBodies,
+    initial: Option<&RawInitial>,
+) -> Result<(Space, Vec<Body>, Option<u64>), SceneError> {
+    let paths = [
+        ("temperature", "initial.temperature"),
+        ("density", "bodies.density"),
+        ("closest", "bodies.closest"),
+        ("orientation", "bodies.orientation"),
+        ("counts", "bodies.counts"),
+    ];
+    let started = match raw {
+        RawBodies::Given(given) => return given_start(given, types, initial),
+        RawBodies::Random(r) => {
+            let (kinds, temperature, seed) = generated(&r.counts, types, initial)?;
+            let start = RandomStart {
+                density: r.density,
+                closest: r.closest.unwrap_or(1.0),
+                temperature,
+                seed,
+            };
+            random_start(types, &kinds, &start).map(|(space, bodies)| (space, bodies, seed))
+        }
+        RawBodies::Lattice(l) => {
+            let (kinds, temperature, seed) = generated(&l.counts, types, initial)?;
+            let start = LatticeStart {
+                lattice: l.lattice.unwrap_or_default(),
+                density: l.density,
+                orientation: l.orientation.map(Quat),
+                temperature,
+                seed,
+            };
+            lattice_start(types, &kinds, &start).map(|(space, bodies)| (space, bodies, seed))
+        }
+    };
+    let (space, bodies, seed) = started.map_err(|e| SceneError::renamed(e, &paths))?;
+    Ok((space, bodies, Some(seed)))
+}
+
+/// Given bodies (no `[initial]`: they carry their velocities).
+fn given_start(
+    given: &RawGivenBodies,
+    types: &[BodyType],
+    initial: Option<&RawInitial>,
+) -> Result<(Space, Vec<Body>, Option<u64>), SceneError> {
+    if initial.is_some() {
+        return Err(SceneError::field(
+            "initial",
+            "given bodies carry their own velocities: leave [initial] out",
+        ));
+    }
+    let bodies = given
+        .list
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            given_body(b, types).map_err(|e| SceneError::from(e.at(&format!("bodies.list[{i}]"))))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if bodies.is_empty() {
+        return Err(SceneError::field(
+            "bodies.list",
+            "must hold at least one body",
+        ));
+    }
+    let space = given
+        .box_lengths
+        .map_or(Space::Open, |l| Space::Periodic(Vector3::from(l)));
+    Ok((space, bodies, None))
+}
+
+/// The type of each generated body (in type order) of `counts`, and the
+/// temperature and seed of `[initial]`.
+fn generated(
+    counts: &[usize],
+    types: &[BodyType],
+    initial: Option<&RawInitial>,
+) -> Result<(Vec<usize>, f64, u64), SceneError> {
+    let (temperature, seed) = match initial {
+        Some(RawInitial::Random(r)) => (r.temperature, r.seed.unwrap_or_else(drawn_seed)),
+        Some(_) => {
+            return Err(SceneError::field(
+                "initial.kind",
+                "generated bodies start from kind = \"random\" (a temperature and a seed)",
+            ))
+        }
+        None => {
+            return Err(SceneError::field(
+                "initial",
+                "missing: generated bodies need [initial] kind = \"random\" with a temperature",
+            ))
+        }
+    };
+    if counts.len() != types.len() {
+        return Err(SceneError::field(
+            "bodies.counts",
+            format!(
+                "must give one count per body type ({}), got {}",
+                types.len(),
+                counts.len()
+            ),
+        ));
+    }
+    let kinds: Vec<usize> = counts
+        .iter()
+        .enumerate()
+        .flat_map(|(t, &c)| std::iter::repeat_n(t, c))
+        .collect();
+    if kinds.is_empty() {
+        return Err(SceneError::field(
+            "bodies.counts",
+            "must add up to at least one body",
+        ));
+    }
+    Ok((kinds, temperature, seed))
+}
+
+/// One given body; errors name its field.
+fn given_body(raw: &RawBody, types: &[BodyType]) -> Result<Body, InputError> {
+    let kind = raw.body_type.unwrap_or(0);
+    let moments = types.get(kind).map(|t| t.moments).ok_or_else(|| {
+        InputError::new(
+            "type",
+            format!(
+                "must be below the number of body types ({}), got {kind}",
+                types.len()
+            ),
+        )
+    })?;
+    let angular_momentum_body = match (raw.angular_velocity, raw.angular_momentum) {
+        (Some(_), Some(_)) => {
+            return Err(InputError::new(
+                "angular_momentum",
+                "give the angular velocity or the angular momentum, not both",
+            ))
+        }
+        (Some(w), None) => {
+            each(&w, finite).map_err(|e| e.at("angular_velocity"))?;
+            Vector3::from_fn(|k, _| moments[k] * w[k])
+        }
+        (None, Some(l)) => Vector3::from(l),
+        (None, None) => Vector3::zeros(),
+    };
+    Ok(Body {
+        kind,
+        position: Vector3::from(raw.position),
+        image: [0; 3],
+        velocity: Vector3::from(raw.velocity.unwrap_or_default()),
+        orientation: Quat(raw.orientation.unwrap_or(Quat::IDENTITY.0)),
+        angular_momentum_body,
+    })
 }

@@ -28,6 +28,8 @@ pub const BUILTINS: &[Builtin] = &[
     builtin!("dipole_lattice_sc_langevin"),
     builtin!("quadrupole_lattice_fcc"),
     builtin!("multipole_tops_bcc"),
+    builtin!("stockmayer_fluid"),
+    builtin!("lewis_wahnstrom_otp"),
 ];
 
 /// The built-in scene called `name`, if any.

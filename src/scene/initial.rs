@@ -100,7 +100,7 @@ pub fn random_states(inertia: &[Inertia], temperature: f64, seed: u64) -> Vec<Ro
 /// A seed drawn from the operating system when the scene gives none: below
 /// 2^63, so that it can be written back into a scene (TOML integers are
 /// signed 64-bit) to replay the run.
-fn drawn_seed() -> u64 {
+pub(super) fn drawn_seed() -> u64 {
     rand::random::<u64>() >> 1
 }
 

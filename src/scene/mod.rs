@@ -25,7 +25,9 @@ mod tagged;
 mod thermostat;
 mod validate;
 
-pub use bodies::{body_types, RawBodySite, RawBodyType, RawLennardJones};
+pub use bodies::{
+    body_types, BodyScene, BodySeries, RawBodySite, RawBodyType, RawLennardJones, DEFAULT_SKIN,
+};
 pub use builtin::{builtin, Builtin, BUILTINS};
 pub use error::SceneError;
 pub use initial::random_states;

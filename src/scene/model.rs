@@ -1,6 +1,7 @@
 //! The validated scene: physics objects the runner uses directly. Every value
 //! here has passed the checks of [`super::validate()`].
 
+use super::bodies::BodyScene;
 use super::record::Record;
 use crate::integrators::{IntegratorSpec, RotorState};
 use crate::potential::{Boundary, ExternalFields, SumMethod};
@@ -25,8 +26,11 @@ pub struct Scene {
     pub name: String,
     /// One-line description (may be empty).
     pub description: String,
-    /// The rotors, one per site, in the order of the sites.
+    /// The rotors, one per site, in the order of the sites (none in a
+    /// scene of bodies).
     pub rotors: Vec<Rotor>,
+    /// The moving bodies of a scene of bodies (`None` for rotors).
+    pub bodies: Option<BodyScene>,
     /// The pair interactions between the rotors' multipoles; `None` when
     /// they do not interact.
     pub interactions: Option<Interactions>,

@@ -6,6 +6,11 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use super::bodies::{
+    RawBodies, RawBody, RawBodyElectrostatics, RawBodyInteractions, RawBodyType,
+    RawElectrostaticCutoff, RawGivenBodies, RawLatticeBodies, RawLennardJonesOptions,
+    RawRandomBodies,
+};
 pub use super::fields::RawFields;
 pub use super::initial::{RawExplicitInitial, RawInitial, RawRandomInitial, RawUniformInitial};
 pub use super::integrator::RawIntegrator;
@@ -27,14 +32,20 @@ pub struct RawScene {
     pub name: Option<String>,
     /// One line of text.
     pub description: Option<String>,
-    /// `[rotors]`.
-    pub rotors: RawRotors,
+    /// `[rotors]` (a scene declares rotors or bodies).
+    pub rotors: Option<RawRotors>,
+    /// `[[body_types]]` (scenes of bodies).
+    pub body_types: Option<Vec<RawBodyType>>,
+    /// `[bodies]`.
+    pub bodies: Option<RawBodies>,
+    /// `[body_interactions]`.
+    pub body_interactions: Option<RawBodyInteractions>,
     /// `[interactions]`.
     pub interactions: Option<RawInteractions>,
     /// `[fields]`.
     pub fields: Option<RawFields>,
-    /// `[initial]`.
-    pub initial: RawInitial,
+    /// `[initial]` (rotors: required; given bodies: absent).
+    pub initial: Option<RawInitial>,
     /// `[integrator]`.
     pub integrator: RawIntegrator,
     /// `[thermostat]` (absent: constant energy).

@@ -1,7 +1,9 @@
 //! The `[record]` section: what a run records (tables of scalar observables,
 //! a trajectory, checkpoints) and its blow-up guard. Nothing by default.
 
+use super::bodies::BodySeries;
 use super::error::SceneError;
+use crate::bodies::{BodyQuantity, Space};
 use crate::checks::{at_least_one, named_choices, positive};
 use crate::integrators::IntegratorSpec;
 use crate::rotor::Rotor;
@@ -138,34 +140,8 @@ fn series(
     integrator: &IntegratorSpec,
     rotors: &[Rotor],
 ) -> Result<Series, SceneError> {
-    let path = format!("record.series[{s}]");
-    let name = raw.name.clone().unwrap_or_else(|| match s {
-        0 => "observables".to_string(),
-        _ => format!("observables{s}"),
-    });
-    let name_ok = !name.is_empty()
-        && name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
-    if !name_ok {
-        return Err(SceneError::field(
-            format!("{path}.name"),
-            format!("must be letters, digits, _ or -, got \"{name}\""),
-        ));
-    }
-    if others.iter().any(|o| o.name == name) {
-        return Err(SceneError::field(
-            format!("{path}.name"),
-            format!("\"{name}\" is used by another series"),
-        ));
-    }
-    let every = at_least_one(raw.every).map_err(|e| e.at(&format!("{path}.every")))?;
-    if raw.quantities.is_empty() {
-        return Err(SceneError::field(
-            format!("{path}.quantities"),
-            "must name at least one quantity",
-        ));
-    }
+    let names: Vec<&str> = others.iter().map(|o| o.name.as_str()).collect();
+    let (path, name, every) = series_head(s, raw, &names)?;
     let mut quantities = Vec::with_capacity(raw.quantities.len());
     for (k, qn) in raw.quantities.iter().enumerate() {
         let qpath = format!("{path}.quantities[{k}]");
@@ -192,7 +168,84 @@ fn series(
     })
 }
 
-/// Validates the section for a run of `rotors` with `integrator`.
+/// One series of bodies in `space`: its name, interval and quantities
+/// ([`BodyQuantity`]).
+fn body_series(
+    s: usize,
+    raw: &RawSeries,
+    others: &[BodySeries],
+    space: &Space,
+) -> Result<BodySeries, SceneError> {
+    let names: Vec<&str> = others.iter().map(|o| o.name.as_str()).collect();
+    let (path, name, every) = series_head(s, raw, &names)?;
+    let mut quantities = Vec::with_capacity(raw.quantities.len());
+    for (k, qn) in raw.quantities.iter().enumerate() {
+        let qpath = format!("{path}.quantities[{k}]");
+        let q = BodyQuantity::named(qn)
+            .and_then(|q| q.check(space).map(|()| q))
+            .map_err(|e| e.at(&qpath))?;
+        if quantities.contains(&q) {
+            return Err(SceneError::field(qpath, format!("`{qn}` is listed twice")));
+        }
+        quantities.push(q);
+    }
+    Ok(BodySeries {
+        name,
+        every,
+        quantities,
+    })
+}
+
+/// A series' path, name (default `observables`, `observables1`, ...,
+/// unique among `others`) and interval; its quantities are not empty.
+fn series_head(
+    s: usize,
+    raw: &RawSeries,
+    others: &[&str],
+) -> Result<(String, String, u64), SceneError> {
+    let path = format!("record.series[{s}]");
+    let name = raw.name.clone().unwrap_or_else(|| match s {
+        0 => "observables".to_string(),
+        _ => format!("observables{s}"),
+    });
+    let name_ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if !name_ok {
+        return Err(SceneError::field(
+            format!("{path}.name"),
+            format!("must be letters, digits, _ or -, got \"{name}\""),
+        ));
+    }
+    if others.contains(&name.as_str()) {
+        return Err(SceneError::field(
+            format!("{path}.name"),
+            format!("\"{name}\" is used by another series"),
+        ));
+    }
+    let every = at_least_one(raw.every).map_err(|e| e.at(&format!("{path}.every")))?;
+    if raw.quantities.is_empty() {
+        return Err(SceneError::field(
+            format!("{path}.quantities"),
+            "must name at least one quantity",
+        ));
+    }
+    Ok((path, name, every))
+}
+
+/// The series of a run of bodies in `space`.
+pub(super) fn body_record(raw: &RawRecord, space: &Space) -> Result<Vec<BodySeries>, SceneError> {
+    let mut all: Vec<BodySeries> = Vec::with_capacity(raw.series.len());
+    for (s, rs) in raw.series.iter().enumerate() {
+        let one = body_series(s, rs, &all, space)?;
+        all.push(one);
+    }
+    Ok(all)
+}
+
+/// Validates the section for a run of `rotors` with `integrator` (the
+/// series of bodies, when `rotors` is empty, are read by [`body_record`]).
 pub(super) fn record(
     raw: &RawRecord,
     integrator: &IntegratorSpec,

@@ -2,16 +2,18 @@
 //! section's checks live in its file), every error naming the field path and
 //! the value (`rotors.sites[3].inertia: must be > 0, got 0`).
 
+use super::bodies::body_scene;
 use super::error::SceneError;
 use super::fields::fields;
 use super::initial::initial;
 use super::interactions::interactions;
 use super::model::Scene;
-use super::raw::{RawRecord, RawRotors, RawScene};
-use super::record::record;
+use super::raw::{RawBodies, RawRecord, RawRotors, RawScene};
+use super::record::{body_record, record, TrajectoryFormat};
 use super::rotors::{rotors, Rotors};
 use super::run_length::run_length;
 use super::thermostat::thermostat;
+use crate::bodies::BodyIntegrator;
 use crate::potential::ExternalFields;
 
 /// The only scene format version this build reads.
@@ -79,11 +81,39 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
             ),
         ));
     }
+    let raw_rotors = match (&raw.rotors, &raw.bodies) {
+        (Some(r), None) => r,
+        (None, Some(b)) => return validate_bodies(raw, b),
+        (Some(_), Some(_)) => {
+            return Err(SceneError::field(
+                "bodies",
+                "a scene declares [rotors] or [bodies], not both",
+            ))
+        }
+        (None, None) => {
+            return Err(SceneError::field(
+                "rotors",
+                "missing: a scene declares [rotors] or [bodies]",
+            ))
+        }
+    };
+    if let Some(field) = [
+        ("body_types", raw.body_types.is_some()),
+        ("body_interactions", raw.body_interactions.is_some()),
+    ]
+    .iter()
+    .find_map(|(f, given)| given.then_some(f))
+    {
+        return Err(SceneError::field(*field, "for scenes of bodies only"));
+    }
+    let Some(raw_initial) = &raw.initial else {
+        return Err(SceneError::field("initial", "missing"));
+    };
     let Rotors {
         rotors,
         lattice_box,
-    } = rotors(&raw.rotors)?;
-    let explicit_sites = matches!(raw.rotors, RawRotors::Sites(_));
+    } = rotors(raw_rotors)?;
+    let explicit_sites = matches!(raw_rotors, RawRotors::Sites(_));
     let interactions = raw
         .interactions
         .as_ref()
@@ -93,7 +123,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         Some(f) => fields(f, &rotors, interactions.is_some())?,
         None => ExternalFields::NONE,
     };
-    let (initial, seed) = initial(&raw.initial, &rotors)?;
+    let (initial, seed) = initial(raw_initial, &rotors)?;
     let integrator = raw.integrator.spec;
     let thermostat = thermostat(raw.thermostat.as_ref(), &integrator, seed)?;
     let (dt, steps) = run_length(&raw.run)?;
@@ -106,12 +136,91 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         name: scene_name(raw.name.as_deref())?,
         description: description(raw.description.as_deref())?,
         rotors,
+        bodies: None,
         interactions,
         fields,
         initial,
         seed,
         integrator,
         thermostat,
+        dt,
+        steps,
+        record,
+    })
+}
+
+/// Validates a scene of bodies: no rotor section, an integrator that moves
+/// bodies, no thermostat yet, only the series of [`BodyQuantity`]s and a
+/// GSD trajectory, no checkpoints.
+///
+/// [`BodyQuantity`]: crate::bodies::BodyQuantity
+fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, SceneError> {
+    if let Some(field) = [
+        ("interactions", raw.interactions.is_some()),
+        ("fields", raw.fields.is_some()),
+    ]
+    .iter()
+    .find_map(|(f, given)| given.then_some(f))
+    {
+        return Err(SceneError::field(
+            *field,
+            "for rotors only (bodies interact through [body_interactions])",
+        ));
+    }
+    let integrator = raw.integrator.spec;
+    BodyIntegrator::check(&integrator).map_err(|e| e.at("integrator"))?;
+    if raw.thermostat.is_some() {
+        return Err(SceneError::field(
+            "thermostat",
+            "bodies run at constant energy only so far: leave [thermostat] out",
+        ));
+    }
+    let (mut bodies, seed) = body_scene(
+        raw.body_types.as_ref(),
+        raw_bodies,
+        raw.body_interactions.as_ref(),
+        raw.initial.as_ref(),
+    )?;
+    let (dt, steps) = run_length(&raw.run)?;
+    let raw_record = raw.record.clone().unwrap_or_default();
+    bodies.series = body_record(&raw_record, &bodies.space)?;
+    if raw_record.checkpoint_every.is_some() {
+        return Err(SceneError::field(
+            "record.checkpoint_every",
+            "checkpoints of bodies are not supported yet",
+        ));
+    }
+    let no_series = RawRecord {
+        series: Vec::new(),
+        ..raw_record
+    };
+    let record = record(&no_series, &integrator, &[])?;
+    if record
+        .trajectory
+        .is_some_and(|t| t.format != TrajectoryFormat::Gsd)
+    {
+        return Err(SceneError::field(
+            "record.trajectory.format",
+            "bodies are recorded as GSD only: set format = \"gsd\"",
+        ));
+    }
+    if record.energy_error_threshold.is_some() {
+        return Err(SceneError::field(
+            "record.energy_error_threshold",
+            "not supported for bodies yet",
+        ));
+    }
+    Ok(Scene {
+        name: scene_name(raw.name.as_deref())?,
+        description: description(raw.description.as_deref())?,
+        rotors: Vec::new(),
+        bodies: Some(bodies),
+        interactions: None,
+        fields: ExternalFields::NONE,
+        initial: Vec::new(),
+        seed,
+        integrator,
+        thermostat: None,
         dt,
         steps,
         record,
