@@ -12,6 +12,11 @@
 //! orientations only; the schema takes every chunk a frame lacks from frame
 //! 0 (rotors never move), as `gsd.hoomd` does when reading.
 //!
+//! Moving bodies ([`GsdWriter::create_bodies`]): frame 0 adds
+//! `particles/types` (`type0`, ...), `typeid`, `mass` and `moment_inertia`;
+//! every frame holds `particles/position`, `orientation`, `velocity`,
+//! `angmom` (HOOMD's quaternion `P = 2 Q (0, L_body)`) and `image` (int32).
+//!
 //! * Orientations are written normalised (the schema's unit quaternions),
 //!   scalar first `(q0, q1, q2, q3)`: HOOMD's order and convention, the
 //!   body-to-space rotation `v_s = Q (0, v_b) Q~` of `R(Q)`.
