@@ -142,13 +142,8 @@ fn series(
 ) -> Result<Series, SceneError> {
     let names: Vec<&str> = others.iter().map(|o| o.name.as_str()).collect();
     let (path, name, every) = series_head(s, raw, &names)?;
-    let mut quantities = Vec::with_capacity(raw.quantities.len());
-    for (k, qn) in raw.quantities.iter().enumerate() {
-        let qpath = format!("{path}.quantities[{k}]");
-        let q = quantity(&qpath, qn)?;
-        if quantities.contains(&q) {
-            return Err(SceneError::field(qpath, format!("`{qn}` is listed twice")));
-        }
+    let quantities = listed(&path, &raw.quantities, |qpath, qn| {
+        let q = quantity(qpath, qn)?;
         if q == Quantity::NormForce && !integrator.stores_quaternion_force() {
             return Err(SceneError::field(
                 qpath,
@@ -158,9 +153,9 @@ fn series(
                 ),
             ));
         }
-        let _ = MultipoleInputs::new(rotors, &[q]).map_err(|e| e.at(&qpath))?;
-        quantities.push(q);
-    }
+        let _ = MultipoleInputs::new(rotors, &[q]).map_err(|e| e.at(qpath))?;
+        Ok(q)
+    })?;
     Ok(Series {
         name,
         every,
@@ -178,22 +173,38 @@ fn body_series(
 ) -> Result<BodySeries, SceneError> {
     let names: Vec<&str> = others.iter().map(|o| o.name.as_str()).collect();
     let (path, name, every) = series_head(s, raw, &names)?;
-    let mut quantities = Vec::with_capacity(raw.quantities.len());
-    for (k, qn) in raw.quantities.iter().enumerate() {
-        let qpath = format!("{path}.quantities[{k}]");
-        let q = BodyQuantity::named(qn)
+    let quantities = listed(&path, &raw.quantities, |qpath, qn| {
+        BodyQuantity::named(qn)
             .and_then(|q| q.check(space).map(|()| q))
-            .map_err(|e| e.at(&qpath))?;
-        if quantities.contains(&q) {
-            return Err(SceneError::field(qpath, format!("`{qn}` is listed twice")));
-        }
-        quantities.push(q);
-    }
+            .map_err(|e| e.at(qpath).into())
+    })?;
     Ok(BodySeries {
         name,
         every,
         quantities,
     })
+}
+
+/// The quantities `names` of the series at `path`, each read by `read`
+/// (given its path), none listed twice.
+fn listed<Q: PartialEq>(
+    path: &str,
+    names: &[String],
+    read: impl Fn(&str, &str) -> Result<Q, SceneError>,
+) -> Result<Vec<Q>, SceneError> {
+    let mut quantities = Vec::with_capacity(names.len());
+    for (k, name) in names.iter().enumerate() {
+        let qpath = format!("{path}.quantities[{k}]");
+        let q = read(&qpath, name)?;
+        if quantities.contains(&q) {
+            return Err(SceneError::field(
+                qpath,
+                format!("`{name}` is listed twice"),
+            ));
+        }
+        quantities.push(q);
+    }
+    Ok(quantities)
 }
 
 /// A series' path, name (default `observables`, `observables1`, ...,
