@@ -130,10 +130,13 @@ fn list_scenes() -> std::io::Result<()> {
 
 fn describe(scene: &Scene) -> String {
     let seed = scene.seed.map_or(String::new(), |s| format!(", seed {s}"));
+    let population = match &scene.bodies {
+        Some(b) => format!("{} bodies", b.bodies.len()),
+        None => format!("{} rotors", scene.rotors.len()),
+    };
     format!(
-        "{}: {} rotors, {}, dt {}, {} steps{seed}",
+        "{}: {population}, {}, dt {}, {} steps{seed}",
         scene.name,
-        scene.rotors.len(),
         scene.integrator.name(),
         crate::checks::num(scene.dt),
         scene.steps
@@ -240,15 +243,18 @@ fn one_line(scene: &Scene, result: &RunResult) -> String {
         (Some(e), None) => format!(", energy error {:.3e}", e.error),
         _ => String::new(),
     };
-    let status = result
-        .stop
-        .message()
+    let status = s
+        .message
+        .as_ref()
         .map_or(String::new(), |m| format!(" STOPPED: {m}."));
+    let population = match &s.bodies {
+        Some(b) => format!("{} bodies", b.count),
+        None => format!("{} rotors", s.rotors),
+    };
     format!(
-        "{}: {steps} steps of {} ({} rotors) in {:.3} s ({rate:.0} steps/s){energy}.{status} {}.",
+        "{}: {steps} steps of {} ({population}) in {:.3} s ({rate:.0} steps/s){energy}.{status} {}.",
         scene.name,
         s.integrator,
-        s.rotors,
         s.wall_seconds,
         placement(result)
     )

@@ -181,8 +181,10 @@ fn run_steps(
 fn blown_up(system: &BodySystem, total: f64) -> Option<(usize, String)> {
     let finite = |v: &nalgebra::Vector3<f64>| v.iter().all(|x| x.is_finite());
     let body = system.bodies.iter().position(|b| {
-        !(finite(&b.position) && finite(&b.velocity) && finite(&b.angular_momentum_body))
-            || !b.orientation.0.iter().all(|x| x.is_finite())
+        !(finite(&b.position)
+            && finite(&b.velocity)
+            && finite(&b.angular_momentum_body)
+            && b.orientation.0.iter().all(|x| x.is_finite()))
     });
     match body {
         Some(i) => Some((i, "its state is not finite".to_string())),
