@@ -180,7 +180,7 @@ fn an_open_cluster_conserves_its_angular_momentum() {
     let e = column(series, "total_energy");
     assert!(
         e.iter()
-            .all(|x| (x - e[0]).abs() < 1e-3 * e[0].abs().max(1.0)),
+            .all(|x| (x - e[0]).abs() < CLUSTER_ENERGY_BOUND * e[0].abs()),
         "the energy is conserved too: {e:?}"
     );
 }
@@ -199,8 +199,7 @@ fn a_restart_of_bodies_is_refused() {
         Some(&restart),
         None,
     )
-    .err()
-    .expect("refused")
+    .expect_err("refused")
     .to_string();
     assert_eq!(
         error,
