@@ -77,25 +77,25 @@ fn variant(text: &str, integrator: &str, thermostat: Option<&toml::Table>, forma
         .or_insert_with(|| toml::Table::new().into())
         .as_table_mut()
         .expect("[record]");
-    let mut quantities = if bodies {
-        vec![
+    let _ = record.insert("checkpoint_every".into(), 8.into());
+    let mut quantities = vec![
+        "kinetic_energy",
+        "potential_energy",
+        "total_energy",
+        "energy_error",
+        "temperature",
+        "norm_error",
+    ];
+    if bodies {
+        let _ = record.remove("checkpoint_every");
+        quantities = vec![
             "kinetic_energy",
             "potential_energy",
             "total_energy",
             "T_trans",
             "T_rot",
-        ]
-    } else {
-        let _ = record.insert("checkpoint_every".into(), 8.into());
-        vec![
-            "kinetic_energy",
-            "potential_energy",
-            "total_energy",
-            "energy_error",
-            "temperature",
-            "norm_error",
-        ]
-    };
+        ];
+    }
     if thermostat.is_some() && !bodies {
         quantities.push("conserved_energy");
     }
