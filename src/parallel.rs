@@ -46,6 +46,34 @@ use std::num::NonZeroUsize;
 /// the system says no.
 pub const MAX_THREADS: usize = 1024;
 
+/// A run's thread count as a scene gives it (`run.threads`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ThreadCount {
+    /// Not fixed (`"auto"`, the default): `RAYON_NUM_THREADS` if set, else
+    /// [`automatic_threads`].
+    #[default]
+    Automatic,
+    /// This many threads (1 to [`MAX_THREADS`]).
+    Fixed(NonZeroUsize),
+}
+
+/// `count` as a fixed thread count: `None` unless 1 to [`MAX_THREADS`].
+///
+/// ```
+/// use quatrot::internals::fixed_threads;
+/// assert_eq!(fixed_threads(2).map(|n| n.get()), Some(2));
+/// assert_eq!(fixed_threads(1024).map(|n| n.get()), Some(1024));
+/// assert_eq!(fixed_threads(0), None);
+/// assert_eq!(fixed_threads(-1), None);
+/// assert_eq!(fixed_threads(1025), None);
+/// ```
+pub fn fixed_threads(count: i64) -> Option<NonZeroUsize> {
+    usize::try_from(count)
+        .ok()
+        .filter(|&n| n <= MAX_THREADS)
+        .and_then(NonZeroUsize::new)
+}
+
 /// Runs `op` on a worker of the current rayon pool and returns its result.
 pub fn on_worker<R: Send>(op: impl FnOnce() -> R + Send) -> R {
     rayon::scope(|_| op())
