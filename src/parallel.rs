@@ -28,8 +28,12 @@
 //! 4. the external fields, gradient and torques, one pass over the rotors;
 //! 5. the second half kick, one pass over chunks of rotors.
 //!
-//! The Gear schemes open the same sections with the predictor in place of
-//! 1 and the corrector in place of 5. A new per-rotor or per-body pass (the
+//! The Gear schemes open the same sections with the corrector in place of
+//! 5 and the predictor of the next step at the end of its pass (when the
+//! run loop takes several steps in one `Integrator::steps` call), so no
+//! section in place of 1. The Langevin thermostat draws its noise (one
+//! random stream, in rotor order) on one thread during pass 1. A new
+//! per-rotor or per-body pass (the
 //! moving bodies, another sum) joins the pass of the same kind: work on one
 //! rotor or body goes into the per-rotor pass that reads the same inputs
 //! (as the external fields joined the torque pass), work on the grid into
