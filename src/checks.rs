@@ -261,7 +261,7 @@ pub fn deserialize_seed<'de, D: Deserializer<'de>>(
     deserializer.deserialize_any(Seed).map(Some)
 }
 
-/// A scene's `run.threads`: an integer from 1 to [`MAX_THREADS`] or
+/// A scene's `run.threads`: an integer from 1 to `MAX_THREADS` or
 /// `"auto"`, anything else refused with one message: `must be an integer
 /// between 1 and 1024 or "auto", got 0` (also for `2.5`, `"two"` or `true`).
 impl<'de> Deserialize<'de> for ThreadCount {

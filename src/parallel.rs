@@ -57,11 +57,11 @@ pub enum ThreadCount {
     /// [`automatic_threads`].
     #[default]
     Automatic,
-    /// This many threads (1 to [`MAX_THREADS`]).
+    /// This many threads (1 to `MAX_THREADS`, 1024).
     Fixed(NonZeroUsize),
 }
 
-/// `count` as a fixed thread count: `None` unless 1 to [`MAX_THREADS`].
+/// `count` as a fixed thread count: `None` unless 1 to `MAX_THREADS` (1024).
 ///
 /// ```
 /// use quatrot::internals::fixed_threads;

@@ -326,12 +326,12 @@ pub trait TopStep {
         next: &mut dyn FnMut() -> bool,
     ) -> bool;
 
-    /// [`Integrator::step`] ([`Self::steps_by_top`] of one step).
+    /// [`super::Integrator::step`] ([`Self::steps_by_top`] of one step).
     fn step_by_top(&mut self, potential: &dyn Potential) {
         let _one: u64 = self.steps_by_top(potential, 1, &mut |_| false);
     }
 
-    /// [`Integrator::steps`], each step on [`Spherical`] when every rotor
+    /// [`super::Integrator::steps`], each step on [`Spherical`] when every rotor
     /// is a spherical top and on [`General`] otherwise: the predictor of
     /// each step after the first runs in the previous step's last pass.
     fn steps_by_top(&mut self, potential: &dyn Potential, count: u64, go_on: GoOn<'_>) -> u64 {

@@ -50,7 +50,7 @@ pub fn prepare(scene: &Scene, keep: bool) -> Result<Option<MultipolePotential>, 
 /// on a worker of a rayon pool of `outputs.threads` threads when given, else
 /// of the scene's `run.threads`, else of the shared pool when
 /// `RAYON_NUM_THREADS` sizes it, else of [`automatic_threads`] for its
-/// rotors ([`choose_threads`]); the count and the reason are
+/// rotors (`choose_threads`); the count and the reason are
 /// recorded in the summary ([`super::Threads`]).
 pub fn execute(
     scene: &Scene,

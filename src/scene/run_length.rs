@@ -16,7 +16,7 @@ pub struct RawRun {
     pub steps: Option<i64>,
     /// the run time (at least one step).
     pub time: Option<f64>,
-    /// The threads of the run: 1 to [`crate::parallel::MAX_THREADS`], or
+    /// The threads of the run: 1 to 1024 (`MAX_THREADS`), or
     /// `"auto"` (the default); a count given to the run (`--threads`)
     /// overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
