@@ -25,6 +25,7 @@ mod tagged;
 mod thermostat;
 mod validate;
 
+pub use crate::parallel::ThreadCount;
 pub use bodies::{
     body_types, BodyScene, BodySeries, RawBodySite, RawBodyType, RawLennardJones, DEFAULT_SKIN,
 };

@@ -145,6 +145,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         thermostat,
         dt,
         steps,
+        threads: raw.run.threads.unwrap_or_default(),
         record,
     })
 }
@@ -223,6 +224,7 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
         thermostat: None,
         dt,
         steps,
+        threads: raw.run.threads.unwrap_or_default(),
         record,
     })
 }
