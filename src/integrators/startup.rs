@@ -217,7 +217,6 @@ impl<K: TopKind> Rk4<'_, K> {
         }
         rate
     }
-
 }
 
 /// The inverse of the Vandermonde matrix `V[j][k] = (j - 4)^k`: maps the nine

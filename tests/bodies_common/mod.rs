@@ -103,4 +103,3 @@ pub fn mixed_system(space: Space, truncation: Truncation, coulomb: f64, n: usize
     )
     .expect("a valid system")
 }
-
