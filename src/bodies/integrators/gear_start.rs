@@ -119,9 +119,9 @@ pub(super) fn body_derivatives(
     }
     // The orders given directly by the equations of motion, exactly.
     let half_dt2 = 0.5 * dt * dt;
-    for i in 0..n {
+    for (i, centre) in start.iter().enumerate() {
         let (q, q_dot) = (y0.q[i], rate0.q[i]);
-        out.position.r[0][i] = start[i];
+        out.position.r[0][i] = *centre;
         out.position.r[1][i] = y0.velocity[i] * dt;
         out.position.r[2][i] = rate0.velocity[i] * half_dt2;
         out.velocity.r[0][i] = y0.velocity[i];
