@@ -91,6 +91,18 @@ fn cluster_deviations(build: Build, dt: f64, t_end: f64) -> (f64, f64) {
     (energy, angular)
 }
 
+/// The time steps of the cluster's series (over t = 0.4).
+const CLUSTER_DTS: [f64; 3] = [0.004, 0.002, 0.001];
+
+/// [`cluster_deviations`] over t = 0.4 for each of [`CLUSTER_DTS`]: the
+/// energy deviations, then the angular-momentum deviations.
+fn cluster_series(build: Build) -> (Vec<f64>, Vec<f64>) {
+    CLUSTER_DTS
+        .iter()
+        .map(|&dt| cluster_deviations(build, dt, 0.4))
+        .unzip()
+}
+
 /// 12 bodies (bent molecules and Stockmayer spheres) in open space with
 /// every site pair within the cutoffs of 50, so the energy is analytic.
 fn smooth_cluster() -> BodySystem {
@@ -109,13 +121,9 @@ fn smooth_cluster() -> BodySystem {
 /// about 3.5).
 #[test]
 fn energy_error_has_each_integrators_order() {
-    let dts = [0.004, 0.002, 0.001];
     for (name, build) in INTEGRATORS {
-        let errors: Vec<f64> = dts
-            .iter()
-            .map(|&dt| cluster_deviations(build, dt, 0.4).0)
-            .collect();
-        let order = fitted_order(&dts, &errors);
+        let errors = cluster_series(build).0;
+        let order = fitted_order(&CLUSTER_DTS, &errors);
         let last = (errors[1] / errors[2]).log2();
         if name.starts_with("gear") {
             assert!(
@@ -159,14 +167,10 @@ fn linear_momentum_is_conserved_by_every_integrator() {
 /// 5.01 over dt = 0.004, 0.002, 0.001, t = 0.4).
 #[test]
 fn angular_momentum_of_an_open_cluster_is_conserved() {
-    let dts = [0.004, 0.002, 0.001];
     for (name, build) in INTEGRATORS {
-        let errors: Vec<f64> = dts
-            .iter()
-            .map(|&dt| cluster_deviations(build, dt, 0.4).1)
-            .collect();
+        let errors = cluster_series(build).1;
         if name.starts_with("gear") {
-            let order = fitted_order(&dts, &errors);
+            let order = fitted_order(&CLUSTER_DTS, &errors);
             assert!(
                 (order - 5.0).abs() < 0.2,
                 "{name}: order {order}, {errors:?}"

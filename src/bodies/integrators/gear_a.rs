@@ -23,10 +23,10 @@
 //! Stores per body 5 values each of `r`, `v`, `Q`, `w_b`, and the
 //! evaluation at the last predicted configuration.
 
-use super::gear_start::{body_derivatives, evaluate_at, positive_moments};
+use super::gear_start::{evaluate_at, GearSetup};
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
-use crate::checks::{finite_and_positive, InputError};
+use crate::checks::InputError;
 use crate::integrators::gear::{correct_pair, Nordsieck};
 use crate::integrators::rigid_body::{General, PrincipalMoments, TopKind};
 use crate::integrators::torque::torque_body;
@@ -55,20 +55,16 @@ impl BodyGearA {
         dt: f64,
         options: GearAOptions,
     ) -> Result<Self, InputError> {
-        let dt = finite_and_positive("dt", dt)?;
-        let moments = positive_moments(system)?;
-        let start = body_derivatives(system, &moments, options.startup, dt);
-        let mut evaluation = Evaluation::default();
-        system.evaluate(&mut evaluation);
+        let setup = GearSetup::new(system, dt, options.startup)?;
         Ok(BodyGearA {
             options,
-            dt,
-            moments,
-            position: start.position.truncated(),
-            velocity: start.velocity.truncated(),
-            q: start.q.truncated(),
-            omega_body: start.omega_body.truncated(),
-            evaluation,
+            dt: setup.dt,
+            moments: setup.moments,
+            position: setup.start.position.truncated(),
+            velocity: setup.start.velocity.truncated(),
+            q: setup.start.q.truncated(),
+            omega_body: setup.start.omega_body.truncated(),
+            evaluation: setup.evaluation,
         })
     }
 

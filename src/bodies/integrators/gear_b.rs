@@ -24,10 +24,10 @@
 //! (there is no unprojected gradient). Stores per body 6 values each of `r`
 //! and `Q`, and the evaluation at the last predicted configuration.
 
-use super::gear_start::{body_derivatives, evaluate_at, positive_moments};
+use super::gear_start::{evaluate_at, GearSetup};
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
-use crate::checks::{finite_and_positive, InputError};
+use crate::checks::InputError;
 use crate::integrators::gear::{second_order_6, Nordsieck};
 use crate::integrators::rigid_body::{General, PrincipalMoments};
 use crate::integrators::scheme_b::acceleration;
@@ -56,25 +56,21 @@ impl BodyGearB {
         dt: f64,
         options: GearBOptions,
     ) -> Result<Self, InputError> {
-        let dt = finite_and_positive("dt", dt)?;
         if !options.project_torque {
             return Err(InputError::new(
                 "project_torque",
                 "must be true for bodies: their torques have no norm component to keep",
             ));
         }
-        let moments = positive_moments(system)?;
-        let start = body_derivatives(system, &moments, options.startup, dt);
-        let mut evaluation = Evaluation::default();
-        system.evaluate(&mut evaluation);
+        let setup = GearSetup::new(system, dt, options.startup)?;
         Ok(BodyGearB {
             options,
             coefficients: second_order_6(options.c0.value()),
-            dt,
-            moments,
-            position: start.position,
-            q: start.q,
-            evaluation,
+            dt: setup.dt,
+            moments: setup.moments,
+            position: setup.start.position,
+            q: setup.start.q,
+            evaluation: setup.evaluation,
         })
     }
 

@@ -10,7 +10,7 @@
 
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::{Body, BodySystem};
-use crate::checks::InputError;
+use crate::checks::{finite_and_positive, InputError};
 use crate::integrators::gear::Nordsieck;
 use crate::integrators::rigid_body::{q_ddot, General, PrincipalMoments, TopKind};
 use crate::integrators::startup::{axpy, fit_into, samples, Rk4State, Startup};
@@ -81,7 +81,7 @@ fn rate(
 
 /// The scaled derivatives at t = 0 for steps of `dt` (module doc) of the
 /// bodies of `system` (principal moments `moments`, all > 0).
-pub(super) fn body_derivatives(
+fn body_derivatives(
     system: &mut BodySystem,
     moments: &[PrincipalMoments],
     startup: Startup,
@@ -136,9 +136,37 @@ pub(super) fn body_derivatives(
     out
 }
 
+/// What the setup of a Gear scheme computes: its checked time step, the
+/// bodies' moments, the scaled derivatives at t = 0 and the evaluation of
+/// the initial state.
+pub(super) struct GearSetup {
+    pub dt: f64,
+    pub moments: Vec<PrincipalMoments>,
+    pub start: BodyDerivatives,
+    pub evaluation: Evaluation,
+}
+
+impl GearSetup {
+    /// The setup on `system` for steps of `dt` (> 0) with the start-up
+    /// `startup`; errors name `dt` or a linear body's type.
+    pub fn new(system: &mut BodySystem, dt: f64, startup: Startup) -> Result<Self, InputError> {
+        let dt = finite_and_positive("dt", dt)?;
+        let moments = positive_moments(system)?;
+        let start = body_derivatives(system, &moments, startup, dt);
+        let mut evaluation = Evaluation::default();
+        system.evaluate(&mut evaluation);
+        Ok(GearSetup {
+            dt,
+            moments,
+            start,
+            evaluation,
+        })
+    }
+}
+
 /// The principal moments of every body, all > 0 (the Gear schemes divide
 /// by each); a linear body is refused naming its type's inertia.
-pub(super) fn positive_moments(system: &BodySystem) -> Result<Vec<PrincipalMoments>, InputError> {
+fn positive_moments(system: &BodySystem) -> Result<Vec<PrincipalMoments>, InputError> {
     if let Some(t) = system.types.iter().position(|t| t.moments.min() <= 0.0) {
         return Err(InputError::new(
             format!("body_types[{t}].inertia"),
