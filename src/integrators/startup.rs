@@ -162,7 +162,7 @@ pub fn rk4_step<S: Rk4State>(y: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> S
         .advanced(&k4, dt / 6.0)
 }
 
-/// The [`SAMPLES`] states at `j dt`, `j = -4..4`, of `y' = rate(y)` from `y0`
+/// The nine states at `j dt`, `j = -4..4`, of `y' = rate(y)` from `y0`
 /// at 0, by [`RK4_SUBSTEPS`] RK4 substeps per `dt` (module doc).
 pub fn samples<S: Rk4State>(y0: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> Vec<S> {
     let mut samples = vec![y0.clone(); SAMPLES];
@@ -230,7 +230,7 @@ fn fit_matrix() -> SMatrix<f64, SAMPLES, SAMPLES> {
 }
 
 /// Overwrites the orders `from..6` of `target` with the polynomial fit of
-/// the quantity `of` of the [`SAMPLES`] states (sample `j` at time
+/// the quantity `of` of the nine states (sample `j` at time
 /// `(j - 4) h`, as [`samples`] returns them).
 pub fn fit_into<S, T: GearValue>(
     samples: &[S],
