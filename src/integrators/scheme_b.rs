@@ -142,7 +142,7 @@ impl GearBOptions {
     /// The switched corrections of the module doc (renormalisation, the
     /// velocity projection, the higher-derivative constraints) on every
     /// rotor of the chunk, after its corrector.
-    pub fn correct_switched(&self, q: &mut NordsieckChunk<'_, Quat, 6>) {
+    pub(crate) fn correct_switched(&self, q: &mut NordsieckChunk<'_, Quat, 6>) {
         if self.renormalise {
             for q in q.r[0].iter_mut() {
                 *q = *q * (1.0 / q.norm());
@@ -212,7 +212,7 @@ fn quaternion_force(q: &Quat, gradient: &Quat, project: bool) -> Quat {
 
 /// `Q''` of one rotor from the quaternion force `N` (module doc): eq 12 with
 /// the body acceleration `(n0/I0, w_b')`, or its spherical-top form.
-pub fn acceleration<K: TopKind>(
+pub(crate) fn acceleration<K: TopKind>(
     moments: &PrincipalMoments,
     q: &Quat,
     q_dot: &Quat,

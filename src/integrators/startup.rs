@@ -117,13 +117,13 @@ struct State {
 }
 
 /// A state integrated by [`rk4_step`]: a vector space over `f64`.
-pub trait Rk4State: Clone {
+pub(crate) trait Rk4State: Clone {
     /// `self + s * rate`.
     fn advanced(&self, rate: &Self, s: f64) -> Self;
 }
 
 /// `a + s b`, element by element.
-pub fn axpy<T: GearValue>(a: &[T], b: &[T], s: f64) -> Vec<T> {
+pub(crate) fn axpy<T: GearValue>(a: &[T], b: &[T], s: f64) -> Vec<T> {
     a.iter().zip(b).map(|(a, b)| *a + *b * s).collect()
 }
 
@@ -151,7 +151,7 @@ impl Rk4State for State {
 }
 
 /// One classical RK4 step of `dt` of `y' = rate(y)`.
-pub fn rk4_step<S: Rk4State>(y: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> S {
+pub(crate) fn rk4_step<S: Rk4State>(y: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> S {
     let k1 = rate(y);
     let k2 = rate(&y.advanced(&k1, 0.5 * dt));
     let k3 = rate(&y.advanced(&k2, 0.5 * dt));
@@ -164,7 +164,7 @@ pub fn rk4_step<S: Rk4State>(y: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> S
 
 /// The nine states at `j dt`, `j = -4..4`, of `y' = rate(y)` from `y0`
 /// at 0, by [`RK4_SUBSTEPS`] RK4 substeps per `dt` (module doc).
-pub fn samples<S: Rk4State>(y0: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> Vec<S> {
+pub(crate) fn samples<S: Rk4State>(y0: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> Vec<S> {
     let mut samples = vec![y0.clone(); SAMPLES];
     for direction in [1.0, -1.0] {
         let substep = direction * dt / RK4_SUBSTEPS as f64;
@@ -232,7 +232,7 @@ fn fit_matrix() -> SMatrix<f64, SAMPLES, SAMPLES> {
 /// Overwrites the orders `from..6` of `target` with the polynomial fit of
 /// the quantity `of` of the nine states (sample `j` at time
 /// `(j - 4) h`, as [`samples`] returns them).
-pub fn fit_into<S, T: GearValue>(
+pub(crate) fn fit_into<S, T: GearValue>(
     samples: &[S],
     of: impl Fn(&S) -> &Vec<T>,
     from: usize,

@@ -11,10 +11,9 @@
 //! the one evaluation; the quaternion force is `N = 2 Q*(0, n_b)` (eq 13
 //! inverted with `n0 = 0`: a torque has no norm component, so the torque
 //! projection of eq 15b holds by construction); (c) correct `r` with
-//! `h^2/2 F/m - r_2` and `Q` with `h^2/2 Q'' - q_2` (eq 12 through
-//! [`acceleration`]); then the switched corrections of [`GearBOptions`]
-//! ([`GearBOptions::correct_switched`]). Bodies are integrated as general
-//! tops.
+//! `h^2/2 F/m - r_2` and `Q` with `h^2/2 Q'' - q_2` (eq 12, the rotors'
+//! `scheme_b::acceleration`); then the switched corrections of
+//! [`GearBOptions`], the rotors' own. Bodies are integrated as general tops.
 //!
 //! Properties: global error of order 5 in `h` with the consistent start-up,
 //! as for the rotors; neither symplectic nor time reversible. Total linear
