@@ -24,7 +24,7 @@ use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
 use super::startup::{start, GearFrame, GearStart, StartChain, Startup, TopStep};
 use super::torque::{evaluate_torques, torque_body};
-use super::{Integrator, IntegratorError, RotorState};
+use super::{GoOn, Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
@@ -50,15 +50,22 @@ impl TopStep for GearA {
 
     /// One step (a)-(f) of the note, monomorphised on the kind of top; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
-    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
+    fn step_with<K: TopKind>(
+        &mut self,
+        potential: &dyn Potential,
+        predicted: bool,
+        next: &mut dyn FnMut() -> bool,
+    ) -> bool {
         let h = self.frame.dt;
         let renormalise = self.options.renormalise;
         // (a), (b): predict.
-        let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
-        for_each_rotor_chunk(rotors, |(mut q, mut omega_body)| {
-            q.predict();
-            omega_body.predict();
-        });
+        if !predicted {
+            let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
+            for_each_rotor_chunk(rotors, |(mut q, mut omega_body)| {
+                q.predict();
+                omega_body.predict();
+            });
+        }
         // (c): torque at the predicted Q; the chain, advanced with the
         // kinetic energy of the predicted w_b, gives the friction at t + h.
         evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
@@ -73,6 +80,7 @@ impl TopStep for GearA {
             &self.frame.moments[..],
             &self.spins[..],
         );
+        let predict_next = next();
         for_each_rotor_chunk(
             rotors,
             |(mut q, mut omega_body, torque_space, moments, spins)| {
@@ -101,8 +109,14 @@ impl TopStep for GearA {
                         *q = *q * (1.0 / q.norm());
                     }
                 }
+                // The next step's (a), (b).
+                if predict_next {
+                    q.predict();
+                    omega_body.predict();
+                }
             },
         );
+        predict_next
     }
 }
 
@@ -282,6 +296,10 @@ impl Integrator for GearA {
 
     fn step(&mut self, potential: &dyn Potential) {
         self.step_by_top(potential);
+    }
+
+    fn steps(&mut self, potential: &dyn Potential, count: u64, go_on: GoOn<'_>) -> u64 {
+        self.steps_by_top(potential, count, go_on)
     }
 
     fn dt(&self) -> f64 {

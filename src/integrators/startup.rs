@@ -60,7 +60,7 @@ use super::gear::{GearValue, Nordsieck};
 use super::rigid_body::{q_ddot, General, PrincipalMoments, Spherical, TopKind};
 use super::setup_checks::{validate_setup, Moments};
 use super::torque::{evaluate_torques, torque_body};
-use super::{IntegratorError, RotorState};
+use super::{GoOn, IntegratorError, RotorState};
 use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -330,16 +330,39 @@ pub trait TopStep {
     /// What the scheme kept from its setup.
     fn frame(&self) -> &GearFrame;
 
-    /// One step for rotors of kind `K`.
-    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential);
+    /// One step for rotors of kind `K`: the predictor first unless the
+    /// previous step's last pass ran it (`predicted`); that pass ends with
+    /// the next step's predictor when `next()` (asked once, before it) says
+    /// a step follows. Returns whether it did.
+    fn step_with<K: TopKind>(
+        &mut self,
+        potential: &dyn Potential,
+        predicted: bool,
+        next: &mut dyn FnMut() -> bool,
+    ) -> bool;
 
-    /// One step, on [`Spherical`] when every rotor is a spherical top and
-    /// on [`General`] otherwise.
+    /// [`super::Integrator::step`] ([`Self::steps_by_top`] of one step).
     fn step_by_top(&mut self, potential: &dyn Potential) {
-        if self.frame().spherical {
-            self.step_with::<Spherical>(potential);
-        } else {
-            self.step_with::<General>(potential);
+        let _one: u64 = self.steps_by_top(potential, 1, &mut |_| false);
+    }
+
+    /// [`super::Integrator::steps`], each step on [`Spherical`] when every rotor
+    /// is a spherical top and on [`General`] otherwise: the predictor of
+    /// each step after the first runs in the previous step's last pass.
+    fn steps_by_top(&mut self, potential: &dyn Potential, count: u64, go_on: GoOn<'_>) -> u64 {
+        let mut taken = 0;
+        let mut predicted = false;
+        loop {
+            taken += 1;
+            let mut next = || taken < count && go_on(taken);
+            predicted = if self.frame().spherical {
+                self.step_with::<Spherical>(potential, predicted, &mut next)
+            } else {
+                self.step_with::<General>(potential, predicted, &mut next)
+            };
+            if !predicted {
+                return taken;
+            }
         }
     }
 }
