@@ -1,7 +1,7 @@
 //! Rigid bodies that move: centres and orientations, body-fixed sites with
 //! Lennard-Jones, charges and point dipoles, interacting between bodies
 //! (never within one) through Verlet lists, integrated by velocity Verlet
-//! with NO_SQUISH.
+//! with a rotor splitting.
 //!
 //! * [`site`], [`body_type`]: a site's parameters; a body type's mass,
 //!   principal moments and sites in the principal frame.
@@ -16,8 +16,9 @@
 //!   density, with Maxwell-Boltzmann velocities and zero total momentum.
 //! * [`overlap`]: overlapping sites at the start.
 //! * [`quantity`]: the observables a run of bodies records.
-//! * [`integrators`]: velocity Verlet + NO_SQUISH, behind
-//!   [`BodyIntegrator`].
+//! * [`integrators`]: velocity Verlet + NO_SQUISH, DLM or Richardson, and
+//!   the note's Gear schemes A and B with Gear correctors for the centres;
+//!   [`BodyIntegrator`], the choice a scene makes (NO_SQUISH so far).
 
 pub mod body_type;
 pub mod electrostatics;
@@ -37,7 +38,9 @@ pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 pub use evaluate::Evaluation;
 pub use generate::{lattice_start, random_start, Lattice, LatticeStart, RandomStart, MAX_PACKING};
-pub use integrators::{BodyIntegrator, BodyNoSquish};
+pub use integrators::{
+    BodyDlm, BodyGearA, BodyGearB, BodyIntegrator, BodyKicked, BodyNoSquish, BodyRichardson,
+};
 pub use lennard_jones::{LennardJonesOptions, LennardJonesTerm, Mixing, Truncation};
 pub use neighbours::NeighbourList;
 pub use overlap::{Overlap, OVERLAP_FRACTION};

@@ -40,7 +40,7 @@ pub mod scheme_b;
 pub(crate) mod setup_checks;
 mod spec;
 pub mod startup;
-mod torque;
+pub(crate) mod torque;
 
 pub use dlm::{Dlm, DlmOptions};
 pub use free_rotation::SphericalTops;

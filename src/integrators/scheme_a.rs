@@ -18,7 +18,7 @@
 //! to order 5 (measured in `tests/gear_references.rs`).
 
 use super::checkpoint::checkpoint_data;
-use super::gear::{Nordsieck, FIRST_ORDER_5};
+use super::gear::{correct_pair, Nordsieck};
 use super::rigid_body::TopKind;
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
@@ -100,12 +100,9 @@ impl TopStep for GearA {
                         }
                         None => w_dot,
                     };
-                    let delta_w = w_dot * h - omega_body.r[1][i];
-                    omega_body.correct(i, &FIRST_ORDER_5, delta_w);
                     // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
-                    let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
-                    let delta_q = q_dot * h - q.r[1][i];
-                    q.correct(i, &FIRST_ORDER_5, delta_q);
+                    let q_dot = |w: &Vector3<f64>| q_i.q_dot_from_omega_body(w);
+                    correct_pair(&mut q, &mut omega_body, i, w_dot, q_dot, h);
                 }
                 if renormalise {
                     for q in q.r[0].iter_mut() {

@@ -35,7 +35,9 @@
 //! highest stored derivative, as for scheme A.
 
 use super::checkpoint::checkpoint_data;
-use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
+use super::gear::{
+    second_order_6, Nordsieck, NordsieckChunk, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT,
+};
 use super::rigid_body::{q_ddot, q_ddot_spherical, PrincipalMoments, TopKind};
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
@@ -140,25 +142,7 @@ impl TopStep for GearB {
             }
             // The switched corrections, each rotor on its own, after the
             // force loop (the same values as rotor by rotor inside it).
-            if opts.renormalise {
-                for q in q.r[0].iter_mut() {
-                    *q = *q * (1.0 / q.norm());
-                }
-            }
-            if opts.project_velocity || opts.correct_higher_derivatives {
-                for i in 0..moments.len() {
-                    let mut r = q.rotor(i);
-                    if opts.project_velocity {
-                        enforce_norm_derivative(&mut r, 1);
-                    }
-                    if opts.correct_higher_derivatives {
-                        for k in 2..6 {
-                            enforce_norm_derivative(&mut r, k);
-                        }
-                    }
-                    q.set_rotor(i, &r);
-                }
-            }
+            opts.correct_switched(&mut q);
             // The next step's (a).
             if predict_next {
                 q.predict();
@@ -166,6 +150,33 @@ impl TopStep for GearB {
             }
         });
         predict_next
+    }
+}
+
+impl GearBOptions {
+    /// The switched corrections of the module doc (renormalisation, the
+    /// velocity projection, the higher-derivative constraints) on every
+    /// rotor of the chunk, after its corrector.
+    pub(crate) fn correct_switched(&self, q: &mut NordsieckChunk<'_, Quat, 6>) {
+        if self.renormalise {
+            for q in q.r[0].iter_mut() {
+                *q = *q * (1.0 / q.norm());
+            }
+        }
+        if self.project_velocity || self.correct_higher_derivatives {
+            for i in 0..q.r[0].len() {
+                let mut r = q.rotor(i);
+                if self.project_velocity {
+                    enforce_norm_derivative(&mut r, 1);
+                }
+                if self.correct_higher_derivatives {
+                    for k in 2..6 {
+                        enforce_norm_derivative(&mut r, k);
+                    }
+                }
+                q.set_rotor(i, &r);
+            }
+        }
     }
 }
 
@@ -216,7 +227,7 @@ fn quaternion_force(q: &Quat, gradient: &Quat, project: bool) -> Quat {
 
 /// `Q''` of one rotor from the quaternion force `N` (module doc): eq 12 with
 /// the body acceleration `(n0/I0, w_b')`, or its spherical-top form.
-fn acceleration<K: TopKind>(
+pub(crate) fn acceleration<K: TopKind>(
     moments: &PrincipalMoments,
     q: &Quat,
     q_dot: &Quat,
