@@ -14,7 +14,7 @@ use super::series::{CsvTarget, Rows};
 use super::summary::{BodiesSummary, Summary, Threads};
 use super::summary_file::{in_progress, placed, record_failure};
 use super::trajectory::GSD_OPEN_MARGIN;
-use crate::bodies::{BodyIntegrator, BodySystem, Space};
+use crate::bodies::{BodyIntegrator, BodySystem, Evaluation, Space};
 use crate::integrators::{NoSquishOptions, Splitting};
 use crate::scene::{BodyScene, Scene, SceneError};
 use crate::simulation::{Energies, EnergyHistory, EnergyReference, RunReport, Stop};
@@ -113,16 +113,22 @@ fn run_steps(
 ) -> Result<RunReport, RunError> {
     let started = Instant::now();
     let kinetic = |s: &BodySystem| s.translational_kinetic_energy() + s.rotational_kinetic_energy();
+    let mut current = Evaluation::default();
     let k0 = kinetic(system);
-    let reference = EnergyReference::initial(k0, k0 + integrator.evaluation().potential_energy());
+    let v0 = integrator
+        .evaluated(system, &mut current)
+        .potential_energy();
+    let reference = EnergyReference::initial(k0, k0 + v0);
     let (mut history, mut last, mut row) = (EnergyHistory::default(), None, Vec::new());
     let mut step = 0;
     let stop = loop {
         let time = step as f64 * scene.dt;
         let due = |every: u64| step % every == 0;
         let sampled = bodies.series.iter().any(|s| due(s.every));
-        if sampled || due(scene.record.check_every) || step == scene.steps {
-            let (k, v) = (kinetic(system), integrator.evaluation().potential_energy());
+        let evaluation = (sampled || due(scene.record.check_every) || step == scene.steps)
+            .then(|| integrator.evaluated(system, &mut current));
+        if let Some(e) = evaluation {
+            let (k, v) = (kinetic(system), e.potential_energy());
             let total = k + v;
             history.push(time, k, total);
             let energies = Energies {
@@ -142,10 +148,11 @@ fn run_steps(
             }
         }
         for (rows, spec) in series.iter_mut().zip(&bodies.series) {
-            if due(spec.every) {
+            // A series is due only at a sampled step, which has the evaluation.
+            if let (true, Some(e)) = (due(spec.every), evaluation) {
                 row.clear();
                 for q in &spec.quantities {
-                    q.write(system, integrator.evaluation(), &mut row);
+                    q.write(system, e, &mut row);
                 }
                 rows.push(step, time, &row)?;
             }

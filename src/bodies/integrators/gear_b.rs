@@ -48,6 +48,18 @@ pub struct BodyGearB {
 }
 
 impl BodyGearB {
+    /// Refuses options bodies cannot use (`project_torque = false`).
+    pub fn check(options: &GearBOptions) -> Result<(), InputError> {
+        if options.project_torque {
+            Ok(())
+        } else {
+            Err(InputError::new(
+                "project_torque",
+                "must be true for bodies: their torques have no norm component to keep",
+            ))
+        }
+    }
+
     /// Sets up on `system` (the start-up's evaluations, then one at the
     /// initial state) with time step `dt` (> 0) and the scheme's options.
     pub fn new(
@@ -55,12 +67,7 @@ impl BodyGearB {
         dt: f64,
         options: GearBOptions,
     ) -> Result<Self, InputError> {
-        if !options.project_torque {
-            return Err(InputError::new(
-                "project_torque",
-                "must be true for bodies: their torques have no norm component to keep",
-            ));
-        }
+        Self::check(&options)?;
         let setup = GearSetup::new(system, dt, options.startup)?;
         Ok(BodyGearB {
             options,

@@ -34,55 +34,70 @@ use crate::integrators::IntegratorSpec;
 pub enum BodyIntegrator {
     /// Velocity Verlet + NO_SQUISH.
     NoSquish(BodyNoSquish),
+    /// Velocity Verlet + DLM.
+    Dlm(BodyDlm),
+    /// Velocity Verlet + Richardson.
+    Richardson(BodyRichardson),
+    /// Scheme A for centres and rotations.
+    GearA(BodyGearA),
+    /// Scheme B for centres and rotations.
+    GearB(BodyGearB),
 }
 
 impl BodyIntegrator {
-    /// Whether bodies can be integrated by `spec`; the error (path `kind`)
-    /// names the integrators that can.
+    /// Refuses the options of `spec` that bodies cannot use (scheme B's
+    /// `project_torque = false`; a linear body, which the Gear schemes
+    /// refuse, is found when they are set up).
     pub fn check(spec: &IntegratorSpec) -> Result<(), InputError> {
         match spec {
-            IntegratorSpec::NoSquish(_) => Ok(()),
-            other => Err(refused(other)),
+            IntegratorSpec::GearB(options) => BodyGearB::check(options),
+            _ => Ok(()),
         }
     }
 
-    /// The integrator `spec` names, set up on `system` with time step `dt`
-    /// (one evaluation).
+    /// The integrator `spec` names, set up on `system` with time step `dt`.
     pub fn new(
         spec: &IntegratorSpec,
         system: &mut BodySystem,
         dt: f64,
     ) -> Result<Self, InputError> {
-        match spec {
-            IntegratorSpec::NoSquish(options) => {
-                BodyNoSquish::new(system, dt, *options).map(BodyIntegrator::NoSquish)
-            }
-            other => Err(refused(other)),
-        }
+        Ok(match *spec {
+            IntegratorSpec::NoSquish(o) => Self::NoSquish(BodyNoSquish::new(system, dt, o)?),
+            IntegratorSpec::Dlm(o) => Self::Dlm(BodyDlm::new(system, dt, o)?),
+            IntegratorSpec::Richardson(o) => Self::Richardson(BodyRichardson::new(system, dt, o)?),
+            IntegratorSpec::GearA(o) => Self::GearA(BodyGearA::new(system, dt, o)?),
+            IntegratorSpec::GearB(o) => Self::GearB(BodyGearB::new(system, dt, o)?),
+        })
     }
 
     /// One step.
     pub fn step(&mut self, system: &mut BodySystem) {
         match self {
-            BodyIntegrator::NoSquish(i) => i.step(system),
+            Self::NoSquish(i) => i.step(system),
+            Self::Dlm(i) => i.step(system),
+            Self::Richardson(i) => i.step(system),
+            Self::GearA(i) => i.step(system),
+            Self::GearB(i) => i.step(system),
         }
     }
 
-    /// The evaluation at the current state.
-    pub fn evaluation(&self) -> &Evaluation {
+    /// The evaluation at the current state of `system`: the splittings'
+    /// own (their step ends on it); the Gear schemes evaluate only at the
+    /// predicted configuration, so the state is evaluated into `scratch`
+    /// (an evaluation a run pays only at the steps it records).
+    pub fn evaluated<'a>(
+        &'a self,
+        system: &mut BodySystem,
+        scratch: &'a mut Evaluation,
+    ) -> &'a Evaluation {
         match self {
-            BodyIntegrator::NoSquish(i) => i.evaluation(),
+            Self::NoSquish(i) => i.evaluation(),
+            Self::Dlm(i) => i.evaluation(),
+            Self::Richardson(i) => i.evaluation(),
+            Self::GearA(_) | Self::GearB(_) => {
+                system.evaluate(scratch);
+                scratch
+            }
         }
     }
-}
-
-/// The error of an integrator that cannot move bodies.
-fn refused(spec: &IntegratorSpec) -> InputError {
-    InputError::new(
-        "kind",
-        format!(
-            "bodies are integrated by no_squish only so far, got {}",
-            spec.name()
-        ),
-    )
 }
