@@ -42,12 +42,13 @@
 //! on the number of threads.
 //!
 //! **Parameters** from a requested accuracy: [`for_charges`] (Kolafa &
-//! Perram; Deserno & Holm). Left out so far: the estimates for dipoles and
-//! quadrupoles (Cerda et al. 2008), the virial, scenes and Python.
+//! Perram; Deserno & Holm) and [`for_multipoles`] (an aliasing estimate of
+//! smooth PME derived in `estimate`). Left out so far: the virial.
 
 mod accuracy;
 mod bspline;
 mod cartesian;
+mod estimate;
 mod gather;
 mod influence;
 mod mesh;
@@ -60,6 +61,7 @@ pub use accuracy::{
     for_charges, ChargeEstimate, ACCURACY_RANGE, DEFAULT_ORDER, ESTIMATED_ORDERS, MESH_SAFETY,
 };
 pub use bspline::ORDERS;
+pub use estimate::{for_multipoles, Carried, MeshEstimate};
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;
 pub use sites::{SiteResponse, Sources};

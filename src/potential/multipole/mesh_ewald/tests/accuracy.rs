@@ -2,7 +2,9 @@
 
 use super::references::textbook_charges;
 use super::{relative_rms, Configuration};
-use crate::potential::multipole::mesh_ewald::{for_charges, ACCURACY_RANGE};
+use crate::potential::multipole::mesh_ewald::{
+    for_charges, for_multipoles, Carried, MeshParameters, ACCURACY_RANGE,
+};
 use crate::potential::multipole::Surface;
 use nalgebra::Vector3;
 
@@ -50,4 +52,70 @@ fn unreachable_requests_are_refused_naming_the_field() {
     }
     let e = for_charges(1e-5, &[0.0, 0.0], &box_lengths, 1.5, None).unwrap_err();
     assert_eq!(e.path, "charges", "{e}");
+}
+
+/// The RMS errors of the fields the torques need, `(E, W)`, against the
+/// converged direct sum, relative to the field scales `sigma_s n^((s + g +
+/// 1) / 3)` of the largest source order `s` carried (the `estimate` module
+/// doc).
+fn multipole_field_errors(c: &Configuration, parameters: MeshParameters) -> (f64, f64) {
+    let (_, field, conjugate) = c.direct(Surface::Conducting);
+    let out = c.mesh(parameters, Surface::Conducting);
+    let n = c.positions.len() as f64;
+    let density = n / c.box_lengths.product();
+    let rms = |x: f64| (x / n).sqrt();
+    let (sigma, s) = match (&c.quadrupoles, &c.dipoles) {
+        (Some(t), _) => (rms(t.iter().map(|t| t.norm_squared()).sum()), 2.0),
+        (None, Some(m)) => (rms(m.iter().map(|m| m.norm_squared()).sum()), 1.0),
+        (None, None) => unreachable!("multipoles"),
+    };
+    let error_e = rms(out
+        .field
+        .iter()
+        .zip(&field)
+        .map(|(a, b)| (a - b).norm_squared())
+        .sum());
+    let error_w = rms(out
+        .quadrupole_conjugate
+        .iter()
+        .zip(&conjugate)
+        .map(|(a, b)| (a - b).norm_squared())
+        .sum());
+    (
+        error_e / (sigma * density.powf((s + 2.0) / 3.0)),
+        error_w / (sigma * density.powf((s + 3.0) / 3.0)),
+    )
+}
+
+/// The estimate holds for dipoles, quadrupoles and both, on random sites:
+/// at each requested accuracy the measured RMS field errors against the
+/// converged direct sum are within the request and not below a hundredth of
+/// it (a cheaper mesh would do). Measured over requested (2026-11-28):
+/// dipoles 0.31-0.42, quadrupoles and mixtures 0.03-0.14 (the mesh
+/// estimate is pessimistic for the rank-4 tensor).
+#[test]
+fn multipole_parameters_reach_the_requested_field_accuracy() {
+    let box_lengths = Vector3::new(6.0, 6.5, 7.0);
+    for (kinds, seed) in [
+        ((false, true, false), 21),
+        ((false, false, true), 22),
+        ((false, true, true), 23),
+    ] {
+        let c = Configuration::random(seed, 150, box_lengths, kinds);
+        let carried = Carried {
+            charges: false,
+            dipoles: kinds.1,
+            quadrupoles: kinds.2,
+        };
+        for accuracy in [1e-3, 1e-5, 1e-7] {
+            let (parameters, estimate) =
+                for_multipoles(accuracy, carried, 150, &box_lengths, None).unwrap();
+            let (e, w) = multipole_field_errors(&c, parameters);
+            let measured = if kinds.2 { e.max(w) } else { e };
+            assert!(
+                measured <= accuracy && measured >= accuracy / 100.0,
+                "{kinds:?} accuracy {accuracy}: measured {e:.2e} {w:.2e}, estimated {estimate:?}, {parameters:?}"
+            );
+        }
+    }
 }
