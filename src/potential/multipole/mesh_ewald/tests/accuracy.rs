@@ -55,9 +55,9 @@ fn unreachable_requests_are_refused_naming_the_field() {
 }
 
 /// The RMS errors of the fields the torques need, `(E, W)`, against the
-/// converged direct sum, relative to the field scales `sigma_s n^((s + g +
-/// 1) / 3)` of the largest source order `s` carried (the `estimate` module
-/// doc).
+/// converged direct sum, relative to the field scales
+/// `sigma_s n^((s + g + 1) / 3)` of the largest source order `s` carried
+/// (the `estimate` module doc).
 fn multipole_field_errors(c: &Configuration, parameters: MeshParameters) -> (f64, f64) {
     let (_, field, conjugate) = c.direct(Surface::Conducting);
     let out = c.mesh(parameters, Surface::Conducting);
