@@ -7,6 +7,7 @@ use super::mesh_ewald::{
     for_multipoles, Carried, MeshEstimate, MeshEwald, MeshParameters, SiteResponse, Sources,
 };
 use super::{Accuracy, PotentialError, Surface};
+use crate::checks::num;
 use nalgebra::{Matrix3, Vector3};
 use std::sync::{Mutex, PoisonError};
 
@@ -56,10 +57,13 @@ impl MeshSum {
         };
         let n = sites.len();
         let (parameters, estimate) =
-            for_multipoles(accuracy.get(), carried, n, &box_lengths, None)?;
+            for_multipoles(accuracy.get(), carried, n, &box_lengths, None, None)?;
         // The mesh was chosen for the accuracy: its size is the accuracy's.
         let sum = MeshEwald::new(n, box_lengths, parameters, surface).map_err(|e| {
-            PotentialError::new("accuracy", format!("{}: {}", accuracy.get(), e.message))
+            PotentialError::new(
+                "accuracy",
+                format!("{}: {}", num(accuracy.get()), e.message),
+            )
         })?;
         Ok(MeshSum {
             positions: sites.to_vec(),

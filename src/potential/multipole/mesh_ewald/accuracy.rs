@@ -99,7 +99,11 @@ pub(super) fn check_accuracy(accuracy: f64) -> Result<(), PotentialError> {
     if !(accuracy >= low && accuracy <= high) {
         return Err(PotentialError::new(
             "accuracy",
-            format!("must be from {low:e} to {high:e} (what the error estimates hold for), got {accuracy}"),
+            format!(
+                "must be from {low:e} to {high:e} for the mesh Ewald sum (what its error \
+                 estimates hold for; the default 1e-12 is beyond them), got {}",
+                crate::checks::num(accuracy)
+            ),
         ));
     }
     Ok(())

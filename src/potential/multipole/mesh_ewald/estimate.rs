@@ -50,6 +50,7 @@
 use super::accuracy::{check_accuracy, fft_size};
 use super::mesh::mesh_bytes;
 use super::parameters::MeshParameters;
+use crate::checks::num;
 use crate::potential::multipole::ewald_parameters::{real_estimate, solve};
 use crate::potential::multipole::PotentialError;
 use nalgebra::Vector3;
@@ -164,7 +165,8 @@ pub(crate) fn cost(sites: f64, density: f64, rc: f64, grid: [usize; 3], order: u
 
 /// The parameters for `sites` sites carrying `carried` in `box_lengths` at
 /// relative field accuracy `accuracy` (module doc), at spline order `order`
-/// (or the cheapest of 4 to 8). Refuses (naming the field) an accuracy
+/// (or the cheapest of 4 to 8) and splitting `alpha` (or the cheapest of
+/// those tried). Refuses (naming the field) an accuracy
 /// outside [`super::ACCURACY_RANGE`], an order outside [`super::ORDERS`], a
 /// box the real-space cutoff does not fit (`box_lengths`) and meshes over
 /// the memory limit (`accuracy`).
@@ -174,6 +176,7 @@ pub fn for_multipoles(
     sites: usize,
     box_lengths: &Vector3<f64>,
     order: Option<usize>,
+    alpha: Option<f64>,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     check_accuracy(accuracy)?;
     let orders_tried: Vec<usize> = match order {
@@ -198,8 +201,14 @@ pub fn for_multipoles(
     let half_box = 0.5 * box_lengths.min();
     let target = 0.5 * accuracy;
     let mut best: Option<(f64, MeshParameters, MeshEstimate)> = None;
-    for k in 0..SPLITTINGS {
-        let alpha = 0.5 / d * 10f64.powf(k as f64 / (SPLITTINGS - 1) as f64);
+    let splittings: Vec<f64> = match alpha {
+        Some(alpha) => vec![alpha],
+        None => (0..SPLITTINGS)
+            .map(|k| 0.5 / d * 10f64.powf(k as f64 / (SPLITTINGS - 1) as f64))
+            .collect(),
+    };
+    let largest = splittings.iter().copied().fold(0.0, f64::max);
+    for alpha in splittings {
         let s_real = solve(|s| real_estimate(&ranks, alpha * d, s), target);
         let rc = s_real / alpha;
         if rc > half_box {
@@ -243,11 +252,12 @@ pub fn for_multipoles(
         return Err(PotentialError::new(
             "box_lengths",
             format!(
-                "the mesh Ewald sum at accuracy {accuracy} needs a real-space cutoff of at least \
+                "the mesh Ewald sum at accuracy {} needs a real-space cutoff of at least \
                  {:.4} (at the largest splitting tried, alpha = {:.4}), more than half the \
                  shortest box side {half_box}: use a larger box or a looser accuracy",
-                solve(|s| real_estimate(&ranks, 5.0, s), target) * d / 5.0,
-                5.0 / d
+                num(accuracy),
+                solve(|s| real_estimate(&ranks, largest * d, s), target) / largest,
+                largest
             ),
         ));
     };
@@ -256,8 +266,12 @@ pub fn for_multipoles(
         PotentialError::new(
             "accuracy",
             format!(
-                "{accuracy} needs a {}x{}x{} mesh: {}",
-                grid[0], grid[1], grid[2], e.message
+                "{} needs a {}x{}x{} mesh: {}",
+                num(accuracy),
+                grid[0],
+                grid[1],
+                grid[2],
+                e.message
             ),
         )
     })?;

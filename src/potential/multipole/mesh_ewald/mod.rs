@@ -36,8 +36,8 @@
 //! [`MeshEwald::evaluate`] takes [`Sources`] (positions, charges, dipoles,
 //! quadrupoles: the sites may move between calls) and fills a
 //! [`SiteResponse`] (energy; potential, fields and force of every site);
-//! every buffer sized by the sites is built once (the FFT convolution of
-//! `fft3.rs` still allocates its mesh-sized transients at each call). The real-space part, the spreading (one task per
+//! every buffer sized by the sites or the mesh is built once (an
+//! evaluation allocates only the FFTs' line scratch). The real-space part, the spreading (one task per
 //! mesh plane) and the gathering are rayon loops whose sums do not depend
 //! on the number of threads.
 //!

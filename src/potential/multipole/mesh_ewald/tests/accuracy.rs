@@ -3,7 +3,7 @@
 use super::references::textbook_charges;
 use super::{relative_rms, Configuration};
 use crate::potential::multipole::mesh_ewald::{
-    for_charges, for_multipoles, Carried, MeshParameters, ACCURACY_RANGE,
+    for_charges, for_multipoles, Carried, MeshParameters, SiteResponse, ACCURACY_RANGE,
 };
 use crate::potential::multipole::Surface;
 use nalgebra::Vector3;
@@ -109,7 +109,7 @@ fn multipole_parameters_reach_the_requested_field_accuracy() {
         };
         for accuracy in [1e-3, 1e-5, 1e-7] {
             let (parameters, estimate) =
-                for_multipoles(accuracy, carried, 150, &box_lengths, None).unwrap();
+                for_multipoles(accuracy, carried, 150, &box_lengths, None, None).unwrap();
             let (e, w) = multipole_field_errors(&c, parameters);
             let measured = if kinds.2 { e.max(w) } else { e };
             assert!(
@@ -117,5 +117,66 @@ fn multipole_parameters_reach_the_requested_field_accuracy() {
                 "{kinds:?} accuracy {accuracy}: measured {e:.2e} {w:.2e}, estimated {estimate:?}, {parameters:?}"
             );
         }
+    }
+}
+
+/// At a fixed accuracy, parameters chosen at splittings `alpha d` from 2 to
+/// 4.5 (so different cutoffs and meshes) give the same energy and fields
+/// within twice the request (the trap of helpme #57: PME energies of
+/// dipoles that depended on the splitting), on random dipoles and
+/// quadrupoles.
+#[test]
+fn multipole_results_at_fixed_accuracy_do_not_depend_on_the_splitting() {
+    let box_lengths = Vector3::new(6.0, 6.5, 7.0);
+    let c = Configuration::random(24, 150, box_lengths, (false, true, true));
+    let carried = Carried {
+        charges: false,
+        dipoles: true,
+        quadrupoles: true,
+    };
+    let n = 150.0;
+    let density = n / box_lengths.product();
+    let rms = |x: f64| (x / n).sqrt();
+    let sigma = rms(c
+        .quadrupoles
+        .iter()
+        .flatten()
+        .map(|t| t.norm_squared())
+        .sum());
+    let accuracy = 1e-5;
+    let d = density.cbrt().recip();
+    let runs: Vec<(MeshParameters, SiteResponse)> = [2.0, 3.0, 4.5]
+        .iter()
+        .map(|&alpha_d| {
+            let (p, _) = for_multipoles(
+                accuracy,
+                carried,
+                150,
+                &box_lengths,
+                None,
+                Some(alpha_d / d),
+            )
+            .unwrap();
+            (p, c.mesh(p, Surface::Conducting))
+        })
+        .collect();
+    // Energy scale sum_i Theta_i^2 n^(5/3), as the fields' (module doc of `estimate`).
+    let energy_scale = n * sigma * sigma * density.powf(5.0 / 3.0);
+    for (a, b) in runs.iter().zip(runs.iter().skip(1)) {
+        let energy = (a.1.energy - b.1.energy).abs() / energy_scale;
+        let field = rms(a
+            .1
+            .field
+            .iter()
+            .zip(&b.1.field)
+            .map(|(x, y)| (x - y).norm_squared())
+            .sum())
+            / (sigma * density.powf(4.0 / 3.0));
+        assert!(
+            energy <= 2.0 * accuracy && field <= 2.0 * accuracy,
+            "{:?} vs {:?}: energy {energy:.2e}, field {field:.2e}",
+            a.0,
+            b.0
+        );
     }
 }
