@@ -5,9 +5,11 @@
 //! turns `[1]` of a field into `fields.uniform[1]`. Each fact is checked by
 //! one function here or on the type that owns it, with one tolerance.
 
+use crate::parallel::{fixed_threads, ThreadCount, MAX_THREADS};
 use crate::quaternion::Quat;
 use nalgebra::Matrix3;
 use serde::de::{Deserialize, DeserializeOwned, Deserializer, Error as _, IntoDeserializer};
+use serde::Serialize;
 use std::num::NonZeroU32;
 
 /// Relative tolerance of the symmetry and tracelessness of tensors (body
@@ -257,6 +259,58 @@ pub fn deserialize_seed<'de, D: Deserializer<'de>>(
         }
     }
     deserializer.deserialize_any(Seed).map(Some)
+}
+
+/// A scene's `run.threads`: an integer from 1 to `MAX_THREADS` or
+/// `"auto"`, anything else refused with one message: `must be an integer
+/// between 1 and 1024 or "auto", got 0` (also for `2.5`, `"two"` or `true`).
+impl<'de> Deserialize<'de> for ThreadCount {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Count;
+        fn refuse<E: serde::de::Error>(got: impl std::fmt::Display) -> E {
+            E::custom(format!(
+                "must be an integer between 1 and {MAX_THREADS} or \"auto\", got {got}"
+            ))
+        }
+        impl serde::de::Visitor<'_> for Count {
+            type Value = ThreadCount;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                write!(f, "an integer between 1 and {MAX_THREADS} or \"auto\"")
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<ThreadCount, E> {
+                fixed_threads(v)
+                    .map(ThreadCount::Fixed)
+                    .ok_or_else(|| refuse(v))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ThreadCount, E> {
+                let fixed = i64::try_from(v).ok().and_then(fixed_threads);
+                fixed.map(ThreadCount::Fixed).ok_or_else(|| refuse(v))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<ThreadCount, E> {
+                Err(refuse(num(v)))
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<ThreadCount, E> {
+                Err(refuse(v))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<ThreadCount, E> {
+                match v {
+                    "auto" => Ok(ThreadCount::Automatic),
+                    _ => Err(refuse(format!("\"{}\"", printable(v, 40)))),
+                }
+            }
+        }
+        deserializer.deserialize_any(Count)
+    }
+}
+
+/// A thread count as a scene writes it: its number, or `"auto"`.
+impl Serialize for ThreadCount {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            ThreadCount::Automatic => serializer.serialize_str("auto"),
+            ThreadCount::Fixed(n) => serializer.serialize_u64(n.get() as u64),
+        }
+    }
 }
 
 /// Implements `Deserialize` and `Serialize` for a field-less enum by names,

@@ -28,8 +28,12 @@
 //! 4. the external fields, gradient and torques, one pass over the rotors;
 //! 5. the second half kick, one pass over chunks of rotors.
 //!
-//! The Gear schemes open the same sections with the predictor in place of
-//! 1 and the corrector in place of 5. A new per-rotor or per-body pass (the
+//! The Gear schemes open the same sections with the corrector in place of
+//! 5 and the predictor of the next step at the end of its pass (when the
+//! run loop takes several steps in one `Integrator::steps` call), so no
+//! section in place of 1. The Langevin thermostat draws its noise (one
+//! random stream, in rotor order) on one thread during pass 1. A new
+//! per-rotor or per-body pass (the
 //! moving bodies, another sum) joins the pass of the same kind: work on one
 //! rotor or body goes into the per-rotor pass that reads the same inputs
 //! (as the external fields joined the torque pass), work on the grid into
@@ -45,6 +49,34 @@ use std::num::NonZeroUsize;
 /// pool starts at once. A larger count is refused rather than spawned until
 /// the system says no.
 pub const MAX_THREADS: usize = 1024;
+
+/// A run's thread count as a scene gives it (`run.threads`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ThreadCount {
+    /// Not fixed (`"auto"`, the default): `RAYON_NUM_THREADS` if set, else
+    /// [`automatic_threads`].
+    #[default]
+    Automatic,
+    /// This many threads (1 to `MAX_THREADS`, 1024).
+    Fixed(NonZeroUsize),
+}
+
+/// `count` as a fixed thread count: `None` unless 1 to `MAX_THREADS` (1024).
+///
+/// ```
+/// use quatrot::internals::fixed_threads;
+/// assert_eq!(fixed_threads(2).map(|n| n.get()), Some(2));
+/// assert_eq!(fixed_threads(1024).map(|n| n.get()), Some(1024));
+/// assert_eq!(fixed_threads(0), None);
+/// assert_eq!(fixed_threads(-1), None);
+/// assert_eq!(fixed_threads(1025), None);
+/// ```
+pub fn fixed_threads(count: i64) -> Option<NonZeroUsize> {
+    usize::try_from(count)
+        .ok()
+        .filter(|&n| n <= MAX_THREADS)
+        .and_then(NonZeroUsize::new)
+}
 
 /// Runs `op` on a worker of the current rayon pool and returns its result.
 pub fn on_worker<R: Send>(op: impl FnOnce() -> R + Send) -> R {

@@ -1,110 +1,18 @@
 //! Moving rigid bodies (issue 39): forces, torques and the virial against
-//! finite differences of the energy, the conservation laws and the order of
-//! velocity Verlet + NO_SQUISH, the neighbour list's rebuilds.
+//! finite differences of the energy, the neighbour list's rebuilds, bad
+//! systems and random starts (the integrators: `bodies_integrators.rs`).
 
-use nalgebra::{Matrix3, Vector3};
+mod bodies_common;
+
+use bodies_common::{bent_molecule, bodies, mixed_system, options, stockmayer};
+
+use nalgebra::Vector3;
 use quatrot::bodies::{
-    random_start, Body, BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, Evaluation,
-    InteractionOptions, LennardJones, LennardJonesOptions, Mixing, RandomStart, Site, Space,
-    Truncation,
+    random_start, Body, BodyNoSquish, BodySystem, Evaluation, InteractionOptions, RandomStart,
+    Space, Truncation,
 };
 use quatrot::integrators::NoSquishOptions;
 use quatrot::Quat;
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-
-/// A bent three-site molecule: LJ on every site, charges summing to zero,
-/// a dipole off the centre.
-fn bent_molecule() -> BodyType {
-    let site = |p: [f64; 3], mass, sigma, charge, dipole: Option<[f64; 3]>| Site {
-        position: Vector3::from(p),
-        mass,
-        lennard_jones: Some(LennardJones {
-            epsilon: 1.0,
-            sigma,
-        }),
-        charge,
-        dipole: dipole.map(Vector3::from),
-        quadrupole: None,
-    };
-    BodyType::new(&BodyTypeSpec {
-        sites: vec![
-            site([0.0, 0.0, 0.0], 2.0, 1.0, -0.8, Some([0.0, 0.3, 0.5])),
-            site([0.5, 0.3, 0.0], 1.0, 0.8, 0.4, None),
-            site([-0.4, 0.35, 0.1], 1.0, 0.8, 0.4, None),
-        ],
-        mass: None,
-        inertia: None,
-    })
-    .expect("a valid molecule")
-}
-
-/// A dipolar LJ sphere (the Stockmayer particle).
-fn stockmayer() -> BodyType {
-    BodyType::new(&BodyTypeSpec {
-        sites: vec![Site {
-            lennard_jones: Some(LennardJones {
-                epsilon: 1.0,
-                sigma: 1.0,
-            }),
-            dipole: Some(Vector3::new(0.0, 0.0, 1.2)),
-            ..Site::default()
-        }],
-        mass: Some(1.0),
-        inertia: Some(Matrix3::identity() * 0.1),
-    })
-    .expect("a valid sphere")
-}
-
-/// `n` bodies of alternating types on a jittered cubic grid of spacing
-/// `spacing`, random orientations, velocities and angular momenta.
-fn bodies(n: usize, spacing: f64, seed: u64, types: usize) -> Vec<Body> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let side = (n as f64).cbrt().ceil() as usize;
-    (0..n)
-        .map(|i| {
-            let grid = Vector3::new(i % side, (i / side) % side, i / (side * side));
-            let jitter = Vector3::from_fn(|_, _| rng.random::<f64>() * 0.1);
-            let q = Quat::new(
-                rng.random::<f64>() - 0.5,
-                rng.random::<f64>() - 0.5,
-                rng.random::<f64>() - 0.5,
-                rng.random::<f64>() - 0.5,
-            );
-            Body {
-                kind: i % types,
-                position: grid.map(|x| x as f64 + 0.5) * spacing + jitter,
-                image: [0; 3],
-                velocity: Vector3::from_fn(|_, _| rng.random::<f64>() - 0.5),
-                orientation: q,
-                angular_momentum_body: Vector3::from_fn(|_, _| 0.3 * (rng.random::<f64>() - 0.5)),
-            }
-        })
-        .collect()
-}
-
-fn options(truncation: Truncation, lj_cutoff: f64, coulomb: f64) -> InteractionOptions {
-    InteractionOptions {
-        lennard_jones: Some(LennardJonesOptions {
-            cutoff: lj_cutoff,
-            truncation,
-            mixing: Mixing::LorentzBerthelot,
-        }),
-        electrostatic_cutoff: Some(coulomb),
-        skin: 0.3,
-    }
-}
-
-fn mixed_system(space: Space, truncation: Truncation, coulomb: f64, n: usize) -> BodySystem {
-    let types = vec![bent_molecule(), stockmayer()];
-    BodySystem::new(
-        types,
-        bodies(n, 1.6, 3, 2),
-        space,
-        &options(truncation, 2.5, coulomb),
-    )
-    .expect("a valid system")
-}
 
 fn energy(system: &mut BodySystem) -> f64 {
     let mut e = Evaluation::default();
@@ -225,70 +133,6 @@ fn rebuilding_by_the_skin_misses_no_pair() {
     for (a, b) in with_skin.iter().zip(&every_step) {
         assert!((a - b).abs() < 1e-10 * (1.0 + b.abs()), "{a} {b}");
     }
-}
-
-/// Total linear momentum is conserved to round-off in a periodic box, and
-/// the angular momentum of an open cluster too.
-#[test]
-fn momentum_and_angular_momentum_are_conserved() {
-    let mut system = mixed_system(
-        Space::Periodic(Vector3::repeat(6.4)),
-        Truncation::Plain,
-        2.5,
-        64,
-    );
-    let mut integrator = BodyNoSquish::new(&mut system, 0.002, NoSquishOptions::default()).unwrap();
-    let p0 = system.linear_momentum();
-    for _ in 0..300 {
-        integrator.step(&mut system);
-    }
-    assert!(
-        (system.linear_momentum() - p0).norm() < 1e-12,
-        "{}",
-        (system.linear_momentum() - p0).norm()
-    );
-    let mut cluster = mixed_system(Space::Open, Truncation::Shifted, 50.0, 12);
-    let mut integrator =
-        BodyNoSquish::new(&mut cluster, 0.002, NoSquishOptions::default()).unwrap();
-    let (p0, l0) = (cluster.linear_momentum(), cluster.angular_momentum());
-    for _ in 0..300 {
-        integrator.step(&mut cluster);
-    }
-    assert!((cluster.linear_momentum() - p0).norm() < 1e-12);
-    assert!(
-        (cluster.angular_momentum() - l0).norm() < 1e-11,
-        "{}",
-        (cluster.angular_momentum() - l0).norm()
-    );
-}
-
-/// The energy error over a fixed time falls as `dt^2`: the fitted order of
-/// the largest total-energy deviation over t = 0.4 (an open cluster, all
-/// pairs within the cutoffs, so the energy is smooth) is 2 within 0.15.
-#[test]
-fn energy_error_is_second_order_in_dt() {
-    let deviation = |dt: f64| {
-        let mut system = mixed_system(Space::Open, Truncation::ForceShifted, 50.0, 12);
-        let mut integrator =
-            BodyNoSquish::new(&mut system, dt, NoSquishOptions::default()).unwrap();
-        let total = |s: &BodySystem, e: &Evaluation| {
-            e.potential_energy() + s.translational_kinetic_energy() + s.rotational_kinetic_energy()
-        };
-        let e0 = total(&system, integrator.evaluation());
-        let mut worst: f64 = 0.0;
-        for _ in 0..(0.4 / dt).round() as usize {
-            integrator.step(&mut system);
-            worst = worst.max((total(&system, integrator.evaluation()) - e0).abs());
-        }
-        worst
-    };
-    let dts = [0.004, 0.002, 0.001];
-    let errors: Vec<f64> = dts.iter().map(|&dt| deviation(dt)).collect();
-    let order = (errors[0] / errors[2]).ln() / (dts[0] / dts[2]).ln();
-    assert!(
-        (order - 2.0).abs() < 0.15,
-        "order {order}, errors {errors:?}"
-    );
 }
 
 /// Bad systems are refused naming the field.

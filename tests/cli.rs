@@ -350,13 +350,31 @@ fn an_unknown_integrator_option_is_refused_in_one_clean_line() {
     );
 }
 
-/// The `threads` entry of `summary.json` after `quatrot run dipole_in_field`
-/// with `args`, `RAYON_NUM_THREADS` set to `env` (or unset).
-fn run_threads(dir: &Path, args: &[&str], env: Option<&str>) -> serde_json::Value {
+/// The `summary.json` of `quatrot run dipole_in_field` with `args`,
+/// `RAYON_NUM_THREADS` set to `env` (or unset), its `[run]` table given
+/// `run_threads` as its `threads` (or none).
+fn run_summary(
+    dir: &Path,
+    args: &[&str],
+    env: Option<&str>,
+    run_threads: Option<&str>,
+) -> serde_json::Value {
     let out_dir = dir.join("threads");
+    let scene = match run_threads {
+        Some(value) => {
+            let builtin = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/dipole_in_field.toml");
+            let text = std::fs::read_to_string(builtin).expect("built-in scene");
+            let path = dir.join("dipole_in_field.toml");
+            let with_threads = text.replace("[run]\n", &format!("[run]\nthreads = {value}\n"));
+            assert_ne!(with_threads, text, "the scene has a [run] table");
+            std::fs::write(&path, with_threads).expect("scene written");
+            path.to_string_lossy().into_owned()
+        }
+        None => "dipole_in_field".to_string(),
+    };
     let mut command = Command::new(BIN);
     command
-        .args(["run", "dipole_in_field", "--steps", "4", "--out"])
+        .args(["run", &scene, "--steps", "4", "--out"])
         .arg(&out_dir)
         .args(args)
         .env_remove("RAYON_NUM_THREADS");
@@ -370,8 +388,13 @@ fn run_threads(dir: &Path, args: &[&str], env: Option<&str>) -> serde_json::Valu
         String::from_utf8_lossy(&out.stderr)
     );
     let text = std::fs::read_to_string(out_dir.join("summary.json")).expect("summary");
-    let summary: serde_json::Value = serde_json::from_str(&text).expect("json");
-    summary["threads"].clone()
+    serde_json::from_str(&text).expect("json")
+}
+
+/// The `threads` entry of `summary.json` after `quatrot run dipole_in_field`
+/// with `args`, `RAYON_NUM_THREADS` set to `env` (or unset).
+fn run_threads(dir: &Path, args: &[&str], env: Option<&str>) -> serde_json::Value {
+    run_summary(dir, args, env, None)["threads"].clone()
 }
 
 /// The thread count: `--threads N` is honoured exactly (3, more than this
@@ -406,6 +429,32 @@ fn the_thread_count_is_given_from_the_environment_or_automatic() {
             format!("error: --threads: must be between 1 and 1024, got {bad}")
         );
     }
+}
+
+/// A scene's `run.threads` is honoured (3, more than this machine's
+/// cores), recorded as the scene's choice, also over `RAYON_NUM_THREADS`,
+/// and kept in the summary's scene definition; `--threads` overrides it;
+/// `"auto"` leaves the count automatic.
+#[test]
+fn the_scene_fixes_the_thread_count_unless_the_command_line_does() {
+    let dir = tempfile::tempdir().expect("dir");
+    let scene = run_summary(dir.path(), &[], Some("1"), Some("3"));
+    assert_eq!(
+        scene["threads"],
+        serde_json::json!({"count": 3, "chosen": "scene", "reason": "run.threads = 3 in the scene"})
+    );
+    assert_eq!(scene["definition"]["run"]["threads"], 3);
+    let given = run_summary(dir.path(), &["--threads", "2"], None, Some("3"))["threads"].clone();
+    assert_eq!(
+        (&given["count"], &given["chosen"]),
+        (&2.into(), &"given".into())
+    );
+    let auto = run_summary(dir.path(), &[], None, Some("\"auto\""));
+    assert_eq!(
+        (&auto["threads"]["count"], &auto["threads"]["chosen"]),
+        (&1.into(), &"automatic".into())
+    );
+    assert_eq!(auto["definition"]["run"]["threads"], "auto");
 }
 
 /// The PDB topology's coordinate columns bound only a DCD trajectory: the

@@ -1,7 +1,7 @@
 //! Rigid bodies that move: centres and orientations, body-fixed sites with
 //! Lennard-Jones, charges and point dipoles, interacting between bodies
 //! (never within one) through Verlet lists, integrated by velocity Verlet
-//! with NO_SQUISH.
+//! with a rotor splitting.
 //!
 //! * [`site`], [`body_type`]: a site's parameters; a body type's mass,
 //!   principal moments and sites in the principal frame.
@@ -14,7 +14,8 @@
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
 //! * [`generate`]: random non-overlapping starts at a density, with
 //!   Maxwell-Boltzmann velocities and zero total momentum.
-//! * [`integrators`]: velocity Verlet + NO_SQUISH.
+//! * [`integrators`]: velocity Verlet + NO_SQUISH, DLM or Richardson, and
+//!   the note's Gear schemes A and B with Gear correctors for the centres.
 
 pub mod body_type;
 pub mod electrostatics;
@@ -32,7 +33,7 @@ pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 pub use evaluate::Evaluation;
 pub use generate::{random_start, RandomStart, MAX_PACKING};
-pub use integrators::BodyNoSquish;
+pub use integrators::{BodyDlm, BodyGearA, BodyGearB, BodyKicked, BodyNoSquish, BodyRichardson};
 pub use lennard_jones::{LennardJonesOptions, LennardJonesTerm, Mixing, Truncation};
 pub use neighbours::NeighbourList;
 pub use site::{LennardJones, Site};

@@ -47,3 +47,125 @@ impl BodySystem {
             .then(|| 2.0 * (self.rotational_kinetic_energy() - spin_energy) / degrees as f64)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::bodies::{
+        Body, BodySystem, BodyType, BodyTypeSpec, InteractionOptions, LennardJones,
+        LennardJonesOptions, Mixing, Site, Space, Truncation,
+    };
+    use crate::quaternion::Quat;
+    use nalgebra::{Matrix3, Vector3};
+
+    /// A Lennard-Jones site at `position` of mass `mass`, with `dipole`.
+    fn site(position: [f64; 3], mass: f64, dipole: Option<[f64; 3]>) -> Site {
+        Site {
+            position: Vector3::from(position),
+            mass,
+            lennard_jones: Some(LennardJones {
+                epsilon: 1.0,
+                sigma: 1.0,
+            }),
+            dipole: dipole.map(Vector3::from),
+            ..Site::default()
+        }
+    }
+
+    /// A dipolar sphere (inertia 0.1, dipole along body z), a linear
+    /// two-site rod along x (masses 1 at +-0.5: moments 0, 0.5, 0.5) and a
+    /// bent three-site body (three positive moments).
+    fn types() -> Vec<BodyType> {
+        let specs = [
+            BodyTypeSpec {
+                sites: vec![site([0.0; 3], 0.0, Some([0.0, 0.0, 1.0]))],
+                mass: Some(1.0),
+                inertia: Some(Matrix3::identity() * 0.1),
+            },
+            BodyTypeSpec {
+                sites: vec![
+                    site([-0.5, 0.0, 0.0], 1.0, None),
+                    site([0.5, 0.0, 0.0], 1.0, None),
+                ],
+                mass: None,
+                inertia: None,
+            },
+            BodyTypeSpec {
+                sites: vec![
+                    site([0.0, 0.0, 0.0], 2.0, None),
+                    site([0.5, 0.3, 0.0], 1.0, None),
+                    site([-0.4, 0.35, 0.1], 1.0, None),
+                ],
+                mass: None,
+                inertia: None,
+            },
+        ];
+        specs.iter().map(|s| BodyType::new(s).unwrap()).collect()
+    }
+
+    /// Bodies of the kinds `kinds`, 3 apart on the x axis, at velocity
+    /// `(1, 2, 3)` and body angular momentum `(0, 2, 3)` (none about a
+    /// linear body's axis, body x).
+    fn system(kinds: &[usize]) -> BodySystem {
+        let bodies = kinds
+            .iter()
+            .enumerate()
+            .map(|(i, &kind)| Body {
+                kind,
+                position: Vector3::new(3.0 * i as f64, 0.0, 0.0),
+                image: [0; 3],
+                velocity: Vector3::new(1.0, 2.0, 3.0),
+                orientation: Quat::new(1.0, 0.0, 0.0, 0.0),
+                angular_momentum_body: Vector3::new(0.0, 2.0, 3.0),
+            })
+            .collect();
+        let options = InteractionOptions {
+            lennard_jones: Some(LennardJonesOptions {
+                cutoff: 2.5,
+                truncation: Truncation::Plain,
+                mixing: Mixing::LorentzBerthelot,
+            }),
+            electrostatic_cutoff: Some(2.5),
+            skin: 0.3,
+        };
+        BodySystem::new(types(), bodies, Space::Open, &options).unwrap()
+    }
+
+    /// Rotational degrees: 2 for a dipolar sphere (no torque reaches its
+    /// spin about the dipole, as ERRATA found for rotors), 2 for a linear
+    /// body, 3 for a general one; translational `3N - 3` (the total
+    /// momentum conserved), none for one body.
+    #[test]
+    fn degrees_of_freedom_by_kind_of_body() {
+        for (kinds, rotational) in [
+            (vec![0, 0], 4),
+            (vec![1, 1, 1], 6),
+            (vec![2, 2], 6),
+            (vec![0, 1, 2], 7),
+        ] {
+            let s = system(&kinds);
+            assert_eq!(s.rotational_degrees(), rotational, "{kinds:?}");
+            assert_eq!(s.translational_degrees(), 3 * kinds.len() - 3, "{kinds:?}");
+        }
+        let one = system(&[2]);
+        assert_eq!(one.translational_degrees(), 0);
+        assert_eq!(one.translational_temperature(), None);
+    }
+
+    /// The temperatures from hand-computed kinetic energies: two bodies at
+    /// velocity (1, 2, 3), masses 1 (spheres): `K_trans = 14`, 3 degrees,
+    /// `T_trans = 28/3`; rotation of the spheres about x and y only counts,
+    /// `L_b = (0, 2, 3)` at `I = 0.1`: `(0 + 4) / 0.2 = 20` each, 4 degrees,
+    /// `T_rot = 2 * 40 / 4 = 20` (the spin's `9 / 0.2` left out).
+    #[test]
+    fn temperatures_leave_out_the_conserved_spins() {
+        let s = system(&[0, 0]);
+        let t_trans = s.translational_temperature().unwrap();
+        assert!((t_trans - 28.0 / 3.0).abs() < 1e-14, "{t_trans}");
+        let t_rot = s.rotational_temperature().unwrap();
+        assert!((t_rot - 20.0).abs() < 1e-13, "{t_rot}");
+        // A rod (moments 0, 0.5, 0.5): (4 + 9) / 1 = 13 over 2 degrees.
+        let rod = system(&[1, 1]);
+        let t_rot = rod.rotational_temperature().unwrap();
+        assert!((t_rot - 13.0).abs() < 1e-13, "{t_rot}");
+    }
+}

@@ -4,7 +4,7 @@
 use super::args::{Cli, Command};
 use super::progress::ProgressBarObserver;
 use super::{sweep, EXIT_ERROR};
-use crate::parallel::MAX_THREADS;
+use crate::parallel::{fixed_threads, MAX_THREADS};
 use crate::run::{execute, prepare, Outputs, Placement, Progress, RunResult};
 use crate::scene::{load, parse_toml, Overrides, Scene, BUILTINS};
 use crate::simulation::{Control, Stop};
@@ -142,10 +142,7 @@ fn describe(scene: &Scene) -> String {
 
 /// The `--threads` value: 1 to [`MAX_THREADS`].
 fn thread_count(threads: i64) -> Result<NonZeroUsize, String> {
-    usize::try_from(threads)
-        .ok()
-        .filter(|&n| n <= MAX_THREADS)
-        .and_then(NonZeroUsize::new)
+    fixed_threads(threads)
         .ok_or_else(|| format!("--threads: must be between 1 and {MAX_THREADS}, got {threads}"))
 }
 

@@ -83,4 +83,8 @@ impl Splitting for DlmOptions {
     fn omega_body(momentum_body: &Vector3<f64>, _: &Quat, moments: &Vector3<f64>) -> Vector3<f64> {
         omega_from_momentum(momentum_body, moments)
     }
+
+    fn angular_momentum_body(momentum_body: &Vector3<f64>, _: &Quat) -> Vector3<f64> {
+        *momentum_body
+    }
 }

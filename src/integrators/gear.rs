@@ -15,7 +15,7 @@ use super::checkpoint::{read_values, write_values, Components};
 use super::rotor_chunks::RotorChunk;
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
-use std::ops::{Add, Mul};
+use std::ops::{Add, Mul, Sub};
 
 /// Corrector for first-order equations with 5 stored values (scheme A):
 /// `251/720, 1, 11/12, 1/3, 1/24` (Gear's table; the `c_0` of the Adams-Moulton
@@ -37,7 +37,9 @@ pub fn second_order_6(c0: f64) -> [f64; 6] {
 }
 
 /// A value a Gear recursion acts on (a quaternion or a 3-vector).
-pub trait GearValue: Components + Copy + Add<Output = Self> + Mul<f64, Output = Self> {
+pub trait GearValue:
+    Components + Copy + Add<Output = Self> + Sub<Output = Self> + Mul<f64, Output = Self>
+{
     /// The zero value.
     const ZERO: Self;
 }
@@ -179,6 +181,26 @@ impl<T: GearValue, const N: usize> NordsieckChunk<'_, T, N> {
             r_k[i] = *v;
         }
     }
+}
+
+/// The corrector of a coupled pair of first-order equations `x' = g(y)`,
+/// `y' = f` (5 values each, [`FIRST_ORDER_5`]), for rotor `i` of the chunks:
+/// `y` first, with its rate `y_dot` at the predicted values, then `x` with
+/// `x_dot` of the corrected `y` (the note's steps (d)-(f) of scheme A, where
+/// `x = Q`, `y = w_b`; Allen and Tildesley's translational pair `x = r`,
+/// `y = v`, `v' = F/m`, `r' = v`).
+pub fn correct_pair<X: GearValue, Y: GearValue>(
+    x: &mut NordsieckChunk<'_, X, 5>,
+    y: &mut NordsieckChunk<'_, Y, 5>,
+    i: usize,
+    y_dot: Y,
+    x_dot: impl Fn(&Y) -> X,
+    h: f64,
+) {
+    let delta_y = y_dot * h - y.r[1][i];
+    y.correct(i, &FIRST_ORDER_5, delta_y);
+    let delta_x = x_dot(&y.r[0][i]) * h - x.r[1][i];
+    x.correct(i, &FIRST_ORDER_5, delta_x);
 }
 
 impl<T: Send, const N: usize> RotorChunk for NordsieckChunk<'_, T, N> {

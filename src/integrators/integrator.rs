@@ -42,6 +42,10 @@ impl From<BadCheckpoint> for IntegratorError {
     }
 }
 
+/// Asked by [`Integrator::steps`] with the steps taken whether to take the
+/// next one.
+pub type GoOn<'a> = &'a mut dyn FnMut(u64) -> bool;
+
 /// A time-stepping scheme for rigid rotors (object safe: runs hold a
 /// `Box<dyn Integrator>` from [`crate::dynamics::build`]).
 pub trait Integrator: Send {
@@ -60,6 +64,23 @@ pub trait Integrator: Send {
 
     /// Advances all rotors by one time step.
     fn step(&mut self, potential: &dyn Potential);
+
+    /// Takes up to `count` steps (at least one), with the same results as
+    /// as many calls of [`Integrator::step`]; before the end of each step
+    /// but the last it asks `go_on(taken)` (`taken` counting that step)
+    /// whether to take the next one. Returns the steps taken. The Gear
+    /// schemes override it to predict the next step in the pass that
+    /// corrects the current one (one parallel pass per step fewer).
+    fn steps(&mut self, potential: &dyn Potential, count: u64, go_on: GoOn<'_>) -> u64 {
+        let mut taken = 0;
+        loop {
+            self.step(potential);
+            taken += 1;
+            if taken >= count || !go_on(taken) {
+                return taken;
+            }
+        }
+    }
 
     /// The time step it was set up with: the one `dt` of a run (the run
     /// loop's times and the trajectory's header read it here).

@@ -50,6 +50,10 @@ pub trait Splitting: IntegratorOptions + Clone + Debug + Send + Sync + 'static {
 
     /// The body angular velocity of a rotor.
     fn omega_body(momentum: &Self::Momentum, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64>;
+
+    /// The body angular momentum `L_b` of a rotor at unit orientation `q`
+    /// (the inverse of [`Splitting::momentum`]).
+    fn angular_momentum_body(momentum: &Self::Momentum, q: &Quat) -> Vector3<f64>;
 }
 
 /// A kick-based baseline: half kick, [`Splitting::rotate`], torques, half

@@ -40,11 +40,11 @@ pub mod scheme_b;
 pub(crate) mod setup_checks;
 mod spec;
 pub mod startup;
-mod torque;
+pub(crate) mod torque;
 
 pub use dlm::{Dlm, DlmOptions};
 pub use free_rotation::SphericalTops;
-pub use integrator::{Integrator, IntegratorError, RotorState};
+pub use integrator::{GoOn, Integrator, IntegratorError, RotorState};
 pub use kick::{KickStep, Kicked, Splitting};
 pub use no_squish::{NoSquish, NoSquishOptions, MAX_SUBSTEPS};
 pub use richardson::{Richardson, RichardsonOptions};

@@ -126,7 +126,12 @@ impl Splitting for NoSquishOptions {
     }
 
     fn omega_body(momentum: &Quat, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64> {
-        omega_from_momentum(&momentum.angular_momentum_body(q), moments)
+        omega_from_momentum(&Self::angular_momentum_body(momentum, q), moments)
+    }
+
+    /// `L_b = 1/2 vec(Q~*P)`.
+    fn angular_momentum_body(momentum: &Quat, q: &Quat) -> Vector3<f64> {
+        momentum.angular_momentum_body(q)
     }
 }
 

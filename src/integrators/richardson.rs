@@ -94,4 +94,8 @@ impl Splitting for RichardsonOptions {
     fn omega_body(momentum_space: &Vector3<f64>, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64> {
         omega_from_momentum(&q.space_to_body(momentum_space), moments)
     }
+
+    fn angular_momentum_body(momentum_space: &Vector3<f64>, q: &Quat) -> Vector3<f64> {
+        q.space_to_body(momentum_space)
+    }
 }

@@ -18,13 +18,13 @@
 //! to order 5 (measured in `tests/gear_references.rs`).
 
 use super::checkpoint::checkpoint_data;
-use super::gear::{Nordsieck, FIRST_ORDER_5};
+use super::gear::{correct_pair, Nordsieck};
 use super::rigid_body::TopKind;
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
 use super::startup::{start, GearFrame, GearStart, StartChain, Startup, TopStep};
 use super::torque::{evaluate_torques, torque_body};
-use super::{Integrator, IntegratorError, RotorState};
+use super::{GoOn, Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
@@ -50,15 +50,22 @@ impl TopStep for GearA {
 
     /// One step (a)-(f) of the note, monomorphised on the kind of top; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
-    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
+    fn step_with<K: TopKind>(
+        &mut self,
+        potential: &dyn Potential,
+        predicted: bool,
+        next: &mut dyn FnMut() -> bool,
+    ) -> bool {
         let h = self.frame.dt;
         let renormalise = self.options.renormalise;
         // (a), (b): predict.
-        let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
-        for_each_rotor_chunk(rotors, |(mut q, mut omega_body)| {
-            q.predict();
-            omega_body.predict();
-        });
+        if !predicted {
+            let rotors = (self.q.as_chunk(), self.omega_body.as_chunk());
+            for_each_rotor_chunk(rotors, |(mut q, mut omega_body)| {
+                q.predict();
+                omega_body.predict();
+            });
+        }
         // (c): torque at the predicted Q; the chain, advanced with the
         // kinetic energy of the predicted w_b, gives the friction at t + h.
         evaluate_torques(potential, &self.q.r[0], &mut self.torque_space);
@@ -73,6 +80,7 @@ impl TopStep for GearA {
             &self.frame.moments[..],
             &self.spins[..],
         );
+        let predict_next = next();
         for_each_rotor_chunk(
             rotors,
             |(mut q, mut omega_body, torque_space, moments, spins)| {
@@ -92,20 +100,23 @@ impl TopStep for GearA {
                         }
                         None => w_dot,
                     };
-                    let delta_w = w_dot * h - omega_body.r[1][i];
-                    omega_body.correct(i, &FIRST_ORDER_5, delta_w);
                     // (e), (f): 1/2 Q*(0, w_b) with the corrected w_b and predicted Q.
-                    let q_dot = q_i.q_dot_from_omega_body(&omega_body.r[0][i]);
-                    let delta_q = q_dot * h - q.r[1][i];
-                    q.correct(i, &FIRST_ORDER_5, delta_q);
+                    let q_dot = |w: &Vector3<f64>| q_i.q_dot_from_omega_body(w);
+                    correct_pair(&mut q, &mut omega_body, i, w_dot, q_dot, h);
                 }
                 if renormalise {
                     for q in q.r[0].iter_mut() {
                         *q = *q * (1.0 / q.norm());
                     }
                 }
+                // The next step's (a), (b).
+                if predict_next {
+                    q.predict();
+                    omega_body.predict();
+                }
             },
         );
+        predict_next
     }
 }
 
@@ -285,6 +296,10 @@ impl Integrator for GearA {
 
     fn step(&mut self, potential: &dyn Potential) {
         self.step_by_top(potential);
+    }
+
+    fn steps(&mut self, potential: &dyn Potential, count: u64, go_on: GoOn<'_>) -> u64 {
+        self.steps_by_top(potential, count, go_on)
     }
 
     fn dt(&self) -> f64 {

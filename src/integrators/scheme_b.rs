@@ -35,12 +35,14 @@
 //! highest stored derivative, as for scheme A.
 
 use super::checkpoint::checkpoint_data;
-use super::gear::{second_order_6, Nordsieck, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT};
+use super::gear::{
+    second_order_6, Nordsieck, NordsieckChunk, C0_POSITION_ONLY, C0_VELOCITY_DEPENDENT,
+};
 use super::rigid_body::{q_ddot, q_ddot_spherical, PrincipalMoments, TopKind};
 use super::rotor_chunks::for_each_rotor_chunk;
 use super::spec::IntegratorOptions;
 use super::startup::{start, GearFrame, GearStart, Startup, TopStep};
-use super::{Integrator, IntegratorError, RotorState};
+use super::{GoOn, Integrator, IntegratorError, RotorState};
 use crate::checks::named_choices;
 use crate::observables::norm_force;
 use crate::potential::Potential;
@@ -103,21 +105,30 @@ impl TopStep for GearB {
 
     /// One step (a)-(c) of the note plus the switched corrections; the
     /// per-rotor work runs over chunks of rotors across the rayon pool.
-    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential) {
+    fn step_with<K: TopKind>(
+        &mut self,
+        potential: &dyn Potential,
+        predicted: bool,
+        next: &mut dyn FnMut() -> bool,
+    ) -> bool {
         let h = self.frame.dt;
         let opts = self.options;
         let coefficients = &self.coefficients;
-        // (a): predict.
-        for_each_rotor_chunk(self.q.as_chunk(), |mut q| q.predict());
+        // (a): predict (and zero the gradient, as the previous step's last
+        // pass did when it predicted).
+        if !predicted {
+            for_each_rotor_chunk(self.q.as_chunk(), |mut q| q.predict());
+            self.gradient.fill(Quat::ZERO);
+        }
         // (b): the unconstrained gradient (eq 14) at the predicted Q.
-        self.gradient.fill(Quat::ZERO);
         potential.accumulate_gradient(&self.q.r[0], &mut self.gradient);
         let rotors = (
             self.q.as_chunk(),
-            &self.gradient[..],
+            &mut self.gradient[..],
             &mut self.norm_force[..],
             &self.frame.moments[..],
         );
+        let predict_next = next();
         for_each_rotor_chunk(rotors, |(mut q, gradient, norm_forces, moments)| {
             for i in 0..moments.len() {
                 let q_i = q.r[0][i];
@@ -131,26 +142,41 @@ impl TopStep for GearB {
             }
             // The switched corrections, each rotor on its own, after the
             // force loop (the same values as rotor by rotor inside it).
-            if opts.renormalise {
-                for q in q.r[0].iter_mut() {
-                    *q = *q * (1.0 / q.norm());
-                }
-            }
-            if opts.project_velocity || opts.correct_higher_derivatives {
-                for i in 0..moments.len() {
-                    let mut r = q.rotor(i);
-                    if opts.project_velocity {
-                        enforce_norm_derivative(&mut r, 1);
-                    }
-                    if opts.correct_higher_derivatives {
-                        for k in 2..6 {
-                            enforce_norm_derivative(&mut r, k);
-                        }
-                    }
-                    q.set_rotor(i, &r);
-                }
+            opts.correct_switched(&mut q);
+            // The next step's (a).
+            if predict_next {
+                q.predict();
+                gradient.fill(Quat::ZERO);
             }
         });
+        predict_next
+    }
+}
+
+impl GearBOptions {
+    /// The switched corrections of the module doc (renormalisation, the
+    /// velocity projection, the higher-derivative constraints) on every
+    /// rotor of the chunk, after its corrector.
+    pub(crate) fn correct_switched(&self, q: &mut NordsieckChunk<'_, Quat, 6>) {
+        if self.renormalise {
+            for q in q.r[0].iter_mut() {
+                *q = *q * (1.0 / q.norm());
+            }
+        }
+        if self.project_velocity || self.correct_higher_derivatives {
+            for i in 0..q.r[0].len() {
+                let mut r = q.rotor(i);
+                if self.project_velocity {
+                    enforce_norm_derivative(&mut r, 1);
+                }
+                if self.correct_higher_derivatives {
+                    for k in 2..6 {
+                        enforce_norm_derivative(&mut r, k);
+                    }
+                }
+                q.set_rotor(i, &r);
+            }
+        }
     }
 }
 
@@ -201,7 +227,7 @@ fn quaternion_force(q: &Quat, gradient: &Quat, project: bool) -> Quat {
 
 /// `Q''` of one rotor from the quaternion force `N` (module doc): eq 12 with
 /// the body acceleration `(n0/I0, w_b')`, or its spherical-top form.
-fn acceleration<K: TopKind>(
+pub(crate) fn acceleration<K: TopKind>(
     moments: &PrincipalMoments,
     q: &Quat,
     q_dot: &Quat,
@@ -279,6 +305,10 @@ impl Integrator for GearB {
 
     fn step(&mut self, potential: &dyn Potential) {
         self.step_by_top(potential);
+    }
+
+    fn steps(&mut self, potential: &dyn Potential, count: u64, go_on: GoOn<'_>) -> u64 {
+        self.steps_by_top(potential, count, go_on)
     }
 
     fn dt(&self) -> f64 {

@@ -60,7 +60,7 @@ use super::gear::{GearValue, Nordsieck};
 use super::rigid_body::{q_ddot, General, PrincipalMoments, Spherical, TopKind};
 use super::setup_checks::{validate_setup, Moments};
 use super::torque::{evaluate_torques, torque_body};
-use super::{IntegratorError, RotorState};
+use super::{GoOn, IntegratorError, RotorState};
 use crate::checks::named_choices;
 use crate::potential::Potential;
 use crate::quaternion::Quat;
@@ -116,6 +116,17 @@ struct State {
     p: Vec<f64>,
 }
 
+/// A state integrated by [`rk4_step`]: a vector space over `f64`.
+pub(crate) trait Rk4State: Clone {
+    /// `self + s * rate`.
+    fn advanced(&self, rate: &Self, s: f64) -> Self;
+}
+
+/// `a + s b`, element by element.
+pub(crate) fn axpy<T: GearValue>(a: &[T], b: &[T], s: f64) -> Vec<T> {
+    a.iter().zip(b).map(|(a, b)| *a + *b * s).collect()
+}
+
 impl State {
     /// All zeros, shaped as `like`.
     fn zeros_like(like: &State) -> State {
@@ -126,12 +137,10 @@ impl State {
             p: vec![0.0; like.p.len()],
         }
     }
+}
 
-    /// `self + s * rate`.
+impl Rk4State for State {
     fn advanced(&self, rate: &State, s: f64) -> State {
-        fn axpy<T: GearValue>(a: &[T], b: &[T], s: f64) -> Vec<T> {
-            a.iter().zip(b).map(|(a, b)| *a + *b * s).collect()
-        }
         State {
             q: axpy(&self.q, &rate.q, s),
             omega_body: axpy(&self.omega_body, &rate.omega_body, s),
@@ -139,6 +148,40 @@ impl State {
             p: axpy(&self.p, &rate.p, s),
         }
     }
+}
+
+/// One classical RK4 step of `dt` of `y' = rate(y)`.
+pub(crate) fn rk4_step<S: Rk4State>(y: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> S {
+    let k1 = rate(y);
+    let k2 = rate(&y.advanced(&k1, 0.5 * dt));
+    let k3 = rate(&y.advanced(&k2, 0.5 * dt));
+    let k4 = rate(&y.advanced(&k3, dt));
+    y.advanced(&k1, dt / 6.0)
+        .advanced(&k2, dt / 3.0)
+        .advanced(&k3, dt / 3.0)
+        .advanced(&k4, dt / 6.0)
+}
+
+/// The nine states at `j dt`, `j = -4..4`, of `y' = rate(y)` from `y0`
+/// at 0, by [`RK4_SUBSTEPS`] RK4 substeps per `dt` (module doc).
+pub(crate) fn samples<S: Rk4State>(y0: &S, dt: f64, mut rate: impl FnMut(&S) -> S) -> Vec<S> {
+    let mut samples = vec![y0.clone(); SAMPLES];
+    for direction in [1.0, -1.0] {
+        let substep = direction * dt / RK4_SUBSTEPS as f64;
+        let mut y = y0.clone();
+        for j in 1..=HALF_WIDTH {
+            for _ in 0..RK4_SUBSTEPS {
+                y = rk4_step(&y, substep, &mut rate);
+            }
+            let index = if direction > 0.0 {
+                HALF_WIDTH + j
+            } else {
+                HALF_WIDTH - j
+            };
+            samples[index] = y.clone();
+        }
+    }
+    samples
 }
 
 /// Classical RK4 integration of eqs 10 and Euler's equations, with the
@@ -174,17 +217,6 @@ impl<K: TopKind> Rk4<'_, K> {
         }
         rate
     }
-
-    fn step(&mut self, y: &State, dt: f64) -> State {
-        let k1 = self.rate(y);
-        let k2 = self.rate(&y.advanced(&k1, 0.5 * dt));
-        let k3 = self.rate(&y.advanced(&k2, 0.5 * dt));
-        let k4 = self.rate(&y.advanced(&k3, dt));
-        y.advanced(&k1, dt / 6.0)
-            .advanced(&k2, dt / 3.0)
-            .advanced(&k3, dt / 3.0)
-            .advanced(&k4, dt / 6.0)
-    }
 }
 
 /// The inverse of the Vandermonde matrix `V[j][k] = (j - 4)^k`: maps the nine
@@ -198,18 +230,20 @@ fn fit_matrix() -> SMatrix<f64, SAMPLES, SAMPLES> {
 }
 
 /// Overwrites the orders `from..6` of `target` with the polynomial fit of
-/// `samples[j][rotor]` (sample `j` at time `(j - 4) h`).
-fn fit_into<T: GearValue>(
-    fit: &SMatrix<f64, SAMPLES, SAMPLES>,
-    samples: &[Vec<T>],
+/// the quantity `of` of the nine states (sample `j` at time
+/// `(j - 4) h`, as [`samples`] returns them).
+pub(crate) fn fit_into<S, T: GearValue>(
+    samples: &[S],
+    of: impl Fn(&S) -> &Vec<T>,
     from: usize,
     target: &mut Nordsieck<T, 6>,
 ) {
+    let fit = fit_matrix();
     for (k, r_k) in target.r.iter_mut().enumerate().skip(from) {
         for (i, r) in r_k.iter_mut().enumerate() {
             let mut value = T::ZERO;
             for (j, sample) in samples.iter().enumerate() {
-                value = value + sample[i] * fit[(k, j)];
+                value = value + of(sample)[i] * fit[(k, j)];
             }
             *r = value;
         }
@@ -262,28 +296,9 @@ pub fn initial_derivatives<K: TopKind>(
         omega_body: Nordsieck::zeros(n),
     };
     if startup == Startup::Consistent {
-        let mut samples = vec![y0.clone(); SAMPLES];
-        for direction in [1.0, -1.0] {
-            let substep = direction * dt / RK4_SUBSTEPS as f64;
-            let mut y = y0.clone();
-            for j in 1..=HALF_WIDTH {
-                for _ in 0..RK4_SUBSTEPS {
-                    y = rk.step(&y, substep);
-                }
-                let index = if direction > 0.0 {
-                    HALF_WIDTH + j
-                } else {
-                    HALF_WIDTH - j
-                };
-                samples[index] = y.clone();
-            }
-        }
-        let fit = fit_matrix();
-        let q_samples: Vec<Vec<Quat>> = samples.iter().map(|s| s.q.clone()).collect();
-        let w_samples: Vec<Vec<Vector3<f64>>> =
-            samples.iter().map(|s| s.omega_body.clone()).collect();
-        fit_into(&fit, &q_samples, 3, &mut out.q);
-        fit_into(&fit, &w_samples, 2, &mut out.omega_body);
+        let samples = samples(&y0, dt, |y| rk.rate(y));
+        fit_into(&samples, |s| &s.q, 3, &mut out.q);
+        fit_into(&samples, |s| &s.omega_body, 2, &mut out.omega_body);
     }
     // The orders given directly by the equations of motion, exactly.
     for i in 0..n {
@@ -315,16 +330,39 @@ pub trait TopStep {
     /// What the scheme kept from its setup.
     fn frame(&self) -> &GearFrame;
 
-    /// One step for rotors of kind `K`.
-    fn step_with<K: TopKind>(&mut self, potential: &dyn Potential);
+    /// One step for rotors of kind `K`: the predictor first unless the
+    /// previous step's last pass ran it (`predicted`); that pass ends with
+    /// the next step's predictor when `next()` (asked once, before it) says
+    /// a step follows. Returns whether it did.
+    fn step_with<K: TopKind>(
+        &mut self,
+        potential: &dyn Potential,
+        predicted: bool,
+        next: &mut dyn FnMut() -> bool,
+    ) -> bool;
 
-    /// One step, on [`Spherical`] when every rotor is a spherical top and
-    /// on [`General`] otherwise.
+    /// [`super::Integrator::step`] ([`Self::steps_by_top`] of one step).
     fn step_by_top(&mut self, potential: &dyn Potential) {
-        if self.frame().spherical {
-            self.step_with::<Spherical>(potential);
-        } else {
-            self.step_with::<General>(potential);
+        let _one: u64 = self.steps_by_top(potential, 1, &mut |_| false);
+    }
+
+    /// [`super::Integrator::steps`], each step on [`Spherical`] when every rotor
+    /// is a spherical top and on [`General`] otherwise: the predictor of
+    /// each step after the first runs in the previous step's last pass.
+    fn steps_by_top(&mut self, potential: &dyn Potential, count: u64, go_on: GoOn<'_>) -> u64 {
+        let mut taken = 0;
+        let mut predicted = false;
+        loop {
+            taken += 1;
+            let mut next = || taken < count && go_on(taken);
+            predicted = if self.frame().spherical {
+                self.step_with::<Spherical>(potential, predicted, &mut next)
+            } else {
+                self.step_with::<General>(potential, predicted, &mut next)
+            };
+            if !predicted {
+                return taken;
+            }
         }
     }
 }

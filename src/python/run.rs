@@ -137,7 +137,8 @@ const POLL: Duration = Duration::from_millis(20);
 ///     A checkpoint file to continue from.
 /// threads : int, optional
 ///     Runs on a pool of that many threads (1 to `MAX_THREADS`; default
-///     the shared pool when `RAYON_NUM_THREADS` is set, else one thread per
+///     the scene's `run.threads`, else the shared pool when
+///     `RAYON_NUM_THREADS` is set, else one thread per
 ///     500 rotors, at least 1, at most the cores; recorded in the summary's
 ///     `threads`). The periodic pair loop's last bits depend on it.
 /// progress : bool, default False

@@ -6,7 +6,7 @@ use super::error::RunError;
 use super::limits::check_run_limits;
 use super::scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
-use crate::parallel::{automatic_threads, in_pool, on_worker, ROTORS_PER_THREAD};
+use crate::parallel::{automatic_threads, in_pool, on_worker, ThreadCount, ROTORS_PER_THREAD};
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
 use crate::scene::{boundary_error, Interactions, Scene};
 use std::num::NonZeroUsize;
@@ -47,9 +47,10 @@ pub fn prepare(scene: &Scene, keep: bool) -> Result<Option<MultipolePotential>, 
 }
 
 /// Runs a validated scene (`definition` is its raw form, for the summary)
-/// on a worker of a rayon pool of `outputs.threads` threads when given, else of the
-/// shared pool when `RAYON_NUM_THREADS` sizes it, else of
-/// [`automatic_threads`] for its rotors; the count and the reason are
+/// on a worker of a rayon pool of `outputs.threads` threads when given, else
+/// of the scene's `run.threads`, else of the shared pool when
+/// `RAYON_NUM_THREADS` sizes it, else of [`automatic_threads`] for its
+/// rotors (`choose_threads`); the count and the reason are
 /// recorded in the summary ([`super::Threads`]).
 pub fn execute(
     scene: &Scene,
@@ -58,7 +59,7 @@ pub fn execute(
     restart: Option<&Path>,
     progress: Option<Progress<'_>>,
 ) -> Result<RunResult, RunError> {
-    let (pool, _, _) = choose_threads(scene.rotors.len(), outputs.threads);
+    let (pool, _, _) = choose_threads(scene, outputs.threads);
     let go = move || {
         let built = prepare(scene, outputs.keep)?;
         let interactions = scene
@@ -90,21 +91,30 @@ pub fn execute(
     }
 }
 
-/// The pool a run of `rotors` rotors takes (`None`: the shared pool), who
-/// chose it and why: `given` threads, else the shared pool when
-/// `RAYON_NUM_THREADS` sizes it, else [`automatic_threads`].
+/// The pool a run of `scene` takes (`None`: the shared pool), who chose it
+/// and why: `given` threads, else the scene's `run.threads`, else the shared
+/// pool when `RAYON_NUM_THREADS` sizes it, else [`automatic_threads`] for its
+/// rotors.
 pub(super) fn choose_threads(
-    rotors: usize,
+    scene: &Scene,
     given: Option<NonZeroUsize>,
 ) -> (Option<NonZeroUsize>, &'static str, String) {
     if let Some(count) = given {
         return (Some(count), "given", format!("{count} threads given"));
+    }
+    if let ThreadCount::Fixed(count) = scene.threads {
+        return (
+            Some(count),
+            "scene",
+            format!("run.threads = {count} in the scene"),
+        );
     }
     if let Some(value) = std::env::var_os(RAYON_NUM_THREADS).filter(|v| !v.is_empty()) {
         let reason = format!("{RAYON_NUM_THREADS}={}", value.to_string_lossy());
         return (None, RAYON_NUM_THREADS, reason);
     }
     let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
+    let rotors = scene.rotors.len();
     let count = automatic_threads(rotors, cores);
     let reason = format!(
         "rotors {rotors}, cores {cores}: one thread per {ROTORS_PER_THREAD} rotors, \

@@ -6,6 +6,7 @@
 
 use super::folder::create_file;
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::io::{self, Write as _};
 use std::path::Path;
@@ -14,6 +15,9 @@ use std::path::Path;
 pub const ROTOR_ATOMS: [&str; 4] = ["C", "O", "N", "S"];
 /// PDB serial numbers have five digits; CONECT records need unique ones.
 const MAX_SERIAL: usize = 99_999;
+/// Atoms per rayon task when the ATOM records are formatted (their text is
+/// joined in order: the file does not depend on the thread count).
+const ATOMS_PER_TASK: usize = 4096;
 
 /// Writes the topology with the atom positions of the first frame.
 pub fn write_topology(
@@ -31,16 +35,25 @@ pub fn write_topology(
             b.x, b.y, b.z, 90.0, 90.0, 90.0
         );
     }
-    for (k, p) in positions.iter().enumerate() {
-        let serial = (k + 1) % (MAX_SERIAL + 1);
-        let residue = (k / 4 + 1) % 10_000;
-        let name = ROTOR_ATOMS[k % 4];
-        let _ = writeln!(
-            text,
-            "ATOM  {serial:5} {name:^4} ROT A{residue:4}    {:8.3}{:8.3}{:8.3}  1.00  0.00          {name:>2}",
-            p[0], p[1], p[2]
-        );
-    }
+    let atoms: Vec<String> = positions
+        .par_chunks(ATOMS_PER_TASK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut lines = String::new();
+            for (k, p) in (c * ATOMS_PER_TASK..).zip(chunk) {
+                let serial = (k + 1) % (MAX_SERIAL + 1);
+                let residue = (k / 4 + 1) % 10_000;
+                let name = ROTOR_ATOMS[k % 4];
+                let _ = writeln!(
+                    lines,
+                    "ATOM  {serial:5} {name:^4} ROT A{residue:4}    {:8.3}{:8.3}{:8.3}  1.00  0.00          {name:>2}",
+                    p[0], p[1], p[2]
+                );
+            }
+            lines
+        })
+        .collect();
+    text.extend(atoms);
     let _ = writeln!(text, "TER");
     if positions.len() <= MAX_SERIAL {
         for centre in (0..positions.len()).step_by(4) {

@@ -36,7 +36,8 @@ pub struct Outputs {
     /// Stops the run from another thread (a signal handler, Ctrl-C in
     /// Python) at the end of a step.
     pub control: Option<Arc<Control>>,
-    /// The threads of the run (`None`: `RAYON_NUM_THREADS` if set, else
+    /// The threads of the run, overriding the scene's `run.threads`
+    /// (`None`: the scene's, else `RAYON_NUM_THREADS` if set, else
     /// [`crate::parallel::automatic_threads`]; see [`super::execute()`]).
     pub threads: Option<NonZeroUsize>,
 }
@@ -189,7 +190,7 @@ fn set_up(
 /// The thread record of a run of `scene`: the size of the rayon pool it
 /// runs in, who chose it and why (`choose_threads`).
 fn thread_record(scene: &Scene, outputs: &Outputs) -> Threads {
-    let (_, chosen, reason) = choose_threads(scene.rotors.len(), outputs.threads);
+    let (_, chosen, reason) = choose_threads(scene, outputs.threads);
     Threads {
         count: rayon::current_num_threads(),
         chosen,

@@ -195,7 +195,8 @@ pub struct Threads {
     /// The size of the rayon pool the run loop ran in.
     pub count: usize,
     /// Who chose it: `"given"` (`--threads`, Python's `threads=`),
-    /// `"RAYON_NUM_THREADS"` (the environment) or `"automatic"` (from the
+    /// `"scene"` (its `run.threads`), `"RAYON_NUM_THREADS"` (the
+    /// environment) or `"automatic"` (from the
     /// number of rotors, [`crate::parallel::automatic_threads`]).
     pub chosen: &'static str,
     /// The rule or the setting that gave the count.

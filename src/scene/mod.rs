@@ -25,6 +25,7 @@ mod tagged;
 mod thermostat;
 mod validate;
 
+pub use crate::parallel::ThreadCount;
 pub use bodies::{body_types, RawBodySite, RawBodyType, RawLennardJones};
 pub use builtin::{builtin, Builtin, BUILTINS};
 pub use error::SceneError;

@@ -3,6 +3,7 @@
 
 use super::record::Record;
 use crate::integrators::{IntegratorSpec, RotorState};
+use crate::parallel::ThreadCount;
 use crate::potential::{Boundary, ExternalFields, SumMethod};
 use crate::rotor::{Inertia, Rotor};
 use crate::thermostats::ThermostatSpec;
@@ -44,6 +45,8 @@ pub struct Scene {
     pub dt: f64,
     /// Number of steps (>= 1).
     pub steps: u64,
+    /// The threads of the run (`run.threads`).
+    pub threads: ThreadCount,
     /// What to record.
     pub record: Record,
 }

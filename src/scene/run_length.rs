@@ -1,8 +1,9 @@
-//! The `[run]` section: the time step and the length of the run, in steps or
-//! as a time rounded to whole steps.
+//! The `[run]` section: the time step, the length of the run (in steps or
+//! as a time rounded to whole steps) and its threads.
 
 use super::error::SceneError;
 use crate::checks::{at_least_one, num, positive};
+use crate::parallel::ThreadCount;
 use serde::{Deserialize, Serialize};
 
 /// Time step and length of the run.
@@ -15,6 +16,11 @@ pub struct RawRun {
     pub steps: Option<i64>,
     /// the run time (at least one step).
     pub time: Option<f64>,
+    /// The threads of the run: 1 to 1024 (`MAX_THREADS`), or
+    /// `"auto"` (the default); a count given to the run (`--threads`)
+    /// overrides it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threads: Option<ThreadCount>,
 }
 
 /// The smallest time step: the Gear schemes keep `dt^5 / 120` times the
@@ -74,7 +80,13 @@ mod tests {
     use super::*;
 
     fn check(dt: f64, steps: Option<i64>, time: Option<f64>) -> Result<(f64, u64), String> {
-        run_length(&RawRun { dt, steps, time }).map_err(|e| e.to_string())
+        run_length(&RawRun {
+            dt,
+            steps,
+            time,
+            threads: None,
+        })
+        .map_err(|e| e.to_string())
     }
 
     /// A run time is rounded to whole steps; steps and time exclude each other.

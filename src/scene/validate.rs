@@ -114,6 +114,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         thermostat,
         dt,
         steps,
+        threads: raw.run.threads.unwrap_or_default(),
         record,
     })
 }

@@ -178,26 +178,26 @@ impl<E> Loop<'_, '_, E> {
                 return self.checkpoint(step, observers, true);
             }
             let next = self.next_event(step, observers);
-            match control {
-                None => {
-                    for _ in step..next {
-                        self.integrator.step(self.potential);
-                    }
-                    step = next;
-                }
-                // A stop between two events ends the run at once; one at
-                // an event step is seen above, after that step's samples.
+            // A stop between two events ends the run at the end of the
+            // step in progress; one at an event step is seen above, after
+            // that step's samples.
+            let first = step;
+            let mut go_on = |taken: u64| match control {
                 Some(control) => {
-                    while step < next && !control.stop_requested() {
-                        self.integrator.step(self.potential);
-                        step += 1;
-                        control.set_step(step);
-                    }
-                    if step < next {
-                        self.report.last_step = step;
-                        self.report.stop = Stop::Interrupted { step };
-                        return self.checkpoint(step, observers, true);
-                    }
+                    control.set_step(first + taken);
+                    !control.stop_requested()
+                }
+                None => true,
+            };
+            step += self
+                .integrator
+                .steps(self.potential, next - step, &mut go_on);
+            if let Some(control) = control {
+                control.set_step(step);
+                if step < next {
+                    self.report.last_step = step;
+                    self.report.stop = Stop::Interrupted { step };
+                    return self.checkpoint(step, observers, true);
                 }
             }
         }

@@ -7,8 +7,10 @@ use nalgebra::Vector3;
 /// kick) and the rotors' state seen through their body angular velocities,
 /// as an integrator offers them to a thermostat. Every method acts on all
 /// rotors; the per-rotor callbacks run in rotor order on one thread, so a
-/// thermostat's random numbers do not depend on the thread count.
-pub trait SplitDynamics {
+/// thermostat's random numbers do not depend on the thread count. `Send`,
+/// so that a thermostat may draw them on one thread while the rotors move
+/// on the others.
+pub trait SplitDynamics: Send {
     /// The time step.
     fn dt(&self) -> f64;
 

@@ -79,6 +79,9 @@ pub struct Langevin {
     decay: f64,
     /// Per rotor and axis `sqrt((1 - c^2) T / I_k)`, 0 for a zero moment.
     spread: Vec<Vector3<f64>>,
+    /// The standard normal numbers of one O step, one per rotor and axis
+    /// of nonzero moment in stream order (sized at setup).
+    draws: Vec<f64>,
 }
 
 impl Langevin {
@@ -90,18 +93,22 @@ impl Langevin {
             record: HeatNoise::new(seed),
             decay: 1.0,
             spread: Vec::new(),
+            draws: Vec::new(),
         }
     }
 
-    /// The exact Ornstein-Uhlenbeck step over `dt` on every rotor, in order.
+    /// The exact Ornstein-Uhlenbeck step over `dt` on every rotor, in order,
+    /// with the numbers in `self.draws`.
     fn ornstein_uhlenbeck(&mut self, dynamics: &mut impl SplitDynamics) {
-        let (c, spread, noise) = (self.decay, &self.spread, &mut self.record.noise);
+        let (c, spread) = (self.decay, &self.spread);
+        let mut draws = self.draws.iter();
         let mut heat = 0.0;
         dynamics.update_omega_body(|rotor, w, moments| {
             for k in 0..3 {
                 if moments[k] > 0.0 {
                     let before = w[k];
-                    w[k] = c * before + spread[rotor][k] * noise.normal();
+                    let xi = *draws.next().expect("one draw per axis of nonzero moment");
+                    w[k] = c * before + spread[rotor][k] * xi;
                     heat += 0.5 * moments[k] * (w[k] * w[k] - before * before);
                 }
             }
@@ -125,13 +132,21 @@ impl Thermostat for Langevin {
             .iter()
             .map(|m| m.map(|i| if i > 0.0 { (variance / i).sqrt() } else { 0.0 }))
             .collect();
+        let axes = moments.iter().flat_map(|m| m.iter()).filter(|&&i| i > 0.0);
+        self.draws = vec![0.0; axes.count()];
         self.record.reset();
     }
 
     /// B, A(dt/2), O(dt), A(dt/2), torques, B.
     fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
         let half = 0.5 * dynamics.dt();
-        dynamics.half_kick_then_flow(half);
+        // The O step's numbers do not depend on the state: drawn in stream
+        // order on one thread while the others kick and flow.
+        let (noise, draws) = (&mut self.record.noise, &mut self.draws);
+        let ((), ()) = rayon::join(
+            || dynamics.half_kick_then_flow(half),
+            || draws.iter_mut().for_each(|xi| *xi = noise.normal()),
+        );
         self.ornstein_uhlenbeck(dynamics);
         dynamics.free_flow(half);
         dynamics.evaluate_torques(potential);

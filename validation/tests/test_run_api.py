@@ -163,6 +163,27 @@ def test_threads_fixes_the_pool_of_a_run():
             quatrot.run("dipole_in_field", threads=bad)
 
 
+def test_a_dict_scene_fixes_its_threads_unless_threads_is_given(monkeypatch: pytest.MonkeyPatch):
+    """A dict's `run.threads` (an int, numpy's too, or "auto") sizes the run
+    and is recorded as the scene's choice; `threads=` overrides it; a bad
+    value is refused naming the field."""
+    scene = tomllib.loads(TWO_TOPS_TOML)
+    scene["run"]["threads"] = np.int64(3)
+    assert quatrot.run(scene, steps=1)["summary"]["threads"] == {
+        "count": 3,
+        "chosen": "scene",
+        "reason": "run.threads = 3 in the scene",
+    }
+    assert quatrot.run(scene, steps=1, threads=2)["summary"]["threads"]["chosen"] == "given"
+    monkeypatch.delenv("RAYON_NUM_THREADS", raising=False)
+    scene["run"]["threads"] = "auto"
+    assert quatrot.run(scene, steps=1)["summary"]["threads"]["chosen"] == "automatic"
+    for bad, shown in ((0, "0"), (2.5, "2.5"), ("all", '"all"'), (1025, "1025")):
+        scene["run"]["threads"] = bad
+        with pytest.raises(ValueError, match=rf'^run\.threads: must be an integer between 1 and 1024 or "auto", got {shown}$'):
+            quatrot.run(scene, steps=1)
+
+
 def test_the_package_reexports_every_native_name():
     """`quatrot` is the pure-Python package around the extension
     `quatrot._native`: each of the extension's public names is the

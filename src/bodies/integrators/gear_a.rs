@@ -1,0 +1,121 @@
+//! Scheme A for bodies: the rotors' scheme A for the rotations (the note's
+//! coupled 5-value Gear correctors for eq 10 and Euler's equations) with
+//! the same corrector for the centres' first-order pair `r' = v`,
+//! `v' = F/m` (Allen and Tildesley, Computer Simulation of Liquids, sec. 3.2
+//! and app. E: Gear's coefficients `251/720, 1, 11/12, 1/3, 1/24` for
+//! first-order equations with 5 values).
+//!
+//! One step of `h`: (a), (b) predict `r`, `v`, `Q`, `w_b` by their Taylor
+//! series; (c) forces and torques at the predicted centres and orientations
+//! (`Q/|Q|`), the one evaluation; (d)-(f) correct `v` with `F/m`, then `r`
+//! with the corrected `v`, and `w_b` with Euler's equations, then `Q` with
+//! `1/2 Q*(0, w_b)` ([`correct_pair`] for both pairs); renormalise `Q` if
+//! asked ([`GearAOptions`], whose start-up is the bodies' too:
+//! `gear_start`). Every body is integrated as a general top (no
+//! spherical-top shortcut).
+//!
+//! Properties: global error of order 5 in `h` with the consistent start-up,
+//! as for the rotors; neither symplectic nor time reversible. Total linear
+//! momentum is conserved to round-off (the corrector is linear and the
+//! forces sum to zero, so `sum m v^(k)` stays 0 for `k >= 1`); the angular
+//! momentum of an open cluster to the truncation error (the rotation is
+//! corrected in the body frame). Needs three positive moments per body.
+//! Stores per body 5 values each of `r`, `v`, `Q`, `w_b`, and the
+//! evaluation at the last predicted configuration.
+
+use super::gear_start::{evaluate_at, GearSetup};
+use crate::bodies::evaluate::Evaluation;
+use crate::bodies::system::BodySystem;
+use crate::checks::InputError;
+use crate::integrators::gear::{correct_pair, Nordsieck};
+use crate::integrators::rigid_body::{General, PrincipalMoments, TopKind};
+use crate::integrators::torque::torque_body;
+use crate::integrators::GearAOptions;
+use crate::quaternion::Quat;
+use nalgebra::Vector3;
+
+/// Scheme A for bodies (module doc).
+#[derive(Clone, Debug)]
+pub struct BodyGearA {
+    options: GearAOptions,
+    dt: f64,
+    moments: Vec<PrincipalMoments>,
+    position: Nordsieck<Vector3<f64>, 5>,
+    velocity: Nordsieck<Vector3<f64>, 5>,
+    q: Nordsieck<Quat, 5>,
+    omega_body: Nordsieck<Vector3<f64>, 5>,
+    evaluation: Evaluation,
+}
+
+impl BodyGearA {
+    /// Sets up on `system` (the start-up's evaluations, then one at the
+    /// initial state) with time step `dt` (> 0) and the scheme's options.
+    pub fn new(
+        system: &mut BodySystem,
+        dt: f64,
+        options: GearAOptions,
+    ) -> Result<Self, InputError> {
+        let setup = GearSetup::new(system, dt, options.startup)?;
+        Ok(BodyGearA {
+            options,
+            dt: setup.dt,
+            moments: setup.moments,
+            position: setup.start.position.truncated(),
+            velocity: setup.start.velocity.truncated(),
+            q: setup.start.q.truncated(),
+            omega_body: setup.start.omega_body.truncated(),
+            evaluation: setup.evaluation,
+        })
+    }
+
+    /// The evaluation at the last step's predicted configuration (at the
+    /// initial state before the first step).
+    pub fn evaluation(&self) -> &Evaluation {
+        &self.evaluation
+    }
+
+    /// One step (module doc). The centres are read from `system` first
+    /// (where a neighbour-list build may have wrapped them).
+    pub fn step(&mut self, system: &mut BodySystem) {
+        let h = self.dt;
+        for (r, body) in self.position.r[0].iter_mut().zip(&system.bodies) {
+            *r = body.position;
+        }
+        self.position.predict();
+        self.velocity.predict();
+        self.q.predict();
+        self.omega_body.predict();
+        let e = &mut self.evaluation;
+        evaluate_at(system, &mut self.position.r[0], &self.q.r[0], e);
+        let (mut r, mut v) = (self.position.as_chunk(), self.velocity.as_chunk());
+        let (mut q, mut w) = (self.q.as_chunk(), self.omega_body.as_chunk());
+        for (i, body) in system.bodies.iter().enumerate() {
+            let acceleration = e.force[i] / system.types[body.kind].mass;
+            correct_pair(&mut r, &mut v, i, acceleration, |v| *v, h);
+            let q_i = q.r[0][i];
+            let n_b = torque_body(&q_i, &e.torque[i]);
+            let w_dot = General::omega_dot_body(&self.moments[i], &w.r[0][i], &n_b);
+            correct_pair(
+                &mut q,
+                &mut w,
+                i,
+                w_dot,
+                |w| q_i.q_dot_from_omega_body(w),
+                h,
+            );
+        }
+        if self.options.renormalise {
+            for q in &mut self.q.r[0] {
+                *q = *q * (1.0 / q.norm());
+            }
+        }
+        for (i, body) in system.bodies.iter_mut().enumerate() {
+            let q = self.q.r[0][i];
+            body.position = self.position.r[0][i];
+            body.velocity = self.velocity.r[0][i];
+            body.orientation = q * (1.0 / q.norm());
+            body.angular_momentum_body =
+                self.omega_body.r[0][i].component_mul(&self.moments[i].moments);
+        }
+    }
+}

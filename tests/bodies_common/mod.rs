@@ -1,0 +1,105 @@
+//! Body systems shared by the body tests: a bent three-site molecule, a
+//! Stockmayer sphere, jittered grids of them with random motion.
+#![allow(dead_code)]
+
+use nalgebra::{Matrix3, Vector3};
+use quatrot::bodies::{
+    Body, BodySystem, BodyType, BodyTypeSpec, InteractionOptions, LennardJones,
+    LennardJonesOptions, Mixing, Site, Space, Truncation,
+};
+use quatrot::Quat;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A bent three-site molecule: LJ on every site, charges summing to zero,
+/// a dipole off the centre.
+pub fn bent_molecule() -> BodyType {
+    let site = |p: [f64; 3], mass, sigma, charge, dipole: Option<[f64; 3]>| Site {
+        position: Vector3::from(p),
+        mass,
+        lennard_jones: Some(LennardJones {
+            epsilon: 1.0,
+            sigma,
+        }),
+        charge,
+        dipole: dipole.map(Vector3::from),
+        quadrupole: None,
+    };
+    BodyType::new(&BodyTypeSpec {
+        sites: vec![
+            site([0.0, 0.0, 0.0], 2.0, 1.0, -0.8, Some([0.0, 0.3, 0.5])),
+            site([0.5, 0.3, 0.0], 1.0, 0.8, 0.4, None),
+            site([-0.4, 0.35, 0.1], 1.0, 0.8, 0.4, None),
+        ],
+        mass: None,
+        inertia: None,
+    })
+    .expect("a valid molecule")
+}
+
+/// A dipolar LJ sphere (the Stockmayer particle).
+pub fn stockmayer() -> BodyType {
+    BodyType::new(&BodyTypeSpec {
+        sites: vec![Site {
+            lennard_jones: Some(LennardJones {
+                epsilon: 1.0,
+                sigma: 1.0,
+            }),
+            dipole: Some(Vector3::new(0.0, 0.0, 1.2)),
+            ..Site::default()
+        }],
+        mass: Some(1.0),
+        inertia: Some(Matrix3::identity() * 0.1),
+    })
+    .expect("a valid sphere")
+}
+
+/// `n` bodies of alternating types on a jittered cubic grid of spacing
+/// `spacing`, random orientations, velocities and angular momenta.
+pub fn bodies(n: usize, spacing: f64, seed: u64, types: usize) -> Vec<Body> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let side = (n as f64).cbrt().ceil() as usize;
+    (0..n)
+        .map(|i| {
+            let grid = Vector3::new(i % side, (i / side) % side, i / (side * side));
+            let jitter = Vector3::from_fn(|_, _| rng.random::<f64>() * 0.1);
+            let q = Quat::new(
+                rng.random::<f64>() - 0.5,
+                rng.random::<f64>() - 0.5,
+                rng.random::<f64>() - 0.5,
+                rng.random::<f64>() - 0.5,
+            );
+            Body {
+                kind: i % types,
+                position: grid.map(|x| x as f64 + 0.5) * spacing + jitter,
+                image: [0; 3],
+                velocity: Vector3::from_fn(|_, _| rng.random::<f64>() - 0.5),
+                orientation: q,
+                angular_momentum_body: Vector3::from_fn(|_, _| 0.3 * (rng.random::<f64>() - 0.5)),
+            }
+        })
+        .collect()
+}
+
+pub fn options(truncation: Truncation, lj_cutoff: f64, coulomb: f64) -> InteractionOptions {
+    InteractionOptions {
+        lennard_jones: Some(LennardJonesOptions {
+            cutoff: lj_cutoff,
+            truncation,
+            mixing: Mixing::LorentzBerthelot,
+        }),
+        electrostatic_cutoff: Some(coulomb),
+        skin: 0.3,
+    }
+}
+
+pub fn mixed_system(space: Space, truncation: Truncation, coulomb: f64, n: usize) -> BodySystem {
+    let types = vec![bent_molecule(), stockmayer()];
+    BodySystem::new(
+        types,
+        bodies(n, 1.6, 3, 2),
+        space,
+        &options(truncation, 2.5, coulomb),
+    )
+    .expect("a valid system")
+}
