@@ -23,7 +23,7 @@ fn chosen_parameters_reach_the_requested_force_accuracy() {
     for accuracy in [1e-3, 1e-4, 1e-5, 1e-6] {
         let (parameters, estimate) = for_charges(accuracy, q, &box_lengths, 2.0, None).unwrap();
         let out = c.mesh(parameters, Surface::Conducting);
-        let rms = relative_rms(&super::flat3(&out.force), &super::flat3(&force))
+        let rms = relative_rms(&flat3(&out.force), &flat3(&force))
             * (force.iter().map(|f| f.norm_squared()).sum::<f64>() / n).sqrt()
             / f0;
         let estimated = estimate.real.hypot(estimate.mesh);
