@@ -129,6 +129,23 @@ fn all_cases() -> Vec<Case> {
         euler_degree: None,
         method: SumMethod::Auto,
     };
+    let periodic_pme = Case {
+        name: "periodic fcc, PME, vacuum, all terms",
+        orientations: periodic.orientations.clone(),
+        rotors: periodic_rotors.clone(),
+        boundary: Boundary::Periodic {
+            box_lengths: lattice.box_lengths,
+            sum: PeriodicSum::Ewald {
+                // The PME energy is differentiable at any accuracy: the
+                // coarsest mesh keeps the finite differences quick.
+                accuracy: Accuracy::new(1e-3).expect("in (0, 1)"),
+                surface: Surface::Vacuum,
+            },
+        },
+        external: both_fields,
+        euler_degree: None,
+        method: SumMethod::Pme,
+    };
     let periodic_ewald_direct = Case {
         name: "periodic fcc, direct Ewald, conducting",
         orientations: periodic.orientations.clone(),
@@ -207,6 +224,7 @@ fn all_cases() -> Vec<Case> {
         periodic,
         periodic_ewald_fft,
         periodic_ewald_direct,
+        periodic_pme,
         scattered_ewald,
     ]
 }
@@ -289,8 +307,8 @@ fn torques_match_directional_difference() {
 
 /// Eq 13 vs eq 14 after the note's projection: for every rotor,
 /// `-dV/dQ + (Q.dV/dQ) Q = 2 N_s*Q` with `N_s = (0, torque_space)`; every
-/// term, the truncated periodic sum and the Ewald sums (FFT and direct,
-/// conducting and vacuum).
+/// term, the truncated periodic sum and the Ewald sums (FFT, direct and
+/// PME, conducting and vacuum).
 #[test]
 fn projected_eq14_equals_eq13() {
     for case in all_cases() {

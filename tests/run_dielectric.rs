@@ -37,6 +37,7 @@ fn ewald(box_lengths: [f64; 3], surface: Surface) -> InteractionsSummary {
         path: "ewald_lattice_fft".to_string(),
         ewald: None,
         lattice: None,
+        mesh: None,
     }
 }
 
@@ -151,6 +152,7 @@ fn refusals_name_what_is_missing() {
         path: "open_pairs".to_string(),
         ewald: None,
         lattice: None,
+        mesh: None,
     };
     assert!(err(Some(&open), &table, None).starts_with("boundary: open: no fluctuation formula"));
     assert_eq!(

@@ -136,8 +136,8 @@ fn the_builtin_lattice_is_ewald_and_its_cutoff_variant_the_same_system_truncated
 /// the file; the estimated error within the accuracy asked): the FFT path
 /// on the built-in lattice, the pair list for its cutoff variant, the direct
 /// Ewald sum when `method = "direct"` and on sites that are not a lattice,
-/// the truncated sum by FFT when `method = "lattice_fft"`, every pair of an
-/// open cluster.
+/// the truncated sum by FFT when `method = "lattice_fft"`, the mesh Ewald
+/// sum and its mesh when `method = "pme"`, every pair of an open cluster.
 #[test]
 fn the_summary_records_the_sum_path_and_the_ewald_parameters() {
     let base = quatrot::scene::builtin("dipole_lattice_sc")
@@ -162,6 +162,10 @@ fn the_summary_records_the_sum_path_and_the_ewald_parameters() {
         (
             "{ kind = 'periodic', sum = 'cutoff', cutoff = 2.5, method = 'lattice_fft' }",
             "cutoff_lattice_fft",
+        ),
+        (
+            "{ kind = 'periodic', sum = 'ewald', accuracy = 1e-4, method = 'pme' }",
+            "ewald_pme",
         ),
     ];
     let dir = tempfile::tempdir().expect("temporary directory");
@@ -188,7 +192,26 @@ fn the_summary_records_the_sum_path_and_the_ewald_parameters() {
             panic!("periodic")
         };
         let in_memory = result.summary.interactions.as_ref().expect("interacting");
+        // The mesh record is written for the PME path only: the other
+        // summaries keep their bytes.
+        assert_eq!(
+            recorded.get("mesh").is_some(),
+            path == "ewald_pme",
+            "{boundary}"
+        );
         match sum {
+            PeriodicSum::Ewald { accuracy, .. } if path == "ewald_pme" => {
+                let (p, e) = built.mesh_parameters().expect("mesh parameters");
+                let mesh = in_memory.mesh.expect("mesh parameters recorded");
+                assert_eq!(
+                    (mesh.alpha, mesh.real_cutoff, mesh.grid, mesh.order),
+                    (p.alpha, p.real_cutoff, p.grid, p.order)
+                );
+                assert_eq!((mesh.real_estimate, mesh.mesh_estimate), (e.real, e.mesh));
+                assert!(mesh.estimated_error <= accuracy.get(), "{boundary}");
+                assert!(recorded["ewald"].is_null());
+                assert_eq!(recorded["mesh"]["grid"], serde_json::json!(p.grid));
+            }
             PeriodicSum::Ewald { accuracy, surface } => {
                 let p = built.ewald_parameters().expect("Ewald parameters");
                 let ewald = in_memory.ewald.expect("Ewald parameters recorded");

@@ -36,6 +36,6 @@ pub use scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 pub use series::{CsvTarget, SeriesObserver, SeriesTable};
 pub use summary::{
     BodiesSummary, Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary,
-    Summary, Threads, Versions,
+    MeshSummary, Summary, Threads, Versions,
 };
 pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver, GSD_OPEN_MARGIN};

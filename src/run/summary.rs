@@ -3,6 +3,7 @@
 //! the drift.
 
 use crate::bodies::Space;
+use crate::potential::multipole::mesh_ewald::{MeshEstimate, MeshParameters};
 use crate::potential::multipole::EwaldParameters;
 use crate::potential::{Boundary, MultipolePotential, PeriodicSum, SumKind, Surface};
 use crate::scene::{BodyScene, Interactions, Scene, SCENE_VERSION};
@@ -69,12 +70,50 @@ pub struct InteractionsSummary {
     /// The surroundings (`sum = "ewald"`).
     pub surface: Option<Surface>,
     /// The path taken: `"open_pairs"`, `"cutoff_pairs"`,
-    /// `"cutoff_lattice_fft"`, `"ewald_direct"` or `"ewald_lattice_fft"`.
+    /// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"` or
+    /// `"ewald_pme"`.
     pub path: String,
     /// The Ewald parameters chosen (`sum = "ewald"`).
     pub ewald: Option<EwaldSummary>,
     /// The cells and the sites per cell of the lattice an FFT path runs on.
     pub lattice: Option<LatticeSummary>,
+    /// The parameters of the mesh Ewald sum (`method = "pme"`; absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshSummary>,
+}
+
+/// The parameters a mesh Ewald sum chose for its accuracy
+/// ([`MeshParameters`]), with the error estimates they meet ([`MeshEstimate`]).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct MeshSummary {
+    /// The splitting parameter `alpha` (inverse length).
+    pub alpha: f64,
+    /// The real-space cutoff (length).
+    pub real_cutoff: f64,
+    /// Mesh points along x, y, z.
+    pub grid: [usize; 3],
+    /// The B-spline order.
+    pub order: usize,
+    /// The estimated relative error of the real-space truncation (a bound).
+    pub real_estimate: f64,
+    /// The estimated relative RMS error of the mesh.
+    pub mesh_estimate: f64,
+    /// Their sum: the estimated relative error of the sum.
+    pub estimated_error: f64,
+}
+
+impl From<(MeshParameters, MeshEstimate)> for MeshSummary {
+    fn from((p, e): (MeshParameters, MeshEstimate)) -> Self {
+        MeshSummary {
+            alpha: p.alpha,
+            real_cutoff: p.real_cutoff,
+            grid: p.grid,
+            order: p.order,
+            real_estimate: e.real,
+            mesh_estimate: e.mesh,
+            estimated_error: e.real + e.mesh,
+        }
+    }
 }
 
 /// The splitting and the cutoffs an Ewald sum chose for its accuracy
@@ -133,6 +172,7 @@ impl InteractionsSummary {
                 cells: grid.cells,
                 basis: grid.basis.len(),
             }),
+            mesh: potential.mesh_parameters().map(MeshSummary::from),
         };
         if let Boundary::Periodic { box_lengths, sum } = interactions.boundary {
             out.boundary = "periodic".to_string();

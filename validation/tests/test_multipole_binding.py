@@ -113,7 +113,7 @@ def test_a_box_alone_is_the_ewald_sum_as_in_scenes():
         ({"sum": "ewald", "surface": "metal"}, 'surface: must be "conducting" or "vacuum", got "metal"'),
         ({"sum": "pme"}, 'sum: must be "ewald" or "cutoff", got "pme"'),
         ({"sum": "ewald", "cutoff": 1.0}, 'cutoff: not with sum = "ewald"'),
-        ({"sum": "ewald", "method": "fast"}, 'method: must be "auto", "direct" or "lattice_fft", got "fast"'),
+        ({"sum": "ewald", "method": "fast"}, 'method: must be "auto", "direct", "lattice_fft" or "pme", got "fast"'),
         ({"sum": "ewald", "box_lengths": np.array([[3.0, 0.5, 0], [0, 3, 0], [0, 0, 3]])}, "box_lengths: the box must be orthorhombic"),
         ({"cutoff": 1.0, "method": "lattice_fft", "box_lengths": None}, "box_lengths, cutoff: give both"),
     ],
@@ -125,3 +125,18 @@ def test_bad_ewald_inputs_name_the_field(kwargs, message):
         del args["box_lengths"]
     with pytest.raises(ValueError, match=re.escape(message)):
         quatrot.multipole_evaluate(sites, q, dipoles_body=mu, **args)
+
+
+def test_pme_keyword_lorentz_energy_and_details():
+    """method="pme" on the aligned sc lattice: the Lorentz energy
+    -(2 pi/3) n mu^2 per dipole within the requested accuracy (relative to
+    the field scale mu n = 1), the path and the mesh reported; refused with
+    a truncated sum."""
+    sites, q, mu = _lattice_args()
+    e, _, t, info = quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=[3.0, 3, 3], accuracy=1e-6, method="pme", details=True)
+    assert abs(e / 27 + 2 * np.pi / 3) <= 1e-6
+    assert np.abs(t).max() <= 1e-6
+    assert info["path"] == "ewald_pme" and len(info["grid"]) == 3 and 4 <= info["order"] <= 8
+    assert info["real_estimate"] + info["mesh_estimate"] <= 1e-6
+    with pytest.raises(ValueError, match='method: the mesh Ewald sum needs sum = "ewald", got sum = "cutoff"'):
+        quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=[3.0, 3, 3], cutoff=1.4, method="pme")

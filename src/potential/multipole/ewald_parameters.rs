@@ -97,7 +97,7 @@ pub(crate) fn reciprocal_estimate(ranks: &[i32], alpha_d: f64, s: f64) -> f64 {
 
 /// The smallest `s` in `[0.5, 30]` with `estimate(s) <= target` (bisection;
 /// the estimates decrease for `s >= 0.5` at every `alpha d` used here).
-fn solve(estimate: impl Fn(f64) -> f64, target: f64) -> f64 {
+pub(crate) fn solve(estimate: impl Fn(f64) -> f64, target: f64) -> f64 {
     let (mut lo, mut hi) = (0.5, 30.0);
     if estimate(lo) <= target {
         return lo;

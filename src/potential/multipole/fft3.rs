@@ -45,6 +45,48 @@ impl std::fmt::Debug for RealFft3 {
     }
 }
 
+/// The buffers of [`RealFft3::convolve_into`]: two complex ones, used in
+/// turn by its passes, and the real result.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ConvolveBuffers {
+    a: Vec<C64>,
+    b: Vec<C64>,
+    real: Vec<f64>,
+    /// Kept between convolutions (sized once by [`Self::held`]).
+    held: bool,
+}
+
+impl ConvolveBuffers {
+    /// Buffers sized once for convolutions of `(sources, fields)` grids
+    /// with `plan`, kept between them.
+    pub fn held(plan: &RealFft3, (sources, fields): (usize, usize)) -> Self {
+        let complex = plan.spectrum_len() * sources.max(fields);
+        let points: usize = plan.n.iter().product();
+        ConvolveBuffers {
+            a: Vec::with_capacity(complex),
+            b: Vec::with_capacity(complex),
+            real: Vec::with_capacity(points * fields),
+            held: true,
+        }
+    }
+}
+
+/// Makes `buffer` `len` long (within its capacity when `held`; every value
+/// is overwritten by the pass).
+fn ready<T: Clone + Default>(buffer: &mut Vec<T>, len: usize, held: bool) {
+    if held {
+        buffer.clear();
+    }
+    buffer.resize(len, T::default());
+}
+
+/// Frees `buffer` unless it is `held`.
+fn release<T>(buffer: &mut Vec<T>, held: bool) {
+    if !held {
+        *buffer = Vec::new();
+    }
+}
+
 /// Runs `f(lines, scratch)` on batches of whole lines of `buffer`, in
 /// parallel for large grids, each task with its own scratch.
 fn for_lines<T: Send>(
@@ -213,27 +255,56 @@ impl RealFft3 {
     /// `k_z = n_z / 2` planes after the x and y transforms) are dropped.
     pub fn convolve(
         &self,
-        (sources, fields): (usize, usize),
+        grids: (usize, usize),
         fill: impl Fn(usize, &mut [f64]) + Sync,
         multiply: impl Fn(usize, &[C64], &mut [C64]) + Sync,
     ) -> Vec<f64> {
+        let mut buffers = ConvolveBuffers::default();
+        let _ = self.convolve_into(&mut buffers, grids, fill, multiply);
+        buffers.real
+    }
+
+    /// [`Self::convolve`] into `buffers`, returning the real fields: with
+    /// [`ConvolveBuffers::held`] nothing mesh-sized is allocated (the
+    /// transforms' line scratch still is); otherwise each pass allocates
+    /// its output and the input of the pass before is freed (two passes'
+    /// buffers at a time). The same arithmetic either way.
+    pub fn convolve_into<'a>(
+        &self,
+        buffers: &'a mut ConvolveBuffers,
+        (sources, fields): (usize, usize),
+        fill: impl Fn(usize, &mut [f64]) + Sync,
+        multiply: impl Fn(usize, &[C64], &mut [C64]) + Sync,
+    ) -> &'a [f64] {
         let [nx, ny, nz] = self.n;
         let half = self.half;
         let parallel = (sources + fields) * nx * ny * nz >= CONVOLVE_PARALLEL_MIN;
-        let along_z = self.forward_z(sources, parallel, fill);
-        // y: [kz x][g][y], gathered from [x y][g][kz].
-        let along_y = self.y_pass(&self.y[0], sources, parallel, |kz, x, g, y| {
-            along_z[((x * ny + y) * sources + g) * half + kz]
+        let ConvolveBuffers { a, b, real, held } = buffers;
+        let held = *held;
+        let source_len = nx * ny * sources * half;
+        let field_len = nx * ny * fields * half;
+        // z: [x y][g][kz] in a.
+        ready(a, source_len, held);
+        self.forward_z(sources, parallel, fill, a);
+        // y: [kz x][g][y] in b, gathered from [x y][g][kz].
+        ready(b, source_len, held);
+        self.y_pass(&self.y[0], sources, parallel, b, |kz, x, g, y| {
+            a[((x * ny + y) * sources + g) * half + kz]
         });
-        drop(along_z);
-        let spectra = self.x_products(&along_y, (sources, fields), parallel, multiply);
-        drop(along_y);
-        // y back: [kz x][t][y], gathered from [kz ky][t][x].
-        let back_y = self.y_pass(&self.y[1], fields, parallel, |kz, x, t, ky| {
-            spectra[((kz * ny + ky) * fields + t) * nx + x]
+        release(a, held);
+        // x and the products: [kz ky][t][x] in a.
+        ready(a, field_len, held);
+        self.x_products(b, (sources, fields), parallel, multiply, a);
+        release(b, held);
+        // y back: [kz x][t][y] in b, gathered from [kz ky][t][x].
+        ready(b, field_len, held);
+        self.y_pass(&self.y[1], fields, parallel, b, |kz, x, t, ky| {
+            a[((kz * ny + ky) * fields + t) * nx + x]
         });
-        drop(spectra);
-        self.inverse_z(&back_y, fields, parallel)
+        release(a, held);
+        ready(real, nx * ny * fields * nz, held);
+        self.inverse_z(b, fields, parallel, real);
+        real
     }
 
     /// The first pass of [`Self::convolve`]: the `sources` real z lines of
@@ -244,13 +315,13 @@ impl RealFft3 {
         sources: usize,
         parallel: bool,
         fill: impl Fn(usize, &mut [f64]) + Sync,
-    ) -> Vec<C64> {
-        let [nx, ny, nz] = self.n;
+        along_z: &mut [C64],
+    ) {
+        let nz = self.n[2];
         let half = self.half;
-        let mut along_z = vec![C64::default(); nx * ny * sources * half];
         let r2c = &self.r2c;
         for_units(
-            &mut along_z,
+            along_z,
             sources * half,
             parallel,
             || {
@@ -269,7 +340,6 @@ impl RealFft3 {
                 }
             },
         );
-        along_z
     }
 
     /// The middle pass of [`Self::convolve`]: x transforms of the sources'
@@ -282,13 +352,13 @@ impl RealFft3 {
         (sources, fields): (usize, usize),
         parallel: bool,
         multiply: impl Fn(usize, &[C64], &mut [C64]) + Sync,
-    ) -> Vec<C64> {
+        spectra: &mut [C64],
+    ) {
         let [nx, ny, _] = self.n;
-        let mut spectra = vec![C64::default(); self.half * ny * fields * nx];
         let x_scratch =
             (self.x[0].get_inplace_scratch_len()).max(self.x[1].get_inplace_scratch_len());
         for_units(
-            &mut spectra,
+            spectra,
             fields * nx,
             parallel,
             || {
@@ -311,19 +381,17 @@ impl RealFft3 {
                 self.x[1].process_with_scratch(out, scratch);
             },
         );
-        spectra
     }
 
     /// The last pass of [`Self::convolve`]: the `fields` real z lines of
     /// each grid line, gathered from `back_y` (`[kz x][t][y]`) and
     /// transformed back along z, as `[l][t][z]`.
-    fn inverse_z(&self, back_y: &[C64], fields: usize, parallel: bool) -> Vec<f64> {
+    fn inverse_z(&self, back_y: &[C64], fields: usize, parallel: bool, real: &mut [f64]) {
         let [nx, ny, nz] = self.n;
         let half = self.half;
-        let mut real = vec![0.0; nx * ny * fields * nz];
         let c2r = &self.c2r;
         for_units(
-            &mut real,
+            real,
             fields * nz,
             parallel,
             || {
@@ -349,7 +417,6 @@ impl RealFft3 {
                 }
             },
         );
-        real
     }
 
     /// A y pass of [`Self::convolve`]: the `[kz x][g][y]` lines of `grids`
@@ -359,12 +426,12 @@ impl RealFft3 {
         fft: &Arc<dyn Fft<f64>>,
         grids: usize,
         parallel: bool,
+        out: &mut [C64],
         at: impl Fn(usize, usize, usize, usize) -> C64 + Sync,
-    ) -> Vec<C64> {
+    ) {
         let [nx, ny, _] = self.n;
-        let mut out = vec![C64::default(); self.half * nx * grids * ny];
         for_units(
-            &mut out,
+            out,
             grids * ny,
             parallel,
             || vec![C64::default(); fft.get_inplace_scratch_len()],
@@ -380,7 +447,6 @@ impl RealFft3 {
                 fft.process_with_scratch(out, scratch);
             },
         );
-        out
     }
 
     /// `fft` on every line of `len` points of `buffer`.

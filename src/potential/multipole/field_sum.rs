@@ -4,6 +4,7 @@
 use super::ewald::EwaldSum;
 use super::lattice_fft::LatticeFft;
 use super::lattice_grid;
+use super::mesh_sum::MeshSum;
 use super::pairs::{OpenPairs, PairTable};
 use super::row_quads::RowQuads;
 use super::sum_method::SumMethod;
@@ -26,6 +27,8 @@ pub(super) enum FieldSum {
     Ewald(Box<EwaldSum>),
     /// The FFT lattice sum (Ewald or truncated).
     LatticeFft(Box<LatticeFft>),
+    /// The smooth particle-mesh Ewald sum.
+    Mesh(Box<MeshSum>),
 }
 
 impl FieldSum {
@@ -47,14 +50,35 @@ impl FieldSum {
             Ok(FieldSum::Pairs { pairs, row_quads })
         };
         let Boundary::Periodic { box_lengths, sum } = boundary else {
-            if method == SumMethod::LatticeFft {
-                return Err(PotentialError::new(
-                    "method",
-                    "the FFT lattice sum needs a periodic box, got open boundaries",
-                ));
+            match method {
+                SumMethod::LatticeFft => {
+                    return Err(PotentialError::new(
+                        "method",
+                        "the FFT lattice sum needs a periodic box, got open boundaries",
+                    ))
+                }
+                SumMethod::Pme => {
+                    return Err(PotentialError::new(
+                        "method",
+                        "the mesh Ewald sum needs a periodic box, got open boundaries",
+                    ))
+                }
+                SumMethod::Auto | SumMethod::Direct => {}
             }
             return Ok(FieldSum::Open(OpenPairs::new(sites)?));
         };
+        if method == SumMethod::Pme {
+            let PeriodicSum::Ewald { accuracy, surface } = sum else {
+                return Err(PotentialError::new(
+                    "method",
+                    "the mesh Ewald sum needs sum = \"ewald\", got sum = \"cutoff\"",
+                ));
+            };
+            if !sites.is_empty() {
+                let mesh = MeshSum::new(sites, box_lengths, accuracy, surface, kinds)?;
+                return Ok(FieldSum::Mesh(Box::new(mesh)));
+            }
+        }
         if sites.is_empty() {
             let cutoff = match sum {
                 PeriodicSum::Cutoff { cutoff } => cutoff,
@@ -65,7 +89,7 @@ impl FieldSum {
         let fft = match method {
             SumMethod::LatticeFft => true,
             SumMethod::Auto => sum.kind() == SumKind::Ewald,
-            SumMethod::Direct => false,
+            SumMethod::Direct | SumMethod::Pme => false,
         };
         let density = sites.len() as f64 / box_lengths.product();
         if fft {

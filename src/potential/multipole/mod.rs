@@ -18,6 +18,7 @@ mod lattice_fft;
 mod lattice_grid;
 mod lattice_kernel;
 pub mod mesh_ewald;
+mod mesh_sum;
 mod pairs;
 mod periodic_sum;
 mod potential;

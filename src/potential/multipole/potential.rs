@@ -7,6 +7,7 @@ use super::kernels::{
     SiteFields, SpaceMultipoles,
 };
 use super::lattice_grid::LatticeGrid;
+use super::mesh_ewald::{MeshEstimate, MeshParameters};
 use super::pairs::{balanced_blocks, PairRows};
 use super::sum_method::{SumMethod, SumPath};
 use super::{Boundary, EwaldParameters, ExternalFields, PotentialError};
@@ -42,8 +43,8 @@ enum Carried {
 /// `mu_s x E - 2 vec(Theta_s W)` with `vec(M)_c = eps_abc M_ab`.
 ///
 /// Periodic boxes are summed with a plain cutoff or by Ewald (see
-/// [`super::PeriodicSum`]): on any sites directly, on a lattice by FFT ([`SumMethod`],
-/// [`SumPath`]); either way the sum gives the fields `E` and `W` at the
+/// [`super::PeriodicSum`]): on any sites directly or by smooth particle-mesh
+/// Ewald, on a lattice by FFT ([`SumMethod`], [`SumPath`]); any way the sum gives the fields `E` and `W` at the
 /// sites, and the gradient and torques follow from them as above.
 ///
 /// Units are reduced with `4 pi eps0 = 1`. Left out: charges, octupoles and
@@ -146,13 +147,14 @@ impl MultipolePotential {
     }
 
     /// Number of interacting pairs of the pair list, each counted once (the
-    /// real-space pairs of a direct Ewald sum; 0 for an FFT lattice sum).
+    /// real-space pairs of a direct Ewald sum; 0 for an FFT lattice sum and
+    /// the mesh Ewald sum).
     pub fn pair_count(&self) -> usize {
         match &self.sum {
             FieldSum::Open(pairs) => pairs.len(),
             FieldSum::Pairs { pairs, .. } => pairs.len(),
             FieldSum::Ewald(ewald) => ewald.real_pairs(),
-            FieldSum::LatticeFft(_) => 0,
+            FieldSum::LatticeFft(_) | FieldSum::Mesh(_) => 0,
         }
     }
 
@@ -174,6 +176,7 @@ impl MultipolePotential {
             FieldSum::Ewald(_) => SumPath::EwaldDirect,
             FieldSum::LatticeFft(fft) if fft.parameters().is_some() => SumPath::EwaldLatticeFft,
             FieldSum::LatticeFft(_) => SumPath::CutoffLatticeFft,
+            FieldSum::Mesh(_) => SumPath::EwaldPme,
         }
     }
 
@@ -191,7 +194,16 @@ impl MultipolePotential {
         match &self.sum {
             FieldSum::Ewald(ewald) => Some(ewald.parameters()),
             FieldSum::LatticeFft(fft) => fft.parameters(),
-            FieldSum::Pairs { .. } | FieldSum::Open(_) => None,
+            FieldSum::Pairs { .. } | FieldSum::Open(_) | FieldSum::Mesh(_) => None,
+        }
+    }
+
+    /// The mesh Ewald parameters chosen for the requested accuracy and
+    /// their estimated errors (`None` without the mesh Ewald sum).
+    pub fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        match &self.sum {
+            FieldSum::Mesh(mesh) => Some(mesh.parameters()),
+            _ => None,
         }
     }
 
@@ -301,6 +313,7 @@ impl MultipolePotential {
             FieldSum::Open(pairs) => return self.half_list_fields::<K, _>(pairs, multipoles),
             FieldSum::Ewald(ewald) => return ewald.fields::<K>(multipoles),
             FieldSum::LatticeFft(fft) => return fft.fields::<K>(multipoles),
+            FieldSum::Mesh(mesh) => return mesh.fields::<K>(multipoles),
         };
         let n = self.rotor_count();
         if let (true, false, Some(quads)) = (K::DIPOLES, K::QUADRUPOLES, row_quads) {

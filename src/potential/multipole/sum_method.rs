@@ -10,7 +10,8 @@ use crate::checks::named_choices;
 /// Ewald sum whose sites are a lattice of the box (detected: see
 /// [`crate::potential::multipole::LatticeGrid`]; vacancies and mixed
 /// multipoles included), the direct Ewald sum for other sites, and the pair
-/// list for a truncated sum (bit for bit the sum of earlier versions).
+/// list for a truncated sum (bit for bit the sum of earlier versions); it
+/// never takes the mesh Ewald sum (yet: the crossover is to be measured).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SumMethod {
     /// The fastest path that is exact for the sites (the default).
@@ -21,12 +22,16 @@ pub enum SumMethod {
     /// The FFT lattice sum (Ewald, or the truncated sum, which it equals to
     /// round-off): an error when the sites are not a lattice of the box.
     LatticeFft,
+    /// The smooth particle-mesh Ewald sum ([`super::mesh_ewald`]), on any
+    /// sites: an error with a truncated sum or open boundaries.
+    Pme,
 }
 
 named_choices!(SumMethod {
     "auto" => SumMethod::Auto,
     "direct" => SumMethod::Direct,
     "lattice_fft" => SumMethod::LatticeFft,
+    "pme" => SumMethod::Pme,
 });
 
 /// The way a potential sums its pair fields (see [`super::MultipolePotential::sum_path`]).
@@ -42,11 +47,13 @@ pub enum SumPath {
     EwaldDirect,
     /// The Ewald sum by FFT on the lattice.
     EwaldLatticeFft,
+    /// The smooth particle-mesh Ewald sum.
+    EwaldPme,
 }
 
 impl SumPath {
     /// A short name, as written in summaries: `"open_pairs"`, `"cutoff_pairs"`,
-    /// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"`.
+    /// `"cutoff_lattice_fft"`, `"ewald_direct"`, `"ewald_lattice_fft"`, `"ewald_pme"`.
     pub fn as_str(self) -> &'static str {
         match self {
             SumPath::OpenPairs => "open_pairs",
@@ -54,6 +61,7 @@ impl SumPath {
             SumPath::CutoffLatticeFft => "cutoff_lattice_fft",
             SumPath::EwaldDirect => "ewald_direct",
             SumPath::EwaldLatticeFft => "ewald_lattice_fft",
+            SumPath::EwaldPme => "ewald_pme",
         }
     }
 }

@@ -27,8 +27,7 @@
 //!   tightens, beyond 10x at `1e-6`) at order 6 and 60x at order 4, hence
 //!   the factor [`MESH_SAFETY`] and order 7 only.
 //!
-//! Dipoles and quadrupoles (Cerda et al., J. Chem. Phys. 129, 234104
-//! (2008)) are not estimated yet.
+//! Dipoles and quadrupoles (and charges with them): [`super::estimate`].
 
 use super::mesh::mesh_bytes;
 use super::parameters::{check_cutoff, MeshParameters};
@@ -94,16 +93,26 @@ fn mesh_error(
         * (alpha * length * (2.0 * PI).sqrt() * sum / sites).sqrt()
 }
 
-/// Refuses an accuracy outside [`ACCURACY_RANGE`] and an order outside
-/// [`ESTIMATED_ORDERS`]; the order to use.
-fn check_request(accuracy: f64, order: Option<usize>) -> Result<usize, PotentialError> {
+/// Refuses an accuracy outside [`ACCURACY_RANGE`].
+pub(super) fn check_accuracy(accuracy: f64) -> Result<(), PotentialError> {
     let (low, high) = ACCURACY_RANGE;
     if !(accuracy >= low && accuracy <= high) {
         return Err(PotentialError::new(
             "accuracy",
-            format!("must be from {low:e} to {high:e} (what the error estimates hold for), got {accuracy}"),
+            format!(
+                "must be from {low:e} to {high:e} for the mesh Ewald sum (what its error \
+                 estimates hold for; the default 1e-12 is beyond them), got {}",
+                crate::checks::num(accuracy)
+            ),
         ));
     }
+    Ok(())
+}
+
+/// Refuses an accuracy outside [`ACCURACY_RANGE`] and an order outside
+/// [`ESTIMATED_ORDERS`]; the order to use.
+fn check_request(accuracy: f64, order: Option<usize>) -> Result<usize, PotentialError> {
+    check_accuracy(accuracy)?;
     let order = order.unwrap_or(DEFAULT_ORDER);
     if !ESTIMATED_ORDERS.contains(&order) {
         return Err(PotentialError::new(
@@ -141,7 +150,7 @@ fn smallest_mesh(fits: impl Fn(usize) -> bool, order: usize) -> Option<usize> {
 }
 
 /// The smallest `2^a 3^b 5^c` at least `n`.
-fn fft_size(n: usize) -> usize {
+pub(super) fn fft_size(n: usize) -> usize {
     (n..)
         .find(|&k| {
             let mut m = k;

@@ -7,14 +7,14 @@ use super::parameters::MeshParameters;
 use super::real_space::CellList;
 use super::sites::{SiteResponse, Sources};
 use super::spread::SiteWeights;
-use crate::potential::multipole::fft3::RealFft3;
+use crate::potential::multipole::fft3::{ConvolveBuffers, RealFft3};
 use crate::potential::multipole::{PotentialError, Surface};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
-/// Bytes of the buffers of a `grid` mesh: the mesh and the influence
-/// function, held; at most two complex half spectra and the real result,
-/// transient in [`RealFft3::convolve`].
+/// Bytes of the buffers of a `grid` mesh, all held: the mesh, the influence
+/// function, and the two complex half spectra and the real result of
+/// [`RealFft3::convolve_into`].
 pub(crate) fn mesh_bytes(grid: [usize; 3]) -> f64 {
     let points: f64 = grid.iter().map(|&k| k as f64).product();
     16.0 * points + RealFft3::spectrum_len_of(grid) as f64 * (8.0 + 2.0 * 16.0)
@@ -28,6 +28,7 @@ pub struct MeshEwald {
     surface: Surface,
     box_lengths: Vector3<f64>,
     fft: RealFft3,
+    convolution: ConvolveBuffers,
     influence: Vec<f64>,
     mesh: Vec<f64>,
     weights: SiteWeights,
@@ -90,6 +91,7 @@ impl MeshEwald {
             box_lengths,
             influence,
             mesh: vec![0.0; points as usize],
+            convolution: ConvolveBuffers::held(&fft, (1, 1)),
             fft,
             weights: SiteWeights::new(sites, grid, parameters.order),
             cells: CellList::new(sites, &box_lengths, parameters.real_cutoff),
@@ -194,7 +196,8 @@ impl MeshEwald {
             .spread(&self.scaled, source_order, &mut self.mesh);
         let [nx, _, nz] = self.parameters.grid;
         let (mesh, influence) = (&self.mesh, &self.influence);
-        let phi = self.fft.convolve(
+        let phi = self.fft.convolve_into(
+            &mut self.convolution,
             (1, 1),
             |l, line| line.copy_from_slice(&mesh[l * nz..(l + 1) * nz]),
             |m, s, f| {
@@ -204,7 +207,7 @@ impl MeshEwald {
             },
         );
         self.weights
-            .gather(&phi, scale, count, &mut self.derivatives);
+            .gather(phi, scale, count, &mut self.derivatives);
     }
 
     /// Removes each site's own smooth potential, adds the neutralising

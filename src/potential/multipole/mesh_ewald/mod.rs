@@ -36,18 +36,19 @@
 //! [`MeshEwald::evaluate`] takes [`Sources`] (positions, charges, dipoles,
 //! quadrupoles: the sites may move between calls) and fills a
 //! [`SiteResponse`] (energy; potential, fields and force of every site);
-//! every buffer sized by the sites is built once (the FFT convolution of
-//! `fft3.rs` still allocates its mesh-sized transients at each call). The real-space part, the spreading (one task per
+//! every buffer sized by the sites or the mesh is built once (an
+//! evaluation allocates only the FFTs' line scratch). The real-space part, the spreading (one task per
 //! mesh plane) and the gathering are rayon loops whose sums do not depend
 //! on the number of threads.
 //!
 //! **Parameters** from a requested accuracy: [`for_charges`] (Kolafa &
-//! Perram; Deserno & Holm). Left out so far: the estimates for dipoles and
-//! quadrupoles (Cerda et al. 2008), the virial, scenes and Python.
+//! Perram; Deserno & Holm) and [`for_multipoles`] (an aliasing estimate of
+//! smooth PME derived in `estimate`). Left out so far: the virial.
 
 mod accuracy;
 mod bspline;
 mod cartesian;
+mod estimate;
 mod gather;
 mod influence;
 mod mesh;
@@ -60,6 +61,7 @@ pub use accuracy::{
     for_charges, ChargeEstimate, ACCURACY_RANGE, DEFAULT_ORDER, ESTIMATED_ORDERS, MESH_SAFETY,
 };
 pub use bspline::ORDERS;
+pub use estimate::{for_multipoles, Carried, MeshEstimate};
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;
 pub use sites::{SiteResponse, Sources};

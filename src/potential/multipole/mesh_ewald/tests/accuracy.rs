@@ -1,8 +1,10 @@
 //! The parameters chosen for an accuracy, checked against the converged sum.
 
 use super::references::textbook_charges;
-use super::{relative_rms, Configuration};
-use crate::potential::multipole::mesh_ewald::{for_charges, ACCURACY_RANGE};
+use super::{flat3, flat33, relative_rms, Configuration};
+use crate::potential::multipole::mesh_ewald::{
+    for_charges, for_multipoles, Carried, MeshParameters, SiteResponse, ACCURACY_RANGE,
+};
 use crate::potential::multipole::Surface;
 use nalgebra::Vector3;
 
@@ -21,7 +23,7 @@ fn chosen_parameters_reach_the_requested_force_accuracy() {
     for accuracy in [1e-3, 1e-4, 1e-5, 1e-6] {
         let (parameters, estimate) = for_charges(accuracy, q, &box_lengths, 2.0, None).unwrap();
         let out = c.mesh(parameters, Surface::Conducting);
-        let rms = relative_rms(&super::flat3(&out.force), &super::flat3(&force))
+        let rms = relative_rms(&flat3(&out.force), &flat3(&force))
             * (force.iter().map(|f| f.norm_squared()).sum::<f64>() / n).sqrt()
             / f0;
         let estimated = estimate.real.hypot(estimate.mesh);
@@ -50,4 +52,126 @@ fn unreachable_requests_are_refused_naming_the_field() {
     }
     let e = for_charges(1e-5, &[0.0, 0.0], &box_lengths, 1.5, None).unwrap_err();
     assert_eq!(e.path, "charges", "{e}");
+}
+
+/// The RMS over `sites` sites of the difference of per-site values `a`
+/// and `b` (flattened).
+fn rms_difference(a: &[f64], b: &[f64], sites: usize) -> f64 {
+    let squares: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
+    (squares / sites as f64).sqrt()
+}
+
+/// The RMS errors of the fields the torques need, `(E, W)`, against the
+/// converged direct sum, relative to the field scales
+/// `sigma_s n^((s + g + 1) / 3)` of the largest source order `s` carried
+/// (the `estimate` module doc).
+fn multipole_field_errors(c: &Configuration, parameters: MeshParameters) -> (f64, f64) {
+    let (_, field, conjugate) = c.direct(Surface::Conducting);
+    let out = c.mesh(parameters, Surface::Conducting);
+    let n = c.positions.len() as f64;
+    let density = n / c.box_lengths.product();
+    let rms = |x: f64| (x / n).sqrt();
+    let (sigma, s) = match (&c.quadrupoles, &c.dipoles) {
+        (Some(t), _) => (rms(t.iter().map(|t| t.norm_squared()).sum()), 2.0),
+        (None, Some(m)) => (rms(m.iter().map(|m| m.norm_squared()).sum()), 1.0),
+        (None, None) => unreachable!("multipoles"),
+    };
+    let error_e = rms_difference(&flat3(&out.field), &flat3(&field), field.len());
+    let error_w = rms_difference(
+        &flat33(&out.quadrupole_conjugate),
+        &flat33(&conjugate),
+        conjugate.len(),
+    );
+    (
+        error_e / (sigma * density.powf((s + 2.0) / 3.0)),
+        error_w / (sigma * density.powf((s + 3.0) / 3.0)),
+    )
+}
+
+/// The estimate holds for dipoles, quadrupoles and both, on random sites:
+/// at each requested accuracy the measured RMS field errors against the
+/// converged direct sum are within the request and not below a hundredth of
+/// it (a cheaper mesh would do). Measured over requested (2026-11-28):
+/// dipoles 0.31-0.42, quadrupoles and mixtures 0.03-0.14 (the mesh
+/// estimate is pessimistic for the rank-4 tensor).
+#[test]
+fn multipole_parameters_reach_the_requested_field_accuracy() {
+    let box_lengths = Vector3::new(6.0, 6.5, 7.0);
+    for (kinds, seed) in [
+        ((false, true, false), 21),
+        ((false, false, true), 22),
+        ((false, true, true), 23),
+    ] {
+        let c = Configuration::random(seed, 150, box_lengths, kinds);
+        let carried = Carried {
+            charges: false,
+            dipoles: kinds.1,
+            quadrupoles: kinds.2,
+        };
+        for accuracy in [1e-3, 1e-5, 1e-7] {
+            let (parameters, estimate) =
+                for_multipoles(accuracy, carried, 150, &box_lengths, None, None).unwrap();
+            let (e, w) = multipole_field_errors(&c, parameters);
+            let measured = if kinds.2 { e.max(w) } else { e };
+            assert!(
+                measured <= accuracy && measured >= accuracy / 100.0,
+                "{kinds:?} accuracy {accuracy}: measured {e:.2e} {w:.2e}, estimated {estimate:?}, {parameters:?}"
+            );
+        }
+    }
+}
+
+/// At a fixed accuracy, parameters chosen at splittings `alpha d` from 2 to
+/// 4.5 (so different cutoffs and meshes) give the same energy and fields
+/// within twice the request (the trap of helpme #57: PME energies of
+/// dipoles that depended on the splitting), on random dipoles and
+/// quadrupoles.
+#[test]
+fn multipole_results_at_fixed_accuracy_do_not_depend_on_the_splitting() {
+    let box_lengths = Vector3::new(6.0, 6.5, 7.0);
+    let c = Configuration::random(24, 150, box_lengths, (false, true, true));
+    let carried = Carried {
+        charges: false,
+        dipoles: true,
+        quadrupoles: true,
+    };
+    let n = 150.0;
+    let density = n / box_lengths.product();
+    let rms = |x: f64| (x / n).sqrt();
+    let sigma = rms(c
+        .quadrupoles
+        .iter()
+        .flatten()
+        .map(|t| t.norm_squared())
+        .sum());
+    let accuracy = 1e-5;
+    let d = density.cbrt().recip();
+    let runs: Vec<(MeshParameters, SiteResponse)> = [2.0, 3.0, 4.5]
+        .iter()
+        .map(|&alpha_d| {
+            let (p, _) = for_multipoles(
+                accuracy,
+                carried,
+                150,
+                &box_lengths,
+                None,
+                Some(alpha_d / d),
+            )
+            .unwrap();
+            (p, c.mesh(p, Surface::Conducting))
+        })
+        .collect();
+    // Energy scale sum_i Theta_i^2 n^(5/3), as the fields' (module doc of `estimate`).
+    let energy_scale = n * sigma * sigma * density.powf(5.0 / 3.0);
+    for (a, b) in runs.iter().zip(runs.iter().skip(1)) {
+        let energy = (a.1.energy - b.1.energy).abs() / energy_scale;
+        let field = rms_difference(&flat3(&a.1.field), &flat3(&b.1.field), 150)
+            / (sigma * density.powf(4.0 / 3.0));
+        assert!(
+            energy <= 2.0 * accuracy && field <= 2.0 * accuracy,
+            "{:?} vs {:?}: energy {energy:.2e}, field {field:.2e}",
+            a.0,
+            b.0
+        );
+    }
 }

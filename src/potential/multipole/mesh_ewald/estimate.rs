@@ -1,0 +1,279 @@
+//! Parameters of the mesh Ewald sum of point multipoles (charges, dipoles,
+//! quadrupoles) from a requested accuracy, by an estimate of the aliasing
+//! error of smooth PME derived here.
+//!
+//! **Accuracy.** As for the direct Ewald sum ([`crate::potential::multipole::ewald_parameters`]):
+//! the error of the fields the torques need (`E_i` for charges and dipoles,
+//! `W_i` for quadrupoles) relative to the field scale `sigma_s n^((s + g +
+//! 1) / 3)` of sources of order `s` (0 charge, 1 dipole, 2 quadrupole) and
+//! a field of derivative order `g` (1: `E`, 2: `W`), `n = N / V`; here the
+//! RMS over the sites, `sigma_s` the RMS multipole.
+//!
+//! **Real space**: the estimate of the direct Ewald sum for the tensor rank
+//! `l = s + g` (`ewald_parameters::real_estimate`, a bound on the tail summed
+//! with absolute values), which sets `r_c` for `alpha`; it gets half the
+//! accuracy.
+//!
+//! **Mesh** (derived here; Cerda et al., J. Chem. Phys. 129, 234104 (2008),
+//! give the dipolar estimate for P3M's optimal influence function, which
+//! smooth PME does not use). A B-spline of order `p` interpolates the plane
+//! wave of mode `m` (`|m_a| <= K_a / 2`) with aliases at `m_a + j K_a`
+//! whose amplitude relative to the wave is `rho_j = |m_a / (m_a + j K_a)|^p`
+//! (the Fourier transform of `M_p`, `(sin(pi m / K) / (pi m / K))^p`); each
+//! derivative of the spline (spreading an order-`s` source, gathering an
+//! order-`g` field) multiplies the alias by `(m_a + j K_a) / m_a`, so the
+//! spreading and the gathering err by `rho_j^(p - s)` and `rho_j^(p - g)`.
+//! For sites at random positions with respect to the mesh, the aliases of
+//! different sites and modes are incoherent, and the mean square error of a
+//! site's field is that of `N` random sources through the Ewald kernel
+//! `4 pi exp(-k^2 / 4 alpha^2) / (V k^2)` times `k^(s + g)`, weighted per
+//! mode by `eps^2(k) = sum_a sum_(j = +-1, +-2) (rho_j^(2(p - s)) +
+//! rho_j^(2(p - g)))`, and by 1 for modes beyond the mesh's Nyquist
+//! frequency. As an integral over `k` (`sum_k -> V / (2 pi)^3 int d^3k`):
+//!
+//! `(dE / (sigma_s n^((l + 1) / 3)))^2 = n^(1 - 2 (l + 1) / 3) / (2 pi)^3
+//! int d^3k (4 pi)^2 k^(2 l - 4) exp(-k^2 / 2 alpha^2) eps^2(k)`,
+//!
+//! by the midpoint rule over `|k_a| < 2 pi / h_a` (twice the Nyquist
+//! frequency; beyond, the Gaussian is below `exp(-2 pi^2 / (alpha h)^2)`).
+//! The mesh gets half the accuracy. Sites on a lattice are not random with
+//! respect to the mesh: their aliases may add coherently; the tests check the
+//! estimate on random configurations and on lattices.
+//!
+//! **Choice.** For each order (the given one, or 4 to 8) and for `alpha d`
+//! from 0.5 to 5 (`d = n^(-1/3)`), `r_c` from the real-space estimate, the
+//! largest common spacing `h` that meets the mesh estimate, `K_a` the
+//! smallest `2^a 3^b 5^c` at least `L_a / h`; the cheapest by the cost model
+//! [`cost`] wins. A cutoff longer than half the shortest box side is not
+//! used; a request no choice meets is refused.
+
+use super::accuracy::{check_accuracy, fft_size};
+use super::mesh::mesh_bytes;
+use super::parameters::MeshParameters;
+use crate::checks::num;
+use crate::potential::multipole::ewald_parameters::{real_estimate, solve};
+use crate::potential::multipole::PotentialError;
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+/// The estimated errors of a choice, relative to the field scale (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshEstimate {
+    /// Real-space part (a bound).
+    pub real: f64,
+    /// Mesh part (RMS).
+    pub mesh: f64,
+}
+
+/// Which multipoles the sites carry.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Carried {
+    /// Point charges.
+    pub charges: bool,
+    /// Point dipoles.
+    pub dipoles: bool,
+    /// Point quadrupoles.
+    pub quadrupoles: bool,
+}
+
+impl Carried {
+    /// The pairs `(s, g)` of source order and field order (module doc).
+    fn orders(&self) -> Vec<(i32, i32)> {
+        let sources: Vec<i32> = [(self.charges, 0), (self.dipoles, 1), (self.quadrupoles, 2)]
+            .iter()
+            .filter_map(|&(c, s)| c.then_some(s))
+            .collect();
+        let fields: Vec<i32> = [(self.charges || self.dipoles, 1), (self.quadrupoles, 2)]
+            .iter()
+            .filter_map(|&(c, g)| c.then_some(g))
+            .collect();
+        sources
+            .iter()
+            .flat_map(|&s| fields.iter().map(move |&g| (s, g)))
+            .collect()
+    }
+}
+
+/// Midpoints per axis of the quadrature over `[0, 2 pi / h_a)`.
+const POINTS: usize = 32;
+
+/// The splitting parameters tried, `alpha d` from 0.5 to 5.
+const SPLITTINGS: usize = 16;
+
+/// The mesh estimate (module doc) of the orders `orders` for `alpha`, mesh
+/// spacings `h`, spline order `p` and density `n`: the largest over the pairs.
+pub(crate) fn mesh_estimate(
+    orders: &[(i32, i32)],
+    alpha: f64,
+    h: &[f64; 3],
+    p: usize,
+    n: f64,
+) -> f64 {
+    let mut largest: f64 = 0.0;
+    for &(s, g) in orders {
+        let l = s + g;
+        // Per axis: k_a, exp(-k_a^2 / 2 alpha^2), the alias weight (None beyond Nyquist).
+        let axis: Vec<[(f64, f64, Option<f64>); POINTS]> = h
+            .iter()
+            .map(|&h| {
+                std::array::from_fn(|i| {
+                    let u = (i as f64 + 0.5) / POINTS as f64;
+                    let k = 2.0 * PI * u / h;
+                    let alias = (u < 0.5).then(|| {
+                        [-2.0, -1.0, 1.0, 2.0]
+                            .iter()
+                            .map(|j| {
+                                let rho = (u / (u + j)).abs();
+                                rho.powi(2 * (p as i32 - s)) + rho.powi(2 * (p as i32 - g))
+                            })
+                            .sum()
+                    });
+                    (k, (-k * k / (2.0 * alpha * alpha)).exp(), alias)
+                })
+            })
+            .collect();
+        let mut sum = 0.0;
+        for &(kx, gx, ex) in &axis[0] {
+            for &(ky, gy, ey) in &axis[1] {
+                for &(kz, gz, ez) in &axis[2] {
+                    let eps = match (ex, ey, ez) {
+                        (Some(x), Some(y), Some(z)) => x + y + z,
+                        _ => 1.0,
+                    };
+                    let k2 = kx * kx + ky * ky + kz * kz;
+                    sum += k2.powi(l - 2) * gx * gy * gz * eps;
+                }
+            }
+        }
+        let cell: f64 = h.iter().map(|h| 2.0 * PI / (h * POINTS as f64)).product();
+        let integral = 8.0 * (4.0 * PI).powi(2) * sum * cell;
+        let square = n.powf(1.0 - 2.0 * (l + 1) as f64 / 3.0) / (2.0 * PI).powi(3) * integral;
+        largest = largest.max(square.sqrt());
+    }
+    largest
+}
+
+/// The rough cost of one evaluation, in pair interactions: `N n (2 pi / 3)
+/// r_c^3` real-space pairs, the FFTs (`0.05 K log2 K` each way for `K`
+/// points) and the spreading and gathering (`0.1 p^3` per site).
+pub(crate) fn cost(sites: f64, density: f64, rc: f64, grid: [usize; 3], order: usize) -> f64 {
+    let points: f64 = grid.iter().map(|&k| k as f64).product();
+    sites * density * (2.0 * PI / 3.0) * rc.powi(3)
+        + 0.1 * points * points.log2()
+        + 0.1 * sites * (order as f64).powi(3)
+}
+
+/// The parameters for `sites` sites carrying `carried` in `box_lengths` at
+/// relative field accuracy `accuracy` (module doc), at spline order `order`
+/// (or the cheapest of 4 to 8) and splitting `alpha` (or the cheapest of
+/// those tried). Refuses (naming the field) an accuracy
+/// outside [`super::ACCURACY_RANGE`], an order outside [`super::ORDERS`], a
+/// box the real-space cutoff does not fit (`box_lengths`) and meshes over
+/// the memory limit (`accuracy`).
+pub fn for_multipoles(
+    accuracy: f64,
+    carried: Carried,
+    sites: usize,
+    box_lengths: &Vector3<f64>,
+    order: Option<usize>,
+    alpha: Option<f64>,
+) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
+    check_accuracy(accuracy)?;
+    let orders_tried: Vec<usize> = match order {
+        Some(p) if super::ORDERS.contains(&p) => vec![p],
+        Some(p) => {
+            return Err(PotentialError::new(
+                "order",
+                format!(
+                    "must be from {} to {}, got {p}",
+                    super::ORDERS.start(),
+                    super::ORDERS.end()
+                ),
+            ))
+        }
+        None => super::ORDERS.collect(),
+    };
+    let pairs = carried.orders();
+    let ranks: Vec<i32> = pairs.iter().map(|(s, g)| s + g).collect();
+    let n_sites = sites.max(1) as f64;
+    let density = n_sites / box_lengths.product();
+    let d = density.cbrt().recip();
+    let half_box = 0.5 * box_lengths.min();
+    let target = 0.5 * accuracy;
+    let mut best: Option<(f64, MeshParameters, MeshEstimate)> = None;
+    let splittings: Vec<f64> = match alpha {
+        Some(alpha) => vec![alpha],
+        None => (0..SPLITTINGS)
+            .map(|k| 0.5 / d * 10f64.powf(k as f64 / (SPLITTINGS - 1) as f64))
+            .collect(),
+    };
+    let largest = splittings.iter().copied().fold(0.0, f64::max);
+    for alpha in splittings {
+        let s_real = solve(|s| real_estimate(&ranks, alpha * d, s), target);
+        let rc = s_real / alpha;
+        if rc > half_box {
+            continue;
+        }
+        for &p in &orders_tried {
+            let estimate = |h: f64| mesh_estimate(&pairs, alpha, &[h; 3], p, density);
+            // The largest spacing meeting the target: bisection in log h.
+            let (mut fine, mut coarse) = (1e-3 / alpha, 4.0 / alpha);
+            if estimate(fine) > target {
+                continue;
+            }
+            for _ in 0..30 {
+                let middle = (fine * coarse).sqrt();
+                if estimate(middle) <= target {
+                    fine = middle;
+                } else {
+                    coarse = middle;
+                }
+            }
+            let grid: [usize; 3] =
+                std::array::from_fn(|a| fft_size(((box_lengths[a] / fine).ceil() as usize).max(p)));
+            let spacing: [f64; 3] = std::array::from_fn(|a| box_lengths[a] / grid[a] as f64);
+            let parameters = MeshParameters {
+                alpha,
+                real_cutoff: rc,
+                grid,
+                order: p,
+            };
+            let estimate = MeshEstimate {
+                real: real_estimate(&ranks, alpha * d, s_real),
+                mesh: mesh_estimate(&pairs, alpha, &spacing, p, density),
+            };
+            let c = cost(n_sites, density, rc, grid, p);
+            if best.as_ref().is_none_or(|(b, _, _)| c < *b) {
+                best = Some((c, parameters, estimate));
+            }
+        }
+    }
+    let Some((_, parameters, estimate)) = best else {
+        return Err(PotentialError::new(
+            "box_lengths",
+            format!(
+                "the mesh Ewald sum at accuracy {} needs a real-space cutoff of at least \
+                 {:.4} (at the largest splitting tried, alpha = {:.4}), more than half the \
+                 shortest box side {half_box}: use a larger box or a looser accuracy",
+                num(accuracy),
+                solve(|s| real_estimate(&ranks, largest * d, s), target) / largest,
+                largest
+            ),
+        ));
+    };
+    let grid = parameters.grid;
+    crate::memory::check("accuracy", mesh_bytes(grid)).map_err(|e| {
+        PotentialError::new(
+            "accuracy",
+            format!(
+                "{} needs a {}x{}x{} mesh: {}",
+                num(accuracy),
+                grid[0],
+                grid[1],
+                grid[2],
+                e.message
+            ),
+        )
+    })?;
+    Ok((parameters, estimate))
+}
