@@ -98,7 +98,7 @@ def _errata_tests() -> tuple[float, str]:
     rust = sorted({(Path(f).stem, n) for f, n in cited if f.endswith(".rs")})
     python = sorted({f"{f}::{n}" for f, n in cited if f.endswith(".py")})
     cmd = ["cargo", "test", "--release"] + [a for stem in sorted({s for s, _ in rust}) for a in ("--test", stem)] + ["--"] + [n for _, n in rust]
-    pycmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"] + python
+    pycmd = [sys.executable, "-m", "pytest", "-q", "-rfE", "-p", "no:cacheprovider"] + python
     try:
         done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=1200)
         pydone = subprocess.run(pycmd, cwd=ROOT, capture_output=True, text=True, timeout=600)
@@ -107,7 +107,10 @@ def _errata_tests() -> tuple[float, str]:
     passed = set(re.findall(r"^test (\w+) \.\.\. ok$", done.stdout, re.M))
     missing = [f"{s}::{n}" for s, n in rust if n not in passed]
     if pydone.returncode != 0:
-        missing.append(f"pytest: {pydone.stdout.strip().splitlines()[-1] if pydone.stdout.strip() else pydone.stderr[-500:]}")
+        # Each failing test by name (pytest -rfE's "FAILED path::name - reason" lines), else the tail.
+        failing = re.findall(r"^(?:FAILED|ERROR) (\S+)", pydone.stdout, re.M)
+        tail = pydone.stdout.strip().splitlines()[-1] if pydone.stdout.strip() else pydone.stderr[-500:]
+        missing.extend(failing or [f"pytest: {tail}"])
     summary = (
         f"{len(rust)} Rust tests (`cargo test --release --test ... -- <names>`) and {len(python)} pytest tests cited in ERRATA.md; "
         + (f"not passing: {', '.join(missing)}" if missing else "all pass.")
