@@ -8,6 +8,7 @@
 //! documented in `docs/scenes.md`.
 
 mod bodies;
+mod body_types;
 mod builtin;
 mod error;
 mod fields;
@@ -26,9 +27,8 @@ mod thermostat;
 mod validate;
 
 pub use crate::parallel::ThreadCount;
-pub use bodies::{
-    body_types, BodyScene, BodySeries, RawBodySite, RawBodyType, RawLennardJones, DEFAULT_SKIN,
-};
+pub use bodies::{BodyScene, BodySeries, DEFAULT_SKIN};
+pub use body_types::{body_types, RawBodySite, RawBodyType, RawLennardJones};
 pub use builtin::{builtin, Builtin, BUILTINS};
 pub use error::SceneError;
 pub use initial::random_states;

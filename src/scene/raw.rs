@@ -7,10 +7,10 @@
 use serde::{Deserialize, Serialize};
 
 pub use super::bodies::{
-    RawBodies, RawBody, RawBodyElectrostatics, RawBodyInteractions, RawBodyType,
-    RawElectrostaticCutoff, RawGivenBodies, RawLatticeBodies, RawLennardJonesOptions,
-    RawRandomBodies,
+    RawBodies, RawBody, RawBodyElectrostatics, RawBodyInteractions, RawElectrostaticCutoff,
+    RawGivenBodies, RawLatticeBodies, RawLennardJonesOptions, RawRandomBodies,
 };
+pub use super::body_types::RawBodyType;
 pub use super::fields::RawFields;
 pub use super::initial::{RawExplicitInitial, RawInitial, RawRandomInitial, RawUniformInitial};
 pub use super::integrator::RawIntegrator;

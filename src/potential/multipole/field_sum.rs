@@ -50,22 +50,7 @@ impl FieldSum {
             Ok(FieldSum::Pairs { pairs, row_quads })
         };
         let Boundary::Periodic { box_lengths, sum } = boundary else {
-            match method {
-                SumMethod::LatticeFft => {
-                    return Err(PotentialError::new(
-                        "method",
-                        "the FFT lattice sum needs a periodic box, got open boundaries",
-                    ))
-                }
-                SumMethod::Pme => {
-                    return Err(PotentialError::new(
-                        "method",
-                        "the mesh Ewald sum needs a periodic box, got open boundaries",
-                    ))
-                }
-                SumMethod::Auto | SumMethod::Direct => {}
-            }
-            return Ok(FieldSum::Open(OpenPairs::new(sites)?));
+            return Self::open(sites, method);
         };
         if method == SumMethod::Pme {
             let PeriodicSum::Ewald { accuracy, surface } = sum else {
@@ -124,5 +109,22 @@ impl FieldSum {
             }
             _ => pair_sum((box_lengths, chosen.reach)),
         }
+    }
+
+    /// Every pair of `sites` in open space; `method` must not be one of
+    /// the mesh sums, which need a periodic box.
+    fn open(sites: &[Vector3<f64>], method: SumMethod) -> Result<FieldSum, PotentialError> {
+        let mesh = match method {
+            SumMethod::LatticeFft => Some("the FFT lattice sum"),
+            SumMethod::Pme => Some("the mesh Ewald sum"),
+            SumMethod::Auto | SumMethod::Direct => None,
+        };
+        if let Some(name) = mesh {
+            return Err(PotentialError::new(
+                "method",
+                format!("{name} needs a periodic box, got open boundaries"),
+            ));
+        }
+        Ok(FieldSum::Open(OpenPairs::new(sites)?))
     }
 }

@@ -179,20 +179,7 @@ pub fn for_multipoles(
     alpha: Option<f64>,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     check_accuracy(accuracy)?;
-    let orders_tried: Vec<usize> = match order {
-        Some(p) if super::ORDERS.contains(&p) => vec![p],
-        Some(p) => {
-            return Err(PotentialError::new(
-                "order",
-                format!(
-                    "must be from {} to {}, got {p}",
-                    super::ORDERS.start(),
-                    super::ORDERS.end()
-                ),
-            ))
-        }
-        None => super::ORDERS.collect(),
-    };
+    let orders_tried = orders_to_try(order)?;
     let pairs = carried.orders();
     let ranks: Vec<i32> = pairs.iter().map(|(s, g)| s + g).collect();
     let n_sites = sites.max(1) as f64;
@@ -216,19 +203,9 @@ pub fn for_multipoles(
         }
         for &p in &orders_tried {
             let estimate = |h: f64| mesh_estimate(&pairs, alpha, &[h; 3], p, density);
-            // The largest spacing meeting the target: bisection in log h.
-            let (mut fine, mut coarse) = (1e-3 / alpha, 4.0 / alpha);
-            if estimate(fine) > target {
+            let Some(fine) = largest_spacing(estimate, alpha, target) else {
                 continue;
-            }
-            for _ in 0..30 {
-                let middle = (fine * coarse).sqrt();
-                if estimate(middle) <= target {
-                    fine = middle;
-                } else {
-                    coarse = middle;
-                }
-            }
+            };
             let grid: [usize; 3] =
                 std::array::from_fn(|a| fft_size(((box_lengths[a] / fine).ceil() as usize).max(p)));
             let spacing: [f64; 3] = std::array::from_fn(|a| box_lengths[a] / grid[a] as f64);
@@ -261,7 +238,48 @@ pub fn for_multipoles(
             ),
         ));
     };
-    let grid = parameters.grid;
+    check_mesh_memory(accuracy, parameters.grid)?;
+    Ok((parameters, estimate))
+}
+
+/// The spline orders to try: `order` if given (refused outside
+/// [`super::ORDERS`], naming `order`), else every one.
+fn orders_to_try(order: Option<usize>) -> Result<Vec<usize>, PotentialError> {
+    match order {
+        Some(p) if super::ORDERS.contains(&p) => Ok(vec![p]),
+        Some(p) => Err(PotentialError::new(
+            "order",
+            format!(
+                "must be from {} to {}, got {p}",
+                super::ORDERS.start(),
+                super::ORDERS.end()
+            ),
+        )),
+        None => Ok(super::ORDERS.collect()),
+    }
+}
+
+/// The largest mesh spacing `h` (between `1e-3 / alpha` and `4 / alpha`)
+/// whose `estimate(h)` meets `target`, by bisection in `log h`; `None`
+/// when even the finest does not.
+fn largest_spacing(estimate: impl Fn(f64) -> f64, alpha: f64, target: f64) -> Option<f64> {
+    let (mut fine, mut coarse) = (1e-3 / alpha, 4.0 / alpha);
+    if estimate(fine) > target {
+        return None;
+    }
+    for _ in 0..30 {
+        let middle = (fine * coarse).sqrt();
+        if estimate(middle) <= target {
+            fine = middle;
+        } else {
+            coarse = middle;
+        }
+    }
+    Some(fine)
+}
+
+/// Refuses, naming `accuracy`, a mesh `grid` over the memory limit.
+fn check_mesh_memory(accuracy: f64, grid: [usize; 3]) -> Result<(), PotentialError> {
     crate::memory::check("accuracy", mesh_bytes(grid)).map_err(|e| {
         PotentialError::new(
             "accuracy",
@@ -274,6 +292,5 @@ pub fn for_multipoles(
                 e.message
             ),
         )
-    })?;
-    Ok((parameters, estimate))
+    })
 }
