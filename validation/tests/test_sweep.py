@@ -205,21 +205,25 @@ def test_ctrl_c_on_a_sweep_prints_one_line(tmp_path: Path):
     on stderr; it used to print every worker's traceback and warnings."""
     out = tmp_path / "sweep"
     table = out / "results.csv"
-    # 40 runs of about 0.25 s on two workers: far from finished when the
-    # first is recorded, even on a loaded machine.
+    # 40 runs of about 2 s on two workers (20,000 steps; 1,000 took 0.1 s
+    # by 2026-11-28, and Dask hands finished runs over in batches, so on a
+    # loaded machine the first table written could already hold all 40):
+    # far from finished when the first is recorded.
     command = [sys.executable, "-m", "quatrot.sweep", "quadrupole_lattice_fcc", "--set", "initial.seed=" + ",".join(map(str, range(1, 41))),
-               "--set", "run.steps=1000", "--out", str(out), "--workers", "2"]  # fmt: skip
+               "--set", "run.steps=20000", "--out", str(out), "--workers", "2"]  # fmt: skip
     sweep = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         deadline = time.monotonic() + PATIENCE
         while not (table.exists() and len(table.read_text().splitlines()) >= 2):
             assert time.monotonic() < deadline and sweep.poll() is None, "the sweep recorded no run"
             time.sleep(0.01)
+        recorded = len(table.read_text().splitlines()) - 1
         os.killpg(sweep.pid, signal.SIGINT)
         _, err = sweep.communicate(timeout=PATIENCE)
     finally:
         if sweep.poll() is None:
             os.killpg(sweep.pid, signal.SIGKILL)
             sweep.wait()
+    assert recorded < 40, "the sweep finished before the interrupt: the test needs longer runs"
     assert sweep.returncode == 130
     assert err.splitlines() == [f"interrupted: {table} holds the runs finished so far; the same command resumes"]

@@ -214,8 +214,11 @@ def _sigint_ignored() -> Iterator[None]:
 
 def _quiet_workers(client: distributed.Client) -> None:
     """Before an interrupted sweep stops its own local cluster: its workers
-    log no warning for the runs cancelled under them (the table says what
-    finished; the interrupted line says the rest)."""
+    log no warning for the runs cancelled under them, nor do the cluster's
+    nannies in this process when they kill a worker still in a run ("Worker
+    process still alive after 4.0 seconds, killing"): the table says what
+    finished; the interrupted line says the rest."""
+    _log_errors_only()
     with contextlib.suppress(Exception):
         client.run(_log_errors_only)
 
