@@ -1,6 +1,6 @@
 //! Bodies as a scene writes them (`[bodies]`: given, random or on a
 //! lattice; `[body_interactions]`), read with the body types
-//! ([`super::body_types`]) into a [`BodyScene`], errors naming the field
+//! ([`mod@super::body_types`]) into a [`BodyScene`], errors naming the field
 //! (`bodies.random.density`).
 
 use super::body_types::{checked_types, RawBodyType};
