@@ -43,19 +43,25 @@ MINIMUM_TIMEOUT = 300.0
 OUTCOMES = {"passed": "missed", "failed": "caught", "unviable": "unviable", "timeout": "timeout"}
 
 
-def _run(argv: list[str], cwd: Path, env: dict | None = None, timeout: float | None = None) -> bool:
-    """Runs ``argv``; true when it exits 0 (output to the terminal's log)."""
-    result = subprocess.run(argv, cwd=cwd, env=env, timeout=timeout, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+def _run(argv: list[str], cwd: Path, log: Path, env: dict | None = None, timeout: float | None = None) -> bool:
+    """Runs ``argv``, its output appended to ``log``; true when it exits 0."""
+    with log.open("a") as out:
+        out.write(f"$ {' '.join(argv)}\n")
+        out.flush()
+        result = subprocess.run(argv, cwd=cwd, env=env, timeout=timeout, stdout=out, stderr=subprocess.STDOUT)
     return result.returncode == 0
 
 
 def _build_and_test(scratch: Path, tree: Path, timeout: float | None) -> str:
     """Builds the extension from ``tree`` and runs the Python tests against it,
     in the worker's ``scratch`` directory: "passed", "failed", "unviable" (no
-    build) or "timeout"."""
-    wheels, site = scratch / "wheels", scratch / "site"
+    build) or "timeout". The commands' output goes to ``scratch/log`` (the
+    last mutant's, or the baseline's when it fails)."""
+    wheels, site, log = scratch / "wheels", scratch / "site", scratch / "log"
     for d in (wheels, site):
         shutil.rmtree(d, ignore_errors=True)
+    scratch.mkdir(parents=True, exist_ok=True)
+    log.unlink(missing_ok=True)
     env = dict(os.environ, CARGO_TARGET_DIR=str(scratch / "target"))
     deadline = None if timeout is None else time.monotonic() + timeout
 
@@ -63,14 +69,14 @@ def _build_and_test(scratch: Path, tree: Path, timeout: float | None) -> str:
         return None if deadline is None else max(1.0, deadline - time.monotonic())
 
     try:
-        built = _run(["maturin", "build", "--release", "--quiet", "--out", str(wheels)], tree, env, left())
+        built = _run(["maturin", "build", "--release", "--quiet", "--out", str(wheels)], tree, log, env, left())
         wheel = next(wheels.glob("*.whl"), None)
         if not built or wheel is None:
             return "unviable"
-        if not _run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target", str(site), str(wheel)], ROOT, env, left()):
+        if not _run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--target", str(site), str(wheel)], ROOT, log, env, left()):
             return "unviable"
         env["PYTHONPATH"] = os.pathsep.join([str(site), str(ROOT)])
-        passed = _run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", *PYTHON_TESTS], ROOT, env, left())
+        passed = _run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", *PYTHON_TESTS], ROOT, log, env, left())
     except subprocess.TimeoutExpired:
         return "timeout"
     return "passed" if passed else "failed"
@@ -106,7 +112,7 @@ def run(groups: list[tuple[Ledger, dict[str, str]]], jobs: int = 1) -> int:
     baseline = _build_and_test(scratches[0], sync_tree(scratches[0] / "tree"), None)
     baseline_seconds = time.monotonic() - start
     if baseline != "passed":
-        print(f"python stage: the unmutated tree does not pass ({baseline})", file=sys.stderr)
+        print(f"python stage: the unmutated tree does not pass ({baseline}): see {scratches[0] / 'log'}", file=sys.stderr)
         return 1
     timeout = max(MINIMUM_TIMEOUT, TIMEOUT_MULTIPLIER * baseline_seconds)
     print(f"python stage: baseline {baseline_seconds:.0f} s; {len(missed)} mutants, {jobs} workers, "
