@@ -211,7 +211,12 @@ def test_ctrl_c_on_a_sweep_prints_one_line(tmp_path: Path):
     # far from finished when the first is recorded.
     command = [sys.executable, "-m", "quatrot.sweep", "quadrupole_lattice_fcc", "--set", "initial.seed=" + ",".join(map(str, range(1, 41))),
                "--set", "run.steps=20000", "--out", str(out), "--workers", "2"]  # fmt: skip
-    sweep = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    # A terminal's foreground job takes SIGINT by default; a test run from a
+    # background job (`cmd &` in a script, nohup) has it ignored, and an
+    # ignored signal stays ignored across exec, so Python would not even
+    # install its handler in the sweep: set the default back in the child.
+    sweep = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
     try:
         deadline = time.monotonic() + PATIENCE
         while not (table.exists() and len(table.read_text().splitlines()) >= 2):
