@@ -82,25 +82,25 @@ fn molecule() -> BodyType {
     .expect("a valid molecule")
 }
 
-/// `N` molecules at number density 0.25 (a periodic cube of side 6.35),
-/// Maxwell-Boltzmann velocities at `T` with zero total momentum, LJ
-/// force-shifted at 2.5 (smooth forces, for the energy's order in dt).
-fn fluid(seed: u64) -> BodySystem {
-    let types = vec![molecule()];
+/// `N` bodies of type `body` at number density 0.25 (a periodic cube of
+/// side 6.35), centres at least `closest` apart, Maxwell-Boltzmann
+/// velocities at `T` with zero total momentum, LJ `truncation` at 2.5.
+fn random_fluid(body: BodyType, closest: f64, truncation: Truncation, seed: u64) -> BodySystem {
+    let types = vec![body];
     let start = RandomStart {
         density: 0.25,
-        closest: 1.3,
+        closest,
         temperature: T,
         seed,
     };
     let (space, bodies) = random_start(&types, &[0; N], &start).expect("a valid start");
-    BodySystem::new(
-        types,
-        bodies,
-        space,
-        &options(Truncation::ForceShifted, 2.5, 2.5),
-    )
-    .expect("a valid system")
+    BodySystem::new(types, bodies, space, &options(truncation, 2.5, 2.5)).expect("a valid system")
+}
+
+/// The molecules' fluid, LJ force-shifted (smooth forces, for the
+/// energy's order in dt).
+fn fluid(seed: u64) -> BodySystem {
+    random_fluid(molecule(), 1.3, Truncation::ForceShifted, seed)
 }
 
 fn dlm() -> IntegratorSpec {
@@ -238,23 +238,7 @@ fn bussi_and_nose_hoover_conserve_their_extended_energy_to_second_order() {
 #[test]
 fn langevin_without_friction_is_the_constant_energy_run() {
     const DT: f64 = 0.002;
-    let spheres = || {
-        let types = vec![bodies_common::stockmayer()];
-        let start = RandomStart {
-            density: 0.25,
-            closest: 1.1,
-            temperature: T,
-            seed: 9,
-        };
-        let (space, bodies) = random_start(&types, &[0; N], &start).expect("a valid start");
-        BodySystem::new(
-            types,
-            bodies,
-            space,
-            &options(Truncation::Shifted, 2.5, 2.5),
-        )
-        .expect("a valid system")
-    };
+    let spheres = || random_fluid(bodies_common::stockmayer(), 1.1, Truncation::Shifted, 9);
     let run = |thermostat: Option<ThermostatSpec>| {
         let mut system = spheres();
         let mut integrator = BodyKicked::with_thermostat(
