@@ -240,7 +240,7 @@ fn run<'py>(
     }
     let result =
         finished.ok_or_else(|| PyRuntimeError::new_err("the run ended without a result"))??;
-    let message = result.stop.message();
+    let message = result.summary.message.clone();
     let stop = result.stop.clone();
     let dict = result_dict(py, &scene, result)?;
     let err = match (stopped_by, stop) {

@@ -16,10 +16,12 @@
 //! the splitting's momentum variable besides the state, and the last
 //! evaluation.
 
+use crate::bodies::checkpoint::take_values;
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
-use crate::integrators::Splitting;
+use crate::integrators::checkpoint::write_values;
+use crate::integrators::{IntegratorError, Splitting};
 use rayon::prelude::*;
 
 /// A body integrator: velocity Verlet for the centres, the splitting `S`
@@ -55,6 +57,27 @@ impl<S: Splitting> BodyKicked<S> {
     /// The evaluation at the current state.
     pub fn evaluation(&self) -> &Evaluation {
         &self.evaluation
+    }
+
+    /// Appends the integrator's own state: the splitting's momentum of
+    /// every body.
+    pub(crate) fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        write_values(&self.momentum, out);
+    }
+
+    /// Reads back [`BodyKicked::write_checkpoint`]'s output from the front
+    /// of `data`, returning the rest, and evaluates `system` (restored
+    /// first, its neighbour list too): the evaluation the last step ended
+    /// on, bit for bit (no site has moved since that step's evaluation, so
+    /// the list is not rebuilt).
+    pub(crate) fn read_checkpoint<'a>(
+        &mut self,
+        system: &mut BodySystem,
+        data: &'a [f64],
+    ) -> Result<&'a [f64], IntegratorError> {
+        let rest = take_values(data, &mut self.momentum, "the bodies' momenta")?;
+        system.evaluate(&mut self.evaluation);
+        Ok(rest)
     }
 
     /// One step.
