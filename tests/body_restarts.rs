@@ -65,6 +65,23 @@ fn read(path: &Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The summary in the folder `dir`.
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_slice(&read(&dir.join(SUMMARY_FILE))).expect("JSON")
+}
+
+/// The step of the last row of `series.csv` in the folder `dir`, which
+/// ends with a whole row.
+fn last_row(dir: &Path) -> u64 {
+    let csv = String::from_utf8(read(&dir.join("series.csv"))).expect("text");
+    assert!(csv.ends_with('\n'), "a partial row");
+    let row = csv.lines().last().expect("rows");
+    row.split(',')
+        .next()
+        .and_then(|s| s.parse().ok())
+        .expect("a step")
+}
+
 /// The summary at `path` without the fields of [`RUN_FIELDS`].
 fn summary_without_run_fields(path: &Path) -> serde_json::Value {
     let mut summary: serde_json::Value = serde_json::from_slice(&read(path)).expect("JSON");
@@ -192,22 +209,10 @@ fn an_interrupted_run_of_bodies_ends_cleanly_and_its_restart_continues_bit_for_b
             panic!("{integrator}: interrupted, got {:?}", result.stop);
         };
         assert!((13..STEPS as u64).contains(&step), "{integrator}: {step}");
-        let summary: serde_json::Value =
-            serde_json::from_slice(&read(&cut.path().join(SUMMARY_FILE))).unwrap();
+        let summary = summary(cut.path());
         assert_eq!(summary["status"], "interrupted");
         assert_eq!(summary["last_step"], step);
-        let csv = String::from_utf8(read(&cut.path().join("series.csv"))).unwrap();
-        assert!(csv.ends_with('\n'));
-        let last_row: u64 = csv
-            .lines()
-            .last()
-            .unwrap()
-            .split(',')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap();
-        assert_eq!(last_row, step / 5 * 5, "{integrator}");
+        assert_eq!(last_row(cut.path()), step / 5 * 5, "{integrator}");
         let checkpoint = cut.path().join(CHECKPOINT_FILE);
         assert_eq!(Checkpoint::read(&checkpoint).expect("valid").step, step);
         let rest = run_in(cut.path(), &long, Some(&checkpoint));
@@ -329,19 +334,8 @@ fn a_blow_up_of_bodies_names_the_step_and_the_bodies() {
         reason.ends_with("(below 0.5: far inside their repulsive core)"),
         "{reason}"
     );
-    let summary: serde_json::Value =
-        serde_json::from_slice(&read(&dir.path().join(SUMMARY_FILE))).unwrap();
+    let summary = summary(dir.path());
     assert_eq!(summary["status"], "blew_up");
     assert_eq!(summary["message"], message.as_str());
-    let csv = String::from_utf8(read(&dir.path().join("series.csv"))).unwrap();
-    let last_row: u64 = csv
-        .lines()
-        .last()
-        .unwrap()
-        .split(',')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    assert_eq!(last_row, (step - 1) / 5 * 5);
+    assert_eq!(last_row(dir.path()), (step - 1) / 5 * 5);
 }

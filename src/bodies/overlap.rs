@@ -30,9 +30,7 @@ impl BodySystem {
     /// to their sigma, if that is below [`OVERLAP_FRACTION`] (one
     /// evaluation, which builds the neighbour list).
     pub fn first_overlap(&mut self) -> Option<Overlap> {
-        if self.lennard_jones.is_none() {
-            return None;
-        }
+        let _ = self.lennard_jones.as_ref()?;
         self.evaluate(&mut Evaluation::default());
         self.closest_pair()
             .filter(|o| o.distance < OVERLAP_FRACTION * o.sigma)

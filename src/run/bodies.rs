@@ -2,18 +2,17 @@
 //! ([`BodyIntegrator`]) built from the scene, stepped from t = 0 or
 //! restored from a checkpoint, with the series (CSV), the GSD trajectory,
 //! the checkpoints and `summary.json` written through the rotors' writers
-//! ([`Rows`], [`GsdWriter`], [`CheckpointWriter`], the locked
+//! ([`Rows`], [`GsdWriter`], [`super::CheckpointWriter`], the locked
 //! [`super::OutputFolder`], the atomic summary) and a restart placed as
 //! the rotors' ([`Placement`]). Energies are computed at every sample and
 //! every blow-up check; the energy error and the drift follow as for
 //! rotors. A blow-up names the step and the bodies (and their sites).
 
-use super::checkpoint::{CheckpointWriter, Identity};
 use super::error::RunError;
-use super::folder::{CHECKPOINT_FILE, GSD_FILE, SUMMARY_FILE};
+use super::folder::{GSD_FILE, SUMMARY_FILE};
 use super::gsd::{BodyFrame, BodyTypes, GsdBox, GsdWriter};
 use super::resume::Placement;
-use super::scene_run::{open_folder, read_checkpoint, Outputs, RunResult};
+use super::scene_run::{checkpoint_writer, open_folder, read_checkpoint, Outputs, RunResult};
 use super::series::{CsvTarget, Rows};
 use super::summary::{BodiesSummary, Summary, Threads};
 use super::summary_file::{
@@ -122,15 +121,9 @@ pub(super) fn run_bodies(
         .checkpoint_every
         .zip(files)
         .map(|(every, (d, _))| {
-            let checkpoint = CheckpointWriter {
-                path: d.join(CHECKPOINT_FILE),
-                scene: scene.name.clone(),
-                identity: Identity::of(scene),
-            };
-            let summary = running.clone();
             let sink = SummaryAfterCheckpoint {
-                checkpoint,
-                summary,
+                checkpoint: checkpoint_writer(scene, d),
+                summary: running.clone(),
             };
             (every, sink)
         });

@@ -1,4 +1,5 @@
-//! Checkpoint files: the integrator's complete state at a step, stored as the
+//! Checkpoint files: the integrator's complete state at a step (a body
+//! run's: `BodyIntegrator::checkpoint`), stored as the
 //! bit patterns of its floats (JSON; serde_json's default float parsing is
 //! not correctly rounded, so no float is stored as a decimal), with the
 //! identity of the run it belongs to and a checksum.
@@ -9,7 +10,9 @@
 //!   external fields, the integrator and the thermostat with all their
 //!   options (the thermostat's seed too), `dt` bit for bit (the one
 //!   comparison of `dt` on a restart),
-//!   the number of rotors and the format version. The initial state, the
+//!   the number of rotors and the format version; for a scene of bodies
+//!   also the number of bodies and fingerprints of the body types (with
+//!   each body's type) and of the box and interactions. The initial state, the
 //!   run length and what is recorded may differ (a restart may run longer).
 //!   A restart with anything else is refused, saying what differs.
 //! * The checksum (64-bit FNV-1a of the file's JSON with an empty checksum

@@ -340,19 +340,24 @@ impl Recorders {
                 TrajectoryObserver::new(spec, &scene.rotors, now, files, keep)
             })
             .transpose()?;
-        let checkpoints = record.checkpoint_every.zip(files).map(|(every, (dir, _))| {
-            let writer = CheckpointWriter {
-                path: dir.join(CHECKPOINT_FILE),
-                scene: scene.name.clone(),
-                identity: Identity::of(scene),
-            };
-            (every, writer)
-        });
+        let checkpoints = record
+            .checkpoint_every
+            .zip(files)
+            .map(|(every, (dir, _))| (every, checkpoint_writer(scene, dir)));
         Ok(Recorders {
             series,
             trajectory,
             checkpoints,
         })
+    }
+}
+
+/// The writer of the checkpoints of a run of `scene` in the folder `dir`.
+pub(super) fn checkpoint_writer(scene: &Scene, dir: &Path) -> CheckpointWriter {
+    CheckpointWriter {
+        path: dir.join(CHECKPOINT_FILE),
+        scene: scene.name.clone(),
+        identity: Identity::of(scene),
     }
 }
 

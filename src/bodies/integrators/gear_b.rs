@@ -83,7 +83,7 @@ impl BodyGearB {
     }
 
     /// The evaluation at the last step's predicted configuration (at the
-    /// initial state before the first step).
+    /// set-up's initial state before the first step, a restored one's too).
     pub fn evaluation(&self) -> &Evaluation {
         &self.evaluation
     }
