@@ -160,7 +160,8 @@ const POLL: Duration = Duration::from_millis(20);
 /// SceneError
 ///     An invalid scene; the message names the field.
 /// BlowUpError
-///     The run blew up; its `result` holds what it recorded.
+///     The run blew up; the message names the step and the rotor, or the
+///     two bodies and their sites; its `result` holds what it recorded.
 /// OSError
 ///     An output file that cannot be written.
 ///
@@ -240,7 +241,7 @@ fn run<'py>(
     }
     let result =
         finished.ok_or_else(|| PyRuntimeError::new_err("the run ended without a result"))??;
-    let message = result.stop.message();
+    let message = result.summary.message.clone();
     let stop = result.stop.clone();
     let dict = result_dict(py, &scene, result)?;
     let err = match (stopped_by, stop) {

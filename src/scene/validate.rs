@@ -151,8 +151,8 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
 }
 
 /// Validates a scene of bodies: no rotor section, an integrator that moves
-/// bodies with the thermostats it carries for them, only the series of [`BodyQuantity`]s and a
-/// GSD trajectory, no checkpoints.
+/// bodies with the thermostats it carries for them, only the series of
+/// [`BodyQuantity`]s and a GSD trajectory.
 ///
 /// [`BodyQuantity`]: crate::bodies::BodyQuantity
 fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, SceneError> {
@@ -183,12 +183,6 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
     let (dt, steps) = run_length(&raw.run)?;
     let raw_record = raw.record.clone().unwrap_or_default();
     bodies.series = body_record(&raw_record, &bodies.space)?;
-    if raw_record.checkpoint_every.is_some() {
-        return Err(SceneError::field(
-            "record.checkpoint_every",
-            "checkpoints of bodies are not supported yet",
-        ));
-    }
     let no_series = RawRecord {
         series: Vec::new(),
         ..raw_record

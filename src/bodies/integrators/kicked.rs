@@ -23,11 +23,13 @@
 //! and the centres' velocities. Without one ([`crate::thermostat_hook::Nve`])
 //! the step is the one above.
 
+use crate::bodies::checkpoint::take_values;
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
 use crate::dynamics::AnyThermostat;
-use crate::integrators::Splitting;
+use crate::integrators::checkpoint::write_values;
+use crate::integrators::{IntegratorError, Splitting};
 use crate::thermostat_hook::{SplitDynamics, Thermostat};
 use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
@@ -91,6 +93,37 @@ impl<S: Splitting> BodyKicked<S> {
     /// The evaluation at the current state.
     pub fn evaluation(&self) -> &Evaluation {
         &self.evaluation
+    }
+
+    /// Appends the integrator's own state: the splitting's momentum of
+    /// every body, then the thermostat's state (none without one).
+    pub(crate) fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        write_values(&self.momentum, out);
+        self.thermostat.state().write_checkpoint(out);
+    }
+
+    /// Reads back [`BodyKicked::write_checkpoint`]'s output from the front
+    /// of `data`, returning the rest, and evaluates `system` (restored
+    /// first, its neighbour list too): the evaluation the last step ended
+    /// on, bit for bit (no site has moved since that step's evaluation, so
+    /// the list is not rebuilt).
+    pub(crate) fn read_checkpoint<'a>(
+        &mut self,
+        system: &mut BodySystem,
+        data: &'a [f64],
+    ) -> Result<&'a [f64], IntegratorError> {
+        let rest = take_values(data, &mut self.momentum, "the bodies' momenta")?;
+        let expected = self.thermostat.state().checkpoint_len();
+        if rest.len() < expected {
+            return Err(IntegratorError::BadCheckpoint(format!(
+                "expected {expected} thermostat values after the bodies' momenta, got {}",
+                rest.len()
+            )));
+        }
+        let (thermostat, rest) = rest.split_at(expected);
+        self.thermostat.state_mut().read_checkpoint(thermostat)?;
+        system.evaluate(&mut self.evaluation);
+        Ok(rest)
     }
 
     /// One step, arranged by the thermostat.

@@ -33,7 +33,7 @@ pub use richardson::BodyRichardson;
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
 use crate::checks::InputError;
-use crate::integrators::IntegratorSpec;
+use crate::integrators::{IntegratorError, IntegratorSpec};
 use crate::thermostats::ThermostatSpec;
 
 /// The integrator of a body system: one variant per algorithm.
@@ -132,6 +132,52 @@ impl BodyIntegrator {
             Self::Dlm(i) => i.thermostat_energy(),
             Self::Richardson(i) => i.thermostat_energy(),
             Self::GearA(_) | Self::GearB(_) => 0.0,
+        }
+    }
+
+    /// The state of `system` and of the integrator for a checkpoint, laid
+    /// out as `[system][integrator]`: the bodies and the neighbour list
+    /// (`BodySystem::write_checkpoint`), then the integrator's own (the
+    /// splittings' momenta, the Gear schemes' scaled derivatives). A
+    /// thermostat of bodies appends its state after the splittings' (as the
+    /// rotors' integrators do, `ThermostatState::write_checkpoint`).
+    pub fn checkpoint(&self, system: &BodySystem) -> Vec<f64> {
+        let mut out = Vec::new();
+        system.write_checkpoint(&mut out);
+        match self {
+            Self::NoSquish(i) => i.write_checkpoint(&mut out),
+            Self::Dlm(i) => i.write_checkpoint(&mut out),
+            Self::Richardson(i) => i.write_checkpoint(&mut out),
+            Self::GearA(i) => i.write_checkpoint(&mut out),
+            Self::GearB(i) => i.write_checkpoint(&mut out),
+        }
+        out
+    }
+
+    /// Restores `system` and the integrator (set up on a system of the
+    /// same bodies, types and options) from [`BodyIntegrator::checkpoint`]'s
+    /// output, refusing one of another length. The run then goes on bit
+    /// for bit as the one that wrote it.
+    pub fn restore(
+        &mut self,
+        system: &mut BodySystem,
+        state: &[f64],
+    ) -> Result<(), IntegratorError> {
+        let rest = system.read_checkpoint(state)?;
+        let rest = match self {
+            Self::NoSquish(i) => i.read_checkpoint(system, rest),
+            Self::Dlm(i) => i.read_checkpoint(system, rest),
+            Self::Richardson(i) => i.read_checkpoint(system, rest),
+            Self::GearA(i) => i.read_checkpoint(rest),
+            Self::GearB(i) => i.read_checkpoint(rest),
+        }?;
+        if rest.is_empty() {
+            Ok(())
+        } else {
+            Err(IntegratorError::BadCheckpoint(format!(
+                "{} values left over after the state of the bodies and the integrator",
+                rest.len()
+            )))
         }
     }
 
