@@ -18,6 +18,7 @@ use crate::bodies::{BodyIntegrator, BodySystem, Evaluation, Space};
 use crate::integrators::{NoSquishOptions, Splitting};
 use crate::scene::{BodyScene, Scene, SceneError};
 use crate::simulation::{Energies, EnergyHistory, EnergyReference, RunReport, Stop};
+use crate::units::{quantity_dimension, Dimension, Units};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -39,7 +40,7 @@ pub(super) fn run_bodies(
     threads: &Threads,
 ) -> Result<RunResult, RunError> {
     let mut system = bodies.system()?;
-    let mut integrator = BodyIntegrator::new(&scene.integrator, &mut system, scene.dt)
+    let mut integrator = BodyIntegrator::new(&scene.integrator, &mut system, scene.engine_dt())
         .map_err(|e| SceneError::from(e.at("integrator")))?;
     let folder = outputs.dir.as_deref().map(OutputFolder::lock).transpose()?;
     let dir = folder.as_ref().map(|f| f.dir().to_path_buf());
@@ -64,6 +65,7 @@ pub(super) fn run_bodies(
     };
     let described = |mut summary: Summary, builds: u64| {
         summary.bodies = Some(BodiesSummary::new(&system_counts(bodies), bodies, builds));
+        summary.units = scene.units.names();
         summary
     };
     let running = match files {
@@ -152,13 +154,18 @@ fn run_steps(
             if let (true, Some(e)) = (due(spec.every), evaluation) {
                 row.clear();
                 for q in &spec.quantities {
+                    let start = row.len();
                     q.write(system, e, &mut row);
+                    let dimension = quantity_dimension(*q);
+                    for value in &mut row[start..] {
+                        *value = scene.units.from_internal(*value, dimension);
+                    }
                 }
                 rows.push(step, time, &row)?;
             }
         }
         if let Some(t) = gsd.as_deref_mut().filter(|t| due(t.every)) {
-            write_frame(&mut t.writer, system, step, &t.cell)
+            write_frame(&mut t.writer, system, (step, scene.units), &t.cell)
                 .map_err(|e| RunError::io(&t.path, e))?;
         }
         if step == scene.steps {
@@ -246,13 +253,15 @@ fn trajectory(system: &BodySystem, every: u64, path: PathBuf) -> Result<Trajecto
 }
 /// Writes the frame of `system` at `step`: centres wrapped into the box
 /// with their image counts (open space: the centres as they are, relative
-/// to the box of the first frame), HOOMD's centred coordinates.
+/// to the box of the first frame), HOOMD's centred coordinates; velocities
+/// and angular momenta in the scene's `units`.
 fn write_frame(
     writer: &mut GsdWriter,
     system: &BodySystem,
-    step: u64,
+    (step, units): (u64, Units),
     cell: &GsdBox,
 ) -> std::io::Result<()> {
+    let rate = |c: f64| units.from_internal(c, Dimension::Rate) as f32;
     let n = system.bodies.len();
     let (mut position, mut orientation) = (Vec::with_capacity(n), Vec::with_capacity(n));
     let (mut velocity, mut angmom, mut image) = (
@@ -266,9 +275,9 @@ fn write_frame(
         let centred = x - cell.corner - cell.lengths * 0.5;
         position.push(centred.map(|c| c as f32).into());
         orientation.push(b.orientation.0.map(|c| c as f32));
-        velocity.push(b.velocity.map(|c| c as f32).into());
+        velocity.push(b.velocity.map(rate).into());
         let p = NoSquishOptions::momentum(&b.orientation, &b.angular_momentum_body);
-        angmom.push(p.0.map(|c| c as f32));
+        angmom.push(p.0.map(rate));
         image.push(images.map(|i| i as i32));
     }
     writer.write_bodies(

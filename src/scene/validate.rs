@@ -14,7 +14,9 @@ use super::rotors::{rotors, Rotors};
 use super::run_length::run_length;
 use super::thermostat::thermostat;
 use crate::bodies::BodyIntegrator;
+use crate::checks::num;
 use crate::potential::ExternalFields;
+use crate::units::{Units, MAX_REAL_DT_FS};
 
 /// The only scene format version this build reads.
 pub const SCENE_VERSION: i64 = 1;
@@ -81,22 +83,28 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
             ),
         ));
     }
-    let raw_rotors = match (&raw.rotors, &raw.bodies) {
-        (Some(r), None) => r,
-        (None, Some(b)) => return validate_bodies(raw, b),
-        (Some(_), Some(_)) => {
-            return Err(SceneError::field(
-                "bodies",
-                "a scene declares [rotors] or [bodies], not both",
-            ))
-        }
-        (None, None) => {
-            return Err(SceneError::field(
-                "rotors",
-                "missing: a scene declares [rotors] or [bodies]",
-            ))
-        }
-    };
+    let units = raw.units.unwrap_or_default();
+    let raw_rotors =
+        match (&raw.rotors, &raw.bodies) {
+            (Some(_), None) if units != Units::Reduced => return Err(SceneError::field(
+                "units",
+                "scenes of rotors are in reduced units only: real units are for scenes of bodies",
+            )),
+            (Some(r), None) => r,
+            (None, Some(b)) => return validate_bodies(raw, b),
+            (Some(_), Some(_)) => {
+                return Err(SceneError::field(
+                    "bodies",
+                    "a scene declares [rotors] or [bodies], not both",
+                ))
+            }
+            (None, None) => {
+                return Err(SceneError::field(
+                    "rotors",
+                    "missing: a scene declares [rotors] or [bodies]",
+                ))
+            }
+        };
     if let Some(field) = [
         ("body_types", raw.body_types.is_some()),
         ("body_interactions", raw.body_interactions.is_some()),
@@ -137,6 +145,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         description: description(raw.description.as_deref())?,
         rotors,
         bodies: None,
+        units,
         interactions,
         fields,
         initial,
@@ -176,13 +185,24 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
             "bodies run at constant energy only so far: leave [thermostat] out",
         ));
     }
+    let units = raw.units.unwrap_or_default();
     let (mut bodies, seed) = body_scene(
         raw.body_types.as_ref(),
         raw_bodies,
         raw.body_interactions.as_ref(),
         raw.initial.as_ref(),
+        units,
     )?;
     let (dt, steps) = run_length(&raw.run)?;
+    if units == Units::Real && dt > MAX_REAL_DT_FS {
+        return Err(SceneError::field(
+            "run.dt",
+            format!(
+                "must be at most {MAX_REAL_DT_FS} fs in real units (rigid water is stable to about 4 fs), got {}",
+                num(dt)
+            ),
+        ));
+    }
     let raw_record = raw.record.clone().unwrap_or_default();
     bodies.series = body_record(&raw_record, &bodies.space)?;
     if raw_record.checkpoint_every.is_some() {
@@ -216,6 +236,7 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
         description: description(raw.description.as_deref())?,
         rotors: Vec::new(),
         bodies: Some(bodies),
+        units,
         interactions: None,
         fields: ExternalFields::NONE,
         initial: Vec::new(),
