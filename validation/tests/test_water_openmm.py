@@ -37,7 +37,7 @@ KJ_PER_KCAL = 4.184
 # Grigera & Straatsma, J. Phys. Chem. 91, 6269 (1987); TIP3P, Jorgensen et
 # al., J. Chem. Phys. 79, 926 (1983) (A = 582.0e3 kcal A^12/mol, C = 595.0
 # kcal A^6/mol); TIP4P/2005, Abascal & Vega, J. Chem. Phys. 123, 234505
-# (2005) (epsilon/k_B = 93.2 K, R = 8.314462618 J/(mol K)).
+# (2005) (epsilon/k_B = 93.2 K, with the exact k_B N_A of SI 2019).
 PUBLISHED = {
     "spce": dict(r=1.0, angle=109.47, q_h=0.4238, d_om=0.0, sigma=3.166, epsilon=0.650 / KJ_PER_KCAL),
     "tip3p": dict(
@@ -46,7 +46,7 @@ PUBLISHED = {
     ),
     "tip4p_2005": dict(
         r=0.9572, angle=104.52, q_h=0.5564, d_om=0.1546,
-        sigma=3.1589, epsilon=93.2 * 8.314462618 / 4184,
+        sigma=3.1589, epsilon=93.2 * 1.380649e-23 * 6.02214076e23 / 4184,
     ),
 }
 MOLECULES = 8
@@ -281,3 +281,37 @@ def test_the_cli_writes_real_units_and_names_them(tmp_path):
     np.testing.assert_array_equal([float(r["time"]) for r in rows], python["time"])
     assert float(rows[-1]["time"]) == 25.0
     np.testing.assert_array_equal([float(r["total_energy"]) for r in rows], python["total_energy"])
+
+
+def test_a_generated_start_is_at_its_temperature_in_kelvin():
+    """64 SPC/E molecules drawn at 298 K: T_trans and T_rot at t = 0 come
+    out in K near 298 (a wrong factor, k_B or 4.184, is off by 500 or 4;
+    the bounds are 3 standard deviations of 189 and 192 degrees of freedom)."""
+    scene = nve_scene("real", 1.0, 1)
+    del scene["bodies"]["list"]
+    scene["bodies"] = {"kind": "random", "counts": [64], "density": 0.0005, "closest": 3.0}
+    scene["body_interactions"] = {
+        "lennard_jones": {"cutoff": 9.0}, "electrostatics": {"kind": "cutoff", "cutoff": 9.0},
+    }
+    scene["initial"] = {"kind": "random", "seed": 4, "temperature": 298.0}
+    scene["record"]["series"][0]["quantities"] = ["T_trans", "T_rot"]
+    series = quatrot.run(scene)["series"]["energies"]
+    for column in ("T_trans", "T_rot"):
+        assert 298 * (1 - 3 * math.sqrt(2 / 189)) < series[column][0] < 298 * (1 + 3 * math.sqrt(2 / 189))
+
+
+def test_bodies_evaluate_gives_the_ideal_gas_pressure_in_atm():
+    """Two bodies that do not interact, moving at given velocities (A/fs) in
+    a 20 A box: P = 2 K_trans / (3 V), converted by hand to atm (1
+    kcal/(mol A^3) = 4184 / N_A * 1e30 / 101325 atm)."""
+    point = {"sites": [{"position": [0, 0, 0], "mass": 10.0}], "inertia": np.eye(3).tolist()}
+    velocities = np.array([[0.01, 0.0, 0.0], [0.0, -0.02, 0.005]])
+    state = quatrot.bodies_evaluate(
+        [point], [[1, 1, 1], [5, 5, 5]], [[1, 0, 0, 0]] * 2,
+        velocities=velocities, box_lengths=[20.0] * 3, units="real",
+    )
+    kinetic = 0.5 * 10.0 * (velocities**2).sum() * 1e-3 * 1e-20 / 1e-30 / 4184  # kcal/mol
+    atm_per_kcal_mol_a3 = 4184 / 6.02214076e23 * 1e30 / 101325
+    expected = 2 * kinetic / (3 * 20.0**3) * atm_per_kcal_mol_a3
+    assert state["pressure"] == pytest.approx(expected, rel=1e-13)
+    assert state["pressure_tail"] == 0.0
