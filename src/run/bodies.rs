@@ -14,7 +14,7 @@ use super::series::{CsvTarget, Rows};
 use super::summary::{BodiesSummary, Summary, Threads};
 use super::summary_file::{in_progress, placed, record_failure};
 use super::trajectory::GSD_OPEN_MARGIN;
-use crate::bodies::{BodyIntegrator, BodySystem, Evaluation, Space};
+use crate::bodies::{BodyIntegrator, BodyQuantity, BodySystem, Evaluation, Space};
 use crate::integrators::{NoSquishOptions, Splitting};
 use crate::scene::{BodyScene, Scene, SceneError};
 use crate::simulation::{Energies, EnergyHistory, EnergyReference, RunReport, Stop};
@@ -152,15 +152,7 @@ fn run_steps(
         for (rows, spec) in series.iter_mut().zip(&bodies.series) {
             // A series is due only at a sampled step, which has the evaluation.
             if let (true, Some(e)) = (due(spec.every), evaluation) {
-                row.clear();
-                for q in &spec.quantities {
-                    let start = row.len();
-                    q.write(system, e, &mut row);
-                    let dimension = quantity_dimension(*q);
-                    for value in &mut row[start..] {
-                        *value = scene.units.from_internal(*value, dimension);
-                    }
-                }
+                write_row(&spec.quantities, (&*system, e), scene.units, &mut row);
                 rows.push(step, time, &row)?;
             }
         }
@@ -188,6 +180,25 @@ fn run_steps(
         energy_history: history,
         wall_seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Writes the values of `quantities` for `system` after its evaluation
+/// `e` into `row`, in `units`.
+fn write_row(
+    quantities: &[BodyQuantity],
+    (system, e): (&BodySystem, &Evaluation),
+    units: Units,
+    row: &mut Vec<f64>,
+) {
+    row.clear();
+    for q in quantities {
+        let start = row.len();
+        q.write(system, e, row);
+        let dimension = quantity_dimension(*q);
+        for value in &mut row[start..] {
+            *value = units.from_internal(*value, dimension);
+        }
+    }
 }
 
 /// The first body whose state is not finite, or body 0 when the energy

@@ -14,9 +14,8 @@ use super::rotors::{rotors, Rotors};
 use super::run_length::run_length;
 use super::thermostat::thermostat;
 use crate::bodies::BodyIntegrator;
-use crate::checks::num;
 use crate::potential::ExternalFields;
-use crate::units::{Units, MAX_REAL_DT_FS};
+use crate::units::Units;
 
 /// The only scene format version this build reads.
 pub const SCENE_VERSION: i64 = 1;
@@ -83,29 +82,24 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
             ),
         ));
     }
-    let units = raw.units.unwrap_or_default();
-    let raw_rotors =
-        match (&raw.rotors, &raw.bodies) {
-            (Some(_), None) if units != Units::Reduced => return Err(SceneError::field(
-                "units",
-                "scenes of rotors are in reduced units only: real units are for scenes of bodies",
-            )),
-            (Some(r), None) => r,
-            (None, Some(b)) => return validate_bodies(raw, b),
-            (Some(_), Some(_)) => {
-                return Err(SceneError::field(
-                    "bodies",
-                    "a scene declares [rotors] or [bodies], not both",
-                ))
-            }
-            (None, None) => {
-                return Err(SceneError::field(
-                    "rotors",
-                    "missing: a scene declares [rotors] or [bodies]",
-                ))
-            }
-        };
+    let raw_rotors = match (&raw.rotors, &raw.bodies) {
+        (Some(r), None) => r,
+        (None, Some(b)) => return validate_bodies(raw, b),
+        (Some(_), Some(_)) => {
+            return Err(SceneError::field(
+                "bodies",
+                "a scene declares [rotors] or [bodies], not both",
+            ))
+        }
+        (None, None) => {
+            return Err(SceneError::field(
+                "rotors",
+                "missing: a scene declares [rotors] or [bodies]",
+            ))
+        }
+    };
     if let Some(field) = [
+        ("units", raw.units.is_some_and(|u| u != Units::Reduced)),
         ("body_types", raw.body_types.is_some()),
         ("body_interactions", raw.body_interactions.is_some()),
     ]
@@ -134,7 +128,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
     let (initial, seed) = initial(raw_initial, &rotors)?;
     let integrator = raw.integrator.spec;
     let thermostat = thermostat(raw.thermostat.as_ref(), &integrator, seed)?;
-    let (dt, steps) = run_length(&raw.run)?;
+    let (dt, steps) = run_length(&raw.run, Units::Reduced)?;
     let record = record(
         raw.record.as_ref().unwrap_or(&RawRecord::default()),
         &integrator,
@@ -145,7 +139,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         description: description(raw.description.as_deref())?,
         rotors,
         bodies: None,
-        units,
+        units: Units::Reduced,
         interactions,
         fields,
         initial,
@@ -193,16 +187,7 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
         raw.initial.as_ref(),
         units,
     )?;
-    let (dt, steps) = run_length(&raw.run)?;
-    if units == Units::Real && dt > MAX_REAL_DT_FS {
-        return Err(SceneError::field(
-            "run.dt",
-            format!(
-                "must be at most {MAX_REAL_DT_FS} fs in real units (rigid water is stable to about 4 fs), got {}",
-                num(dt)
-            ),
-        ));
-    }
+    let (dt, steps) = run_length(&raw.run, units)?;
     let raw_record = raw.record.clone().unwrap_or_default();
     bodies.series = body_record(&raw_record, &bodies.space)?;
     if raw_record.checkpoint_every.is_some() {

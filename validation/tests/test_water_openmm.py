@@ -32,6 +32,8 @@ import quatrot
 openmm = pytest.importorskip("openmm")
 from openmm import unit  # noqa: E402
 
+from validation.tests.test_unit_constants import openmm_coulomb_kcal_per_mol_angstrom  # noqa: E402
+
 KJ_PER_KCAL = 4.184
 # The models as published (Angstrom, degrees, e, kcal/mol): SPC/E, Berendsen,
 # Grigera & Straatsma, J. Phys. Chem. 91, 6269 (1987); TIP3P, Jorgensen et
@@ -119,23 +121,6 @@ def quatrot_coulomb_constant():
     return state["energies"]["electrostatic"]
 
 
-def openmm_coulomb_constant():
-    """OpenMM's energy of two unit charges 1 A apart, kcal/mol."""
-    system = openmm.System()
-    force = openmm.NonbondedForce()
-    force.setNonbondedMethod(openmm.NonbondedForce.NoCutoff)
-    for _ in range(2):
-        system.addParticle(1.0)
-        force.addParticle(1.0, 0.1, 0.0)
-    system.addForce(force)
-    context = openmm.Context(
-        system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference")
-    )
-    context.setPositions([openmm.Vec3(0, 0, 0), openmm.Vec3(0.1, 0, 0)])
-    kj = context.getState(getEnergy=True).getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole)
-    return kj / KJ_PER_KCAL
-
-
 @pytest.mark.parametrize("model", sorted(PUBLISHED))
 def test_a_water_cluster_matches_openmm_by_term(model):
     """Energies by term (kcal/mol and kJ/mol), site forces, body forces and
@@ -152,7 +137,7 @@ def test_a_water_cluster_matches_openmm_by_term(model):
     reference_kj, forces_kj = openmm_groups(sites, parameters)
     reference = {k: v / KJ_PER_KCAL for k, v in reference_kj.items()}
     energies = state["energies"]
-    c_quatrot, c_openmm = quatrot_coulomb_constant(), openmm_coulomb_constant()
+    c_quatrot, c_openmm = quatrot_coulomb_constant(), openmm_coulomb_kcal_per_mol_angstrom()
     print(f"{model}: Coulomb constants quatrot {c_quatrot!r}, OpenMM {c_openmm!r} kcal A/(mol e^2)")
     assert c_quatrot / c_openmm == pytest.approx(1.0, abs=1e-14)  # both CODATA 2018
     ratio = energies["electrostatic"] / reference["electrostatic"]
@@ -266,8 +251,12 @@ def toml_value(value):
 
 def test_the_cli_writes_real_units_and_names_them(tmp_path):
     """From the command line: the CSV's time column is in fs, summary.json
-    records the units, and the series equal the Python run's."""
+    records the units, the series equal the Python run's, and the GSD's
+    first frame has the given velocities in A/fs (float32)."""
+    import gsd.hoomd
+
     scene = nve_scene("real", 0.5, 50)
+    scene["record"]["trajectory"] = {"every": 10, "format": "gsd"}
     text = "\n".join(f"{k} = {toml_value(v)}" for k, v in scene.items())
     path = tmp_path / "water.toml"
     path.write_text(text)
@@ -281,6 +270,9 @@ def test_the_cli_writes_real_units_and_names_them(tmp_path):
     np.testing.assert_array_equal([float(r["time"]) for r in rows], python["time"])
     assert float(rows[-1]["time"]) == 25.0
     np.testing.assert_array_equal([float(r["total_energy"]) for r in rows], python["total_energy"])
+    given = [b["velocity"] for b in scene["bodies"]["list"]]
+    with gsd.hoomd.open(out / "trajectory.gsd") as frames:
+        np.testing.assert_allclose(frames[0].particles.velocity, given, rtol=1e-6)
 
 
 def test_a_generated_start_is_at_its_temperature_in_kelvin():
