@@ -250,7 +250,7 @@ def toml_value(value):
 
 
 def test_the_cli_writes_real_units_and_names_them(tmp_path):
-    """From the command line: the CSV's time column is in fs, summary.json
+    """From the command line: `check` shows dt in fs, the CSV's time column is in fs, summary.json
     records the units, the series equal the Python run's, and the GSD's
     first frame has the given velocities in A/fs (float32)."""
     import gsd.hoomd
@@ -261,6 +261,9 @@ def test_the_cli_writes_real_units_and_names_them(tmp_path):
     path = tmp_path / "water.toml"
     path.write_text(text)
     out = tmp_path / "out"
+    check = subprocess.run([sys.executable, "-m", "quatrot", "check", str(path)],
+                           check=True, capture_output=True, text=True)
+    assert "8 bodies, no_squish, dt 0.5 fs, 50 steps" in check.stdout
     subprocess.run([sys.executable, "-m", "quatrot", "run", str(path), "--out", str(out)], check=True)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["units"]["system"] == "real" and summary["units"]["pressure"] == "atm"
