@@ -131,3 +131,36 @@ fn spec(raw: &RawBodyType, units: Units) -> Result<BodyTypeSpec, InputError> {
         inertia: raw.inertia.as_ref().map(matrix),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::units::{COULOMB_KCAL_ANGSTROM, DEBYE_E_ANGSTROM};
+
+    /// In real units a site's charge (e) becomes `q sqrt(C)`, its dipole
+    /// (D) and quadrupole (D A) `0.20819434 sqrt(C)` times themselves;
+    /// positions, masses and Lennard-Jones are kept; reduced units keep
+    /// every value.
+    #[test]
+    fn real_units_scale_the_electrostatics_only() {
+        let text = r#"body_types = [{ mass = 18.0, inertia = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]],
+            sites = [{ position = [0.0, 0.0, 0.0], charge = -0.5, dipole = [0.0, 0.0, 2.0],
+                       quadrupole = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -2.0]],
+                       lennard_jones = { epsilon = 0.15, sigma = 3.1 } }] }]"#;
+        let table: toml::Table = toml::from_str(text).expect("TOML");
+        let value = table["body_types"].clone();
+        let real = body_types(value.clone(), Units::Real).expect("real")[0].sites[0].clone();
+        let reduced = body_types(value, Units::Reduced).expect("reduced")[0].sites[0].clone();
+        let root_c = COULOMB_KCAL_ANGSTROM.sqrt();
+        assert_eq!(reduced.charge, -0.5);
+        assert!((real.charge - -0.5 * root_c).abs() < 1e-14);
+        let dipole = |s: &Site| s.dipole.expect("a dipole").norm();
+        assert!((dipole(&real) - 2.0 * DEBYE_E_ANGSTROM * root_c).abs() < 1e-13);
+        assert_eq!(dipole(&reduced), 2.0);
+        let zz = |s: &Site| s.quadrupole.expect("a quadrupole").amax();
+        assert!((zz(&real) - 2.0 * DEBYE_E_ANGSTROM * root_c).abs() < 1e-13);
+        assert_eq!(zz(&reduced), 2.0);
+        assert_eq!(real.lennard_jones, reduced.lennard_jones);
+        assert_eq!(real.position, reduced.position);
+    }
+}

@@ -310,3 +310,17 @@ def test_bodies_evaluate_gives_the_ideal_gas_pressure_in_atm():
     expected = 2 * kinetic / (3 * 20.0**3) * atm_per_kcal_mol_a3
     assert state["pressure"] == pytest.approx(expected, rel=1e-13)
     assert state["pressure_tail"] == 0.0
+
+
+def test_point_dipoles_are_in_debye():
+    """Two point dipoles of 2 D head to tail 3 A apart in real units: the
+    closed form -2 mu^2 / r^3 with mu = 2 D = 2 * 0.20819434 e A (1 D =
+    1e-21 / c C m) and the Coulomb constant, in kcal/mol."""
+    polar = {"sites": [{"position": [0, 0, 0], "dipole": [0, 0, 2.0]}], "mass": 1.0,
+             "inertia": np.eye(3).tolist()}
+    state = quatrot.bodies_evaluate(
+        [polar], [[0, 0, 0], [0, 0, 3.0]], [[1, 0, 0, 0]] * 2, electrostatic_cutoff=5.0, units="real"
+    )
+    debye = 1e-21 / 299792458 / (1.602176634e-19 * 1e-10)
+    mu = 2.0 * debye
+    assert state["energies"]["electrostatic"] == pytest.approx(-2 * COULOMB * mu**2 / 3.0**3, rel=1e-14)
