@@ -42,7 +42,7 @@ fn argument_path(e: InputError) -> PyErr {
 /// virial of rigid bodies at one configuration.
 ///
 /// In `units`: reduced (`4 pi eps0 = 1`, `k_B = 1`), or real (Angstrom,
-/// g/mol, kcal/mol, fs, e, Debye, atm: [`crate::units`]). Sites of different bodies
+/// g/mol, kcal/mol, fs, e, Debye, atm, as LAMMPS `units real`). Sites of different bodies
 /// interact (never within one): Lennard-Jones truncated at `lj_cutoff`,
 /// charges and point dipoles truncated at `electrostatic_cutoff` as LAMMPS
 /// `pair_style lj/cut/dipole/cut` (bare pair energies, no shift). Each body
