@@ -153,7 +153,10 @@ const POLL: Duration = Duration::from_millis(20);
 ///     `summary` (dict, as `summary.json`), `series` ({name: {column:
 ///     ndarray}}), `trajectory` (None, or `step`, `time`, `orientations`
 ///     (frames, n, 4), `omega_body` (frames, n, 3)), `sites` (n, 3),
-///     `initial_orientations` (n, 4), `initial_omega_body` (n, 3).
+///     `initial_orientations` (n, 4), `initial_omega_body` (n, 3). A
+///     scene in real units (``units = "real"``) returns its series in them
+///     (time in fs, temperatures in K, pressure in atm) and its summary
+///     names them (``summary["units"]``).
 ///
 /// Raises
 /// ------

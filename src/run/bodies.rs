@@ -19,12 +19,15 @@ use super::summary_file::{
     in_progress, keep_earlier_summary, placed, record_failure, SummaryAfterCheckpoint,
 };
 use super::trajectory::GSD_OPEN_MARGIN;
-use crate::bodies::{BodyIntegrator, BodySystem, Evaluation, Overlap, Space, OVERLAP_FRACTION};
+use crate::bodies::{
+    BodyIntegrator, BodyQuantity, BodySystem, Evaluation, Overlap, Space, OVERLAP_FRACTION,
+};
 use crate::integrators::{IntegratorError, NoSquishOptions, Splitting};
 use crate::scene::{BodyScene, BodySeries, Scene, SceneError};
 use crate::simulation::{
     CheckpointSink, Energies, EnergyHistory, EnergyReference, RunReport, Stop,
 };
+use crate::units::{quantity_dimension, Dimension, Units};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -63,8 +66,13 @@ pub(super) fn run_bodies(
 ) -> Result<RunResult, RunError> {
     let mut system = bodies.system()?;
     let thermostat = scene.thermostat.as_ref();
-    let mut integrator = BodyIntegrator::new(&scene.integrator, thermostat, &mut system, scene.dt)
-        .map_err(|e| SceneError::from(e.at("integrator")))?;
+    let mut integrator = BodyIntegrator::new(
+        &scene.integrator,
+        thermostat,
+        &mut system,
+        scene.engine_dt(),
+    )
+    .map_err(|e| SceneError::from(e.at("integrator")))?;
     let (start_step, reference) = match restart {
         Some(path) => {
             let checkpoint = read_checkpoint(scene, path)?;
@@ -107,6 +115,7 @@ pub(super) fn run_bodies(
     keep_earlier_summary(files, start_step)?;
     let described = |mut summary: Summary, builds: u64| {
         summary.bodies = Some(BodiesSummary::new(&system_counts(bodies), bodies, builds));
+        summary.units = scene.units.names();
         summary
     };
     let running = match files {
@@ -233,15 +242,17 @@ fn run_steps(
         for (rows, spec) in series.iter_mut().zip(&bodies.series) {
             // A series is due only at a sampled step, which has the evaluation.
             if let (true, Some(e)) = (due(spec.every), evaluation) {
-                row.clear();
-                for q in &spec.quantities {
-                    q.write(system, e, thermostat, &mut row);
-                }
+                write_row(
+                    &spec.quantities,
+                    (&*system, e, thermostat),
+                    scene.units,
+                    &mut row,
+                );
                 rows.push(step, time, &row)?;
             }
         }
         if let Some(t) = gsd.as_deref_mut().filter(|t| due(t.every)) {
-            write_frame(&mut t.writer, system, step, &t.cell)
+            write_frame(&mut t.writer, system, (step, scene.units), &t.cell)
                 .map_err(|e| RunError::io(&t.path, e))?;
         }
         let saved = match checkpoints.as_deref_mut() {
@@ -293,6 +304,26 @@ fn save(
         rows.flush()?;
     }
     sink.write(step, &state, Some(reference))
+}
+
+/// Writes the values of `quantities` for `system` after its evaluation
+/// `e` (with the thermostat's share `thermostat` of the conserved energy)
+/// into `row`, in `units`.
+fn write_row(
+    quantities: &[BodyQuantity],
+    (system, e, thermostat): (&BodySystem, &Evaluation, f64),
+    units: Units,
+    row: &mut Vec<f64>,
+) {
+    row.clear();
+    for q in quantities {
+        let start = row.len();
+        q.write(system, e, thermostat, row);
+        let dimension = quantity_dimension(*q);
+        for value in &mut row[start..] {
+            *value = units.from_internal(*value, dimension);
+        }
+    }
 }
 
 /// What has gone wrong at a blow-up check, naming the bodies: the pair of
@@ -392,13 +423,15 @@ fn trajectory(system: &BodySystem, every: u64, path: PathBuf) -> Result<Trajecto
 }
 /// Writes the frame of `system` at `step`: centres wrapped into the box
 /// with their image counts (open space: the centres as they are, relative
-/// to the box of the first frame), HOOMD's centred coordinates.
+/// to the box of the first frame), HOOMD's centred coordinates; velocities
+/// and angular momenta in the scene's `units`.
 fn write_frame(
     writer: &mut GsdWriter,
     system: &BodySystem,
-    step: u64,
+    (step, units): (u64, Units),
     cell: &GsdBox,
 ) -> std::io::Result<()> {
+    let rate = |c: f64| units.from_internal(c, Dimension::Rate) as f32;
     let n = system.bodies.len();
     let (mut position, mut orientation) = (Vec::with_capacity(n), Vec::with_capacity(n));
     let (mut velocity, mut angmom, mut image) = (
@@ -412,9 +445,9 @@ fn write_frame(
         let centred = x - cell.corner - cell.lengths * 0.5;
         position.push(centred.map(|c| c as f32).into());
         orientation.push(b.orientation.0.map(|c| c as f32));
-        velocity.push(b.velocity.map(|c| c as f32).into());
+        velocity.push(b.velocity.map(rate).into());
         let p = NoSquishOptions::momentum(&b.orientation, &b.angular_momentum_body);
-        angmom.push(p.0.map(|c| c as f32));
+        angmom.push(p.0.map(rate));
         image.push(images.map(|i| i as i32));
     }
     writer.write_bodies(

@@ -12,9 +12,10 @@ use super::raw::{RawBodies, RawRecord, RawRotors, RawScene};
 use super::record::{body_record, record, TrajectoryFormat};
 use super::rotors::{rotors, Rotors};
 use super::run_length::run_length;
-use super::thermostat::thermostat;
+use super::thermostat::{in_engine_units, thermostat};
 use crate::bodies::BodyIntegrator;
 use crate::potential::ExternalFields;
+use crate::units::Units;
 
 /// The only scene format version this build reads.
 pub const SCENE_VERSION: i64 = 1;
@@ -98,6 +99,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         }
     };
     if let Some(field) = [
+        ("units", raw.units.is_some_and(|u| u != Units::Reduced)),
         ("body_types", raw.body_types.is_some()),
         ("body_interactions", raw.body_interactions.is_some()),
     ]
@@ -126,7 +128,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
     let (initial, seed) = initial(raw_initial, &rotors)?;
     let integrator = raw.integrator.spec;
     let thermostat = thermostat(raw.thermostat.as_ref(), &integrator, seed)?;
-    let (dt, steps) = run_length(&raw.run)?;
+    let (dt, steps) = run_length(&raw.run, Units::Reduced)?;
     let record = record(
         raw.record.as_ref().unwrap_or(&RawRecord::default()),
         &integrator,
@@ -137,6 +139,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         description: description(raw.description.as_deref())?,
         rotors,
         bodies: None,
+        units: Units::Reduced,
         interactions,
         fields,
         initial,
@@ -170,17 +173,20 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
     }
     let integrator = raw.integrator.spec;
     BodyIntegrator::check(&integrator).map_err(|e| e.at("integrator"))?;
+    let units = raw.units.unwrap_or_default();
     let (mut bodies, seed) = body_scene(
         raw.body_types.as_ref(),
         raw_bodies,
         raw.body_interactions.as_ref(),
         raw.initial.as_ref(),
+        units,
     )?;
     if let Some(t) = &raw.thermostat {
         BodyIntegrator::check_thermostat(&integrator, &t.spec).map_err(|e| e.at("thermostat"))?;
     }
-    let thermostat = thermostat(raw.thermostat.as_ref(), &integrator, seed)?;
-    let (dt, steps) = run_length(&raw.run)?;
+    let thermostat =
+        thermostat(raw.thermostat.as_ref(), &integrator, seed)?.map(|t| in_engine_units(t, units));
+    let (dt, steps) = run_length(&raw.run, units)?;
     let raw_record = raw.record.clone().unwrap_or_default();
     bodies.series = body_record(&raw_record, &bodies.space)?;
     let no_series = RawRecord {
@@ -208,6 +214,7 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
         description: description(raw.description.as_deref())?,
         rotors: Vec::new(),
         bodies: Some(bodies),
+        units,
         interactions: None,
         fields: ExternalFields::NONE,
         initial: Vec::new(),
