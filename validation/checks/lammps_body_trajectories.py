@@ -28,7 +28,6 @@ floor at t = 0.2: 1.3e-5 and 3.5e-6 measured, order 1.9)."""
 
 from __future__ import annotations
 
-import tempfile
 from pathlib import Path
 
 import gsd.hoomd
@@ -36,7 +35,8 @@ import numpy as np
 
 import quatrot
 from validation.shared.check import Check, Context
-from validation.shared.lammps_driver import _load_lammps, lammps_version, quatrot_rotor, space_to_body
+from validation.shared.lammps_bodies import periodic_cube, side_by_side, unwrapped_positions
+from validation.shared.lammps_driver import lammps_version, quatrot_rotor, space_to_body
 
 N_SIDE = 4  # fcc: 256 spheres
 DENSITY, TEMPERATURE = 0.8, 1.35
@@ -72,20 +72,9 @@ def initial_state(seed: int):
 
 def lammps_run(box, centres, dipoles, velocities, omega, dt, steps):
     """Per-step pe, ke, erotate; every EVERY steps unwrapped x and mu."""
-    lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+    lmp = periodic_cube(box, "hybrid sphere dipole", centres)
     n = len(centres)
     try:
-        for c in [
-            "units lj",
-            "atom_style hybrid sphere dipole",
-            "atom_modify map array sort 0 0",
-            "boundary p p p",
-            f"region box block 0 {box:.17g} 0 {box:.17g} 0 {box:.17g}",
-            "create_box 1 box",
-        ]:
-            lmp.command(c)
-        for x in centres:
-            lmp.command(f"create_atoms 1 single {x[0]:.17g} {x[1]:.17g} {x[2]:.17g}")
         for c in [
             f"set type 1 diameter {DIAMETER:.17g}",
             f"set type 1 mass {MASS:.17g}",
@@ -110,12 +99,7 @@ def lammps_run(box, centres, dipoles, velocities, omega, dt, steps):
             energies.append([lmp.get_thermo("pe"), lmp.get_thermo("ke"), lmp.extract_compute("rke", 0, 0)])
             if step % EVERY == 0:
                 order = np.argsort(lmp.numpy.extract_atom("id")[:n])
-                x = np.array(lmp.numpy.extract_atom("x")[:n][order])
-                image = np.array(lmp.numpy.extract_atom("image")[:n][order]).astype(np.int64)
-                # LAMMPS packs the three image counts in one integer, 10 bits each.
-                counts = np.stack([(image & 1023) - 512, ((image >> 10) & 1023) - 512, (image >> 20) - 512], axis=1)
-                mu = np.array(lmp.numpy.extract_atom("mu")[:n, :3][order])
-                frames.append((x + counts * box, mu))
+                frames.append((unwrapped_positions(lmp, n, box), np.array(lmp.numpy.extract_atom("mu")[:n, :3][order])))
         return np.array(energies), frames
     finally:
         lmp.close()
@@ -171,20 +155,13 @@ def differences(state, dt: float, steps: int) -> dict:
     """Both codes over `steps` steps of `dt`: the energies' largest relative
     difference at step 0 and at the end, the centres' largest difference
     over the frames, the dipoles' at the end."""
-    box = state[0]
-    reference, lammps_frames = lammps_run(*state, dt, steps)
-    with tempfile.TemporaryDirectory() as tmp:
-        ours, quatrot_frames = quatrot_run(*state, dt, steps, Path(tmp))
-    energy = np.abs(ours - reference).max(axis=1) / abs(reference[0, 0])
-    centres = []
-    for (xq, _), (xl, _) in zip(quatrot_frames, lammps_frames):
-        d = xq - xl
-        centres.append(np.abs(d - box * np.round(d / box)).max())
+    energy, centres, frames = side_by_side(lammps_run, quatrot_run, state, dt, steps)
+    (_, ours), (_, reference) = frames[-1]
     return {
         "energy_start": float(energy[0]),
         "energy_end": float(energy[-1]),
-        "centres": float(max(centres)),
-        "dipoles_end": float(np.abs(quatrot_frames[-1][1] - lammps_frames[-1][1]).max()),
+        "centres": float(centres.max()),
+        "dipoles_end": float(np.abs(ours - reference).max()),
     }
 
 

@@ -20,7 +20,6 @@ its principal axes is quatrot's), energies within ~1e-14 relative for
 
 from __future__ import annotations
 
-import tempfile
 import tomllib
 from pathlib import Path
 
@@ -29,7 +28,8 @@ import numpy as np
 
 import quatrot
 from validation.shared.check import Check, Context
-from validation.shared.lammps_driver import _load_lammps, lammps_version, space_to_body
+from validation.shared.lammps_bodies import periodic_cube, side_by_side, unwrapped_positions
+from validation.shared.lammps_driver import lammps_version, space_to_body
 
 TEMPERATURE = 0.5
 CUTOFF = 2.612
@@ -83,23 +83,12 @@ def lammps_run(box, sites, centres, q, velocities, omega_body, dt, steps):
     x = site_positions(centres, np.tile(q, (n, 1)), sites).reshape(-1, 3)
     omega_space = omega_body @ rotation.T
     v = (velocities[:, None, :] + np.cross(omega_space[:, None, :], (rotation @ sites.T).T[None])).reshape(-1, 3)
-    lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+    # Sites wrapped into the box with their image counts, so that LAMMPS
+    # unwraps each molecule whole.
+    images = np.floor(x / box)
+    lmp = periodic_cube(box, "molecular", x - images * box)
     try:
-        for c in [
-            "units lj",
-            "atom_style molecular",
-            "atom_modify map array sort 0 0",
-            "boundary p p p",
-            f"region box block 0 {box:.17g} 0 {box:.17g} 0 {box:.17g}",
-            "create_box 1 box",
-            "mass 1 1.0",
-        ]:
-            lmp.command(c)
-        # Sites wrapped into the box with their image counts, so that LAMMPS
-        # unwraps each molecule whole.
-        images = np.floor(x / box)
-        for r in x - images * box:
-            lmp.command(f"create_atoms 1 single {r[0]:.17g} {r[1]:.17g} {r[2]:.17g}")
+        lmp.command("mass 1 1.0")
         for i, m in enumerate(images.astype(int)):
             lmp.command(f"set atom {i + 1} mol {i // per + 1} image {m[0]} {m[1]} {m[2]}")
         for c in [
@@ -119,10 +108,7 @@ def lammps_run(box, sites, centres, q, velocities, omega_body, dt, steps):
             lmp.command("run 0" if step == 0 else "run 1 pre no post no")
             energies.append([lmp.get_thermo("pe"), lmp.get_thermo("ke")])
             if step % EVERY == 0:
-                order = np.argsort(lmp.numpy.extract_atom("id")[: n * per])
-                image = np.array(lmp.numpy.extract_atom("image")[: n * per][order]).astype(np.int64)
-                counts = np.stack([(image & 1023) - 512, ((image >> 10) & 1023) - 512, (image >> 20) - 512], axis=1)
-                frames.append((np.array(lmp.numpy.extract_atom("x")[: n * per][order]) + counts * box).reshape(n, per, 3))
+                frames.append((unwrapped_positions(lmp, n * per, box).reshape(n, per, 3),))
         return np.array(energies), frames
     finally:
         lmp.close()
@@ -151,27 +137,15 @@ def quatrot_run(box, sites, centres, q, velocities, omega_body, dt, steps, out_d
         for frame in f:
             p = frame.particles
             x = p.position.astype(float) + box / 2 + p.image * box
-            frames.append(site_positions(x, p.orientation.astype(float), sites))
+            frames.append((site_positions(x, p.orientation.astype(float), sites),))
     return np.stack([series["potential_energy"], series["kinetic_energy"]], axis=1), frames
-
-
-def differences(state, dt: float, steps: int) -> dict:
-    box = state[0]
-    reference, lammps_frames = lammps_run(*state, dt, steps)
-    with tempfile.TemporaryDirectory() as tmp:
-        ours, quatrot_frames = quatrot_run(*state, dt, steps, Path(tmp))
-    energy = np.abs(ours - reference).max(axis=1) / abs(reference[0, 0])
-    sites = []
-    for xq, xl in zip(quatrot_frames, lammps_frames):
-        d = xq - xl
-        sites.append(np.abs(d - box * np.round(d / box)).max())
-    return {"energy": energy, "sites": np.array(sites)}
 
 
 def run(ctx: Context) -> list[Check]:
     steps = 20 if ctx.quick else 100
     ctx.progress(f"o-terphenyl, LAMMPS rigid/nve/small and quatrot NO_SQUISH: {steps} steps")
-    d = differences(initial_state(ctx.seed), DT, steps)
+    energy, sites, _ = side_by_side(lammps_run, quatrot_run, initial_state(ctx.seed), DT, steps)
+    d = {"energy": energy, "sites": sites}
     refs = {"LAMMPS": lammps_version(), "quatrot": quatrot.__version__}
     marks = [k for k in (0, 1, 10, 20, 50, 100) if k <= steps]
     details = (
