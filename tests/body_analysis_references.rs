@@ -5,7 +5,7 @@
 //! random points), 1 at every r; that of a perfect fcc lattice, its first
 //! shell of 12 neighbours at `a / sqrt 2` and its second of 6 at `a`; the
 //! FFT mean-squared displacement against the direct double sum, through
-//! unwrapping by image counts.
+//! unwrapping by image counts; the Einstein coefficient of random walkers.
 
 mod common;
 
@@ -57,6 +57,39 @@ fn free_particles_have_the_ballistic_msd() {
     let mean_slope = msd[28] / (28.0 * dt).powi(2) * 2.0 * 1.2;
     assert!((fit.slope / mean_slope - 1.0).abs() < 1e-9, "{fit:?}");
     assert!((fit.coefficient - fit.slope / 6.0).abs() < 1e-15);
+}
+
+/// Random walkers (Gaussian steps of variance `s^2` per component every
+/// `dt`) diffuse with `D = s^2 / (2 dt)`: the fit of the MSD over a stated
+/// window, lags 10 to 50 of 200 frames, gives it. The estimate averages
+/// 2000 independent walkers: its relative standard error is about
+/// `sqrt(2/3) / sqrt(2000) * 1.2` (the MSD at the window's lags, correlated
+/// over the window, ~2 %); 5 % is over two of those, and a D off by the
+/// factor 3 of a one-dimensional Einstein relation would fail.
+#[test]
+fn random_walkers_have_the_einstein_diffusion_coefficient() {
+    let mut rng = rng(3);
+    let (bodies, frames, dt, s) = (2000, 200, 0.1, 0.3_f64);
+    let mut r = vec![Vector3::zeros(); bodies * frames];
+    for t in 1..frames {
+        for i in 0..bodies {
+            let step = Vector3::from_fn(|_, _| s * rng.sample::<f64, _>(StandardNormal));
+            r[t * bodies + i] = r[(t - 1) * bodies + i] + step;
+        }
+    }
+    let msd = mean_squared_displacement(&Frames::new(&r, bodies, "positions").unwrap(), Some(60))
+        .unwrap();
+    let time: Vec<f64> = (0..msd.len()).map(|k| k as f64 * dt).collect();
+    let fit = self_diffusion(&time, &msd, (0.95, 5.05)).unwrap();
+    assert_eq!(fit.points, 41);
+    let exact = s * s / (2.0 * dt);
+    assert!(
+        (fit.coefficient / exact - 1.0).abs() < 0.05,
+        "{fit:?} vs {exact}"
+    );
+    // A straight line through the origin: the intercept is small beside the
+    // MSD at the window's end (its noise is ~2 % of the MSD there).
+    assert!(fit.intercept.abs() < 0.1 * msd[50], "{fit:?}");
 }
 
 /// The FFT estimate is the direct double sum over origins and bodies of

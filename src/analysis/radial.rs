@@ -48,24 +48,7 @@ pub fn radial_distribution(
     bins: usize,
 ) -> Result<RadialDistribution, AnalysisError> {
     check_box(box_lengths)?;
-    let half = 0.5 * box_lengths.min();
-    let r_max = match r_max {
-        None => half,
-        Some(r) => {
-            let r = finite_and_positive("r_max", r)?;
-            if r > half {
-                return Err(AnalysisError::new(
-                    "r_max",
-                    format!(
-                        "must be at most half the shortest box side {}, got {}",
-                        num(half),
-                        num(r)
-                    ),
-                ));
-            }
-            r
-        }
-    };
+    let r_max = largest_radius(box_lengths, r_max)?;
     if bins == 0 {
         return Err(AnalysisError::new("bins", "must be at least 1, got 0"));
     }
@@ -81,33 +64,7 @@ pub fn radial_distribution(
         (rayon::current_num_threads() as f64 + 4.0) * 8.0 * bins as f64,
     )?;
     let width = r_max / bins as f64;
-    let counts = (0..centres.frames() * n)
-        .into_par_iter()
-        .fold(
-            || vec![0u64; bins],
-            |mut counts, k| {
-                let (frame, i) = (centres.frame(k / n), k % n);
-                for other in &frame[i + 1..] {
-                    let mut d = other - frame[i];
-                    for c in 0..3 {
-                        d[c] -= box_lengths[c] * (d[c] / box_lengths[c]).round();
-                    }
-                    let r = d.norm();
-                    if r < r_max {
-                        // r < r_max: the bin is below `bins` but for round-off.
-                        counts[((r / width) as usize).min(bins - 1)] += 1;
-                    }
-                }
-                counts
-            },
-        )
-        .reduce(
-            || vec![0u64; bins],
-            |mut a, b| {
-                a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
-                a
-            },
-        );
+    let counts = pair_counts(centres, box_lengths, r_max, bins);
     let frames = centres.frames() as f64;
     let volume = box_lengths.product();
     let pair_density = frames * n as f64 * (n - 1) as f64 / volume;
@@ -143,4 +100,64 @@ pub fn radial_distribution(
         g,
         coordination,
     })
+}
+
+/// Pairs of each frame's centres at minimum-image distance `r < r_max`,
+/// counted in `bins` shells of equal width.
+fn pair_counts(
+    centres: &Frames<'_, Vector3<f64>>,
+    box_lengths: &Vector3<f64>,
+    r_max: f64,
+    bins: usize,
+) -> Vec<u64> {
+    let n = centres.rotors();
+    let width = r_max / bins as f64;
+    (0..centres.frames() * n)
+        .into_par_iter()
+        .fold(
+            || vec![0u64; bins],
+            |mut counts, k| {
+                let (frame, i) = (centres.frame(k / n), k % n);
+                for other in &frame[i + 1..] {
+                    let mut d = other - frame[i];
+                    for c in 0..3 {
+                        d[c] -= box_lengths[c] * (d[c] / box_lengths[c]).round();
+                    }
+                    let r = d.norm();
+                    if r < r_max {
+                        // r < r_max: the bin is below `bins` but for round-off.
+                        counts[((r / width) as usize).min(bins - 1)] += 1;
+                    }
+                }
+                counts
+            },
+        )
+        .reduce(
+            || vec![0u64; bins],
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
+                a
+            },
+        )
+}
+
+/// `r_max` if finite, > 0 and at most half the shortest side, which is the
+/// default.
+fn largest_radius(box_lengths: &Vector3<f64>, r_max: Option<f64>) -> Result<f64, AnalysisError> {
+    let half = 0.5 * box_lengths.min();
+    let Some(r) = r_max else {
+        return Ok(half);
+    };
+    let r = finite_and_positive("r_max", r)?;
+    if r > half {
+        return Err(AnalysisError::new(
+            "r_max",
+            format!(
+                "must be at most half the shortest box side {}, got {}",
+                num(half),
+                num(r)
+            ),
+        ));
+    }
+    Ok(r)
 }
