@@ -39,7 +39,8 @@ pub(super) fn run_bodies(
     threads: &Threads,
 ) -> Result<RunResult, RunError> {
     let mut system = bodies.system()?;
-    let mut integrator = BodyIntegrator::new(&scene.integrator, &mut system, scene.dt)
+    let thermostat = scene.thermostat.as_ref();
+    let mut integrator = BodyIntegrator::new(&scene.integrator, thermostat, &mut system, scene.dt)
         .map_err(|e| SceneError::from(e.at("integrator")))?;
     let folder = outputs.dir.as_deref().map(OutputFolder::lock).transpose()?;
     let dir = folder.as_ref().map(|f| f.dir().to_path_buf());
@@ -125,18 +126,20 @@ fn run_steps(
         let time = step as f64 * scene.dt;
         let due = |every: u64| step % every == 0;
         let sampled = bodies.series.iter().any(|s| due(s.every));
+        let thermostat = integrator.thermostat_energy();
         let evaluation = (sampled || due(scene.record.check_every) || step == scene.steps)
             .then(|| integrator.evaluated(system, &mut current));
         if let Some(e) = evaluation {
             let (k, v) = (kinetic(system), e.potential_energy());
             let total = k + v;
-            history.push(time, k, total);
+            let conserved = total + thermostat;
+            history.push(time, k, conserved);
             let energies = Energies {
                 kinetic: k,
                 potential: v,
                 total,
-                conserved: total,
-                error: reference.error(total),
+                conserved,
+                error: reference.error(conserved),
             };
             last = Some((step, energies));
             if let Some((body, reason)) = blown_up(system, total) {
@@ -152,7 +155,7 @@ fn run_steps(
             if let (true, Some(e)) = (due(spec.every), evaluation) {
                 row.clear();
                 for q in &spec.quantities {
-                    q.write(system, e, &mut row);
+                    q.write(system, e, thermostat, &mut row);
                 }
                 rows.push(step, time, &row)?;
             }

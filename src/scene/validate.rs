@@ -151,7 +151,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
 }
 
 /// Validates a scene of bodies: no rotor section, an integrator that moves
-/// bodies, no thermostat yet, only the series of [`BodyQuantity`]s and a
+/// bodies with the thermostats it carries for them, only the series of [`BodyQuantity`]s and a
 /// GSD trajectory, no checkpoints.
 ///
 /// [`BodyQuantity`]: crate::bodies::BodyQuantity
@@ -170,18 +170,16 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
     }
     let integrator = raw.integrator.spec;
     BodyIntegrator::check(&integrator).map_err(|e| e.at("integrator"))?;
-    if raw.thermostat.is_some() {
-        return Err(SceneError::field(
-            "thermostat",
-            "bodies run at constant energy only so far: leave [thermostat] out",
-        ));
-    }
     let (mut bodies, seed) = body_scene(
         raw.body_types.as_ref(),
         raw_bodies,
         raw.body_interactions.as_ref(),
         raw.initial.as_ref(),
     )?;
+    if let Some(t) = &raw.thermostat {
+        BodyIntegrator::check_thermostat(&integrator, &t.spec).map_err(|e| e.at("thermostat"))?;
+    }
+    let thermostat = thermostat(raw.thermostat.as_ref(), &integrator, seed)?;
     let (dt, steps) = run_length(&raw.run)?;
     let raw_record = raw.record.clone().unwrap_or_default();
     bodies.series = body_record(&raw_record, &bodies.space)?;
@@ -221,7 +219,7 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
         initial: Vec::new(),
         seed,
         integrator,
-        thermostat: None,
+        thermostat,
         dt,
         steps,
         threads: raw.run.threads.unwrap_or_default(),
