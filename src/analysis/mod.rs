@@ -11,6 +11,9 @@
 //! * [`order`](mod@order): the orientational order of a body axis frame by
 //!   frame (`P2`, director, `P1` along it or along a direction, per-rotor
 //!   cosines).
+//! * [`displacement`]: the mean-squared displacement of moving bodies'
+//!   unwrapped centres and the self-diffusion coefficient from it.
+//! * [`radial`]: the radial distribution function of body centres.
 //! * [`frames`]: the frame-major trajectory view the functions read.
 //!
 //! The order parameters and the total dipole of one configuration are
@@ -20,16 +23,22 @@
 mod autocorrelation;
 pub mod block_average;
 pub mod dielectric;
+pub mod displacement;
 mod error;
 pub mod frames;
 pub mod order;
+pub mod radial;
 pub mod time_correlation;
 
 pub use block_average::{block_average, BlockAverage, BlockLevel};
 pub use dielectric::{dielectric_constant, DielectricBoundary, DielectricConstant};
+pub use displacement::{
+    mean_squared_displacement, self_diffusion, unwrapped_positions, SelfDiffusion,
+};
 pub use error::AnalysisError;
 pub use frames::Frames;
 pub use order::{order_parameters, FrameOrder};
+pub use radial::{radial_distribution, RadialDistribution};
 pub use time_correlation::{
     lag_times, orientational_correlations, vector_autocorrelation, OrientationalCorrelation,
 };

@@ -48,7 +48,7 @@ pub fn lag_times(dt: f64, lags: usize) -> Result<Vec<f64>, AnalysisError> {
 
 /// `values` (correlations of the input `what`) if all finite, else the
 /// error that the input's magnitudes overflow.
-fn finite_correlation(values: Vec<f64>, what: &str) -> Result<Vec<f64>, AnalysisError> {
+pub(super) fn finite_correlation(values: Vec<f64>, what: &str) -> Result<Vec<f64>, AnalysisError> {
     if values.iter().all(|x| x.is_finite()) {
         Ok(values)
     } else {
@@ -61,7 +61,7 @@ fn finite_correlation(values: Vec<f64>, what: &str) -> Result<Vec<f64>, Analysis
 
 /// The largest lag: `max_lag` if given (must be below the frame count),
 /// else the last frame.
-fn largest_lag(frames: usize, max_lag: Option<usize>) -> Result<usize, AnalysisError> {
+pub(super) fn largest_lag(frames: usize, max_lag: Option<usize>) -> Result<usize, AnalysisError> {
     match max_lag {
         None => Ok(frames - 1),
         Some(k) if k < frames => Ok(k),

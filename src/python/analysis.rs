@@ -46,7 +46,7 @@ fn body_axes(axes: Option<&Bound<'_, PyAny>>) -> PyResult<(Vec<Vector3<f64>>, bo
 }
 
 /// The optional `max_lag` argument (frames).
-fn lag(max_lag: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+pub(super) fn lag(max_lag: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     Ok(optional_integer(max_lag, "max_lag", 0, u64::MAX)?
         .map(|m| usize::try_from(m).unwrap_or(usize::MAX)))
 }

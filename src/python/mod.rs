@@ -19,6 +19,7 @@ mod args;
 mod arrays;
 mod baselines;
 mod bodies;
+mod body_analysis;
 mod cli;
 mod dynamics;
 mod fluctuations;
@@ -69,6 +70,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     quaternion::register(m)?;
     run::register(m)?;
     analysis::register(m)?;
+    body_analysis::register(m)?;
     fluctuations::register(m)?;
     gsd::register(m)?;
     cli::register(m)?;

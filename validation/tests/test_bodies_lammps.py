@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import quatrot
+from validation.shared.lammps_bodies import periodic_cube
 from validation.shared.lammps_driver import _load_lammps, quatrot_rotor, space_to_body
 
 N = 256
@@ -54,19 +55,8 @@ def configuration(seed: int):
 
 def lammps_single_point(box, centres, dipoles, velocities, charges):
     """LAMMPS's evdwl, ecoul, forces, torques and pressure."""
-    lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+    lmp = periodic_cube(box, "hybrid sphere dipole", centres)
     try:
-        for c in [
-            "units lj",
-            "atom_style hybrid sphere dipole",
-            "atom_modify map array sort 0 0",
-            "boundary p p p",
-            f"region box block 0 {box:.17g} 0 {box:.17g} 0 {box:.17g}",
-            "create_box 1 box",
-        ]:
-            lmp.command(c)
-        for x in centres:
-            lmp.command(f"create_atoms 1 single {x[0]:.17g} {x[1]:.17g} {x[2]:.17g}")
         for c in [
             f"set type 1 mass {MASS:.17g}",
             f"pair_style lj/cut/dipole/cut {CUTOFF:.17g}",

@@ -126,7 +126,7 @@ def names_an_argument(message: str, arguments) -> bool:
 
 
 def test_the_guide_lists_the_analysis_functions():
-    assert len(FUNCTIONS) == 7 and {"block_average", "run_dielectric_constant"} <= set(FUNCTIONS)
+    assert len(FUNCTIONS) == 9 and {"block_average", "run_dielectric_constant"} <= set(FUNCTIONS)
 
 
 def test_hostile_arguments_are_refused_naming_the_argument_and_results_are_finite():

@@ -80,6 +80,11 @@ VALID = {
     "orientational_correlations": lambda tmp: dict(orientations=_unit((6, N)), dt=0.1, axes=np.eye(3)[:2]),
     "angular_velocity_correlation": lambda tmp: dict(omega=_vectors((6, N)), dt=0.1),
     "order_parameters": lambda tmp: dict(orientations=_unit((N,)), axis=np.array([0.0, 0.0, 1.0]), direction=np.array([1.0, 0.0, 0.0])),
+    "mean_squared_displacement": lambda tmp: dict(
+        positions=_vectors((6, N)), dt=0.1, images=np.ones((6, N, 3)), box_lengths=np.array([5.0, 5.0, 5.0]),
+        fit_window=np.array([0.1, 0.4]),
+    ),
+    "radial_distribution": lambda tmp: dict(positions=_vectors((4, N)), box_lengths=np.array([6.0, 6.0, 6.0]), r_max=2.0),
     "total_dipole": lambda tmp: dict(orientations=_unit((N,)), dipoles_body=_vectors()),
     "block_average": lambda tmp: dict(series=_rng().normal(size=64)),
     "dielectric_constant": lambda tmp: dict(dipoles=_vectors((64,)), volume=10.0, temperature=1.0),

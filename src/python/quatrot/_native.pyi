@@ -25,6 +25,8 @@ __all__ = [
     "angular_velocity_correlation",
     "order_parameters",
     "total_dipole",
+    "mean_squared_displacement",
+    "radial_distribution",
     "block_average",
     "dielectric_constant",
     "write_gsd",
@@ -121,6 +123,17 @@ def orientational_correlations(
 def angular_velocity_correlation(omega: _Array, dt: float, max_lag: int | None = None) -> dict[str, _F64]: ...
 def order_parameters(orientations: _Array, axis: _Array | None = None, direction: _Array | None = None) -> dict[str, Any]: ...
 def total_dipole(orientations: _Array, dipoles_body: _Array) -> _F64: ...
+def mean_squared_displacement(
+    positions: _Array,
+    dt: float,
+    images: _Array | None = None,
+    box_lengths: _Array | None = None,
+    max_lag: int | None = None,
+    fit_window: _Array | None = None,
+) -> dict[str, Any]: ...
+def radial_distribution(
+    positions: _Array, box_lengths: _Array, r_max: float | None = None, bins: int | None = None
+) -> dict[str, _F64]: ...
 def block_average(series: _Array) -> dict[str, Any]: ...
 def dielectric_constant(dipoles: _Array, volume: float, temperature: float, boundary: str | None = None) -> dict[str, Any]: ...
 def write_gsd(
