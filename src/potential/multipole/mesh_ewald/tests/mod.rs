@@ -7,6 +7,7 @@
 mod accuracy;
 mod guarantees;
 mod references;
+mod virial;
 
 use super::*;
 use crate::potential::multipole::ewald::EwaldSum;
