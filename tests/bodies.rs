@@ -160,12 +160,12 @@ fn bad_systems_are_refused_naming_the_field() {
         "box_lengths[1]: must be at least twice the cutoff plus the skin (5.6), got 5.5"
     );
     let no_coulomb = InteractionOptions {
-        electrostatic_cutoff: None,
+        electrostatics: None,
         ..ok
     };
     assert_eq!(
         message(bodies(2, 1.6, 1, 1), Space::Open, no_coulomb),
-        "electrostatic_cutoff: required when sites carry charges or dipoles"
+        "electrostatics: required when sites carry charges, dipoles or quadrupoles"
     );
     let mut unknown = bodies(2, 1.6, 1, 1);
     unknown[0].kind = 1;
