@@ -17,7 +17,8 @@ use super::neighbours::NeighbourList;
 use super::space::Space;
 use crate::checks::{positive, InputError};
 use crate::potential::multipole::mesh_ewald::{
-    add_source, pair_force, radial_derivatives, Carried, Sources, DERIVATIVES, UP_TO,
+    add_source, pair_force, radial_derivatives, Carried, MeshEstimate, MeshParameters, Sources,
+    DERIVATIVES, UP_TO,
 };
 use crate::potential::multipole::{
     charge_dipole_force, dipole_field, radial, radial_functions, ChargeDipole,
@@ -62,6 +63,11 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
     /// The distance within which it needs the pairs of sites (its
     /// real-space cutoff).
     fn pair_cutoff(&self) -> f64;
+
+    /// The parameters and estimated errors of a mesh sum (none by default).
+    fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        None
+    }
 
     /// Evaluates the sites' electrostatics into `out` (resized as needed).
     fn evaluate(

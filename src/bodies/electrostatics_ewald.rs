@@ -19,8 +19,8 @@
 //!
 //! The parameters (`alpha`, `r_c`, mesh, spline order) come from the
 //! requested accuracy by
-//! [`crate::potential::multipole::mesh_ewald::for_multipoles`], as for
-//! rotors; the mesh, its plans and every buffer are built once for the box
+//! [`crate::potential::multipole::mesh_ewald::for_multipoles_with_skin`],
+//! as for rotors but with `r_c` plus the skin within half the box; the mesh, its plans and every buffer are built once for the box
 //! and the number of sites.
 
 use super::electrostatics::{add_pairs, Electrostatics, SiteMultipoles, SiteResponse};
@@ -28,19 +28,22 @@ use super::neighbours::NeighbourList;
 use super::space::Space;
 use crate::checks::{num, InputError};
 use crate::potential::multipole::mesh_ewald::{
-    for_multipoles, Carried, MeshEstimate, MeshEwald, MeshParameters,
+    for_multipoles_with_skin, Carried, MeshEstimate, MeshEwald, MeshParameters,
 };
 use crate::potential::multipole::{radial_functions, SumMethod, Surface};
 use nalgebra::{Matrix3, Vector3};
 use std::ops::Range;
+
+/// The accuracy of a scene's Ewald sum of bodies that gives none (the
+/// rotors' default, 1e-12, is beyond what the mesh estimates reach).
+pub const DEFAULT_ACCURACY: f64 = 1e-6;
 
 /// The options of an Ewald sum of bodies' sites.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EwaldOptions {
     /// The relative accuracy of the fields, within
     /// [`crate::potential::multipole::mesh_ewald::ACCURACY_RANGE`] (as for
-    /// rotors: `mesh_ewald::for_multipoles`; default
-    /// [`crate::potential::multipole::Accuracy::DEFAULT`]).
+    /// rotors: `mesh_ewald::for_multipoles`; default [`DEFAULT_ACCURACY`]).
     pub accuracy: f64,
     /// The way of summing: `Pme` (`Auto` takes it; the direct sum of bodies
     /// is not built yet).
@@ -64,13 +67,14 @@ pub struct BodyEwald {
 
 impl BodyEwald {
     /// The sum of the sites of `site_body` (the body of each site, bodies in
-    /// order) carrying `carried` in the box `box_lengths`; errors name the
-    /// option (`accuracy`, `method`, `box_lengths`).
+    /// order) carrying `carried` in the box `box_lengths`, its real-space
+    /// cutoff fitting a neighbour list with `skin`; errors name the option
+    /// (`accuracy`, `method`, `box_lengths`).
     pub fn new(
         options: &EwaldOptions,
         carried: Carried,
         site_body: &[u32],
-        box_lengths: Vector3<f64>,
+        (box_lengths, skin): (Vector3<f64>, f64),
     ) -> Result<Self, InputError> {
         if !matches!(options.method, SumMethod::Pme | SumMethod::Auto) {
             return Err(InputError::new(
@@ -80,7 +84,7 @@ impl BodyEwald {
         }
         let accuracy = options.accuracy;
         let (parameters, estimate) =
-            for_multipoles(accuracy, carried, site_body.len(), &box_lengths, None, None)?;
+            for_multipoles_with_skin(accuracy, carried, site_body.len(), &box_lengths, skin)?;
         // The mesh was chosen for the accuracy: its size is the accuracy's.
         Self::with_parameters(parameters, options.surface, site_body, box_lengths)
             .map(|sum| BodyEwald { estimate, ..sum })
@@ -115,14 +119,13 @@ impl BodyEwald {
             virials: vec![Matrix3::zeros(); n],
         })
     }
-
-    /// The parameters chosen and their estimated errors.
-    pub fn parameters(&self) -> (MeshParameters, MeshEstimate) {
-        (self.mesh.parameters(), self.estimate)
-    }
 }
 
 impl Electrostatics for BodyEwald {
+    fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        Some((self.mesh.parameters(), self.estimate))
+    }
+
     fn pair_cutoff(&self) -> f64 {
         self.mesh.parameters().real_cutoff
     }

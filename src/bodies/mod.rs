@@ -38,7 +38,7 @@ pub mod temperature;
 
 pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
-pub use electrostatics_ewald::{BodyEwald, EwaldOptions};
+pub use electrostatics_ewald::{BodyEwald, EwaldOptions, DEFAULT_ACCURACY};
 pub use evaluate::Evaluation;
 pub use generate::{lattice_start, random_start, Lattice, LatticeStart, RandomStart, MAX_PACKING};
 pub use integrators::{

@@ -9,7 +9,7 @@ use super::neighbours::NeighbourList;
 use super::site::LennardJones;
 use super::space::Space;
 use crate::checks::{each, finite, non_negative, orientation, InputError};
-use crate::potential::multipole::mesh_ewald::Carried;
+use crate::potential::multipole::mesh_ewald::{Carried, MeshEstimate, MeshParameters};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
@@ -131,6 +131,7 @@ impl BodySystem {
             (None, false) => return Err(required("lennard_jones", "Lennard-Jones parameters")),
             (_, true) => None,
         };
+        let skin = non_negative(options.skin).map_err(|e| e.at("skin"))?;
         let electrostatic = carried.charges || carried.dipoles || carried.quadrupoles;
         let electrostatics: Option<Box<dyn Electrostatics>> =
             match (options.electrostatics, electrostatic) {
@@ -145,8 +146,16 @@ impl BodySystem {
                         ));
                     };
                     Some(Box::new(
-                        BodyEwald::new(&o, carried, &site_body, box_lengths)
-                            .map_err(|e| e.at("electrostatics"))?,
+                        BodyEwald::new(&o, carried, &site_body, (box_lengths, skin)).map_err(
+                            |e| {
+                                // A box the cutoff does not fit is the box's error.
+                                if e.path == "box_lengths" {
+                                    e
+                                } else {
+                                    e.at("electrostatics")
+                                }
+                            },
+                        )?,
                     ))
                 }
                 (None, true) => {
@@ -164,7 +173,6 @@ impl BodySystem {
         .into_iter()
         .flatten()
         .fold(0.0, f64::max);
-        let skin = non_negative(options.skin).map_err(|e| e.at("skin"))?;
         // Bodies without interacting sites still get a (never used) list.
         let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
         space.check(neighbours.reach())?;
@@ -191,6 +199,12 @@ impl BodySystem {
     /// The number of sites.
     pub fn sites(&self) -> usize {
         self.site_body.len()
+    }
+
+    /// The parameters and estimated errors of the Ewald sum (`None` for a
+    /// cutoff sum or no electrostatics).
+    pub fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        self.electrostatics.as_ref()?.mesh_parameters()
     }
 
     /// How many times the neighbour list was built.

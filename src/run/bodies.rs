@@ -62,8 +62,14 @@ pub(super) fn run_bodies(
         (Some(spec), Some(d)) => Some(trajectory(&system, spec.every, d.join(GSD_FILE))?),
         _ => None,
     };
+    let mesh = system.mesh_parameters();
     let described = |mut summary: Summary, builds: u64| {
-        summary.bodies = Some(BodiesSummary::new(&system_counts(bodies), bodies, builds));
+        summary.bodies = Some(BodiesSummary::new(
+            &system_counts(bodies),
+            bodies,
+            builds,
+            mesh,
+        ));
         summary
     };
     let running = match files {

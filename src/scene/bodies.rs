@@ -10,10 +10,10 @@ use super::tagged::tagged;
 use crate::bodies::{
     lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, ElectrostaticsOptions,
     EwaldOptions, InteractionOptions, Lattice, LatticeStart, LennardJonesOptions, Mixing,
-    RandomStart, Space, Truncation, OVERLAP_FRACTION,
+    RandomStart, Space, Truncation, DEFAULT_ACCURACY, OVERLAP_FRACTION,
 };
 use crate::checks::{each, finite, num, InputError};
-use crate::potential::multipole::{Accuracy, SumMethod, Surface};
+use crate::potential::multipole::{SumMethod, Surface};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -135,7 +135,7 @@ tagged!(RawBodyElectrostatics {
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawBodyEwald {
-    /// Relative accuracy (default [`Accuracy::DEFAULT`]).
+    /// Relative accuracy (default [`DEFAULT_ACCURACY`]).
     pub accuracy: Option<f64>,
     /// `"pme"` or `"auto"` (default, which takes PME).
     pub method: Option<SumMethod>,
@@ -270,7 +270,7 @@ fn interaction_options(raw: RawBodyInteractions) -> InteractionOptions {
         electrostatics: raw.electrostatics.map(|e| match e {
             RawBodyElectrostatics::Cutoff(c) => ElectrostaticsOptions::Cutoff(c.cutoff),
             RawBodyElectrostatics::Ewald(e) => ElectrostaticsOptions::Ewald(EwaldOptions {
-                accuracy: e.accuracy.unwrap_or(Accuracy::DEFAULT.get()),
+                accuracy: e.accuracy.unwrap_or(DEFAULT_ACCURACY),
                 method: e.method.unwrap_or_default(),
                 surface: e.surface.unwrap_or_default(),
             }),

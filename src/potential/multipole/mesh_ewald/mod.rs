@@ -68,7 +68,7 @@ pub use accuracy::{
 };
 pub use bspline::ORDERS;
 pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
-pub use estimate::{for_multipoles, Carried, MeshEstimate};
+pub use estimate::{for_multipoles, for_multipoles_with_skin, Carried, MeshEstimate};
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;
 pub use sites::{SiteResponse, Sources};
