@@ -139,12 +139,12 @@ pub(super) fn add_pairs(
         .for_each(|(i, (d, w))| {
             *w = Matrix3::zeros();
             let target = sources.coefficients(i);
-            let mut t = [0.0; 56];
+            let mut t = [[0.0; 56]; 6];
             let mut pair = |r: Vector3<f64>, b: &[f64; 6], j: usize| {
                 radial_derivatives(&r, b, needed, &mut t);
                 let source = sources.coefficients(j);
-                add_source(&t, &source, UP_TO[order], count, d);
-                let f = pair_force(&t, &target, UP_TO[order], &source, UP_TO[order]);
+                add_source(&t[0], &source, UP_TO[order], count, d);
+                let f = pair_force(&t[0], &target, UP_TO[order], &source, UP_TO[order]);
                 *w += r * f.transpose() * 0.5;
             };
             for &j in pairs.partners(i) {

@@ -37,6 +37,8 @@ pub(crate) struct Tables {
     /// `(-1)^|E|` for `E < SOURCES`: a source's operator acts on its own
     /// position, `d/dr_j g(r_i - r_j) = -d/dr_i g(r_i - r_j)`.
     pub parity: [f64; SOURCES],
+    /// The recursion step reaching each multi-index ([`radial_derivatives`]).
+    steps: [Step; 56],
 }
 
 impl Tables {
@@ -78,11 +80,28 @@ impl Tables {
                     -1.0
                 }
             });
+            let steps = std::array::from_fn(|n| {
+                let x = exponents[n];
+                let Some(axis) = x.iter().position(|&m| m > 0) else {
+                    return Step::default();
+                };
+                let mut once = x;
+                once[axis] -= 1;
+                let mut twice = once;
+                twice[axis] = twice[axis].saturating_sub(1);
+                Step {
+                    axis,
+                    once: at(once),
+                    twice: at(twice),
+                    repeat: once[axis] as f64,
+                }
+            });
             Tables {
                 exponents,
                 sum,
                 raise,
                 parity,
+                steps,
             }
         })
     }
@@ -122,41 +141,35 @@ pub(crate) fn source_coefficients(
 /// `d^N f(r)` for the first `count` multi-indices, `b` holding `B_0..B_5`
 /// of `f` at `|r|` (see the module doc); `r = 0` gives the derivatives at
 /// the origin of a smooth `f` whose `B_l(0)` are given.
+///
+/// By the McMurchie-Davidson recursion on `R^n_N = d^N B_n`: with `d_a B_n
+/// = -r_a B_(n+1)` and Leibniz's rule, `R^n_(M + e_a) = -(r_a R^(n+1)_M +
+/// m_a R^(n+1)_(M - e_a))`, from `R^n_0 = B_n` down to `n = 0` (two
+/// multiply-adds per derivative and level: the closed sum of the module doc,
+/// which the tests check it against, costs ten times more). `levels` is the
+/// caller's scratch (kept across calls: zeroing it per pair cost more than
+/// the recursion); the derivatives are `levels[0][..count]`.
 pub(crate) fn radial_derivatives(
     r: &Vector3<f64>,
     b: &[f64; 6],
     count: usize,
-    out: &mut [f64; 56],
+    levels: &mut RadialLevels,
 ) {
     let tables = Tables::get();
-    // factor[a][n][k] = n! / (2^k k! (n - 2k)!) r_a^(n - 2k)
-    let mut factor = [[[0.0; 3]; 6]; 3];
-    for (a, factor) in factor.iter_mut().enumerate() {
-        let mut power = [1.0; 6];
-        for p in 1..6 {
-            power[p] = power[p - 1] * r[a];
-        }
-        for (n, row) in factor.iter_mut().enumerate() {
-            for (k, value) in row.iter_mut().enumerate().take(n / 2 + 1) {
-                *value = PAIRINGS[n][k] * power[n - 2 * k];
+    let top = tables.order(count - 1);
+    // levels[n][N] = R^n_N for |N| <= top - n.
+    levels[top][0] = b[top];
+    for n in (0..top).rev() {
+        let (lower, upper) = levels.split_at_mut(n + 1);
+        let (level, above) = (&mut lower[n], &upper[0]);
+        level[0] = b[n];
+        for (index, step) in tables.steps.iter().enumerate().take(UP_TO[top - n]).skip(1) {
+            let mut value = r[step.axis] * above[step.once];
+            if step.repeat > 0.0 {
+                value += step.repeat * above[step.twice];
             }
+            level[index] = -value;
         }
-    }
-    for (n, value) in out.iter_mut().enumerate().take(count) {
-        let [nx, ny, nz] = tables.exponents[n];
-        let order = nx + ny + nz;
-        let mut total = 0.0;
-        for kx in 0..=nx / 2 {
-            for ky in 0..=ny / 2 {
-                for kz in 0..=nz / 2 {
-                    let l = order - kx - ky - kz;
-                    let sign = if l % 2 == 0 { 1.0 } else { -1.0 };
-                    total +=
-                        sign * b[l] * factor[0][nx][kx] * factor[1][ny][ky] * factor[2][nz][kz];
-                }
-            }
-        }
-        *value = total;
     }
 }
 
@@ -204,15 +217,19 @@ pub(crate) fn pair_force(
     })
 }
 
-/// `n! / (2^k k! (n - 2k)!)`: the ways to choose `k` disjoint pairs among `n` indices.
-const PAIRINGS: [[f64; 3]; 6] = [
-    [1.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [1.0, 1.0, 0.0],
-    [1.0, 3.0, 0.0],
-    [1.0, 6.0, 3.0],
-    [1.0, 10.0, 15.0],
-];
+/// The levels `R^n_N` of [`radial_derivatives`], `n = 0..=5`.
+pub(crate) type RadialLevels = [[f64; 56]; 6];
+
+/// How a multi-index `N` (order at least 1) is reached in the recursion of
+/// [`radial_derivatives`]: `N = M + e_axis`, `once = M`, `twice = M -
+/// e_axis` (when `repeat = m_axis > 0`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Step {
+    axis: usize,
+    once: usize,
+    twice: usize,
+    repeat: f64,
+}
 
 #[cfg(test)]
 mod tests {
@@ -228,9 +245,9 @@ mod tests {
         let r = Vector3::new(0.9, -0.7, 1.2);
         let tables = Tables::get();
         let at = |x: &Vector3<f64>| {
-            let mut out = [0.0; 56];
-            radial_derivatives(x, &radial_functions(alpha, x.norm()), 56, &mut out);
-            out
+            let mut levels = [[0.0; 56]; 6];
+            radial_derivatives(x, &radial_functions(alpha, x.norm()), 56, &mut levels);
+            levels[0]
         };
         let centre = at(&r);
         assert!((centre[0] - libm::erfc(alpha * r.norm()) / r.norm()).abs() < 1e-15);
@@ -247,6 +264,51 @@ mod tests {
                 (fd - exact).abs() < 1e-7 * (1.0 + exact.abs()),
                 "{x:?}: {fd} vs {exact}"
             );
+        }
+    }
+
+    /// The recursion against the module doc's closed sum over pairings,
+    /// `d^N f = sum_k (-1)^(|N| - k) B_(|N| - k) prod_a n_a! / (2^(k_a)
+    /// k_a! (n_a - 2 k_a)!) r_a^(n_a - 2 k_a)`, at every order it serves
+    /// (`count` of 1 to 56) and at the origin (round-off: sums of a few terms).
+    #[test]
+    fn radial_derivatives_match_the_closed_sum() {
+        let tables = Tables::get();
+        let pairings = |n: usize, k: usize| -> f64 {
+            let f = |m: usize| (1..=m).map(|v| v as f64).product::<f64>();
+            f(n) / (2f64.powi(k as i32) * f(k) * f(n - 2 * k))
+        };
+        let b = [0.9, -0.4, 1.3, 0.7, -1.1, 0.25];
+        for r in [Vector3::new(0.8, -1.3, 0.45), Vector3::zeros()] {
+            for &count in &UP_TO {
+                let mut levels = [[f64::NAN; 56]; 6];
+                radial_derivatives(&r, &b, count, &mut levels);
+                for (n, &value) in levels[0].iter().enumerate().take(count) {
+                    let [nx, ny, nz] = tables.exponents[n];
+                    let mut closed = 0.0;
+                    for kx in 0..=nx / 2 {
+                        for ky in 0..=ny / 2 {
+                            for kz in 0..=nz / 2 {
+                                let l = nx + ny + nz - kx - ky - kz;
+                                let sign = if l % 2 == 0 { 1.0 } else { -1.0 };
+                                closed += sign
+                                    * b[l]
+                                    * pairings(nx, kx)
+                                    * r.x.powi((nx - 2 * kx) as i32)
+                                    * pairings(ny, ky)
+                                    * r.y.powi((ny - 2 * ky) as i32)
+                                    * pairings(nz, kz)
+                                    * r.z.powi((nz - 2 * kz) as i32);
+                            }
+                        }
+                    }
+                    assert!(
+                        (value - closed).abs() < 1e-13 * (1.0 + closed.abs()),
+                        "count {count}, {:?} at {r:?}: {value} vs {closed}",
+                        tables.exponents[n]
+                    );
+                }
+            }
         }
     }
 

@@ -69,16 +69,13 @@ impl MeshEwald {
         parameters.check(&box_lengths)?;
         let grid = parameters.grid;
         let points: f64 = grid.iter().map(|&k| k as f64).product();
-        let cells: f64 = (0..3)
-            .map(|a| (box_lengths[a] / parameters.real_cutoff).floor().max(1.0))
-            .product();
         let bytes = mesh_bytes(grid)
             + sites as f64
                 * (SiteWeights::bytes_per_site()
                     + 24.0
                     + 72.0
                     + 8.0 * (2 * SOURCES + 2 * DERIVATIVES) as f64)
-            + CellList::bytes(sites as f64, cells);
+            + CellList::bytes(sites as f64, &box_lengths, parameters.real_cutoff);
         crate::memory::check("grid", bytes).map_err(|e| {
             PotentialError::new(
                 "grid",
@@ -95,8 +92,9 @@ impl MeshEwald {
         let smooth: [f64; 6] = std::array::from_fn(|l| {
             2.0 * alpha / PI.sqrt() * (2.0 * alpha * alpha).powi(l as i32) / (2 * l + 1) as f64
         });
-        let mut smooth_at_origin = [0.0; 56];
-        radial_derivatives(&Vector3::zeros(), &smooth, 56, &mut smooth_at_origin);
+        let mut levels = [[0.0; 56]; 6];
+        radial_derivatives(&Vector3::zeros(), &smooth, 56, &mut levels);
+        let smooth_at_origin = levels[0];
         Ok(MeshEwald {
             parameters,
             surface,

@@ -1,6 +1,8 @@
 //! The real-space part of the mesh Ewald sum: every pair closer than `r_c`
 //! (minimum image, `r_c <= L_a / 2`), found by a cell list rebuilt at each
-//! evaluation into buffers sized once. Each site sums its own partners
+//! evaluation into buffers sized once; cells at least `r_c / 2` wide, so
+//! that the 125 cells searched around a site hold about 3.7 times the
+//! sphere's sites (27 cells `r_c` wide would hold 6.4 times). Each site sums its own partners
 //! (every pair is visited from both ends), so sites are independent rayon
 //! tasks and the sums do not depend on the number of threads.
 //!
@@ -15,11 +17,14 @@ use crate::potential::multipole::ewald_terms::radial_functions;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
-/// The cell list of one box (cells at least `r_c` wide).
+/// Cells searched on each side of a site's own, along each axis.
+const REACH: usize = 2;
+
+/// The cell list of one box (cells at least `r_c / REACH` wide).
 #[derive(Clone, Debug)]
 pub(crate) struct CellList {
     cells: [usize; 3],
-    /// The distinct neighbour offsets (`-1, 0, 1` modulo the cell count) per axis.
+    /// The distinct neighbour offsets (`-REACH..=REACH` modulo the cell count) per axis.
     offsets: [Vec<usize>; 3],
     /// First entry of each cell in `members` (`cells + 1` entries).
     start: Vec<usize>,
@@ -32,10 +37,11 @@ impl CellList {
     /// Buffers for `sites` sites in `box_lengths` with cutoff `cutoff`
     /// (`cutoff <= L_a / 2`, checked by the caller).
     pub fn new(sites: usize, box_lengths: &Vector3<f64>, cutoff: f64) -> Self {
-        let cells: [usize; 3] =
-            std::array::from_fn(|a| ((box_lengths[a] / cutoff).floor() as usize).max(1));
+        let cells = Self::cells(box_lengths, cutoff);
         let offsets = std::array::from_fn(|a| {
-            let mut out: Vec<usize> = [cells[a] - 1, 0, 1].map(|o| o % cells[a]).to_vec();
+            let mut out: Vec<usize> = (0..=2 * REACH)
+                .map(|o| (o + cells[a] * REACH - REACH) % cells[a])
+                .collect();
             out.sort_unstable();
             out.dedup();
             out
@@ -49,8 +55,17 @@ impl CellList {
         }
     }
 
-    /// Bytes held for `sites` sites in `cells` cells.
-    pub fn bytes(sites: f64, cells: f64) -> f64 {
+    /// Cells along each axis for `cutoff` in `box_lengths`.
+    pub fn cells(box_lengths: &Vector3<f64>, cutoff: f64) -> [usize; 3] {
+        std::array::from_fn(|a| ((box_lengths[a] * REACH as f64 / cutoff).floor() as usize).max(1))
+    }
+
+    /// Bytes held for `sites` sites in `box_lengths` with `cutoff`.
+    pub fn bytes(sites: f64, box_lengths: &Vector3<f64>, cutoff: f64) -> f64 {
+        let cells: f64 = Self::cells(box_lengths, cutoff)
+            .iter()
+            .map(|&c| c as f64)
+            .product();
         16.0 * sites + 8.0 * cells
     }
 
@@ -107,6 +122,8 @@ impl CellList {
         let sources = UP_TO[source_order];
         // `count` reaches one order above the sources: enough for the pair forces too.
         let needed = UP_TO[tables.order(count - 1) + source_order];
+        let half = box_lengths / 2.0;
+        let cutoff_squared = cutoff * cutoff;
         let this = &*self;
         derivatives
             .par_iter_mut()
@@ -122,7 +139,7 @@ impl CellList {
                     (c / cells[2]) % cells[1],
                     c % cells[2],
                 ];
-                let mut t = [0.0; 56];
+                let mut t = [[0.0; 56]; 6];
                 for &ox in &this.offsets[0] {
                     for &oy in &this.offsets[1] {
                         for &oz in &this.offsets[2] {
@@ -135,24 +152,30 @@ impl CellList {
                                 if j == i {
                                     continue;
                                 }
+                                // Minimum image: wrapped sites are less than L_a apart.
                                 let mut r = wrapped[i] - wrapped[j];
                                 for a in 0..3 {
-                                    r[a] -= box_lengths[a] * (r[a] / box_lengths[a]).round();
+                                    if r[a] > half[a] {
+                                        r[a] -= box_lengths[a];
+                                    } else if r[a] < -half[a] {
+                                        r[a] += box_lengths[a];
+                                    }
                                 }
-                                let distance = r.norm();
-                                if distance >= cutoff {
+                                let distance_squared = r.norm_squared();
+                                if distance_squared >= cutoff_squared {
                                     continue;
                                 }
                                 radial_derivatives(
                                     &r,
-                                    &radial_functions(alpha, distance),
+                                    &radial_functions(alpha, distance_squared.sqrt()),
                                     needed,
                                     &mut t,
                                 );
                                 let cj = &coefficients[j];
-                                add_source(&t, cj, sources, count, d);
+                                add_source(&t[0], cj, sources, count, d);
                                 if virial {
-                                    let f = pair_force(&t, &coefficients[i], sources, cj, sources);
+                                    let f =
+                                        pair_force(&t[0], &coefficients[i], sources, cj, sources);
                                     *w += r * f.transpose() * 0.5;
                                 }
                             }
