@@ -69,7 +69,7 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
         None
     }
 
-    /// Evaluates the sites' electrostatics into `out` (resized as needed).
+    /// Evaluates the sites' electrostatics into `out` (sized for the sites).
     fn evaluate(
         &mut self,
         sites: &SiteMultipoles,
@@ -181,9 +181,6 @@ impl Electrostatics for CutoffSum {
         out: &mut SiteResponse,
     ) {
         let n = sites.positions.len();
-        if out.potential.len() != n {
-            *out = SiteResponse::zeros(n);
-        }
         if sites.carried.quadrupoles {
             // The Cartesian tensors of any order (the charge-dipole loop below is LAMMPS's).
             self.derivatives.clear();

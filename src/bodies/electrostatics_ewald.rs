@@ -137,10 +137,6 @@ impl Electrostatics for BodyEwald {
         pairs: &NeighbourList,
         out: &mut SiteResponse,
     ) {
-        let n = sites.positions.len();
-        if out.potential.len() != n {
-            *out = SiteResponse::zeros(n);
-        }
         let sources = sites.sources();
         let parameters = self.mesh.parameters();
         let Ok((derivatives, long_range)) = self.mesh.long_range_derivatives(&sources) else {

@@ -10,6 +10,7 @@
 //! (`R_IJ` the centre separation of the pair's minimum image), and the
 //! pressure `P = (2 K_trans + tr W) / (3 V) + P_tail`.
 
+use super::electrostatics::SiteResponse;
 use super::system::BodySystem;
 use nalgebra::{Matrix3, Vector3};
 
@@ -87,6 +88,9 @@ impl BodySystem {
         }
         if let Some(method) = &mut self.electrostatics {
             let response = &mut self.scratch.response;
+            if response.potential.len() != n {
+                *response = SiteResponse::zeros(n);
+            }
             method.evaluate(
                 &self.scratch.multipoles,
                 &self.space,
