@@ -14,7 +14,6 @@ use quatrot::bodies::{
     Space, Truncation,
 };
 use quatrot::integrators::NoSquishOptions;
-use quatrot::Quat;
 
 /// Every body's force and torque are minus the central differences of the
 /// energy under a translation and a rotation of that body about each space

@@ -110,6 +110,18 @@ pub(super) struct SiteShare {
     pub force: Vector3<f64>,
 }
 
+/// The pairs within bodies of an Ewald sum: the sites of each body, the
+/// body of each site, and the splitting `alpha`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Exclusions<'a> {
+    pub bodies: &'a [std::ops::Range<usize>],
+    pub site_body: &'a [u32],
+    pub alpha: f64,
+}
+
+/// `B_0..B_5` of a radial kernel at a distance.
+pub(super) type RadialKernel<'a> = dyn Fn(f64) -> [f64; 6] + Sync + 'a;
+
 /// Adds to every site's potential derivatives `derivatives` (and to its
 /// half of the pair virials, `virials`) the pairs of `pairs` closer than
 /// `cutoff` through the radial kernel whose `B_0..B_5` at `r` are
@@ -121,8 +133,8 @@ pub(super) fn add_pairs(
     sites: &SiteMultipoles,
     space: &Space,
     pairs: &NeighbourList,
-    (cutoff, kernel): (f64, &(dyn Fn(f64) -> [f64; 6] + Sync)),
-    exclusions: Option<(&[std::ops::Range<usize>], &[u32], f64)>,
+    (cutoff, kernel): (f64, &RadialKernel<'_>),
+    exclusions: Option<Exclusions<'_>>,
     (derivatives, virials): (&mut [[f64; DERIVATIVES]], &mut [Matrix3<f64>]),
 ) {
     let sources = sites.sources();
@@ -154,7 +166,12 @@ pub(super) fn add_pairs(
                     pair(r, &kernel(r.norm()), j);
                 }
             }
-            if let Some((bodies, site_body, alpha)) = exclusions {
+            if let Some(Exclusions {
+                bodies,
+                site_body,
+                alpha,
+            }) = exclusions
+            {
                 for j in bodies[site_body[i] as usize].clone().filter(|&j| j != i) {
                     let r = sites.positions[i] - sites.positions[j];
                     let (bare, damped): ([f64; 6], [f64; 6]) = (

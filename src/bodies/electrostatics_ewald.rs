@@ -23,7 +23,7 @@
 //! as for rotors but with `r_c` plus the skin within half the box; the mesh, its plans and every buffer are built once for the box
 //! and the number of sites.
 
-use super::electrostatics::{add_pairs, Electrostatics, SiteMultipoles, SiteResponse};
+use super::electrostatics::{add_pairs, Electrostatics, Exclusions, SiteMultipoles, SiteResponse};
 use super::neighbours::NeighbourList;
 use super::space::Space;
 use crate::checks::{num, InputError};
@@ -151,7 +151,11 @@ impl Electrostatics for BodyEwald {
             space,
             pairs,
             (parameters.real_cutoff, &kernel),
-            Some((&self.bodies, &self.site_body, alpha)),
+            Some(Exclusions {
+                bodies: &self.bodies,
+                site_body: &self.site_body,
+                alpha,
+            }),
             (derivatives, &mut self.virials),
         );
         out.fill(&sources, derivatives);
