@@ -263,7 +263,7 @@ mod tests {
             BodyEwald::with_parameters(parameters, surface, site_body, box_lengths).unwrap();
         let mut pairs = NeighbourList::new(parameters.real_cutoff, 0.0).unwrap();
         pairs.build(&sites.positions, site_body, &space);
-        let mut out = SiteResponse::default();
+        let mut out = SiteResponse::zeros(sites.positions.len());
         sum.evaluate(sites, &space, &pairs, &mut out);
         out
     }
