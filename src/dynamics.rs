@@ -6,6 +6,10 @@
 //! checked pair. The integrators and the thermostats know only
 //! [`crate::thermostat_hook`], never each other.
 //!
+//! The integrators of bodies step whole systems and pay one dispatch per
+//! step: they take their thermostat as an [`AnyThermostat`], where the
+//! rotors' integrators are monomorphised per thermostat ([`build`]).
+//!
 //! Pairs: NO_SQUISH and DLM carry every thermostat (around or inside their
 //! kick-based step); scheme A carries Nose-Hoover chains (integrated with
 //! the rotors by its predictor-corrector); scheme B and Richardson carry
@@ -13,10 +17,15 @@
 
 use crate::checks::InputError;
 use crate::integrators::{GearA, Integrator, IntegratorSpec, Kicked, Splitting};
+use crate::thermostat_hook::{CoupledDegrees, Nve, SplitDynamics, Thermostat, ThermostatState};
 use crate::thermostats::{Bussi, Langevin, NoseHoover, NoseHooverChain, ThermostatSpec};
+use nalgebra::Vector3;
 
 /// Why `integrator` cannot carry `thermostat`, if it cannot.
-fn refusal(integrator: &IntegratorSpec, thermostat: &ThermostatSpec) -> Option<&'static str> {
+pub(crate) fn refusal(
+    integrator: &IntegratorSpec,
+    thermostat: &ThermostatSpec,
+) -> Option<&'static str> {
     match (integrator, thermostat) {
         (IntegratorSpec::NoSquish(_) | IntegratorSpec::Dlm(_), _)
         | (IntegratorSpec::GearA(_), ThermostatSpec::NoseHoover(_)) => None,
@@ -100,6 +109,74 @@ fn kicked<S: Splitting>(options: S, thermostat: &ThermostatSpec) -> Box<dyn Inte
         ThermostatSpec::NoseHoover(o) => {
             Box::new(Kicked::with_thermostat(options, NoseHoover::new(o)))
         }
+    }
+}
+
+/// A thermostat chosen at run time (none, or one of
+/// [`crate::thermostats`]) as one type.
+#[derive(Clone, Debug)]
+pub enum AnyThermostat {
+    /// None: constant energy.
+    Nve(Nve),
+    /// [`Langevin`].
+    Langevin(Langevin),
+    /// [`Bussi`].
+    Bussi(Bussi),
+    /// [`NoseHoover`].
+    NoseHoover(NoseHoover),
+}
+
+/// `$body` with `$t` bound to the thermostat inside `$value`, whichever it is.
+macro_rules! each_thermostat {
+    ($value:expr, $t:ident => $body:expr) => {
+        match $value {
+            AnyThermostat::Nve($t) => $body,
+            AnyThermostat::Langevin($t) => $body,
+            AnyThermostat::Bussi($t) => $body,
+            AnyThermostat::NoseHoover($t) => $body,
+        }
+    };
+}
+
+impl AnyThermostat {
+    /// `thermostat` (none: [`Nve`]), whose pairing has passed [`check`] (a
+    /// stochastic thermostat has its seed).
+    pub fn new(thermostat: Option<&ThermostatSpec>) -> Self {
+        let seed = thermostat
+            .and_then(ThermostatSpec::seed)
+            .unwrap_or_default();
+        match thermostat {
+            None => AnyThermostat::Nve(Nve),
+            Some(ThermostatSpec::Langevin(o)) => AnyThermostat::Langevin(Langevin::new(*o, seed)),
+            Some(ThermostatSpec::Bussi(o)) => AnyThermostat::Bussi(Bussi::new(*o, seed)),
+            Some(ThermostatSpec::NoseHoover(o)) => AnyThermostat::NoseHoover(NoseHoover::new(*o)),
+        }
+    }
+}
+
+impl Thermostat for AnyThermostat {
+    type State = dyn ThermostatState;
+
+    fn setup(&mut self, moments: &[Vector3<f64>], degrees: &CoupledDegrees, dt: f64) {
+        each_thermostat!(self, t => t.setup(moments, degrees, dt));
+    }
+
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D) {
+        each_thermostat!(self, t => t.step(dynamics));
+    }
+
+    fn state(&self) -> &(dyn ThermostatState + 'static) {
+        each_thermostat!(self, t => {
+            let state: &dyn ThermostatState = t.state();
+            state
+        })
+    }
+
+    fn state_mut(&mut self) -> &mut (dyn ThermostatState + 'static) {
+        each_thermostat!(self, t => {
+            let state: &mut dyn ThermostatState = t.state_mut();
+            state
+        })
     }
 }
 

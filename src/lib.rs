@@ -28,6 +28,8 @@
 //!
 //! The outer layers build physics objects and call them:
 //!
+//! * [`units`]: physical units (`reduced` or `real`): the constants and the
+//!   conversions at the boundary.
 //! * [`scene`]: scene files (TOML), read into the physics types.
 //! * [`run`]: the outputs of a scene's run, and the run itself.
 //!
@@ -71,6 +73,7 @@ pub mod simulation;
 pub mod stats;
 pub mod thermostat_hook;
 pub mod thermostats;
+pub mod units;
 
 #[cfg(feature = "python")]
 mod python;

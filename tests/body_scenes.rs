@@ -212,29 +212,6 @@ fn an_open_cluster_conserves_its_angular_momentum() {
     );
 }
 
-/// A restart of a scene of bodies is refused before anything is written.
-#[test]
-fn a_restart_of_bodies_is_refused() {
-    let (_, scene) = load_text(CLUSTER, &Overrides::default()).expect("valid");
-    let dir = tempfile::tempdir().expect("temporary folder");
-    let outputs = common::outputs(Some(&dir.path().join("out")), false);
-    let restart = dir.path().join("checkpoint.json");
-    let error = execute(
-        &scene,
-        serde_json::Value::Null,
-        &outputs,
-        Some(&restart),
-        None,
-    )
-    .expect_err("refused")
-    .to_string();
-    assert_eq!(
-        error,
-        "restart: scenes of bodies cannot restart from a checkpoint yet"
-    );
-    assert!(!dir.path().join("out").exists());
-}
-
 /// The summary records a scene of bodies: its counts, its box, the
 /// integrator; the run writes the series, the GSD file and the summary.
 #[test]

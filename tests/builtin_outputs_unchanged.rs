@@ -96,7 +96,7 @@ fn variant(text: &str, integrator: &str, thermostat: Option<&toml::Table>, forma
             "T_rot",
         ];
     }
-    if thermostat.is_some() && !bodies {
+    if thermostat.is_some() {
         quantities.push("conserved_energy");
     }
     let mut series = toml::Table::new();

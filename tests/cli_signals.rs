@@ -169,3 +169,52 @@ fn after_kill_9_the_outputs_read_and_the_checkpoint_restarts_bit_for_bit() {
     assert!(!resumed_rows.is_empty());
     assert_eq!(resumed_rows, rows(&reference, checkpoint.step));
 }
+
+/// SIGTERM on a run of bodies (the built-in Stockmayer fluid, checkpoints
+/// every 50 steps): exit code 130, a summary saying "interrupted", whole
+/// CSV rows and a checkpoint at the step the run stopped at, which
+/// `--restart` continues to the end.
+#[test]
+fn sigterm_stops_a_run_of_bodies_with_a_checkpoint_its_restart_continues() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let text = quatrot::scene::builtin("stockmayer_fluid")
+        .expect("built-in")
+        .toml
+        .replace(
+            "[[record.series]]",
+            "[record]\ncheckpoint_every = 50\n\n[[record.series]]",
+        );
+    let scene = dir.path().join("fluid.toml");
+    std::fs::write(&scene, text).expect("scene written");
+    let mut child = start(&scene, &out);
+    signal(&child, libc::SIGTERM);
+    let status = child.wait().expect("ends");
+    let mut stderr = String::new();
+    let _ = std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut stderr);
+    assert_eq!(status.code(), Some(EXIT_INTERRUPTED), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join(SUMMARY_FILE)).unwrap()).unwrap();
+    assert_eq!(summary["status"], "interrupted");
+    let last = summary["last_step"].as_u64().expect("a step");
+    let rows = whole_lines(&out.join("series.csv"));
+    let last_row = rows.lines().last().unwrap().split(',').next().unwrap();
+    assert_eq!(last_row, (last / 10 * 10).to_string());
+    let checkpoint = Checkpoint::read(&out.join(CHECKPOINT_FILE)).expect("valid");
+    assert_eq!(checkpoint.step, last);
+    let end = (last + 20).to_string();
+    let restart = Command::new(BIN)
+        .args(["run", scene.to_str().unwrap(), "--steps", &end, "--out"])
+        .arg(&out)
+        .arg("--restart")
+        .arg(out.join(CHECKPOINT_FILE))
+        .output()
+        .expect("runs");
+    assert!(restart.status.success(), "{restart:?}");
+    let folder = out.join(format!("restart-{last}"));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join(SUMMARY_FILE)).unwrap()).unwrap();
+    assert_eq!(summary["status"], "completed");
+    assert_eq!(summary["start_step"], last);
+    assert_eq!(summary["last_step"], last + 20);
+}

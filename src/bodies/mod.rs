@@ -17,11 +17,14 @@
 //!   density, with Maxwell-Boltzmann velocities and zero total momentum.
 //! * [`overlap`]: overlapping sites at the start.
 //! * [`quantity`]: the observables a run of bodies records.
+//! * `checkpoint`: the bodies' and the neighbour list's state in a
+//!   checkpoint, and the checked reads of the integrators' restores.
 //! * [`integrators`]: velocity Verlet + NO_SQUISH, DLM or Richardson, and
 //!   the note's Gear schemes A and B with Gear correctors for the centres;
 //!   [`BodyIntegrator`], the choice a scene makes (NO_SQUISH so far).
 
 pub mod body_type;
+mod checkpoint;
 pub mod electrostatics;
 pub mod electrostatics_ewald;
 pub mod evaluate;

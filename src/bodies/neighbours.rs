@@ -10,8 +10,11 @@
 //! ends), so per-site sums need no shared writes: the results are the same
 //! bit for bit for any number of threads.
 
+use super::checkpoint::{bad, take_values, whole};
 use super::space::Space;
 use crate::checks::{non_negative, positive, InputError};
+use crate::integrators::checkpoint::write_values;
+use crate::integrators::IntegratorError;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -123,6 +126,54 @@ impl NeighbourList {
         self.reference.clear();
         self.reference.extend_from_slice(sites);
         self.builds += 1;
+    }
+}
+
+impl NeighbourList {
+    /// Appends the list's state for a checkpoint: the number of builds,
+    /// the number of sites at the last build (0 before the first) and their
+    /// positions then. The pairs are not stored: [`NeighbourList::restore`]
+    /// rebuilds them from those positions.
+    pub(crate) fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        out.push(self.builds as f64);
+        out.push(self.reference.len() as f64);
+        write_values(&self.reference, out);
+    }
+
+    /// Reads back [`NeighbourList::write_checkpoint`]'s output from the
+    /// front of `data` for the sites of bodies `body` in `space`, returning
+    /// the rest. A build depends only on the positions, `body` and `space`,
+    /// so the list rebuilt from the saved positions is the one the run had,
+    /// pair for pair and in the same order (the force sums then add in the
+    /// same order), and it goes stale at the same step.
+    pub(crate) fn restore<'a>(
+        &mut self,
+        data: &'a [f64],
+        body: &[u32],
+        space: &Space,
+    ) -> Result<&'a [f64], IntegratorError> {
+        let [builds, sites, rest @ ..] = data else {
+            return Err(bad("the neighbour list's counts are missing"));
+        };
+        let builds = whole(*builds, "the neighbour list's number of builds")?;
+        let sites = whole(*sites, "the neighbour list's number of sites")?;
+        if sites != 0 && sites != body.len() as u64 {
+            return Err(bad(&format!(
+                "the neighbour list was built for {sites} sites, the system has {}",
+                body.len()
+            )));
+        }
+        let mut reference = vec![Vector3::zeros(); sites as usize];
+        let rest = take_values(rest, &mut reference, "the neighbour list's site positions")?;
+        if sites == 0 {
+            self.start.clear();
+            self.partner.clear();
+            self.reference.clear();
+        } else {
+            self.build(&reference, body, space);
+        }
+        self.builds = builds;
+        Ok(rest)
     }
 }
 

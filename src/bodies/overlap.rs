@@ -11,11 +11,14 @@ use super::system::BodySystem;
 /// 1.6e4 eps, and its force 2e5 eps / sigma).
 pub const OVERLAP_FRACTION: f64 = 0.5;
 
-/// The closest overlapping pair of sites.
+/// A pair of Lennard-Jones sites of different bodies.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Overlap {
     /// The two bodies (the lower index first).
     pub bodies: (usize, usize),
+    /// The two sites as (body, index of the site in its body), in the
+    /// order of `bodies`.
+    pub sites: [(usize, usize); 2],
     /// The distance of the sites.
     pub distance: f64,
     /// Their pair's sigma.
@@ -27,10 +30,23 @@ impl BodySystem {
     /// to their sigma, if that is below [`OVERLAP_FRACTION`] (one
     /// evaluation, which builds the neighbour list).
     pub fn first_overlap(&mut self) -> Option<Overlap> {
-        let term = self.lennard_jones.as_ref()?.clone();
+        let _ = self.lennard_jones.as_ref()?;
         self.evaluate(&mut Evaluation::default());
+        self.closest_pair()
+            .filter(|o| o.distance < OVERLAP_FRACTION * o.sigma)
+    }
+
+    /// The pair of Lennard-Jones sites of different bodies closest relative
+    /// to their sigma at the last evaluation (its site positions and
+    /// neighbour list), pairs at a non-finite distance left out; `None`
+    /// without such a pair or before the first evaluation.
+    pub fn closest_pair(&self) -> Option<Overlap> {
+        let term = self.lennard_jones.as_ref()?;
         let positions = &self.scratch.multipoles.positions;
-        let mut worst: Option<(f64, Overlap)> = None;
+        if positions.len() != self.sites() {
+            return None;
+        }
+        let mut worst: Option<(f64, usize, usize, f64, f64)> = None;
         for (i, kind) in self.lj_kind.iter().enumerate() {
             let Some(a) = kind else { continue };
             for &j in self.neighbours.partners(i) {
@@ -39,17 +55,24 @@ impl BodySystem {
                 let sigma = term.sigma(*a as usize, b as usize);
                 let distance = self.space.minimum_image(positions[i] - positions[j]).norm();
                 let ratio = distance / sigma;
-                if ratio < OVERLAP_FRACTION && worst.is_none_or(|(w, _)| ratio < w) {
-                    let (p, q) = (self.site_body[i] as usize, self.site_body[j] as usize);
-                    let overlap = Overlap {
-                        bodies: (p.min(q), p.max(q)),
-                        distance,
-                        sigma,
-                    };
-                    worst = Some((ratio, overlap));
+                if ratio.is_finite() && worst.is_none_or(|(w, ..)| ratio < w) {
+                    worst = Some((ratio, i, j, distance, sigma));
                 }
             }
         }
-        worst.map(|(_, o)| o)
+        let (_, i, j, distance, sigma) = worst?;
+        let site = |s: usize| {
+            let body = self.site_body[s];
+            let first = self.site_body.partition_point(|&b| b < body);
+            (body as usize, s - first)
+        };
+        let (p, q) = (site(i), site(j));
+        let sites = if p.0 <= q.0 { [p, q] } else { [q, p] };
+        Some(Overlap {
+            bodies: (sites[0].0, sites[1].0),
+            sites,
+            distance,
+            sigma,
+        })
     }
 }

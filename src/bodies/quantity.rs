@@ -19,6 +19,9 @@ pub enum BodyQuantity {
     PotentialEnergy,
     /// Kinetic plus potential energy.
     TotalEnergy,
+    /// The total energy plus the thermostat's share (the total energy
+    /// without a thermostat).
+    ConservedEnergy,
     /// `T_trans` ([`BodySystem::translational_temperature`]).
     TranslationalTemperature,
     /// `T_rot` ([`BodySystem::rotational_temperature`]).
@@ -34,12 +37,13 @@ pub enum BodyQuantity {
 
 impl BodyQuantity {
     /// Every quantity, in the order the docs list them.
-    pub const ALL: [BodyQuantity; 10] = [
+    pub const ALL: [BodyQuantity; 11] = [
         BodyQuantity::KineticEnergy,
         BodyQuantity::TranslationalKineticEnergy,
         BodyQuantity::RotationalKineticEnergy,
         BodyQuantity::PotentialEnergy,
         BodyQuantity::TotalEnergy,
+        BodyQuantity::ConservedEnergy,
         BodyQuantity::TranslationalTemperature,
         BodyQuantity::RotationalTemperature,
         BodyQuantity::Pressure,
@@ -55,6 +59,7 @@ impl BodyQuantity {
             BodyQuantity::RotationalKineticEnergy => "rotational_kinetic_energy",
             BodyQuantity::PotentialEnergy => "potential_energy",
             BodyQuantity::TotalEnergy => "total_energy",
+            BodyQuantity::ConservedEnergy => "conserved_energy",
             BodyQuantity::TranslationalTemperature => "T_trans",
             BodyQuantity::RotationalTemperature => "T_rot",
             BodyQuantity::Pressure => "pressure",
@@ -101,10 +106,11 @@ impl BodyQuantity {
         }
     }
 
-    /// Appends its values for `system` whose last evaluation is `e` (NaN
-    /// for a temperature without degrees of freedom, or a pressure out of a
-    /// box).
-    pub fn write(self, system: &BodySystem, e: &Evaluation, row: &mut Vec<f64>) {
+    /// Appends its values for `system` whose last evaluation is `e` and
+    /// whose thermostat's share of the conserved energy is `thermostat`
+    /// (NaN for a temperature without degrees of freedom, or a pressure out
+    /// of a box).
+    pub fn write(self, system: &BodySystem, e: &Evaluation, thermostat: f64, row: &mut Vec<f64>) {
         let kinetic = || system.translational_kinetic_energy() + system.rotational_kinetic_energy();
         match self {
             BodyQuantity::KineticEnergy => row.push(kinetic()),
@@ -114,6 +120,9 @@ impl BodyQuantity {
             BodyQuantity::RotationalKineticEnergy => row.push(system.rotational_kinetic_energy()),
             BodyQuantity::PotentialEnergy => row.push(e.potential_energy()),
             BodyQuantity::TotalEnergy => row.push(kinetic() + e.potential_energy()),
+            BodyQuantity::ConservedEnergy => {
+                row.push(kinetic() + e.potential_energy() + thermostat);
+            }
             BodyQuantity::TranslationalTemperature => {
                 row.push(system.translational_temperature().unwrap_or(f64::NAN));
             }

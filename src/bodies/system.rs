@@ -63,6 +63,10 @@ pub struct BodySystem {
     pub bodies: Vec<Body>,
     /// The space.
     pub space: Space,
+    /// Whether the dynamics keeps the total momentum (true unless a
+    /// thermostat acts on each centre on its own): `T_trans` then counts
+    /// `3N - 3` degrees of freedom, else `3N`.
+    pub keeps_momentum: bool,
     pub(super) lennard_jones: Option<LennardJonesTerm>,
     pub(super) electrostatics: Option<Box<dyn Electrostatics>>,
     pub(super) neighbours: NeighbourList,
@@ -180,6 +184,7 @@ impl BodySystem {
             types,
             bodies,
             space,
+            keeps_momentum: true,
             lennard_jones,
             electrostatics,
             neighbours,

@@ -1,16 +1,37 @@
 //! Translational and rotational temperatures of a body system (`k_B = 1`),
 //! their degrees of freedom counted as issue 39 asks: `3N - 3`
-//! translational (the total momentum is conserved), and per body its
+//! translational when the total momentum is conserved (`3N` under a
+//! Langevin thermostat, [`BodySystem::keeps_momentum`]), and per body its
 //! positive moments less a spin no torque reaches
 //! ([`super::BodyType::conserved_spin`]), whose kinetic energy is left out
-//! of `K_rot` too (it stays what it was).
+//! of `K_rot` too (it stays what it was). The same counts are the
+//! thermostats' ([`BodySystem::coupled_degrees`]).
 
 use super::system::BodySystem;
+use crate::thermostat_hook::CoupledDegrees;
+use nalgebra::Vector3;
 
 impl BodySystem {
-    /// `3N - 3` (0 for fewer than two bodies).
+    /// `3N - 3` (0 for fewer than two bodies), or `3N` when the dynamics
+    /// does not keep the total momentum.
     pub fn translational_degrees(&self) -> usize {
-        (3 * self.bodies.len()).saturating_sub(3)
+        let n = 3 * self.bodies.len();
+        if self.keeps_momentum {
+            n.saturating_sub(3)
+        } else {
+            n
+        }
+    }
+
+    /// The degrees of freedom a thermostat acts on: per body its principal
+    /// moments and conserved spin, and its centre's mass.
+    pub fn coupled_degrees(&self) -> CoupledDegrees {
+        let types = || self.bodies.iter().map(|b| &self.types[b.kind]);
+        let spins: Vec<_> = self.types.iter().map(|t| t.conserved_spin()).collect();
+        let moments: Vec<Vector3<f64>> = types().map(|t| t.moments).collect();
+        let masses = types().map(|t| t.mass).collect();
+        let spins = self.bodies.iter().map(|b| spins[b.kind]).collect();
+        CoupledDegrees::with_spins(&moments, spins, masses)
     }
 
     /// The rotational degrees of freedom torques reach: positive moments
@@ -133,7 +154,8 @@ mod tests {
     /// Rotational degrees: 2 for a dipolar sphere (no torque reaches its
     /// spin about the dipole, as ERRATA found for rotors), 2 for a linear
     /// body, 3 for a general one; translational `3N - 3` (the total
-    /// momentum conserved), none for one body.
+    /// momentum conserved), `3N` when it is not, none for one body; the
+    /// thermostats count the same.
     #[test]
     fn degrees_of_freedom_by_kind_of_body() {
         for (kinds, rotational) in [
@@ -142,9 +164,15 @@ mod tests {
             (vec![2, 2], 6),
             (vec![0, 1, 2], 7),
         ] {
-            let s = system(&kinds);
+            let mut s = system(&kinds);
             assert_eq!(s.rotational_degrees(), rotational, "{kinds:?}");
             assert_eq!(s.translational_degrees(), 3 * kinds.len() - 3, "{kinds:?}");
+            let coupled = s.coupled_degrees();
+            assert_eq!(coupled.dof, rotational, "{kinds:?}");
+            assert_eq!(coupled.translational_dof(), 3 * kinds.len() - 3);
+            // A thermostat that does not keep the momentum (Langevin): 3N.
+            s.keeps_momentum = false;
+            assert_eq!(s.translational_degrees(), 3 * kinds.len(), "{kinds:?}");
         }
         let one = system(&[2]);
         assert_eq!(one.translational_degrees(), 0);

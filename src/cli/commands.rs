@@ -134,8 +134,12 @@ fn describe(scene: &Scene) -> String {
         Some(b) => format!("{} bodies", b.bodies.len()),
         None => format!("{} rotors", scene.rotors.len()),
     };
+    let time_unit = scene
+        .units
+        .names()
+        .map_or(String::new(), |n| format!(" {}", n.time));
     format!(
-        "{}: {population}, {}, dt {}, {} steps{seed}",
+        "{}: {population}, {}, dt {}{time_unit}, {} steps{seed}",
         scene.name,
         scene.integrator.name(),
         crate::checks::num(scene.dt),

@@ -26,7 +26,7 @@ use super::{Integrator, IntegratorError, RotorState};
 use crate::potential::Potential;
 use crate::quaternion::Quat;
 use crate::rotor::Inertia;
-use crate::thermostat_hook::{Nve, SplitDynamics, Thermostat, ThermostatState};
+use crate::thermostat_hook::{CoupledDegrees, Nve, SplitDynamics, Thermostat, ThermostatState};
 use nalgebra::Vector3;
 use std::fmt::Debug;
 
@@ -99,7 +99,8 @@ impl<S: Splitting, T: Thermostat> Integrator for Kicked<S, T> {
         dt: f64,
     ) -> Result<(), IntegratorError> {
         self.state = KickState::new(inertia, potential, initial, dt, S::momentum)?;
-        self.thermostat.setup(&self.state.inertia, potential, dt);
+        let degrees = CoupledDegrees::new(&self.state.inertia, potential);
+        self.thermostat.setup(&self.state.inertia, &degrees, dt);
         Ok(())
     }
 
@@ -107,8 +108,9 @@ impl<S: Splitting, T: Thermostat> Integrator for Kicked<S, T> {
         let mut step = KickStep {
             splitting: &self.splitting,
             state: &mut self.state,
+            potential,
         };
-        self.thermostat.step(&mut step, potential);
+        self.thermostat.step(&mut step);
     }
 
     fn dt(&self) -> f64 {
@@ -316,11 +318,11 @@ impl<M: Components + Copy + Send + Sync> KickState<M> {
 }
 
 /// One step of a kick-based baseline as a thermostat sees it: the
-/// splitting's pieces over the rotors' state.
-#[derive(Debug)]
+/// splitting's pieces over the rotors' state in `potential`.
 pub struct KickStep<'a, S: Splitting> {
     splitting: &'a S,
     state: &'a mut KickState<S::Momentum>,
+    potential: &'a dyn Potential,
 }
 
 impl<S: Splitting> SplitDynamics for KickStep<'_, S> {
@@ -344,8 +346,8 @@ impl<S: Splitting> SplitDynamics for KickStep<'_, S> {
             .half_kick_then_update(S::kick, |q, p, i| splitting.rotate(q, p, i, duration));
     }
 
-    fn evaluate_torques(&mut self, potential: &dyn Potential) {
-        self.state.evaluate_torques(potential);
+    fn evaluate(&mut self) {
+        self.state.evaluate_torques(self.potential);
     }
 
     /// Summed in rotor order on one thread, so the sum does not depend on
@@ -400,4 +402,10 @@ impl<S: Splitting> SplitDynamics for KickStep<'_, S> {
             *p = S::momentum(q, &w.component_mul(i));
         }
     }
+
+    /// Rotors on fixed sites: no centres.
+    fn for_each_velocity(&self, _: impl FnMut(usize, &Vector3<f64>, f64)) {}
+
+    /// Rotors on fixed sites: no centres.
+    fn update_velocities(&mut self, _: impl FnMut(usize, &mut Vector3<f64>, f64)) {}
 }

@@ -10,7 +10,9 @@ use crate::bodies::{
 };
 use crate::checks::{from_name, InputError};
 use crate::scene::body_types;
+use crate::units::{Dimension, Units};
 use nalgebra::Vector3;
+use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -42,7 +44,8 @@ fn argument_path(e: InputError) -> PyErr {
 /// Energies by term, forces and torques per body, site forces and the
 /// virial of rigid bodies at one configuration.
 ///
-/// Reduced units (`4 pi eps0 = 1`, `k_B = 1`). Sites of different bodies
+/// In `units`: reduced (`4 pi eps0 = 1`, `k_B = 1`), or real (Angstrom,
+/// g/mol, kcal/mol, fs, e, Debye, atm, as LAMMPS `units real`). Sites of different bodies
 /// interact (never within one): Lennard-Jones truncated at `lj_cutoff`,
 /// charges and point dipoles truncated at `electrostatic_cutoff` as LAMMPS
 /// `pair_style lj/cut/dipole/cut` (bare pair energies, no shift). Each body
@@ -75,6 +78,11 @@ fn argument_path(e: InputError) -> PyErr {
 ///     The Lennard-Jones mixing rule of unlike sites.
 /// electrostatic_cutoff : float, optional
 ///     Charges' and dipoles' cutoff (required when a site has one).
+/// units : {"reduced", "real"}, default "reduced"
+///     The units of every value given and returned (real: velocities in
+///     Angstrom/fs, energies in kcal/mol, forces in kcal/(mol Angstrom),
+///     torques and the virial in kcal/mol, pressures in atm; a body type
+///     may then name a water model, ``{"model": "spce"}``).
 ///
 /// Returns
 /// -------
@@ -84,7 +92,9 @@ fn argument_path(e: InputError) -> PyErr {
 ///     space frame, torques about the centres), ``site_forces`` (sites of
 ///     body 0, then of body 1, ..., 3), ``virial`` (3, 3, the molecular
 ///     virial ``sum_pairs R_IJ f_ij^T``), ``pressure`` (float in a box,
-///     else None; its tail correction included) and ``pressure_tail``.
+///     else None; its tail correction included), ``pressure_tail`` and
+///     ``site_positions`` (the sites' positions in space, in the order of
+///     ``site_forces``).
 ///
 /// Raises
 /// ------
@@ -109,9 +119,19 @@ fn argument_path(e: InputError) -> PyErr {
 /// >>> bool(abs(state["forces"]).max() < 1e-12)
 /// True
 ///
+/// In real units, two unit charges 1 Angstrom apart have the Coulomb
+/// constant's energy in kcal/mol (CODATA 2018):
+///
+/// >>> ion = {"sites": [{"position": [0, 0, 0], "charge": 1.0}], "mass": 1.0,
+/// ...     "inertia": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}
+/// >>> state = quatrot.bodies_evaluate([ion], [[0, 0, 0], [1, 0, 0]], [[1, 0, 0, 0]] * 2,
+/// ...     electrostatic_cutoff=5.0, units="real")
+/// >>> round(state["energies"]["electrostatic"], 7)
+/// 332.0637133
+///
 /// ```
 #[pyfunction]
-#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None))]
+#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None, units=None))]
 #[allow(clippy::too_many_arguments)]
 fn bodies_evaluate<'py>(
     py: Python<'py>,
@@ -125,8 +145,10 @@ fn bodies_evaluate<'py>(
     truncation: Option<&str>,
     mixing: Option<&str>,
     electrostatic_cutoff: Option<f64>,
+    units: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let types = body_types_of(body_types)?;
+    let units = named::<Units>(units, "units")?;
+    let types = body_types_of(body_types, units)?;
     let positions = Items::new(positions, "positions", &[3], Values::Finite)?;
     let orientations = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
     let velocities = Items::optional(velocities, "velocities", &[3])?;
@@ -143,9 +165,9 @@ fn bodies_evaluate<'py>(
             kind: kinds[i],
             position: positions.vector(i),
             image: [0; 3],
-            velocity: velocities
-                .as_ref()
-                .map_or(Vector3::zeros(), |v| v.vector(i)),
+            velocity: velocities.as_ref().map_or(Vector3::zeros(), |v| {
+                v.vector(i).map(|c| units.to_internal(c, Dimension::Rate))
+            }),
             orientation: orientations.quat(i),
             angular_momentum_body: Vector3::zeros(),
         })
@@ -174,15 +196,29 @@ fn bodies_evaluate<'py>(
         let pressure = system.pressure(&e);
         (e, pressure)
     });
-    result(py, &evaluation, pressure)
+    let site_positions: Vec<Vector3<f64>> = system
+        .bodies
+        .iter()
+        .flat_map(|b| {
+            let sites = &system.types[b.kind].sites;
+            sites
+                .iter()
+                .map(|s| b.position + b.orientation.body_to_space(&s.position))
+        })
+        .collect();
+    let in_units = |p: f64| units.from_internal(p, Dimension::Pressure);
+    let pressures = (pressure.map(in_units), in_units(evaluation.pressure_tail));
+    let out = result(py, &evaluation, pressures)?;
+    out.set_item("site_positions", rows(py, &site_positions)?)?;
+    Ok(out)
 }
 
 /// The neighbour lists' skin of an evaluation (any value gives the same
 /// result; LAMMPS's default in LJ units).
 const DEFAULT_SKIN: f64 = 0.3;
 
-fn body_types_of(value: &Bound<'_, PyAny>) -> PyResult<Vec<crate::bodies::BodyType>> {
-    body_types(to_toml(value, "body_types")?).map_err(|e| scene_error(&e))
+fn body_types_of(value: &Bound<'_, PyAny>, units: Units) -> PyResult<Vec<crate::bodies::BodyType>> {
+    body_types(to_toml(value, "body_types")?, units).map_err(|e| scene_error(&e))
 }
 
 /// The choice named `name` (argument `argument`), the default when absent.
@@ -193,10 +229,16 @@ fn named<T: serde::de::DeserializeOwned + Default>(
     name.map_or(Ok(T::default()), |n| Ok(from_name(argument, n)?))
 }
 
+/// The rows of `v` as an (n, 3) array.
+fn rows<'py>(py: Python<'py>, v: &[Vector3<f64>]) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    collect(py, (v.len(), false), &[3], |i| Ok(v[i].into()))
+}
+
+/// The result dict of `e`, with the pressure and its tail correction.
 fn result<'py>(
     py: Python<'py>,
     e: &Evaluation,
-    pressure: Option<f64>,
+    (pressure, pressure_tail): (Option<f64>, f64),
 ) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
     let energies = PyDict::new(py);
@@ -205,13 +247,12 @@ fn result<'py>(
     energies.set_item("electrostatic", e.electrostatic)?;
     energies.set_item("total", e.potential_energy())?;
     out.set_item("energies", energies)?;
-    let rows = |v: &[Vector3<f64>]| collect(py, (v.len(), false), &[3], |i| Ok(v[i].into()));
-    out.set_item("forces", rows(&e.force)?)?;
-    out.set_item("torques", rows(&e.torque)?)?;
-    out.set_item("site_forces", rows(&e.site_force)?)?;
+    out.set_item("forces", rows(py, &e.force)?)?;
+    out.set_item("torques", rows(py, &e.torque)?)?;
+    out.set_item("site_forces", rows(py, &e.site_force)?)?;
     out.set_item("virial", array(py, &[3, 3], row_major(&e.virial).to_vec())?)?;
     out.set_item("pressure", pressure)?;
-    out.set_item("pressure_tail", e.pressure_tail)?;
+    out.set_item("pressure_tail", pressure_tail)?;
     Ok(out)
 }
 

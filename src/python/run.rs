@@ -153,14 +153,18 @@ const POLL: Duration = Duration::from_millis(20);
 ///     `summary` (dict, as `summary.json`), `series` ({name: {column:
 ///     ndarray}}), `trajectory` (None, or `step`, `time`, `orientations`
 ///     (frames, n, 4), `omega_body` (frames, n, 3)), `sites` (n, 3),
-///     `initial_orientations` (n, 4), `initial_omega_body` (n, 3).
+///     `initial_orientations` (n, 4), `initial_omega_body` (n, 3). A
+///     scene in real units (``units = "real"``) returns its series in them
+///     (time in fs, temperatures in K, pressure in atm) and its summary
+///     names them (``summary["units"]``).
 ///
 /// Raises
 /// ------
 /// SceneError
 ///     An invalid scene; the message names the field.
 /// BlowUpError
-///     The run blew up; its `result` holds what it recorded.
+///     The run blew up; the message names the step and the rotor, or the
+///     two bodies and their sites; its `result` holds what it recorded.
 /// OSError
 ///     An output file that cannot be written.
 ///
@@ -240,7 +244,7 @@ fn run<'py>(
     }
     let result =
         finished.ok_or_else(|| PyRuntimeError::new_err("the run ended without a result"))??;
-    let message = result.stop.message();
+    let message = result.summary.message.clone();
     let stop = result.stop.clone();
     let dict = result_dict(py, &scene, result)?;
     let err = match (stopped_by, stop) {

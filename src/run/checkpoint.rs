@@ -1,4 +1,5 @@
-//! Checkpoint files: the integrator's complete state at a step, stored as the
+//! Checkpoint files: the integrator's complete state at a step (a body
+//! run's: `BodyIntegrator::checkpoint`), stored as the
 //! bit patterns of its floats (JSON; serde_json's default float parsing is
 //! not correctly rounded, so no float is stored as a decimal), with the
 //! identity of the run it belongs to and a checksum.
@@ -9,7 +10,9 @@
 //!   external fields, the integrator and the thermostat with all their
 //!   options (the thermostat's seed too), `dt` bit for bit (the one
 //!   comparison of `dt` on a restart),
-//!   the number of rotors and the format version. The initial state, the
+//!   the number of rotors and the format version; for a scene of bodies
+//!   also the number of bodies and fingerprints of the body types (with
+//!   each body's type) and of the box and interactions. The initial state, the
 //!   run length and what is recorded may differ (a restart may run longer).
 //!   A restart with anything else is refused, saying what differs.
 //! * The checksum (64-bit FNV-1a of the file's JSON with an empty checksum
@@ -88,6 +91,18 @@ pub struct Identity {
     pub dt_bits: u64,
     /// The number of rotors.
     pub rotor_count: usize,
+    /// A scene of bodies: the number of bodies (`None`, and not written,
+    /// for rotors).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_count: Option<usize>,
+    /// A scene of bodies: fingerprint of the body types (mass, inertia,
+    /// sites with all their parameters) and of each body's type.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_types: Option<String>,
+    /// A scene of bodies: fingerprint of the space (open, or the box) and
+    /// the interactions (Lennard-Jones, electrostatics, skin).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_interactions: Option<String>,
 }
 
 impl Identity {
@@ -106,12 +121,39 @@ impl Identity {
                 .map(|t| serde_json::to_string(t).unwrap_or_default()),
             dt_bits: scene.dt.to_bits(),
             rotor_count: scene.rotors.len(),
+            body_count: scene.bodies.as_ref().map(|b| b.bodies.len()),
+            body_types: scene.bodies.as_ref().map(|b| {
+                let kinds: Vec<usize> = b.bodies.iter().map(|b| b.kind).collect();
+                debug_fingerprint(&(&b.types, kinds))
+            }),
+            body_interactions: scene
+                .bodies
+                .as_ref()
+                .map(|b| debug_fingerprint(&(b.space, b.interactions))),
         }
     }
 
     /// What differs between the identity of the scene (`self`) and the
     /// checkpoint's, in words; `None` when they are equal.
     fn difference(&self, saved: &Identity) -> Option<String> {
+        let kind = |i: &Identity| match i.body_count {
+            Some(_) => "bodies",
+            None => "rotors",
+        };
+        if kind(self) != kind(saved) {
+            return Some(format!(
+                "the scene is of {} but the checkpoint of {}",
+                kind(self),
+                kind(saved)
+            ));
+        }
+        if self.body_count != saved.body_count {
+            return Some(format!(
+                "the number of bodies is {} in the scene but {} in the checkpoint",
+                self.body_count.unwrap_or_default(),
+                saved.body_count.unwrap_or_default()
+            ));
+        }
         if self.rotor_count != saved.rotor_count {
             return Some(format!(
                 "the number of rotors is {} in the scene but {} in the checkpoint",
@@ -139,20 +181,26 @@ impl Identity {
         }
         [
             (
-                &self.rotors,
-                &saved.rotors,
+                self.rotors != saved.rotors,
                 "the rotors (sites, inertia, multipoles)",
             ),
             (
-                &self.interactions,
-                &saved.interactions,
+                self.interactions != saved.interactions,
                 "the interactions (boundary, box, sum)",
             ),
-            (&self.fields, &saved.fields, "the external fields"),
+            (self.fields != saved.fields, "the external fields"),
+            (
+                self.body_types != saved.body_types,
+                "the body types (body_types: mass, inertia, sites) or the bodies' types",
+            ),
+            (
+                self.body_interactions != saved.body_interactions,
+                "the box and the interactions of the bodies (bodies.box, body_interactions)",
+            ),
         ]
         .into_iter()
-        .find(|(a, b, _)| a != b)
-        .map(|(_, _, what)| format!("{what} differ from those of the checkpoint's run"))
+        .find(|(differs, _)| *differs)
+        .map(|(_, what)| format!("{what} differ from those of the checkpoint's run"))
     }
 }
 
@@ -174,6 +222,14 @@ fn thermostat_difference(scene: Option<&str>, saved: Option<&str>) -> String {
     } else {
         format!("the thermostat is {here} in the scene but {there} in the checkpoint")
     }
+}
+
+/// Fingerprint of a value's `Debug` form, which writes every float as the
+/// shortest decimal that reads back to its bits: values differing in any
+/// bit differ here (a change of the types' fields changes it too, so a
+/// checkpoint is refused by a build whose body types differ in form).
+fn debug_fingerprint(value: &impl std::fmt::Debug) -> String {
+    Fnv::new().bytes(format!("{value:?}").as_bytes()).hex()
 }
 
 fn rotors_fingerprint(rotors: &[Rotor]) -> String {

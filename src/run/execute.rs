@@ -9,7 +9,7 @@ use super::scene_run::{run_scene, thread_record, Outputs, Progress, RunResult, S
 use super::summary::InteractionsSummary;
 use crate::parallel::{automatic_threads, in_pool, on_worker, ThreadCount, ROTORS_PER_THREAD};
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
-use crate::scene::{boundary_error, Interactions, Scene, SceneError};
+use crate::scene::{boundary_error, Interactions, Scene};
 use std::num::NonZeroUsize;
 use std::path::Path;
 
@@ -63,14 +63,8 @@ pub fn execute(
     let (pool, _, _) = choose_threads(scene, outputs.threads);
     let go = move || {
         if let Some(bodies) = &scene.bodies {
-            if restart.is_some() {
-                return Err(RunError::Scene(SceneError::field(
-                    "restart",
-                    "scenes of bodies cannot restart from a checkpoint yet",
-                )));
-            }
             let threads = thread_record(scene, outputs);
-            return run_bodies(scene, bodies, definition, outputs, &threads);
+            return run_bodies((scene, bodies), definition, outputs, restart, &threads);
         }
         let built = prepare(scene, outputs.keep)?;
         let interactions = scene

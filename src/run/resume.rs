@@ -13,6 +13,7 @@
 //!   restart writes to a new folder `restart-STEP` (or `restart-STEP-2`, ...)
 //!   inside the output folder, and says so.
 
+use super::bodies::body_columns;
 use super::dcd::{read_header, DcdHeader};
 use super::folder::{DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE};
 use super::series::SeriesObserver;
@@ -81,8 +82,7 @@ pub fn kept_summary_name(dir: &Path, step: u64) -> PathBuf {
 /// in the output folder `dir` (see the module doc).
 pub fn plan(dir: &Path, scene: &Scene, step: u64) -> Placement {
     let record = &scene.record;
-    let mut files: Vec<PathBuf> = record
-        .series
+    let mut files: Vec<PathBuf> = series_files(scene)
         .iter()
         .map(|s| dir.join(format!("{}.csv", s.name)))
         .collect();
@@ -119,6 +119,38 @@ pub fn plan(dir: &Path, scene: &Scene, step: u64) -> Placement {
     }
 }
 
+/// A series file of a scene: its name, interval and CSV header.
+struct SeriesFile<'a> {
+    name: &'a str,
+    every: u64,
+    header: String,
+}
+
+/// The series files of `scene`: its rotor series, or its body series.
+fn series_files(scene: &Scene) -> Vec<SeriesFile<'_>> {
+    match &scene.bodies {
+        Some(bodies) => bodies
+            .series
+            .iter()
+            .map(|s| SeriesFile {
+                name: &s.name,
+                every: s.every,
+                header: body_columns(s).join(","),
+            })
+            .collect(),
+        None => scene
+            .record
+            .series
+            .iter()
+            .map(|s| SeriesFile {
+                name: &s.name,
+                every: s.every,
+                header: SeriesObserver::header(s),
+            })
+            .collect(),
+    }
+}
+
 /// Whether a file whose last sample is at `last` (samples every `every`
 /// steps) ends at the checkpoint's `step`: no sample after it, none missing.
 fn ends_at(last: u64, every: u64, step: u64) -> bool {
@@ -129,10 +161,10 @@ fn ends_at(last: u64, every: u64, step: u64) -> bool {
 /// the reason, naming the first file that does not.
 fn append_points(dir: &Path, scene: &Scene, step: u64) -> Result<AppendAfter, String> {
     let mut series = Vec::new();
-    for s in &scene.record.series {
+    for s in series_files(scene) {
         let path = dir.join(format!("{}.csv", s.name));
-        let last = last_row_step(&path, &SeriesObserver::header(s))
-            .map_err(|why| format!("{}: {why}", path.display()))?;
+        let last =
+            last_row_step(&path, &s.header).map_err(|why| format!("{}: {why}", path.display()))?;
         if !ends_at(last, s.every, step) {
             return Err(format!(
                 "{}: its last row is at step {last}, not the last sample at or before the checkpoint's step {step}",

@@ -220,11 +220,11 @@ fn run_options(
 
 /// The locked output folder of a run, where its files go and the folder
 /// they are written to (all `None` without outputs).
-type OpenedFolder = (Option<OutputFolder>, Option<Placement>, Option<PathBuf>);
+pub(super) type OpenedFolder = (Option<OutputFolder>, Option<Placement>, Option<PathBuf>);
 
 /// Locks the output folder of a run, plans where its files go ([`plan`] for
 /// a restart) and creates the folder they are written to when it is new.
-fn open_folder(
+pub(super) fn open_folder(
     outputs: &Outputs,
     scene: &Scene,
     restart: Option<&Path>,
@@ -253,6 +253,14 @@ fn restore(
     scene: &Scene,
     path: &Path,
 ) -> Result<(u64, Option<EnergyReference>), RunError> {
+    let checkpoint = read_checkpoint(scene, path)?;
+    integrator.restore(&checkpoint.state())?;
+    Ok((checkpoint.step, checkpoint.reference()))
+}
+
+/// The checkpoint at `path`, read and checked: intact, of a run of
+/// `scene`, at a step within its length.
+pub(super) fn read_checkpoint(scene: &Scene, path: &Path) -> Result<Checkpoint, RunError> {
     let checkpoint = Checkpoint::read(path)?;
     checkpoint.check(path, scene)?;
     if checkpoint.step > scene.steps {
@@ -264,8 +272,7 @@ fn restore(
             ),
         });
     }
-    integrator.restore(&checkpoint.state())?;
-    Ok((checkpoint.step, checkpoint.reference()))
+    Ok(checkpoint)
 }
 
 /// The outputs a scene records: its series, its trajectory, its checkpoints.
@@ -333,19 +340,24 @@ impl Recorders {
                 TrajectoryObserver::new(spec, &scene.rotors, now, files, keep)
             })
             .transpose()?;
-        let checkpoints = record.checkpoint_every.zip(files).map(|(every, (dir, _))| {
-            let writer = CheckpointWriter {
-                path: dir.join(CHECKPOINT_FILE),
-                scene: scene.name.clone(),
-                identity: Identity::of(scene),
-            };
-            (every, writer)
-        });
+        let checkpoints = record
+            .checkpoint_every
+            .zip(files)
+            .map(|(every, (dir, _))| (every, checkpoint_writer(scene, dir)));
         Ok(Recorders {
             series,
             trajectory,
             checkpoints,
         })
+    }
+}
+
+/// The writer of the checkpoints of a run of `scene` in the folder `dir`.
+pub(super) fn checkpoint_writer(scene: &Scene, dir: &Path) -> CheckpointWriter {
+    CheckpointWriter {
+        path: dir.join(CHECKPOINT_FILE),
+        scene: scene.name.clone(),
+        identity: Identity::of(scene),
     }
 }
 

@@ -8,6 +8,7 @@ use crate::potential::multipole::{EwaldParameters, SumPath};
 use crate::potential::{Boundary, MultipolePotential, PeriodicSum, SumKind, Surface};
 use crate::scene::{BodyScene, Interactions, Scene, SCENE_VERSION};
 use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
+use crate::units::UnitNames;
 use serde::{Deserialize, Serialize};
 
 /// Versions of what produced the outputs.
@@ -324,6 +325,9 @@ pub struct Summary {
     /// The bodies of a scene of bodies (absent for rotors).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bodies: Option<BodiesSummary>,
+    /// The units of the outputs (absent: reduced units).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub units: Option<UnitNames>,
     /// How the files were written: `"new"`, `"appended"` to an earlier
     /// run's, or `"new_folder"` (a restart whose folder held files that do
     /// not end at the checkpoint); absent when no file was written.
@@ -396,6 +400,7 @@ impl Summary {
             final_energies,
             drift: drift(report),
             bodies: None,
+            units: None,
             outputs: None,
         }
     }

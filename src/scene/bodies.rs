@@ -15,6 +15,7 @@ use crate::bodies::{
 use crate::checks::{each, finite, num, InputError};
 use crate::potential::multipole::{SumMethod, Surface};
 use crate::quaternion::Quat;
+use crate::units::{Dimension, Units};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -211,6 +212,7 @@ pub(super) fn body_scene(
     raw: &RawBodies,
     interactions: Option<&RawBodyInteractions>,
     initial: Option<&RawInitial>,
+    units: Units,
 ) -> Result<(BodyScene, Option<u64>), SceneError> {
     let Some(raw_types) = raw_types.filter(|t| !t.is_empty()) else {
         return Err(SceneError::field(
@@ -218,8 +220,8 @@ pub(super) fn body_scene(
             "missing: a scene of bodies lists at least one body type",
         ));
     };
-    let types = checked_types(raw_types)?;
-    let (space, bodies, seed) = start(&types, raw, initial)?;
+    let types = checked_types(raw_types, units)?;
+    let (space, bodies, seed) = start(&types, raw, initial, units)?;
     let interactions = interaction_options(interactions.cloned().unwrap_or_default());
     let scene = BodyScene {
         types,
@@ -284,6 +286,7 @@ fn start(
     types: &[BodyType],
     raw: &RawBodies,
     initial: Option<&RawInitial>,
+    units: Units,
 ) -> Result<(Space, Vec<Body>, Option<u64>), SceneError> {
     let paths = [
         ("temperature", "initial.temperature"),
@@ -293,9 +296,9 @@ fn start(
         ("counts", "bodies.counts"),
     ];
     let started = match raw {
-        RawBodies::Given(given) => return given_start(given, types, initial),
+        RawBodies::Given(given) => return given_start(given, types, initial, units),
         RawBodies::Random(r) => {
-            let (kinds, temperature, seed) = generated(&r.counts, types, initial)?;
+            let (kinds, temperature, seed) = generated(&r.counts, types, initial, units)?;
             let start = RandomStart {
                 density: r.density,
                 closest: r.closest.unwrap_or(1.0),
@@ -305,7 +308,7 @@ fn start(
             random_start(types, &kinds, &start).map(|(space, bodies)| (space, bodies, seed))
         }
         RawBodies::Lattice(l) => {
-            let (kinds, temperature, seed) = generated(&l.counts, types, initial)?;
+            let (kinds, temperature, seed) = generated(&l.counts, types, initial, units)?;
             let start = LatticeStart {
                 lattice: l.lattice.unwrap_or_default(),
                 density: l.density,
@@ -325,6 +328,7 @@ fn given_start(
     given: &RawGivenBodies,
     types: &[BodyType],
     initial: Option<&RawInitial>,
+    units: Units,
 ) -> Result<(Space, Vec<Body>, Option<u64>), SceneError> {
     if initial.is_some() {
         return Err(SceneError::field(
@@ -337,7 +341,8 @@ fn given_start(
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            given_body(b, types).map_err(|e| SceneError::from(e.at(&format!("bodies.list[{i}]"))))
+            given_body(b, types, units)
+                .map_err(|e| SceneError::from(e.at(&format!("bodies.list[{i}]"))))
         })
         .collect::<Result<Vec<_>, _>>()?;
     if bodies.is_empty() {
@@ -353,14 +358,24 @@ fn given_start(
 }
 
 /// The type of each generated body (in type order) of `counts`, and the
-/// temperature and seed of `[initial]`.
+/// temperature (in the engine's units) and seed of `[initial]`.
 fn generated(
     counts: &[usize],
     types: &[BodyType],
     initial: Option<&RawInitial>,
+    units: Units,
 ) -> Result<(Vec<usize>, f64, u64), SceneError> {
     let (temperature, seed) = match initial {
-        Some(RawInitial::Random(r)) => (r.temperature, r.seed.unwrap_or_else(drawn_seed)),
+        Some(RawInitial::Random(r)) if units == Units::Real && r.temperature < 0.0 => {
+            return Err(SceneError::field(
+                "initial.temperature",
+                format!("must be >= 0 K, got {} K", num(r.temperature)),
+            ))
+        }
+        Some(RawInitial::Random(r)) => (
+            units.to_internal(r.temperature, Dimension::Temperature),
+            r.seed.unwrap_or_else(drawn_seed),
+        ),
         Some(_) => {
             return Err(SceneError::field(
                 "initial.kind",
@@ -398,8 +413,10 @@ fn generated(
     Ok((kinds, temperature, seed))
 }
 
-/// One given body; errors name its field.
-fn given_body(raw: &RawBody, types: &[BodyType]) -> Result<Body, InputError> {
+/// One given body, its velocities converted from `units`; errors name its
+/// field.
+fn given_body(raw: &RawBody, types: &[BodyType], units: Units) -> Result<Body, InputError> {
+    let rate = |v: [f64; 3]| Vector3::from(v).map(|c| units.to_internal(c, Dimension::Rate));
     let kind = raw.body_type.unwrap_or(0);
     let moments = types.get(kind).map(|t| t.moments).ok_or_else(|| {
         InputError::new(
@@ -419,16 +436,16 @@ fn given_body(raw: &RawBody, types: &[BodyType]) -> Result<Body, InputError> {
         }
         (Some(w), None) => {
             each(&w, finite).map_err(|e| e.at("angular_velocity"))?;
-            Vector3::from_fn(|k, _| moments[k] * w[k])
+            Vector3::from_fn(|k, _| moments[k] * units.to_internal(w[k], Dimension::Rate))
         }
-        (None, Some(l)) => Vector3::from(l),
+        (None, Some(l)) => rate(l),
         (None, None) => Vector3::zeros(),
     };
     Ok(Body {
         kind,
         position: Vector3::from(raw.position),
         image: [0; 3],
-        velocity: Vector3::from(raw.velocity.unwrap_or_default()),
+        velocity: rate(raw.velocity.unwrap_or_default()),
         orientation: Quat(raw.orientation.unwrap_or(Quat::IDENTITY.0)),
         angular_momentum_body,
     })

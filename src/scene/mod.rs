@@ -25,6 +25,7 @@ mod run_length;
 mod tagged;
 mod thermostat;
 mod validate;
+mod water;
 
 pub use crate::parallel::ThreadCount;
 pub use bodies::{BodyScene, BodySeries, DEFAULT_SKIN};
@@ -40,3 +41,4 @@ pub use record::{
     Record, Series, TrajectoryFormat, TrajectorySpec, DEFAULT_CHECK_EVERY, DEFAULT_MARKER_LENGTH,
 };
 pub use validate::{validate, SCENE_VERSION};
+pub use water::WaterModel;

@@ -8,6 +8,7 @@ use crate::parallel::ThreadCount;
 use crate::potential::{Boundary, ExternalFields, SumMethod};
 use crate::rotor::{Inertia, Rotor};
 use crate::thermostats::ThermostatSpec;
+use crate::units::{Dimension, Units};
 use nalgebra::Vector3;
 
 /// The pair interactions of a scene: their boundary and the way a periodic
@@ -45,7 +46,11 @@ pub struct Scene {
     pub integrator: IntegratorSpec,
     /// The thermostat (`None`: constant energy), with its seed resolved.
     pub thermostat: Option<ThermostatSpec>,
-    /// Time step (reduced time units, > 0).
+    /// The unit system of the scene's numbers (the engine's inside are
+    /// converted at load, [`crate::units`]).
+    pub units: Units,
+    /// Time step in the scene's units (> 0; fs in real units): the engine
+    /// steps by [`Scene::engine_dt`].
     pub dt: f64,
     /// Number of steps (>= 1).
     pub steps: u64,
@@ -62,6 +67,11 @@ impl Scene {
             Some(Boundary::Periodic { box_lengths, .. }) => Some(box_lengths),
             _ => None,
         }
+    }
+
+    /// The time step in the engine's units.
+    pub fn engine_dt(&self) -> f64 {
+        self.units.to_internal(self.dt, Dimension::Time)
     }
 
     /// The moments of inertia, one per rotor.

@@ -33,6 +33,9 @@ pub struct RawScene {
     pub name: Option<String>,
     /// One line of text.
     pub description: Option<String>,
+    /// The unit system (default reduced).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<crate::units::Units>,
     /// `[rotors]` (a scene declares rotors or bodies).
     pub rotors: Option<RawRotors>,
     /// `[[body_types]]` (scenes of bodies).

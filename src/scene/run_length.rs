@@ -4,6 +4,7 @@
 use super::error::SceneError;
 use crate::checks::{at_least_one, num, positive};
 use crate::parallel::ThreadCount;
+use crate::units::{Units, MAX_REAL_DT_FS};
 use serde::{Deserialize, Serialize};
 
 /// Time step and length of the run.
@@ -28,9 +29,19 @@ pub struct RawRun {
 /// steps much below `(2.2e-308)^(1/5)`, about 1e-61.
 pub const MIN_DT: f64 = 1e-60;
 
-/// Validates the section: the time step and the number of steps.
-pub(super) fn run_length(raw: &RawRun) -> Result<(f64, u64), SceneError> {
+/// Validates the section: the time step (in `units`; at most
+/// [`MAX_REAL_DT_FS`] in real units) and the number of steps.
+pub(super) fn run_length(raw: &RawRun, units: Units) -> Result<(f64, u64), SceneError> {
     let dt = positive(raw.dt).map_err(|e| e.at("run.dt"))?;
+    if units == Units::Real && dt > MAX_REAL_DT_FS {
+        return Err(SceneError::field(
+            "run.dt",
+            format!(
+                "must be at most {MAX_REAL_DT_FS} fs in real units (rigid water is stable to about 4 fs), got {}",
+                num(dt)
+            ),
+        ));
+    }
     if dt < MIN_DT {
         return Err(SceneError::field(
             "run.dt",
@@ -80,12 +91,15 @@ mod tests {
     use super::*;
 
     fn check(dt: f64, steps: Option<i64>, time: Option<f64>) -> Result<(f64, u64), String> {
-        run_length(&RawRun {
-            dt,
-            steps,
-            time,
-            threads: None,
-        })
+        run_length(
+            &RawRun {
+                dt,
+                steps,
+                time,
+                threads: None,
+            },
+            Units::Reduced,
+        )
         .map_err(|e| e.to_string())
     }
 

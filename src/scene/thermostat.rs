@@ -10,6 +10,7 @@ use super::error::SceneError;
 use super::tagged::{read_variant, take_kind, unknown_kind, TaggedError};
 use crate::integrators::IntegratorSpec;
 use crate::thermostats::ThermostatSpec;
+use crate::units::{Dimension, Units};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// `kind = "..."` and the options of that thermostat, checked, with errors
@@ -84,6 +85,30 @@ pub(super) fn thermostat(
     Ok(Some(spec))
 }
 
+/// `spec` with its temperature, time constant or friction taken from the
+/// scene's `units` into the engine's (the identity in reduced units).
+pub(super) fn in_engine_units(spec: ThermostatSpec, units: Units) -> ThermostatSpec {
+    let temperature = |t: f64| units.to_internal(t, Dimension::Temperature);
+    let time = |t: f64| units.to_internal(t, Dimension::Time);
+    match spec {
+        ThermostatSpec::Langevin(mut o) => {
+            o.temperature = temperature(o.temperature);
+            o.friction = units.to_internal(o.friction, Dimension::PerTime);
+            ThermostatSpec::Langevin(o)
+        }
+        ThermostatSpec::Bussi(mut o) => {
+            o.temperature = temperature(o.temperature);
+            o.tau = time(o.tau);
+            ThermostatSpec::Bussi(o)
+        }
+        ThermostatSpec::NoseHoover(mut o) => {
+            o.temperature = temperature(o.temperature);
+            o.tau = time(o.tau);
+            ThermostatSpec::NoseHoover(o)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,6 +119,28 @@ mod tests {
         crate::scene::parse::parse_value::<RawThermostat>(toml::from_str(text).expect("valid"))
             .map(|r| r.spec)
             .map_err(|e| e.to_string())
+    }
+
+    /// In real units a thermostat's temperature (K), time constant (fs) and
+    /// friction (1/fs) reach the engine as `k_B T` in kcal/mol and in its
+    /// time unit, against LAMMPS `units real`'s constants (`boltz =
+    /// 0.0019872067`, 1.2e-6 from the exact value: ERRATA's traps table;
+    /// time unit 48.88821 fs); reduced units are left alone.
+    #[test]
+    fn real_units_convert_the_thermostat_options() {
+        let langevin = read("kind = 'langevin'\ntemperature = 300.0\nfriction = 0.01").unwrap();
+        let ThermostatSpec::Langevin(o) = in_engine_units(langevin, Units::Real) else {
+            panic!("langevin");
+        };
+        assert!((o.temperature / (300.0 * 0.0019872067) - 1.0).abs() < 2e-6);
+        assert!((o.friction / (0.01 * 48.88821) - 1.0).abs() < 1e-6);
+        let nose_hoover = read("kind = 'nose_hoover'\ntemperature = 298.0\ntau = 100.0").unwrap();
+        let ThermostatSpec::NoseHoover(o) = in_engine_units(nose_hoover, Units::Real) else {
+            panic!("nose_hoover");
+        };
+        assert!((o.tau / (100.0 / 48.88821) - 1.0).abs() < 1e-6);
+        assert!((o.temperature / (298.0 * 0.0019872067) - 1.0).abs() < 2e-6);
+        assert_eq!(in_engine_units(langevin, Units::Reduced), langevin);
     }
 
     /// Tables become the physics options; the chain length defaults to 3.

@@ -12,9 +12,10 @@ use super::raw::{RawBodies, RawRecord, RawRotors, RawScene};
 use super::record::{body_record, record, TrajectoryFormat};
 use super::rotors::{rotors, Rotors};
 use super::run_length::run_length;
-use super::thermostat::thermostat;
+use super::thermostat::{in_engine_units, thermostat};
 use crate::bodies::BodyIntegrator;
 use crate::potential::ExternalFields;
+use crate::units::Units;
 
 /// The only scene format version this build reads.
 pub const SCENE_VERSION: i64 = 1;
@@ -98,6 +99,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         }
     };
     if let Some(field) = [
+        ("units", raw.units.is_some_and(|u| u != Units::Reduced)),
         ("body_types", raw.body_types.is_some()),
         ("body_interactions", raw.body_interactions.is_some()),
     ]
@@ -126,7 +128,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
     let (initial, seed) = initial(raw_initial, &rotors)?;
     let integrator = raw.integrator.spec;
     let thermostat = thermostat(raw.thermostat.as_ref(), &integrator, seed)?;
-    let (dt, steps) = run_length(&raw.run)?;
+    let (dt, steps) = run_length(&raw.run, Units::Reduced)?;
     let record = record(
         raw.record.as_ref().unwrap_or(&RawRecord::default()),
         &integrator,
@@ -137,6 +139,7 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
         description: description(raw.description.as_deref())?,
         rotors,
         bodies: None,
+        units: Units::Reduced,
         interactions,
         fields,
         initial,
@@ -151,8 +154,8 @@ pub fn validate(raw: &RawScene) -> Result<Scene, SceneError> {
 }
 
 /// Validates a scene of bodies: no rotor section, an integrator that moves
-/// bodies, no thermostat yet, only the series of [`BodyQuantity`]s and a
-/// GSD trajectory, no checkpoints.
+/// bodies with the thermostats it carries for them, only the series of
+/// [`BodyQuantity`]s and a GSD trajectory.
 ///
 /// [`BodyQuantity`]: crate::bodies::BodyQuantity
 fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, SceneError> {
@@ -170,27 +173,22 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
     }
     let integrator = raw.integrator.spec;
     BodyIntegrator::check(&integrator).map_err(|e| e.at("integrator"))?;
-    if raw.thermostat.is_some() {
-        return Err(SceneError::field(
-            "thermostat",
-            "bodies run at constant energy only so far: leave [thermostat] out",
-        ));
-    }
+    let units = raw.units.unwrap_or_default();
     let (mut bodies, seed) = body_scene(
         raw.body_types.as_ref(),
         raw_bodies,
         raw.body_interactions.as_ref(),
         raw.initial.as_ref(),
+        units,
     )?;
-    let (dt, steps) = run_length(&raw.run)?;
+    if let Some(t) = &raw.thermostat {
+        BodyIntegrator::check_thermostat(&integrator, &t.spec).map_err(|e| e.at("thermostat"))?;
+    }
+    let thermostat =
+        thermostat(raw.thermostat.as_ref(), &integrator, seed)?.map(|t| in_engine_units(t, units));
+    let (dt, steps) = run_length(&raw.run, units)?;
     let raw_record = raw.record.clone().unwrap_or_default();
     bodies.series = body_record(&raw_record, &bodies.space)?;
-    if raw_record.checkpoint_every.is_some() {
-        return Err(SceneError::field(
-            "record.checkpoint_every",
-            "checkpoints of bodies are not supported yet",
-        ));
-    }
     let no_series = RawRecord {
         series: Vec::new(),
         ..raw_record
@@ -216,12 +214,13 @@ fn validate_bodies(raw: &RawScene, raw_bodies: &RawBodies) -> Result<Scene, Scen
         description: description(raw.description.as_deref())?,
         rotors: Vec::new(),
         bodies: Some(bodies),
+        units,
         interactions: None,
         fields: ExternalFields::NONE,
         initial: Vec::new(),
         seed,
         integrator,
-        thermostat: None,
+        thermostat,
         dt,
         steps,
         threads: raw.run.threads.unwrap_or_default(),

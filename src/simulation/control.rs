@@ -35,8 +35,8 @@ impl Control {
         self.step.load(Ordering::Relaxed)
     }
 
-    /// Records the step reached (by the run loop).
-    pub(super) fn set_step(&self, step: u64) {
+    /// Records the step reached (by the run loops).
+    pub(crate) fn set_step(&self, step: u64) {
         self.step.store(step, Ordering::Relaxed);
     }
 }

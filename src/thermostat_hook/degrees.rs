@@ -11,6 +11,11 @@
 //! counted in `N_f`, its kinetic energy not in `K`, and it is not scaled
 //! (its energy stays conserved by itself). Free rotors (no torque at all) and
 //! rotors without such an axis count all their positive moments.
+//!
+//! Bodies that move add their centres: `3N - 3` translational degrees of
+//! freedom for a thermostat that keeps the total momentum (Bussi and
+//! Nose-Hoover scale the velocities relative to the centre of mass, whose
+//! kinetic energy is left out of `K_trans` and stays what it was).
 
 use super::SplitDynamics;
 use crate::potential::{symmetric_about, Potential, TorqueAxes};
@@ -32,10 +37,14 @@ pub struct CoupledDegrees {
     pub spins: Vec<Option<Spin>>,
     /// `N_f`: positive moments, less one per conserved spin.
     pub dof: usize,
+    /// The masses of the centres that move, in body order (none for rotors
+    /// on fixed sites).
+    pub masses: Vec<f64>,
 }
 
 impl CoupledDegrees {
-    /// For rotors of principal moments `moments` in `potential`.
+    /// For rotors of principal moments `moments` in `potential` (on fixed
+    /// sites: no centres).
     pub fn new(moments: &[Vector3<f64>], potential: &dyn Potential) -> Self {
         let spins: Vec<Option<Spin>> = moments
             .iter()
@@ -49,12 +58,59 @@ impl CoupledDegrees {
                 TorqueAxes::Any | TorqueAxes::Never => None,
             })
             .collect();
+        Self::with_spins(moments, spins, Vec::new())
+    }
+
+    /// For rotors or bodies of principal moments `moments` whose conserved
+    /// spins are `spins`, with centres of masses `masses`.
+    pub fn with_spins(
+        moments: &[Vector3<f64>],
+        spins: Vec<Option<Spin>>,
+        masses: Vec<f64>,
+    ) -> Self {
         let positive: usize = moments
             .iter()
             .map(|m| m.iter().filter(|i| **i > 0.0).count())
             .sum();
         let dof = positive - spins.iter().flatten().count();
-        CoupledDegrees { spins, dof }
+        CoupledDegrees { spins, dof, masses }
+    }
+
+    /// `3N - 3` for `N` moving centres (0 for fewer than two): the
+    /// translational degrees of freedom of a thermostat that keeps the
+    /// total momentum.
+    pub fn translational_dof(&self) -> usize {
+        (3 * self.masses.len()).saturating_sub(3)
+    }
+
+    /// The velocity of the centre of mass of the moving centres.
+    fn centre_of_mass_velocity(&self, dynamics: &impl SplitDynamics) -> Vector3<f64> {
+        let mut momentum = Vector3::zeros();
+        dynamics.for_each_velocity(|_, v, mass| momentum += v * mass);
+        momentum / self.masses.iter().sum::<f64>()
+    }
+
+    /// The translational kinetic energy relative to the centre of mass,
+    /// `sum m |v - V|^2 / 2`, summed in body order (0 without centres).
+    pub fn translational_kinetic_energy(&self, dynamics: &impl SplitDynamics) -> f64 {
+        if self.masses.is_empty() {
+            return 0.0;
+        }
+        let centre = self.centre_of_mass_velocity(dynamics);
+        let mut kinetic = 0.0;
+        dynamics
+            .for_each_velocity(|_, v, mass| kinetic += 0.5 * mass * (v - centre).norm_squared());
+        kinetic
+    }
+
+    /// Scales the velocities relative to the centre of mass by `factor`:
+    /// `v <- V + factor (v - V)` (the total momentum kept).
+    pub fn scale_translation(&self, dynamics: &mut impl SplitDynamics, factor: f64) {
+        if self.masses.is_empty() {
+            return;
+        }
+        let centre = self.centre_of_mass_velocity(dynamics);
+        dynamics.update_velocities(|_, v, _| *v = centre + (*v - centre) * factor);
     }
 
     /// The part of `w` a thermostat acts on (`w` less its spin component).

@@ -1,27 +1,31 @@
 //! What a thermostat sees of a kick-based step.
 
-use crate::potential::Potential;
 use nalgebra::Vector3;
 
-/// The pieces of a kick-based step (half kick, free flow, torques, half
-/// kick) and the rotors' state seen through their body angular velocities,
-/// as an integrator offers them to a thermostat. Every method acts on all
-/// rotors; the per-rotor callbacks run in rotor order on one thread, so a
-/// thermostat's random numbers do not depend on the thread count. `Send`,
-/// so that a thermostat may draw them on one thread while the rotors move
-/// on the others.
+/// The pieces of a kick-based step (half kick, free flow, forces and
+/// torques, half kick) and the state seen in two views: the rotational one
+/// through the body angular velocities, the translational one through the
+/// centres' velocities (bodies that move; rotors on fixed sites have no
+/// centres, and their translational view is empty). The dynamics owns what
+/// it evaluates (a rotor potential, a body system), so a thermostat never
+/// learns which. Every method acts on all rotors or bodies; the per-body
+/// callbacks run in order on one thread, so a thermostat's random numbers
+/// do not depend on the thread count. `Send`, so that a thermostat may draw
+/// them on one thread while the bodies move on the others.
 pub trait SplitDynamics: Send {
     /// The time step.
     fn dt(&self) -> f64;
 
-    /// Half kick: every momentum over `dt/2` with the stored torques.
+    /// Half kick: every momentum over `dt/2` with the stored forces and
+    /// torques.
     fn half_kick(&mut self);
 
-    /// The integrator's free flow (orientation update) over `duration`.
+    /// The integrator's free flow (orientation update, and the centres'
+    /// drift) over `duration`.
     fn free_flow(&mut self, duration: f64);
 
-    /// The torques at the current orientations.
-    fn evaluate_torques(&mut self, potential: &dyn Potential);
+    /// The forces and torques at the current configuration.
+    fn evaluate(&mut self);
 
     /// Half kick, then the free flow over `duration` (an integrator may do
     /// both in one parallel pass over its rotors).
@@ -31,10 +35,10 @@ pub trait SplitDynamics: Send {
     }
 
     /// The step without a thermostat: half kick, free flow over `dt`,
-    /// torques at the new orientations, half kick.
-    fn kick_flow_kick(&mut self, potential: &dyn Potential) {
+    /// forces and torques at the new configuration, half kick.
+    fn kick_flow_kick(&mut self) {
         self.half_kick_then_flow(self.dt());
-        self.evaluate_torques(potential);
+        self.evaluate();
         self.half_kick();
     }
 
@@ -52,4 +56,12 @@ pub trait SplitDynamics: Send {
     /// rotor's momentum from the body angular velocity `f` leaves
     /// (`L_b = I w_b`; nothing about axes with zero moment).
     fn update_omega_body(&mut self, f: impl FnMut(usize, &mut Vector3<f64>, &Vector3<f64>));
+
+    /// Calls `f(body, v, mass)` for every moving centre in order, with its
+    /// velocity `v` (none for rotors on fixed sites).
+    fn for_each_velocity(&self, f: impl FnMut(usize, &Vector3<f64>, f64));
+
+    /// Calls `f(body, v, mass)` for every moving centre in order and keeps
+    /// the velocity `f` leaves.
+    fn update_velocities(&mut self, f: impl FnMut(usize, &mut Vector3<f64>, f64));
 }

@@ -16,16 +16,16 @@
 //!   and counts.
 //!
 //! Translation (issue 39). A body that moves as well as rotates adds its
-//! centre's momentum to the step: [`SplitDynamics`] then gains, beside the
-//! rotational pieces, the translational half kick (forces) and drift, and
-//! its kinetic energy and updates come per kind of degree of freedom (a
-//! `Translational` and a `Rotational` view of the same state, each with its
-//! own scaling and per-body update). [`CoupledDegrees`] counts each kind on
-//! its own (`3N - 3` translational when the total momentum is conserved, the
-//! rotational count as now), so a thermostat thermostats each kind with its
-//! own count and reports `T_trans` and `T_rot` apart; the thermostats keep
-//! acting between the same pieces, and no thermostat learns which integrator
-//! it runs in.
+//! centre's momentum to the step: the half kick and the free flow of
+//! [`SplitDynamics`] move the centres too, and besides the rotational view
+//! (body angular velocities) it offers the translational one (the centres'
+//! velocities and masses; empty for rotors on fixed sites). The dynamics
+//! owns what it evaluates ([`SplitDynamics::evaluate`]: a rotor potential
+//! or a body system), so the thermostats keep acting between the same
+//! pieces and none learns which integrator, or which kind of system, it
+//! runs in. [`CoupledDegrees`] counts each kind on its own (`3N - 3`
+//! translational when the total momentum is kept, the rotational count as
+//! for rotors).
 
 mod chain;
 mod degrees;

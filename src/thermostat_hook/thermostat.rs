@@ -1,7 +1,6 @@
 //! What an integrator asks of a thermostat.
 
-use super::SplitDynamics;
-use crate::potential::Potential;
+use super::{CoupledDegrees, SplitDynamics};
 use nalgebra::Vector3;
 use std::fmt::Debug;
 
@@ -15,16 +14,18 @@ pub struct BadCheckpoint(pub String);
 /// [`crate::thermostats`], each a type of its own so that the step stays
 /// monomorphised.
 pub trait Thermostat: Clone + Debug + Send + 'static {
-    /// What the thermostat records besides the rotors.
-    type State: ThermostatState;
+    /// What the thermostat records besides the rotors (a trait object for
+    /// a thermostat chosen at run time).
+    type State: ThermostatState + ?Sized;
 
-    /// Sizes what the thermostat keeps per rotor (principal moments
-    /// `moments`, zero moments allowed, in `potential`) for steps of `dt`,
-    /// and resets its state.
-    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, dt: f64);
+    /// Sizes what the thermostat keeps per rotor or body (principal
+    /// moments `moments`, zero moments allowed; the degrees of freedom
+    /// `degrees`, with the centres' masses of bodies that move) for steps
+    /// of `dt`, and resets its state.
+    fn setup(&mut self, moments: &[Vector3<f64>], degrees: &CoupledDegrees, dt: f64);
 
     /// One whole step of `dynamics.dt()`.
-    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential);
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D);
 
     /// Its state.
     fn state(&self) -> &Self::State;
@@ -57,10 +58,10 @@ pub struct Nve;
 impl Thermostat for Nve {
     type State = Nve;
 
-    fn setup(&mut self, _: &[Vector3<f64>], _: &dyn Potential, _: f64) {}
+    fn setup(&mut self, _: &[Vector3<f64>], _: &CoupledDegrees, _: f64) {}
 
-    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
-        dynamics.kick_flow_kick(potential);
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D) {
+        dynamics.kick_flow_kick();
     }
 
     fn state(&self) -> &Nve {

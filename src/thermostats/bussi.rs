@@ -1,6 +1,6 @@
-//! Stochastic velocity rescaling of the rotational kinetic energy (Bussi,
-//! Donadio and Parrinello, J. Chem. Phys. 126, 014101 (2007); scene
-//! `kind = "bussi"`).
+//! Stochastic velocity rescaling of the rotational kinetic energy, and of
+//! the translational one of bodies that move (Bussi, Donadio and
+//! Parrinello, J. Chem. Phys. 126, 014101 (2007); scene `kind = "bussi"`).
 //!
 //! The total kinetic energy `K` of the `N_f` rotational degrees of freedom
 //! (one per positive principal moment, less the conserved spins of
@@ -27,13 +27,23 @@
 //! operator the exact flow of the equation above). Rotors at rest (`K = 0`)
 //! have no direction to scale and are left at rest.
 //!
+//! Bodies that move: one rescaling per kind, the rotational one above and
+//! the same on the translational kinetic energy relative to the centre of
+//! mass with `N_f = 3N - 3` ([`CoupledDegrees::scale_translation`]: the
+//! total momentum is kept), each drawing its own numbers. One per kind
+//! rather than one over both, so that each kind is brought to `T` by the
+//! thermostat itself, not only through the exchange of energy between
+//! translation and rotation, which is slow for nearly spherical bodies
+//! (none at all for a Lennard-Jones sphere): LAMMPS's `fix rigid/nvt`
+//! (Kamberaj, Low and Neal 2005) thermostats the two kinds apart for the
+//! same reason.
+//!
 //! Heat: the changes `K' - K` are summed over the run; `K + V - heat` is
 //! conserved up to the splitting error. The numbers come from [`super::noise::Noise`]
 //! (reproducible from the seed; a checkpoint stores the position).
 
-use super::noise::HeatNoise;
+use super::noise::{HeatNoise, Noise};
 use crate::checks::{non_negative, positive, InputError};
-use crate::potential::Potential;
 use crate::thermostat_hook::{CoupledDegrees, SplitDynamics, Thermostat};
 use nalgebra::Vector3;
 use rand_distr::Gamma;
@@ -79,8 +89,55 @@ pub struct Bussi {
     coupled: CoupledDegrees,
     /// `c = exp(-dt / (2 tau))`.
     decay: f64,
+    /// The rotational kinetic energy's rescaling.
+    rotation: Rescaling,
+    /// The translational kinetic energy's rescaling (no degrees of
+    /// freedom for rotors on fixed sites).
+    translation: Rescaling,
+}
+
+/// The exact rescaling of one kind's kinetic energy (module doc).
+#[derive(Clone, Debug, Default)]
+struct Rescaling {
+    /// `N_f`.
+    dof: usize,
     /// Chi-square of `N_f - 1` degrees of freedom (none for `N_f = 1`).
     chi_square: Option<Gamma<f64>>,
+}
+
+impl Rescaling {
+    fn new(dof: usize) -> Self {
+        // Shape (N_f - 1)/2 > 0 and scale 2 are valid: `new` cannot fail.
+        let chi_square = (dof > 1)
+            .then(|| Gamma::new(0.5 * (dof - 1) as f64, 2.0).ok())
+            .flatten();
+        Rescaling { dof, chi_square }
+    }
+
+    /// The factor `alpha` for the kinetic energy `kinetic` at temperature
+    /// `temperature` over a step of decay `c`, and the rescaled kinetic
+    /// energy, drawing from `noise`; `None` (nothing drawn) at rest.
+    fn factor(
+        &self,
+        kinetic: f64,
+        temperature: f64,
+        c: f64,
+        noise: &mut Noise,
+    ) -> Option<(f64, f64)> {
+        if kinetic <= 0.0 {
+            return None;
+        }
+        let n = self.dof as f64;
+        let target = 0.5 * n * temperature;
+        let r = noise.normal();
+        let s = match &self.chi_square {
+            Some(chi_square) => noise.sample(chi_square),
+            None => 0.0,
+        };
+        let a = c.sqrt() + r * ((1.0 - c) * target / (n * kinetic)).sqrt();
+        let rescaled = kinetic * a * a + (1.0 - c) * target * s / n;
+        Some(((rescaled / kinetic).sqrt().copysign(a), rescaled))
+    }
 }
 
 impl Bussi {
@@ -92,51 +149,48 @@ impl Bussi {
             record: HeatNoise::new(seed),
             coupled: CoupledDegrees::default(),
             decay: 1.0,
-            chi_square: None,
+            rotation: Rescaling::default(),
+            translation: Rescaling::default(),
         }
     }
 
-    /// The exact rescaling over `dt/2` (module doc).
+    /// The exact rescalings over `dt/2` (module doc): rotation, then
+    /// translation.
     fn rescale(&mut self, dynamics: &mut impl SplitDynamics) {
+        let (temperature, c) = (self.options.temperature, self.decay);
         let kinetic = self.coupled.kinetic_energy(dynamics);
-        if kinetic <= 0.0 {
+        let noise = &mut self.record.noise;
+        if let Some((alpha, rescaled)) = self.rotation.factor(kinetic, temperature, c, noise) {
+            self.coupled.scale(dynamics, alpha);
+            self.record.heat += rescaled - kinetic;
+        }
+        if self.translation.dof == 0 {
             return;
         }
-        let n = self.coupled.dof as f64;
-        let target = 0.5 * n * self.options.temperature;
-        let c = self.decay;
+        let kinetic = self.coupled.translational_kinetic_energy(dynamics);
         let noise = &mut self.record.noise;
-        let r = noise.normal();
-        let s = match &self.chi_square {
-            Some(chi_square) => noise.sample(chi_square),
-            None => 0.0,
-        };
-        let a = c.sqrt() + r * ((1.0 - c) * target / (n * kinetic)).sqrt();
-        let rescaled = kinetic * a * a + (1.0 - c) * target * s / n;
-        self.coupled
-            .scale(dynamics, (rescaled / kinetic).sqrt().copysign(a));
-        self.record.heat += rescaled - kinetic;
+        if let Some((alpha, rescaled)) = self.translation.factor(kinetic, temperature, c, noise) {
+            self.coupled.scale_translation(dynamics, alpha);
+            self.record.heat += rescaled - kinetic;
+        }
     }
 }
 
 impl Thermostat for Bussi {
     type State = HeatNoise;
 
-    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, dt: f64) {
-        self.coupled = CoupledDegrees::new(moments, potential);
-        let dof = self.coupled.dof;
+    fn setup(&mut self, _: &[Vector3<f64>], degrees: &CoupledDegrees, dt: f64) {
+        self.coupled = degrees.clone();
         self.decay = (-0.5 * dt / self.options.tau).exp();
-        // Shape (N_f - 1)/2 > 0 and scale 2 are valid: `new` cannot fail.
-        self.chi_square = (dof > 1)
-            .then(|| Gamma::new(0.5 * (dof - 1) as f64, 2.0).ok())
-            .flatten();
+        self.rotation = Rescaling::new(degrees.dof);
+        self.translation = Rescaling::new(degrees.translational_dof());
         self.record.reset();
     }
 
     /// Rescaling over `dt/2`, the splitting's step, rescaling over `dt/2`.
-    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D) {
         self.rescale(dynamics);
-        dynamics.kick_flow_kick(potential);
+        dynamics.kick_flow_kick();
         self.rescale(dynamics);
     }
 

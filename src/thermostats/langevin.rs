@@ -1,5 +1,5 @@
-//! Langevin dynamics on the body angular momenta, per principal axis
-//! (scene `kind = "langevin"`).
+//! Langevin dynamics on the body angular momenta, per principal axis, and
+//! on the centres' momenta of bodies that move (scene `kind = "langevin"`).
 //!
 //! The equations (reduced units, `k_B = 1`): Euler's equations with a
 //! friction and a random torque on each principal axis `k`,
@@ -21,8 +21,13 @@
 //! `Q`: `w_k <- c w_k + sqrt((1 - c^2) T / I_k) xi_k`, `c = exp(-gamma dt)`,
 //! `xi_k` standard normal, so it leaves the Maxwell density `exp(-K/T)`
 //! exactly invariant whatever `dt`; axes with zero moment carry nothing and
-//! draw nothing. The noise is drawn rotor by rotor, axis by axis, from
-//! [`super::noise::Noise`] (reproducible from the seed; a checkpoint stores the position).
+//! draw nothing. A moving centre of mass `m` gets the same step on each
+//! velocity component, `v_k <- c v_k + sqrt((1 - c^2) T / m) xi_k`: the
+//! friction and the noise act on every centre independently, so the total
+//! momentum is not kept and `T_trans` counts `3N` degrees of freedom. The
+//! noise is drawn rotor by rotor, axis by axis, then centre by centre,
+//! component by component, from [`super::noise::Noise`] (reproducible from
+//! the seed; a checkpoint stores the position).
 //!
 //! Heat: the O step's change of the kinetic energy is summed over the run;
 //! `K + V - heat` is conserved up to the splitting error (its drift is
@@ -33,8 +38,7 @@
 
 use super::noise::HeatNoise;
 use crate::checks::{non_negative, positive, InputError};
-use crate::potential::Potential;
-use crate::thermostat_hook::{SplitDynamics, Thermostat};
+use crate::thermostat_hook::{CoupledDegrees, SplitDynamics, Thermostat};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -46,7 +50,8 @@ pub struct LangevinOptions {
     /// The temperature `T` (energy units, `k_B = 1`), finite and `>= 0`.
     pub temperature: f64,
     /// The friction `gamma` (1/time), finite and `> 0`: each body angular
-    /// velocity component forgets itself as `exp(-gamma t)`.
+    /// velocity component (and each centre velocity component of bodies
+    /// that move) forgets itself as `exp(-gamma t)`.
     pub friction: f64,
     /// The seed of the noise; a scene without one takes the seed of its
     /// random initial state, or draws one (recorded in the run summary).
@@ -79,8 +84,11 @@ pub struct Langevin {
     decay: f64,
     /// Per rotor and axis `sqrt((1 - c^2) T / I_k)`, 0 for a zero moment.
     spread: Vec<Vector3<f64>>,
+    /// Per moving centre `sqrt((1 - c^2) T / m)`.
+    velocity_spread: Vec<f64>,
     /// The standard normal numbers of one O step, one per rotor and axis
-    /// of nonzero moment in stream order (sized at setup).
+    /// of nonzero moment, then three per moving centre, in stream order
+    /// (sized at setup).
     draws: Vec<f64>,
 }
 
@@ -93,14 +101,15 @@ impl Langevin {
             record: HeatNoise::new(seed),
             decay: 1.0,
             spread: Vec::new(),
+            velocity_spread: Vec::new(),
             draws: Vec::new(),
         }
     }
 
-    /// The exact Ornstein-Uhlenbeck step over `dt` on every rotor, in order,
-    /// with the numbers in `self.draws`.
+    /// The exact Ornstein-Uhlenbeck step over `dt` on every rotor, then
+    /// every moving centre, in order, with the numbers in `self.draws`.
     fn ornstein_uhlenbeck(&mut self, dynamics: &mut impl SplitDynamics) {
-        let (c, spread) = (self.decay, &self.spread);
+        let (c, spread, velocity_spread) = (self.decay, &self.spread, &self.velocity_spread);
         let mut draws = self.draws.iter();
         let mut heat = 0.0;
         dynamics.update_omega_body(|rotor, w, moments| {
@@ -113,6 +122,14 @@ impl Langevin {
                 }
             }
         });
+        dynamics.update_velocities(|body, v, mass| {
+            for k in 0..3 {
+                let before = v[k];
+                let xi = *draws.next().expect("three draws per centre");
+                v[k] = c * before + velocity_spread[body] * xi;
+                heat += 0.5 * mass * (v[k] * v[k] - before * before);
+            }
+        });
         self.record.heat += heat;
     }
 }
@@ -120,7 +137,7 @@ impl Langevin {
 impl Thermostat for Langevin {
     type State = HeatNoise;
 
-    fn setup(&mut self, moments: &[Vector3<f64>], _: &dyn Potential, dt: f64) {
+    fn setup(&mut self, moments: &[Vector3<f64>], degrees: &CoupledDegrees, dt: f64) {
         let LangevinOptions {
             temperature,
             friction,
@@ -132,13 +149,18 @@ impl Thermostat for Langevin {
             .iter()
             .map(|m| m.map(|i| if i > 0.0 { (variance / i).sqrt() } else { 0.0 }))
             .collect();
+        self.velocity_spread = degrees
+            .masses
+            .iter()
+            .map(|m| (variance / m).sqrt())
+            .collect();
         let axes = moments.iter().flat_map(|m| m.iter()).filter(|&&i| i > 0.0);
-        self.draws = vec![0.0; axes.count()];
+        self.draws = vec![0.0; axes.count() + 3 * degrees.masses.len()];
         self.record.reset();
     }
 
-    /// B, A(dt/2), O(dt), A(dt/2), torques, B.
-    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
+    /// B, A(dt/2), O(dt), A(dt/2), forces and torques, B.
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D) {
         let half = 0.5 * dynamics.dt();
         // The O step's numbers do not depend on the state: drawn in stream
         // order on one thread while the others kick and flow.
@@ -149,7 +171,7 @@ impl Thermostat for Langevin {
         );
         self.ornstein_uhlenbeck(dynamics);
         dynamics.free_flow(half);
-        dynamics.evaluate_torques(potential);
+        dynamics.evaluate();
         dynamics.half_kick();
     }
 

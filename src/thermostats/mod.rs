@@ -36,5 +36,7 @@ mod spec;
 pub use bussi::{Bussi, BussiOptions};
 pub use langevin::{Langevin, LangevinOptions};
 pub use noise::HeatNoise;
-pub use nose_hoover::{NoseHoover, NoseHooverChain, NoseHooverOptions, MAX_CHAIN};
+pub use nose_hoover::{
+    NoseHoover, NoseHooverChain, NoseHooverChains, NoseHooverOptions, MAX_CHAIN,
+};
 pub use spec::ThermostatSpec;

@@ -36,7 +36,6 @@
 //! rotors' kinetic energy along the step.
 
 use crate::checks::{positive, InputError};
-use crate::potential::Potential;
 use crate::thermostat_hook::{
     BadCheckpoint, ChainEquations, CoupledDegrees, SplitDynamics, Thermostat, ThermostatState,
 };
@@ -285,10 +284,61 @@ impl ChainEquations for NoseHooverChain {
     }
 }
 
-/// The Nose-Hoover chain in a kick-based step (module doc).
+/// The chains of a kick-based step: the rotational one, and the
+/// translational one of bodies that move. Its energy is their sum; its
+/// checkpoint the rotational chain's, then the translational chain's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NoseHooverChains {
+    /// On the rotational degrees of freedom.
+    pub rotational: NoseHooverChain,
+    /// On the centres' (`None` for rotors on fixed sites).
+    pub translational: Option<NoseHooverChain>,
+}
+
+impl ThermostatState for NoseHooverChains {
+    fn energy(&self) -> f64 {
+        let rotational = self.rotational.energy();
+        match &self.translational {
+            Some(chain) => rotational + chain.energy(),
+            None => rotational,
+        }
+    }
+
+    fn checkpoint_len(&self) -> usize {
+        let translational = self.translational.as_ref();
+        self.rotational.checkpoint_len() + translational.map_or(0, |c| c.checkpoint_len())
+    }
+
+    fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        self.rotational.write_checkpoint(out);
+        if let Some(chain) = &self.translational {
+            chain.write_checkpoint(out);
+        }
+    }
+
+    fn read_checkpoint(&mut self, data: &[f64]) -> Result<(), BadCheckpoint> {
+        if data.len() != self.checkpoint_len() {
+            return Err(BadCheckpoint(format!(
+                "expected {} chain values, got {}",
+                self.checkpoint_len(),
+                data.len()
+            )));
+        }
+        let (rotational, translational) = data.split_at(self.rotational.checkpoint_len());
+        let mut read = self.clone();
+        read.rotational.read_checkpoint(rotational)?;
+        if let Some(chain) = &mut read.translational {
+            chain.read_checkpoint(translational)?;
+        }
+        *self = read;
+        Ok(())
+    }
+}
+
+/// The Nose-Hoover chains in a kick-based step (module doc).
 #[derive(Clone, Debug)]
 pub struct NoseHoover {
-    chain: NoseHooverChain,
+    chains: NoseHooverChains,
     coupled: CoupledDegrees,
 }
 
@@ -296,40 +346,54 @@ impl NoseHoover {
     /// The thermostat with checked `options` ([`NoseHooverOptions::check`]).
     pub fn new(options: NoseHooverOptions) -> Self {
         NoseHoover {
-            chain: NoseHooverChain::new(&options, 0),
+            chains: NoseHooverChains {
+                rotational: NoseHooverChain::new(&options, 0),
+                translational: None,
+            },
             coupled: CoupledDegrees::default(),
         }
     }
 
-    /// The chain over `dt/2`, and the angular momenta scaled.
+    /// The chains over `dt/2`, and the angular momenta and the centres'
+    /// velocities scaled.
     fn half_step(&mut self, dynamics: &mut impl SplitDynamics) {
+        let h = 0.5 * dynamics.dt();
         let kinetic = self.coupled.kinetic_energy(dynamics);
-        let scale = self.chain.half_step(kinetic, 0.5 * dynamics.dt());
+        let scale = self.chains.rotational.half_step(kinetic, h);
         self.coupled.scale(dynamics, scale);
+        if let Some(chain) = &mut self.chains.translational {
+            let kinetic = self.coupled.translational_kinetic_energy(dynamics);
+            let scale = chain.half_step(kinetic, h);
+            self.coupled.scale_translation(dynamics, scale);
+        }
     }
 }
 
 impl Thermostat for NoseHoover {
-    type State = NoseHooverChain;
+    type State = NoseHooverChains;
 
-    fn setup(&mut self, moments: &[Vector3<f64>], potential: &dyn Potential, _dt: f64) {
-        self.coupled = CoupledDegrees::new(moments, potential);
-        self.chain.reset(self.coupled.dof);
+    fn setup(&mut self, _: &[Vector3<f64>], degrees: &CoupledDegrees, _dt: f64) {
+        self.coupled = degrees.clone();
+        let options = self.chains.rotational.options;
+        self.chains.rotational.reset(degrees.dof);
+        let translational = degrees.translational_dof();
+        self.chains.translational =
+            (translational > 0).then(|| NoseHooverChain::new(&options, translational));
     }
 
-    /// The chain over `dt/2`, the splitting's step, the chain over `dt/2`.
-    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D, potential: &dyn Potential) {
+    /// The chains over `dt/2`, the splitting's step, the chains over `dt/2`.
+    fn step<D: SplitDynamics>(&mut self, dynamics: &mut D) {
         self.half_step(dynamics);
-        dynamics.kick_flow_kick(potential);
+        dynamics.kick_flow_kick();
         self.half_step(dynamics);
     }
 
-    fn state(&self) -> &NoseHooverChain {
-        &self.chain
+    fn state(&self) -> &NoseHooverChains {
+        &self.chains
     }
 
-    fn state_mut(&mut self) -> &mut NoseHooverChain {
-        &mut self.chain
+    fn state_mut(&mut self) -> &mut NoseHooverChains {
+        &mut self.chains
     }
 }
 
@@ -382,6 +446,45 @@ mod tests {
             assert!(target.read_checkpoint(bad).is_err(), "{bad:?}");
             assert_eq!(target, fresh);
         }
+    }
+
+    /// The chains of bodies that move (rotational, then translational)
+    /// restore both exactly, their energy is the sum of the two chains'; a
+    /// checkpoint of one chain only is refused and leaves them as they
+    /// were.
+    #[test]
+    fn translational_chain_checkpoints_after_the_rotational_one() {
+        let options = NoseHooverOptions {
+            temperature: 0.7,
+            tau: 0.2,
+            chain: NonZeroU32::new(2).expect("non-zero"),
+        };
+        let chain = |dof: usize, values: [f64; 4]| {
+            let mut c = NoseHooverChain::new(&options, dof);
+            c.positions.copy_from_slice(&values[..2]);
+            c.momenta.copy_from_slice(&values[2..]);
+            c
+        };
+        let chains = NoseHooverChains {
+            rotational: chain(12, [0.3, -0.1, 0.2, -0.4]),
+            translational: Some(chain(9, [0.5, 0.2, -0.3, 0.1])),
+        };
+        let sum = chains.rotational.energy() + chain(9, [0.5, 0.2, -0.3, 0.1]).energy();
+        assert_eq!(chains.energy().to_bits(), sum.to_bits());
+        let mut saved = Vec::new();
+        chains.write_checkpoint(&mut saved);
+        assert_eq!(saved.len(), 8);
+        assert_eq!(&saved[4..], &[0.5, 0.2, -0.3, 0.1]);
+        let fresh = NoseHooverChains {
+            rotational: NoseHooverChain::new(&options, 12),
+            translational: Some(NoseHooverChain::new(&options, 9)),
+        };
+        let mut restored = fresh.clone();
+        restored.read_checkpoint(&saved).expect("valid");
+        assert_eq!(restored, chains);
+        let mut target = fresh.clone();
+        assert!(target.read_checkpoint(&saved[..4]).is_err());
+        assert_eq!(target, fresh);
     }
 
     /// The chain's half step alone (with a kinetic energy that only the

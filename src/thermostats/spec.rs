@@ -45,6 +45,14 @@ impl ThermostatSpec {
         !matches!(self, ThermostatSpec::NoseHoover(_))
     }
 
+    /// Whether it keeps the total momentum of bodies that move (Bussi and
+    /// Nose-Hoover scale the velocities about the centre of mass; Langevin
+    /// kicks every centre on its own), so that `T_trans` counts `3N - 3`
+    /// degrees of freedom rather than `3N`.
+    pub fn keeps_momentum(&self) -> bool {
+        !matches!(self, ThermostatSpec::Langevin(_))
+    }
+
     /// The seed of a stochastic thermostat, if set.
     pub fn seed(&self) -> Option<u64> {
         match self {

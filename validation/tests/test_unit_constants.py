@@ -94,10 +94,9 @@ def test_lammps_real_boltzmann_constant_is_not_the_si_one():
     assert relative == pytest.approx(1.2285e-6, rel=1e-3)
 
 
-def test_openmm_constants_are_codata_2018():
-    """OpenMM's ``NonbondedForce`` (Reference platform, no cutoff): two unit
-    charges 1 nm apart have 138.935457644 kJ/mol, CODATA 2018 to 1e-15,
-    6.8e-10 above CODATA 2022; its Python gas constant is the exact SI one."""
+def openmm_coulomb_kcal_per_mol_angstrom() -> float:
+    """OpenMM's ``NonbondedForce`` energy (Reference platform, no cutoff) of
+    two unit charges 1 nm apart, in kcal/mol Angstrom."""
     from openmm import unit
 
     system = openmm.System()
@@ -112,7 +111,16 @@ def test_openmm_constants_are_codata_2018():
     )
     context.setPositions([openmm.Vec3(0, 0, 0), openmm.Vec3(1, 0, 0)])
     kj_nm = context.getState(getEnergy=True).getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole)
-    kcal_angstrom = kj_nm * 10.0 / 4.184
+    return kj_nm * 10.0 / 4.184
+
+
+def test_openmm_constants_are_codata_2018():
+    """OpenMM's ``NonbondedForce`` (Reference platform, no cutoff): two unit
+    charges 1 nm apart have 138.935457644 kJ/mol, CODATA 2018 to 1e-15,
+    6.8e-10 above CODATA 2022; its Python gas constant is the exact SI one."""
+    from openmm import unit
+
+    kcal_angstrom = openmm_coulomb_kcal_per_mol_angstrom()
     codata_2018 = coulomb_kcal_per_mol_angstrom(EPS0["CODATA 2018"])
     codata_2022 = coulomb_kcal_per_mol_angstrom(EPS0["CODATA 2022"])
     assert kcal_angstrom == pytest.approx(codata_2018, rel=1e-14)

@@ -24,6 +24,7 @@
 //! evaluation at the last predicted configuration.
 
 use super::gear_start::{evaluate_at, GearSetup};
+use crate::bodies::checkpoint::take_nordsieck;
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
 use crate::checks::InputError;
@@ -31,6 +32,7 @@ use crate::integrators::gear::{correct_pair, Nordsieck};
 use crate::integrators::rigid_body::{General, PrincipalMoments, TopKind};
 use crate::integrators::torque::torque_body;
 use crate::integrators::GearAOptions;
+use crate::integrators::IntegratorError;
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
@@ -69,9 +71,41 @@ impl BodyGearA {
     }
 
     /// The evaluation at the last step's predicted configuration (at the
-    /// initial state before the first step).
+    /// set-up's initial state before the first step, a restored one's too).
     pub fn evaluation(&self) -> &Evaluation {
         &self.evaluation
+    }
+
+    /// Appends the integrator's own state: the scaled derivatives of
+    /// `position`, `velocity`, `q`, `omega_body`, each derivative-major.
+    pub(crate) fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        self.position.write_flat(out);
+        self.velocity.write_flat(out);
+        self.q.write_flat(out);
+        self.omega_body.write_flat(out);
+    }
+
+    /// Reads back [`BodyGearA::write_checkpoint`]'s output from the front
+    /// of `data`, returning the rest. Nothing is evaluated: the next step
+    /// evaluates at its prediction, as the run would have (an evaluation
+    /// here could rebuild the neighbour list at another step).
+    pub(crate) fn read_checkpoint<'a>(
+        &mut self,
+        data: &'a [f64],
+    ) -> Result<&'a [f64], IntegratorError> {
+        let data = take_nordsieck(data, &mut self.position, "the centres' scaled derivatives")?;
+        let data = take_nordsieck(
+            data,
+            &mut self.velocity,
+            "the centre velocities' scaled derivatives",
+        )?;
+        let data = take_nordsieck(data, &mut self.q, "the orientations' scaled derivatives")?;
+        let data = take_nordsieck(
+            data,
+            &mut self.omega_body,
+            "the body angular velocities' scaled derivatives",
+        )?;
+        Ok(data)
     }
 
     /// One step (module doc). The centres are read from `system` first

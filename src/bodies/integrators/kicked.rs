@@ -15,18 +15,32 @@
 //! the rotation's update (round-off when it is symplectic). Stores per body
 //! the splitting's momentum variable besides the state, and the last
 //! evaluation.
+//!
+//! A thermostat ([`AnyThermostat`]) arranges the step as it does the
+//! rotors' ([`crate::thermostats`]), seeing it through [`BodyStep`]: the
+//! half kick (centres and rotations), the free flow (drift and rotation)
+//! over any duration, the forces and torques, the body angular velocities
+//! and the centres' velocities. Without one ([`crate::thermostat_hook::Nve`])
+//! the step is the one above.
 
+use crate::bodies::checkpoint::take_values;
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
-use crate::integrators::Splitting;
+use crate::dynamics::AnyThermostat;
+use crate::integrators::checkpoint::write_values;
+use crate::integrators::{IntegratorError, Splitting};
+use crate::thermostat_hook::{SplitDynamics, Thermostat};
+use crate::thermostats::ThermostatSpec;
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
 /// A body integrator: velocity Verlet for the centres, the splitting `S`
-/// for the rotations.
+/// for the rotations, with its thermostat.
 #[derive(Clone, Debug)]
 pub struct BodyKicked<S: Splitting> {
     rotation: S,
+    thermostat: AnyThermostat,
     dt: f64,
     momentum: Vec<S::Momentum>,
     evaluation: Evaluation,
@@ -34,8 +48,19 @@ pub struct BodyKicked<S: Splitting> {
 
 impl<S: Splitting> BodyKicked<S> {
     /// Sets up on `system` (one evaluation) with time step `dt` (> 0) and
-    /// the rotation's options.
+    /// the rotation's options, at constant energy.
     pub fn new(system: &mut BodySystem, dt: f64, rotation: S) -> Result<Self, InputError> {
+        Self::with_thermostat(system, dt, rotation, None)
+    }
+
+    /// [`BodyKicked::new`] with `thermostat` (none: constant energy), whose
+    /// pairing has passed [`crate::dynamics::check`].
+    pub fn with_thermostat(
+        system: &mut BodySystem,
+        dt: f64,
+        rotation: S,
+        thermostat: Option<&ThermostatSpec>,
+    ) -> Result<Self, InputError> {
         let dt = finite_and_positive("dt", dt)?;
         let momentum = system
             .bodies
@@ -44,12 +69,25 @@ impl<S: Splitting> BodyKicked<S> {
             .collect();
         let mut evaluation = Evaluation::default();
         system.evaluate(&mut evaluation);
+        let mut thermostat = AnyThermostat::new(thermostat);
+        let moments: Vec<Vector3<f64>> = system
+            .bodies
+            .iter()
+            .map(|b| system.types[b.kind].moments)
+            .collect();
+        thermostat.setup(&moments, &system.coupled_degrees(), dt);
         Ok(BodyKicked {
             rotation,
+            thermostat,
             dt,
             momentum,
             evaluation,
         })
+    }
+
+    /// The thermostat's share of the conserved energy (0 without one).
+    pub fn thermostat_energy(&self) -> f64 {
+        self.thermostat.state().energy()
     }
 
     /// The evaluation at the current state.
@@ -57,42 +95,146 @@ impl<S: Splitting> BodyKicked<S> {
         &self.evaluation
     }
 
-    /// One step.
-    pub fn step(&mut self, system: &mut BodySystem) {
-        let dt = self.dt;
-        self.kick(system);
-        let (types, rotation) = (&system.types, &self.rotation);
-        system
-            .bodies
-            .par_iter_mut()
-            .zip(&mut self.momentum)
-            .for_each(|(body, momentum)| {
-                body.position += body.velocity * dt;
-                rotation.rotate(
-                    &mut body.orientation,
-                    momentum,
-                    &types[body.kind].moments,
-                    dt,
-                );
-            });
+    /// Appends the integrator's own state: the splitting's momentum of
+    /// every body, then the thermostat's state (none without one).
+    pub(crate) fn write_checkpoint(&self, out: &mut Vec<f64>) {
+        write_values(&self.momentum, out);
+        self.thermostat.state().write_checkpoint(out);
+    }
+
+    /// Reads back [`BodyKicked::write_checkpoint`]'s output from the front
+    /// of `data`, returning the rest, and evaluates `system` (restored
+    /// first, its neighbour list too): the evaluation the last step ended
+    /// on, bit for bit (no site has moved since that step's evaluation, so
+    /// the list is not rebuilt).
+    pub(crate) fn read_checkpoint<'a>(
+        &mut self,
+        system: &mut BodySystem,
+        data: &'a [f64],
+    ) -> Result<&'a [f64], IntegratorError> {
+        let rest = take_values(data, &mut self.momentum, "the bodies' momenta")?;
+        let expected = self.thermostat.state().checkpoint_len();
+        if rest.len() < expected {
+            return Err(IntegratorError::BadCheckpoint(format!(
+                "expected {expected} thermostat values after the bodies' momenta, got {}",
+                rest.len()
+            )));
+        }
+        let (thermostat, rest) = rest.split_at(expected);
+        self.thermostat.state_mut().read_checkpoint(thermostat)?;
         system.evaluate(&mut self.evaluation);
-        self.kick(system);
+        Ok(rest)
+    }
+
+    /// One step, arranged by the thermostat.
+    pub fn step(&mut self, system: &mut BodySystem) {
+        let mut step = BodyStep {
+            rotation: &self.rotation,
+            dt: self.dt,
+            momentum: &mut self.momentum,
+            evaluation: &mut self.evaluation,
+            system,
+        };
+        self.thermostat.step(&mut step);
+    }
+}
+
+/// One step of a kick-based body integrator as a thermostat sees it: the
+/// pieces of velocity Verlet and the splitting over the bodies' state.
+pub struct BodyStep<'a, S: Splitting> {
+    rotation: &'a S,
+    dt: f64,
+    momentum: &'a mut [S::Momentum],
+    evaluation: &'a mut Evaluation,
+    system: &'a mut BodySystem,
+}
+
+impl<S: Splitting> SplitDynamics for BodyStep<'_, S> {
+    fn dt(&self) -> f64 {
+        self.dt
     }
 
     /// Half kicks of the centres and the rotations with the current forces
     /// and torques; the bodies' angular momenta follow.
-    fn kick(&mut self, system: &mut BodySystem) {
+    fn half_kick(&mut self) {
         let half = 0.5 * self.dt;
-        let (types, e) = (&system.types, &self.evaluation);
-        system
+        let (types, e) = (&self.system.types, &*self.evaluation);
+        self.system
             .bodies
             .par_iter_mut()
-            .zip(&mut self.momentum)
+            .zip(&mut *self.momentum)
             .enumerate()
             .for_each(|(i, (body, momentum))| {
                 body.velocity += e.force[i] * (half / types[body.kind].mass);
                 S::kick(momentum, &body.orientation, &e.torque[i], half);
                 body.angular_momentum_body = S::angular_momentum_body(momentum, &body.orientation);
             });
+    }
+
+    /// The drift `R += duration v` and the splitting's rotation.
+    fn free_flow(&mut self, duration: f64) {
+        let (types, rotation) = (&self.system.types, self.rotation);
+        self.system
+            .bodies
+            .par_iter_mut()
+            .zip(&mut *self.momentum)
+            .for_each(|(body, momentum)| {
+                body.position += body.velocity * duration;
+                rotation.rotate(
+                    &mut body.orientation,
+                    momentum,
+                    &types[body.kind].moments,
+                    duration,
+                );
+            });
+    }
+
+    fn evaluate(&mut self) {
+        self.system.evaluate(self.evaluation);
+    }
+
+    /// Summed in body order on one thread.
+    fn kinetic_energy(&self) -> f64 {
+        let mut kinetic = 0.0;
+        self.for_each_omega_body(|_, w, i| kinetic += 0.5 * w.dot(&i.component_mul(w)));
+        kinetic
+    }
+
+    fn for_each_omega_body(&self, mut f: impl FnMut(usize, &Vector3<f64>, &Vector3<f64>)) {
+        let types = &self.system.types;
+        for (i, (body, p)) in self.system.bodies.iter().zip(&*self.momentum).enumerate() {
+            let moments = &types[body.kind].moments;
+            f(i, &S::omega_body(p, &body.orientation, moments), moments);
+        }
+    }
+
+    fn scale_momenta(&mut self, factor: f64) {
+        self.update_omega_body(|_, w, _| *w *= factor);
+    }
+
+    fn update_omega_body(&mut self, mut f: impl FnMut(usize, &mut Vector3<f64>, &Vector3<f64>)) {
+        let types = &self.system.types;
+        let bodies = self.system.bodies.iter_mut().zip(&mut *self.momentum);
+        for (i, (body, p)) in bodies.enumerate() {
+            let (q, moments) = (&body.orientation, &types[body.kind].moments);
+            let mut w = S::omega_body(p, q, moments);
+            f(i, &mut w, moments);
+            *p = S::momentum(q, &w.component_mul(moments));
+            body.angular_momentum_body = S::angular_momentum_body(p, q);
+        }
+    }
+
+    fn for_each_velocity(&self, mut f: impl FnMut(usize, &Vector3<f64>, f64)) {
+        let types = &self.system.types;
+        for (i, body) in self.system.bodies.iter().enumerate() {
+            f(i, &body.velocity, types[body.kind].mass);
+        }
+    }
+
+    fn update_velocities(&mut self, mut f: impl FnMut(usize, &mut Vector3<f64>, f64)) {
+        let types = &self.system.types;
+        for (i, body) in self.system.bodies.iter_mut().enumerate() {
+            f(i, &mut body.velocity, types[body.kind].mass);
+        }
     }
 }

@@ -8,6 +8,12 @@
 //! * The note's Gear schemes with Gear correctors of the same order for the
 //!   centres: [`gear_a`] (scheme A), [`gear_b`] (scheme B), started by
 //!   `gear_start`.
+//!
+//! Thermostats: the kick-based ones carry those their rotor splitting
+//! carries ([`crate::dynamics::check`]: NO_SQUISH and DLM every one,
+//! Richardson none), on the centres and the rotations; the Gear schemes
+//! none yet (scheme A's Nose-Hoover chain would need a friction in the
+//! centres' corrector and its start-up, not built).
 
 pub mod dlm;
 pub mod gear_a;
@@ -27,7 +33,8 @@ pub use richardson::BodyRichardson;
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
 use crate::checks::InputError;
-use crate::integrators::IntegratorSpec;
+use crate::integrators::{IntegratorError, IntegratorSpec};
+use crate::thermostats::ThermostatSpec;
 
 /// The integrator of a body system: one variant per algorithm.
 #[derive(Clone, Debug)]
@@ -55,16 +62,53 @@ impl BodyIntegrator {
         }
     }
 
-    /// The integrator `spec` names, set up on `system` with time step `dt`.
+    /// Refuses a thermostat with any integrator but NO_SQUISH and DLM (the
+    /// rotors' reason, or for scheme A, whose Nose-Hoover chain is
+    /// integrated with rotors only, its own); the path is relative to the
+    /// thermostat's table, as [`crate::dynamics::check`]'s.
+    pub fn check_thermostat(
+        spec: &IntegratorSpec,
+        thermostat: &ThermostatSpec,
+    ) -> Result<(), InputError> {
+        if matches!(spec, IntegratorSpec::NoSquish(_) | IntegratorSpec::Dlm(_)) {
+            return Ok(());
+        }
+        let reason = crate::dynamics::refusal(spec, thermostat)
+            .unwrap_or("no chain is integrated with the centres' correctors");
+        Err(InputError::new(
+            "kind",
+            format!(
+                "\"{}\" cannot run with integrator {} for bodies ({reason}); use no_squish or dlm",
+                thermostat.name(),
+                spec.name()
+            ),
+        ))
+    }
+
+    /// The integrator `spec` names with `thermostat` (none: constant
+    /// energy; a pair checked by [`crate::dynamics::check`] and
+    /// [`BodyIntegrator::check_thermostat`]), set up on `system` with time
+    /// step `dt`; `system` learns whether the dynamics keeps the total
+    /// momentum ([`BodySystem::keeps_momentum`]).
     pub fn new(
         spec: &IntegratorSpec,
+        thermostat: Option<&ThermostatSpec>,
         system: &mut BodySystem,
         dt: f64,
     ) -> Result<Self, InputError> {
+        if let Some(t) = thermostat {
+            Self::check_thermostat(spec, t).map_err(|e| e.at("thermostat"))?;
+        }
+        system.keeps_momentum = thermostat.is_none_or(ThermostatSpec::keeps_momentum);
+        let t = thermostat;
         Ok(match *spec {
-            IntegratorSpec::NoSquish(o) => Self::NoSquish(BodyNoSquish::new(system, dt, o)?),
-            IntegratorSpec::Dlm(o) => Self::Dlm(BodyDlm::new(system, dt, o)?),
-            IntegratorSpec::Richardson(o) => Self::Richardson(BodyRichardson::new(system, dt, o)?),
+            IntegratorSpec::NoSquish(o) => {
+                Self::NoSquish(BodyNoSquish::with_thermostat(system, dt, o, t)?)
+            }
+            IntegratorSpec::Dlm(o) => Self::Dlm(BodyDlm::with_thermostat(system, dt, o, t)?),
+            IntegratorSpec::Richardson(o) => {
+                Self::Richardson(BodyRichardson::with_thermostat(system, dt, o, t)?)
+            }
             IntegratorSpec::GearA(o) => Self::GearA(BodyGearA::new(system, dt, o)?),
             IntegratorSpec::GearB(o) => Self::GearB(BodyGearB::new(system, dt, o)?),
         })
@@ -78,6 +122,62 @@ impl BodyIntegrator {
             Self::Richardson(i) => i.step(system),
             Self::GearA(i) => i.step(system),
             Self::GearB(i) => i.step(system),
+        }
+    }
+
+    /// The thermostat's share of the conserved energy (0 without one).
+    pub fn thermostat_energy(&self) -> f64 {
+        match self {
+            Self::NoSquish(i) => i.thermostat_energy(),
+            Self::Dlm(i) => i.thermostat_energy(),
+            Self::Richardson(i) => i.thermostat_energy(),
+            Self::GearA(_) | Self::GearB(_) => 0.0,
+        }
+    }
+
+    /// The state of `system` and of the integrator for a checkpoint, laid
+    /// out as `[system][integrator]`: the bodies and the neighbour list
+    /// (`BodySystem::write_checkpoint`), then the integrator's own (the
+    /// splittings' momenta, the Gear schemes' scaled derivatives). A
+    /// thermostat of bodies appends its state after the splittings' (as the
+    /// rotors' integrators do, `ThermostatState::write_checkpoint`).
+    pub fn checkpoint(&self, system: &BodySystem) -> Vec<f64> {
+        let mut out = Vec::new();
+        system.write_checkpoint(&mut out);
+        match self {
+            Self::NoSquish(i) => i.write_checkpoint(&mut out),
+            Self::Dlm(i) => i.write_checkpoint(&mut out),
+            Self::Richardson(i) => i.write_checkpoint(&mut out),
+            Self::GearA(i) => i.write_checkpoint(&mut out),
+            Self::GearB(i) => i.write_checkpoint(&mut out),
+        }
+        out
+    }
+
+    /// Restores `system` and the integrator (set up on a system of the
+    /// same bodies, types and options) from [`BodyIntegrator::checkpoint`]'s
+    /// output, refusing one of another length. The run then goes on bit
+    /// for bit as the one that wrote it.
+    pub fn restore(
+        &mut self,
+        system: &mut BodySystem,
+        state: &[f64],
+    ) -> Result<(), IntegratorError> {
+        let rest = system.read_checkpoint(state)?;
+        let rest = match self {
+            Self::NoSquish(i) => i.read_checkpoint(system, rest),
+            Self::Dlm(i) => i.read_checkpoint(system, rest),
+            Self::Richardson(i) => i.read_checkpoint(system, rest),
+            Self::GearA(i) => i.read_checkpoint(rest),
+            Self::GearB(i) => i.read_checkpoint(rest),
+        }?;
+        if rest.is_empty() {
+            Ok(())
+        } else {
+            Err(IntegratorError::BadCheckpoint(format!(
+                "{} values left over after the state of the bodies and the integrator",
+                rest.len()
+            )))
         }
     }
 

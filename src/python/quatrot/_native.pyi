@@ -83,6 +83,7 @@ def bodies_evaluate(
     truncation: str | None = None,
     mixing: str | None = None,
     electrostatic_cutoff: float | None = None,
+    units: str | None = None,
 ) -> dict[str, Any]: ...
 def gear_corrections_table(
     sites: _Array,

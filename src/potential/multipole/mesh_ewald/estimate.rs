@@ -132,6 +132,13 @@ pub(crate) fn mesh_estimate(
                 })
             })
             .collect();
+        // k^(2 l - 4) as `k2^(l - 2)`, l from 1 to 4, without a call to powi per mode.
+        let power = |k2: f64| match l - 2 {
+            -1 => 1.0 / k2,
+            0 => 1.0,
+            1 => k2,
+            _ => k2 * k2,
+        };
         let mut sum = 0.0;
         for &(kx, gx, ex) in &axis[0] {
             for &(ky, gy, ey) in &axis[1] {
@@ -141,7 +148,7 @@ pub(crate) fn mesh_estimate(
                         _ => 1.0,
                     };
                     let k2 = kx * kx + ky * ky + kz * kz;
-                    sum += k2.powi(l - 2) * gx * gy * gz * eps;
+                    sum += power(k2) * gx * gy * gz * eps;
                 }
             }
         }
@@ -153,15 +160,27 @@ pub(crate) fn mesh_estimate(
     largest
 }
 
-/// The rough cost of one evaluation, in pair interactions: `N n (2 pi / 3)
-/// r_c^3` real-space pairs, the FFTs (`0.05 K log2 K` each way for `K`
-/// points) and the spreading and gathering (`0.1 p^3` per site).
+/// The cost of one evaluation, in real-space pairs: `N n (2 pi / 3) r_c^3`
+/// pairs, [`FFT_COST`] per mesh point and `log2` of the point count (the
+/// FFTs both ways and the influence function), and [`SPLINE_COST`] per site
+/// and `p^3` (spreading and gathering).
 pub(crate) fn cost(sites: f64, density: f64, rc: f64, grid: [usize; 3], order: usize) -> f64 {
     let points: f64 = grid.iter().map(|&k| k as f64).product();
     sites * density * (2.0 * PI / 3.0) * rc.powi(3)
-        + 0.1 * points * points.log2()
-        + 0.1 * sites * (order as f64).powi(3)
+        + FFT_COST * points * points.log2()
+        + SPLINE_COST * sites * (order as f64).powi(3)
 }
+
+/// The cost of a mesh point (times `log2` of the point count) relative to a
+/// real-space pair, and of a site's `p^3` spline weights: least-squares fits
+/// of measured evaluation times (one thread, 2026-11-28, the 2-core Xeon of
+/// benchmarks/RESULTS.md) over every splitting and order of a sweep at
+/// accuracy 1e-5: 4,096 jittered dipoles (26 choices: 0.0033 and 0.011) and
+/// 2,744 jittered charges (29 choices: 0.0033 and 0.0092). The model's
+/// former weights (0.1 and 0.1) priced the mesh 30 times too high, so the
+/// sum ran with twice the cutoff and twice the time it needed.
+const FFT_COST: f64 = 0.0033;
+const SPLINE_COST: f64 = 0.01;
 
 /// The parameters for `sites` sites carrying `carried` in `box_lengths` at
 /// relative field accuracy `accuracy` (module doc), at spline order `order`
@@ -299,6 +318,10 @@ fn orders_to_try(order: Option<usize>) -> Result<Vec<usize>, PotentialError> {
     }
 }
 
+/// Halvings of the bracket `[1e-3, 4] / alpha` (in `log h`): after 14 the
+/// spacing is known to 0.05 %, finer than the mesh sizes it rounds to.
+const BISECTIONS: usize = 14;
+
 /// The largest mesh spacing `h` (between `1e-3 / alpha` and `4 / alpha`)
 /// whose `estimate(h)` meets `target`, by bisection in `log h`; `None`
 /// when even the finest does not.
@@ -307,7 +330,7 @@ fn largest_spacing(estimate: impl Fn(f64) -> f64, alpha: f64, target: f64) -> Op
     if estimate(fine) > target {
         return None;
     }
-    for _ in 0..30 {
+    for _ in 0..BISECTIONS {
         let middle = (fine * coarse).sqrt();
         if estimate(middle) <= target {
             fine = middle;
