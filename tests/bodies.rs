@@ -4,7 +4,9 @@
 
 mod bodies_common;
 
-use bodies_common::{bent_molecule, bodies, mixed_system, options, stockmayer};
+use bodies_common::{
+    assert_minus_gradients, bent_molecule, bodies, energy, mixed_system, options, stockmayer,
+};
 
 use nalgebra::Vector3;
 use quatrot::bodies::{
@@ -12,13 +14,6 @@ use quatrot::bodies::{
     Space, Truncation,
 };
 use quatrot::integrators::NoSquishOptions;
-use quatrot::Quat;
-
-fn energy(system: &mut BodySystem) -> f64 {
-    let mut e = Evaluation::default();
-    system.evaluate(&mut e);
-    e.potential_energy()
-}
 
 /// Every body's force and torque are minus the central differences of the
 /// energy under a translation and a rotation of that body about each space
@@ -29,39 +24,8 @@ fn energy(system: &mut BodySystem) -> f64 {
 fn forces_and_torques_are_minus_the_energy_gradients() {
     const TOLERANCE: f64 = 2e-6;
     let mut system = mixed_system(Space::Open, Truncation::ForceShifted, 50.0, 12);
-    let mut e = Evaluation::default();
-    system.evaluate(&mut e);
-    let h = 1e-6;
-    for i in 0..system.bodies.len() {
-        for a in 0..3 {
-            let axis = Vector3::from_fn(|k, _| if k == a { 1.0 } else { 0.0 });
-            // Minus the central difference of the energy as body i is changed by `change`.
-            let slope = |system: &mut BodySystem, change: &dyn Fn(&mut Body, f64)| {
-                let saved = system.bodies[i].clone();
-                let mut at = |s: f64| {
-                    change(&mut system.bodies[i], s);
-                    let u = energy(system);
-                    system.bodies[i] = saved.clone();
-                    u
-                };
-                -(at(h) - at(-h)) / (2.0 * h)
-            };
-            let fd = slope(&mut system, &|b, s| b.position += axis * s);
-            assert!(
-                (e.force[i][a] - fd).abs() < TOLERANCE,
-                "force {i} {a}: {} {fd}",
-                e.force[i][a]
-            );
-            let fd = slope(&mut system, &|b, s| {
-                b.orientation = Quat::exp(&(axis * s)) * b.orientation
-            });
-            assert!(
-                (e.torque[i][a] - fd).abs() < TOLERANCE,
-                "torque {i} {a}: {} {fd}",
-                e.torque[i][a]
-            );
-        }
-    }
+    let all: Vec<usize> = (0..system.bodies.len()).collect();
+    assert_minus_gradients(&mut system, &all, 1e-6, &|_| TOLERANCE);
 }
 
 /// The trace of the molecular virial is minus the derivative of the energy
@@ -160,12 +124,12 @@ fn bad_systems_are_refused_naming_the_field() {
         "box_lengths[1]: must be at least twice the cutoff plus the skin (5.6), got 5.5"
     );
     let no_coulomb = InteractionOptions {
-        electrostatic_cutoff: None,
+        electrostatics: None,
         ..ok
     };
     assert_eq!(
         message(bodies(2, 1.6, 1, 1), Space::Open, no_coulomb),
-        "electrostatic_cutoff: required when sites carry charges or dipoles"
+        "electrostatics: required when sites carry charges, dipoles or quadrupoles"
     );
     let mut unknown = bodies(2, 1.6, 1, 1);
     unknown[0].kind = 1;

@@ -12,7 +12,8 @@ use gear_common::{fitted_order, free_symmetric_exact, max_angle};
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
     Body, BodyDlm, BodyGearA, BodyGearB, BodyKicked, BodyNoSquish, BodyRichardson, BodySystem,
-    BodyType, BodyTypeSpec, Evaluation, InteractionOptions, LennardJones, Site, Space, Truncation,
+    BodyType, BodyTypeSpec, ElectrostaticsOptions, Evaluation, InteractionOptions, LennardJones,
+    Site, Space, Truncation,
 };
 use quatrot::integrators::{
     DlmOptions, FirstCorrector, GearA, GearAOptions, GearB, GearBOptions, Integrator, Kicked,
@@ -363,7 +364,7 @@ fn bodies_held_in_place_rotate_as_the_rotor_integrators() {
             .collect();
         let options = InteractionOptions {
             lennard_jones: None,
-            electrostatic_cutoff: Some(100.0),
+            electrostatics: Some(ElectrostaticsOptions::Cutoff(100.0)),
             skin: 0.3,
         };
         let mut system = BodySystem::new(types.clone(), bodies, Space::Open, &options).unwrap();

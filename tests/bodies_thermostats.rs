@@ -312,7 +312,7 @@ fn langevin_gives_each_principal_axis_its_temperature() {
         .collect();
     let options = InteractionOptions {
         lennard_jones: None,
-        electrostatic_cutoff: None,
+        electrostatics: None,
         skin: 0.3,
     };
     let mut system =

@@ -2,12 +2,15 @@
 //! bodies, torques, the molecular virial and the pressure.
 //!
 //! Site forces `F_s` sum into the body force `F = sum_s F_s` and the
-//! space-frame torque `tau = sum_s (d_s x F_s + mu_s x E_s)` (`d_s` the
-//! site's offset from the centre, `E_s` the field at the site). The
+//! space-frame torque `tau = sum_s (d_s x F_s + mu_s x E_s - 2
+//! vec(Theta_s W_s))` (`d_s` the site's offset from the centre, `E_s` the
+//! field and `W_s = dV/dTheta_s` the conjugate at the site, `vec(M)_c =
+//! eps_abc M_ab`, as for rotors). The
 //! molecular virial is `W = sum_pairs R_IJ f_ij^T = W_sites - sum_s d_s F_s^T`
 //! (`R_IJ` the centre separation of the pair's minimum image), and the
 //! pressure `P = (2 K_trans + tr W) / (3 V) + P_tail`.
 
+use super::electrostatics::SiteResponse;
 use super::system::BodySystem;
 use nalgebra::{Matrix3, Vector3};
 
@@ -83,8 +86,11 @@ impl BodySystem {
         if self.electrostatics.is_some() {
             self.space_multipoles();
         }
-        if let Some(method) = &self.electrostatics {
+        if let Some(method) = &mut self.electrostatics {
             let response = &mut self.scratch.response;
+            if response.potential.len() != n {
+                *response = SiteResponse::zeros(n);
+            }
             method.evaluate(
                 &self.scratch.multipoles,
                 &self.space,
@@ -121,17 +127,23 @@ impl BodySystem {
         }
     }
 
-    /// Charges and space-frame dipoles of every site.
+    /// Charges, space-frame dipoles `A^T mu_b` and quadrupoles `A^T
+    /// Theta_b A` (eq 7's `A`, body to space as its transpose) of every site.
     fn space_multipoles(&mut self) {
         let m = &mut self.scratch.multipoles;
         m.charges.clear();
         m.dipoles.clear();
+        m.quadrupoles.clear();
         for body in &self.bodies {
             let rotation = body.orientation.body_to_space_matrix();
             for site in &self.types[body.kind].sites {
                 m.charges.push(site.charge);
                 m.dipoles
                     .push(site.dipole.map_or(Vector3::zeros(), |mu| rotation * mu));
+                m.quadrupoles
+                    .push(site.quadrupole.map_or(Matrix3::zeros(), |theta| {
+                        rotation * theta * rotation.transpose()
+                    }));
             }
         }
     }
@@ -143,18 +155,20 @@ impl BodySystem {
         out.force.resize(nbodies, Vector3::zeros());
         out.torque.clear();
         out.torque.resize(nbodies, Vector3::zeros());
-        let fields = self
-            .electrostatics
-            .as_ref()
-            .map(|_| &self.scratch.response.field);
-        let dipoles = &self.scratch.multipoles.dipoles;
+        let response = self.electrostatics.as_ref().map(|_| &self.scratch.response);
+        let (dipoles, quadrupoles) = (
+            &self.scratch.multipoles.dipoles,
+            &self.scratch.multipoles.quadrupoles,
+        );
         let mut virial = site_virial;
         for (s, (&b, f)) in self.site_body.iter().zip(&out.site_force).enumerate() {
             let (b, d) = (b as usize, self.scratch.offsets[s]);
             out.force[b] += f;
             out.torque[b] += d.cross(f);
-            if let Some(field) = fields {
-                out.torque[b] += dipoles[s].cross(&field[s]);
+            if let Some(response) = response {
+                out.torque[b] += dipoles[s].cross(&response.field[s]);
+                let m = quadrupoles[s] * response.quadrupole_conjugate[s];
+                out.torque[b] -= Vector3::new(m.m23 - m.m32, m.m31 - m.m13, m.m12 - m.m21) * 2.0;
             }
             virial -= d * f.transpose();
         }

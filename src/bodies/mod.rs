@@ -1,5 +1,5 @@
 //! Rigid bodies that move: centres and orientations, body-fixed sites with
-//! Lennard-Jones, charges and point dipoles, interacting between bodies
+//! Lennard-Jones, charges, point dipoles and point quadrupoles, interacting between bodies
 //! (never within one) through Verlet lists, integrated by velocity Verlet
 //! with a rotor splitting.
 //!
@@ -7,8 +7,9 @@
 //!   principal moments and sites in the principal frame.
 //! * [`space`]: open space or a periodic orthorhombic box.
 //! * [`neighbours`]: cell and Verlet lists with a skin.
-//! * [`lennard_jones`], [`electrostatics`]: the site-pair terms (the
-//!   electrostatic methods behind one trait).
+//! * [`lennard_jones`], [`electrostatics`], [`electrostatics_ewald`]: the
+//!   site-pair terms (the electrostatic methods behind one trait: a cutoff
+//!   sum, the particle-mesh Ewald sum).
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -25,6 +26,7 @@
 pub mod body_type;
 mod checkpoint;
 pub mod electrostatics;
+pub mod electrostatics_ewald;
 pub mod evaluate;
 pub mod generate;
 pub mod integrators;
@@ -39,6 +41,7 @@ pub mod temperature;
 
 pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
+pub use electrostatics_ewald::{BodyEwald, EwaldOptions, DEFAULT_ACCURACY};
 pub use evaluate::Evaluation;
 pub use generate::{lattice_start, random_start, Lattice, LatticeStart, RandomStart, MAX_PACKING};
 pub use integrators::{
@@ -50,4 +53,4 @@ pub use overlap::{Overlap, OVERLAP_FRACTION};
 pub use quantity::BodyQuantity;
 pub use site::{LennardJones, Site};
 pub use space::Space;
-pub use system::{Body, BodySystem, InteractionOptions};
+pub use system::{Body, BodySystem, ElectrostaticsOptions, InteractionOptions};

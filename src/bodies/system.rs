@@ -3,11 +3,13 @@
 
 use super::body_type::BodyType;
 use super::electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
+use super::electrostatics_ewald::{BodyEwald, EwaldOptions};
 use super::lennard_jones::{LennardJonesOptions, LennardJonesTerm, PairSums};
 use super::neighbours::NeighbourList;
 use super::site::LennardJones;
 use super::space::Space;
 use crate::checks::{each, finite, non_negative, orientation, InputError};
+use crate::potential::multipole::mesh_ewald::{Carried, MeshEstimate, MeshParameters};
 use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
@@ -35,11 +37,21 @@ pub struct Body {
 pub struct InteractionOptions {
     /// Lennard-Jones (required when a site has Lennard-Jones parameters).
     pub lennard_jones: Option<LennardJonesOptions>,
-    /// The cutoff of charges and dipoles (required when a site has one).
-    pub electrostatic_cutoff: Option<f64>,
+    /// How charges, dipoles and quadrupoles are summed (required when a
+    /// site has one).
+    pub electrostatics: Option<ElectrostaticsOptions>,
     /// The neighbour lists' skin (length, >= 0; 0.3 is LAMMPS's default in
     /// LJ units).
     pub skin: f64,
+}
+
+/// The electrostatics of bodies: the one choice of method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ElectrostaticsOptions {
+    /// The bare pair terms within a cutoff (> 0), [`CutoffSum`].
+    Cutoff(f64),
+    /// The Ewald sum (periodic boxes only), [`BodyEwald`].
+    Ewald(EwaldOptions),
 }
 
 /// Bodies, their types, the space and the interactions.
@@ -79,7 +91,7 @@ pub(super) struct Scratch {
 
 impl BodySystem {
     /// The system; errors name the field (`bodies[3].orientation`,
-    /// `body_types[0].sites[1].quadrupole`, `electrostatic_cutoff`,
+    /// `electrostatics.cutoff`, `electrostatics.accuracy`,
     /// `box_lengths[0]`).
     pub fn new(
         types: Vec<BodyType>,
@@ -92,21 +104,17 @@ impl BodySystem {
             check_body(body, &types).map_err(|e| e.at(&format!("bodies[{i}]")))?;
         }
         let (mut kinds, mut lj_kind, mut site_body) = (vec![], vec![], vec![]);
-        let (mut lj_counts, mut electrostatic) = (Vec::new(), false);
-        for (t, kind) in types.iter().enumerate() {
-            for (k, site) in kind.sites.iter().enumerate() {
-                if site.quadrupole.is_some() {
-                    return Err(InputError::new(
-                        format!("body_types[{t}].sites[{k}].quadrupole"),
-                        "point quadrupoles between moving bodies are not supported yet",
-                    ));
-                }
+        let (mut lj_counts, mut carried) = (Vec::new(), Carried::default());
+        for kind in &types {
+            for site in &kind.sites {
                 if let Some(lj) = site.lennard_jones {
                     if !kinds.contains(&lj) {
                         kinds.push(lj);
                     }
                 }
-                electrostatic |= site.is_electrostatic();
+                carried.charges |= site.charge != 0.0;
+                carried.dipoles |= site.dipole.is_some();
+                carried.quadrupoles |= site.quadrupole.is_some();
             }
         }
         for (b, body) in bodies.iter().enumerate() {
@@ -127,14 +135,39 @@ impl BodySystem {
             (None, false) => return Err(required("lennard_jones", "Lennard-Jones parameters")),
             (_, true) => None,
         };
+        let skin = non_negative(options.skin).map_err(|e| e.at("skin"))?;
+        let electrostatic = carried.charges || carried.dipoles || carried.quadrupoles;
         let electrostatics: Option<Box<dyn Electrostatics>> =
-            match (options.electrostatic_cutoff, electrostatic) {
-                (Some(c), true) => {
-                    Some(Box::new(CutoffSum::new(c).map_err(|e| {
-                        InputError::new("electrostatic_cutoff", e.message)
-                    })?))
+            match (options.electrostatics, electrostatic) {
+                (Some(ElectrostaticsOptions::Cutoff(c)), true) => Some(Box::new(
+                    CutoffSum::new(c).map_err(|e| e.at("electrostatics"))?,
+                )),
+                (Some(ElectrostaticsOptions::Ewald(o)), true) => {
+                    let Space::Periodic(box_lengths) = space else {
+                        return Err(InputError::new(
+                            "electrostatics.kind",
+                            "the Ewald sum needs a periodic box",
+                        ));
+                    };
+                    Some(Box::new(
+                        BodyEwald::new(&o, carried, &site_body, (box_lengths, skin)).map_err(
+                            |e| {
+                                // A box the cutoff does not fit is the box's error.
+                                if e.path == "box_lengths" {
+                                    e
+                                } else {
+                                    e.at("electrostatics")
+                                }
+                            },
+                        )?,
+                    ))
                 }
-                (None, true) => return Err(required("electrostatic_cutoff", "charges or dipoles")),
+                (None, true) => {
+                    return Err(required(
+                        "electrostatics",
+                        "charges, dipoles or quadrupoles",
+                    ))
+                }
                 (_, false) => None,
             };
         let cutoff = [
@@ -144,7 +177,6 @@ impl BodySystem {
         .into_iter()
         .flatten()
         .fold(0.0, f64::max);
-        let skin = non_negative(options.skin).map_err(|e| e.at("skin"))?;
         // Bodies without interacting sites still get a (never used) list.
         let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
         space.check(neighbours.reach())?;
@@ -159,13 +191,25 @@ impl BodySystem {
             site_body,
             lj_kind,
             lj_counts,
-            scratch: Scratch::default(),
+            scratch: Scratch {
+                multipoles: SiteMultipoles {
+                    carried,
+                    ..SiteMultipoles::default()
+                },
+                ..Scratch::default()
+            },
         })
     }
 
     /// The number of sites.
     pub fn sites(&self) -> usize {
         self.site_body.len()
+    }
+
+    /// The parameters and estimated errors of the Ewald sum (`None` for a
+    /// cutoff sum or no electrostatics).
+    pub fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        self.electrostatics.as_ref()?.mesh_parameters()
     }
 
     /// How many times the neighbour list was built.

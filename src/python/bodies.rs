@@ -5,8 +5,8 @@ use super::args::invalid;
 use super::arrays::{array, collect, common_len, row_major, single, Items, Values};
 use super::scene_dict::{scene_error, to_toml};
 use crate::bodies::{
-    Body, BodySystem, Evaluation, InteractionOptions, LennardJonesOptions, Mixing, Space,
-    Truncation,
+    Body, BodySystem, ElectrostaticsOptions, Evaluation, InteractionOptions, LennardJonesOptions,
+    Mixing, Space, Truncation,
 };
 use crate::checks::{from_name, InputError};
 use crate::scene::body_types;
@@ -21,6 +21,9 @@ use pyo3::types::PyDict;
 fn argument_path(e: InputError) -> PyErr {
     if e.path == "lennard_jones.cutoff" {
         return invalid("lj_cutoff", e.message);
+    }
+    if e.path.starts_with("electrostatics") {
+        return invalid("electrostatic_cutoff", e.message);
     }
     let renamed = [
         ("kind", "kinds"),
@@ -183,7 +186,7 @@ fn bodies_evaluate<'py>(
                 })
             })
             .transpose()?,
-        electrostatic_cutoff,
+        electrostatics: electrostatic_cutoff.map(ElectrostaticsOptions::Cutoff),
         skin: DEFAULT_SKIN,
     };
     let mut system = BodySystem::new(types, bodies, space, &options).map_err(argument_path)?;

@@ -113,8 +113,14 @@ pub(super) fn run_bodies(
         _ => None,
     };
     keep_earlier_summary(files, start_step)?;
+    let mesh = system.mesh_parameters();
     let described = |mut summary: Summary, builds: u64| {
-        summary.bodies = Some(BodiesSummary::new(&system_counts(bodies), bodies, builds));
+        summary.bodies = Some(BodiesSummary::new(
+            &system_counts(bodies),
+            bodies,
+            builds,
+            mesh,
+        ));
         summary.units = scene.units.names();
         summary
     };

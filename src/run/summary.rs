@@ -2,9 +2,9 @@
 //! pair interactions were summed, the time taken, the final energies and
 //! the drift.
 
-use crate::bodies::Space;
+use crate::bodies::{ElectrostaticsOptions, Space};
 use crate::potential::multipole::mesh_ewald::{MeshEstimate, MeshParameters};
-use crate::potential::multipole::EwaldParameters;
+use crate::potential::multipole::{EwaldParameters, SumPath};
 use crate::potential::{Boundary, MultipolePotential, PeriodicSum, SumKind, Surface};
 use crate::scene::{BodyScene, Interactions, Scene, SCENE_VERSION};
 use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
@@ -205,12 +205,46 @@ pub struct BodiesSummary {
     pub box_lengths: Option<[f64; 3]>,
     /// How many times the neighbour list was built.
     pub neighbour_builds: u64,
+    /// The electrostatic sum when it is an Ewald sum: its method
+    /// (`"ewald_pme"`) and parameters (absent for a cutoff sum).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub electrostatics: Option<BodyElectrostaticsSummary>,
+}
+
+/// The Ewald sum of a run of bodies.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct BodyElectrostaticsSummary {
+    /// The way it is summed: `"ewald_pme"`.
+    pub path: String,
+    /// The accuracy asked for.
+    pub accuracy: f64,
+    /// The surroundings.
+    pub surface: Surface,
+    /// The parameters chosen for the accuracy.
+    pub mesh: MeshSummary,
 }
 
 impl BodiesSummary {
     /// The summary of `bodies` (`per_type` of each type) after
-    /// `neighbour_builds` builds.
-    pub fn new(per_type: &[usize], bodies: &BodyScene, neighbour_builds: u64) -> Self {
+    /// `neighbour_builds` builds, its Ewald sum's parameters `mesh` (from
+    /// [`crate::bodies::BodySystem::mesh_parameters`]).
+    pub fn new(
+        per_type: &[usize],
+        bodies: &BodyScene,
+        neighbour_builds: u64,
+        mesh: Option<(MeshParameters, MeshEstimate)>,
+    ) -> Self {
+        let electrostatics = match (bodies.interactions.electrostatics, mesh) {
+            (Some(ElectrostaticsOptions::Ewald(o)), Some(mesh)) => {
+                Some(BodyElectrostaticsSummary {
+                    path: SumPath::EwaldPme.as_str().to_string(),
+                    accuracy: o.accuracy,
+                    surface: o.surface,
+                    mesh: mesh.into(),
+                })
+            }
+            _ => None,
+        };
         BodiesSummary {
             count: bodies.bodies.len(),
             per_type: per_type.to_vec(),
@@ -224,6 +258,7 @@ impl BodiesSummary {
                 Space::Open => None,
             },
             neighbour_builds,
+            electrostatics,
         }
     }
 }

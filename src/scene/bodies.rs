@@ -8,11 +8,12 @@ use super::error::SceneError;
 use super::initial::{drawn_seed, RawInitial};
 use super::tagged::tagged;
 use crate::bodies::{
-    lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, InteractionOptions,
-    Lattice, LatticeStart, LennardJonesOptions, Mixing, RandomStart, Space, Truncation,
-    OVERLAP_FRACTION,
+    lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, ElectrostaticsOptions,
+    EwaldOptions, InteractionOptions, Lattice, LatticeStart, LennardJonesOptions, Mixing,
+    RandomStart, Space, Truncation, DEFAULT_ACCURACY, OVERLAP_FRACTION,
 };
 use crate::checks::{each, finite, num, InputError};
+use crate::potential::multipole::{SumMethod, Surface};
 use crate::quaternion::Quat;
 use crate::units::{Dimension, Units};
 use nalgebra::Vector3;
@@ -122,9 +123,26 @@ pub struct RawLennardJonesOptions {
 pub enum RawBodyElectrostatics {
     /// Bare pair terms inside a spherical cutoff.
     Cutoff(RawElectrostaticCutoff),
+    /// The Ewald sum (periodic boxes).
+    Ewald(RawBodyEwald),
 }
 
-tagged!(RawBodyElectrostatics { "cutoff" => Cutoff(RawElectrostaticCutoff) });
+tagged!(RawBodyElectrostatics {
+    "cutoff" => Cutoff(RawElectrostaticCutoff),
+    "ewald" => Ewald(RawBodyEwald),
+});
+
+/// The Ewald sum of bodies' sites: the rotors' boundary options' names and meanings.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBodyEwald {
+    /// Relative accuracy (default [`DEFAULT_ACCURACY`]).
+    pub accuracy: Option<f64>,
+    /// `"pme"` or `"auto"` (default, which takes PME).
+    pub method: Option<SumMethod>,
+    /// `"conducting"` (default) or `"vacuum"`.
+    pub surface: Option<Surface>,
+}
 
 /// The cutoff of charges and dipoles.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -181,10 +199,7 @@ impl BodyScene {
 const SYSTEM_PATHS: &[(&str, &str)] = &[
     ("bodies", "bodies.list"),
     ("lennard_jones", "body_interactions.lennard_jones"),
-    (
-        "electrostatic_cutoff",
-        "body_interactions.electrostatics.cutoff",
-    ),
+    ("electrostatics", "body_interactions.electrostatics"),
     ("skin", "body_interactions.skin"),
     ("box_lengths", "bodies.box"),
 ];
@@ -254,8 +269,13 @@ fn interaction_options(raw: RawBodyInteractions) -> InteractionOptions {
             truncation: lj.truncation.unwrap_or_default(),
             mixing: lj.mixing.unwrap_or_default(),
         }),
-        electrostatic_cutoff: raw.electrostatics.map(|e| match e {
-            RawBodyElectrostatics::Cutoff(c) => c.cutoff,
+        electrostatics: raw.electrostatics.map(|e| match e {
+            RawBodyElectrostatics::Cutoff(c) => ElectrostaticsOptions::Cutoff(c.cutoff),
+            RawBodyElectrostatics::Ewald(e) => ElectrostaticsOptions::Ewald(EwaldOptions {
+                accuracy: e.accuracy.unwrap_or(DEFAULT_ACCURACY),
+                method: e.method.unwrap_or_default(),
+                surface: e.surface.unwrap_or_default(),
+            }),
         }),
         skin: raw.skin.unwrap_or(DEFAULT_SKIN),
     }

@@ -7,8 +7,9 @@
 use serde::{Deserialize, Serialize};
 
 pub use super::bodies::{
-    RawBodies, RawBody, RawBodyElectrostatics, RawBodyInteractions, RawElectrostaticCutoff,
-    RawGivenBodies, RawLatticeBodies, RawLennardJonesOptions, RawRandomBodies,
+    RawBodies, RawBody, RawBodyElectrostatics, RawBodyEwald, RawBodyInteractions,
+    RawElectrostaticCutoff, RawGivenBodies, RawLatticeBodies, RawLennardJonesOptions,
+    RawRandomBodies,
 };
 pub use super::body_types::RawBodyType;
 pub use super::fields::RawFields;

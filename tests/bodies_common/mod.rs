@@ -4,8 +4,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
-    Body, BodySystem, BodyType, BodyTypeSpec, InteractionOptions, LennardJones,
-    LennardJonesOptions, Mixing, Site, Space, Truncation,
+    Body, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, InteractionOptions,
+    LennardJones, LennardJonesOptions, Mixing, Site, Space, Truncation,
 };
 use quatrot::Quat;
 use rand::{RngExt, SeedableRng};
@@ -88,7 +88,7 @@ pub fn options(truncation: Truncation, lj_cutoff: f64, coulomb: f64) -> Interact
             truncation,
             mixing: Mixing::LorentzBerthelot,
         }),
-        electrostatic_cutoff: Some(coulomb),
+        electrostatics: Some(ElectrostaticsOptions::Cutoff(coulomb)),
         skin: 0.3,
     }
 }
@@ -102,4 +102,55 @@ pub fn mixed_system(space: Space, truncation: Truncation, coulomb: f64, n: usize
         &options(truncation, 2.5, coulomb),
     )
     .expect("a valid system")
+}
+
+/// The potential energy of the system's current state.
+pub fn energy(system: &mut BodySystem) -> f64 {
+    let mut e = quatrot::bodies::Evaluation::default();
+    system.evaluate(&mut e);
+    e.potential_energy()
+}
+
+/// Asserts that the force and torque of each body of `which` are minus the
+/// central differences (step `h`) of the energy under a translation and a
+/// rotation of that body about each space axis, within `tolerance(|F|)`
+/// (`|tau|` for torques).
+pub fn assert_minus_gradients(
+    system: &mut BodySystem,
+    which: &[usize],
+    h: f64,
+    tolerance: &dyn Fn(f64) -> f64,
+) {
+    let mut e = quatrot::bodies::Evaluation::default();
+    system.evaluate(&mut e);
+    for &i in which {
+        for a in 0..3 {
+            let axis = Vector3::from_fn(|k, _| if k == a { 1.0 } else { 0.0 });
+            // Minus the central difference of the energy as body i is changed by `change`.
+            let slope = |system: &mut BodySystem, change: &dyn Fn(&mut Body, f64)| {
+                let saved = system.bodies[i].clone();
+                let mut at = |s: f64| {
+                    change(&mut system.bodies[i], s);
+                    let u = energy(system);
+                    system.bodies[i] = saved.clone();
+                    u
+                };
+                -(at(h) - at(-h)) / (2.0 * h)
+            };
+            let fd = slope(system, &|b, s| b.position += axis * s);
+            assert!(
+                (e.force[i][a] - fd).abs() < tolerance(e.force[i].norm()),
+                "force {i} {a}: {} {fd}",
+                e.force[i][a]
+            );
+            let fd = slope(system, &|b, s| {
+                b.orientation = Quat::exp(&(axis * s)) * b.orientation
+            });
+            assert!(
+                (e.torque[i][a] - fd).abs() < tolerance(e.torque[i].norm()),
+                "torque {i} {a}: {} {fd}",
+                e.torque[i][a]
+            );
+        }
+    }
 }

@@ -173,6 +173,50 @@ pub(crate) fn radial_derivatives(
     }
 }
 
+/// Adds a source's share to a target's potential derivatives: `d^A phi +=
+/// sum_E (-1)^|E| c_E d^(A + E) g` for the first `count` multi-indices `A`,
+/// `t` holding the kernel's `d^N g` at `r = r_target - r_source` and `c`
+/// the source's first `sources` coefficients.
+pub(crate) fn add_source(
+    t: &[f64; 56],
+    c: &[f64; SOURCES],
+    sources: usize,
+    count: usize,
+    d: &mut [f64; DERIVATIVES],
+) {
+    let tables = Tables::get();
+    for (a, value) in d.iter_mut().enumerate().take(count) {
+        *value += (0..sources)
+            .map(|e| tables.parity[e] * c[e] * t[tables.sum[a][e]])
+            .sum::<f64>();
+    }
+}
+
+/// The force on a target (coefficients `target`, the first `targets`
+/// nonzero) from a source (`source`, the first `sources`), `t` as in
+/// [`add_source`] with derivatives up to the order of both plus one: `F_a =
+/// -sum_E c_E d^(E + e_a) phi_source`.
+pub(crate) fn pair_force(
+    t: &[f64; 56],
+    target: &[f64; SOURCES],
+    targets: usize,
+    source: &[f64; SOURCES],
+    sources: usize,
+) -> Vector3<f64> {
+    let tables = Tables::get();
+    Vector3::from_fn(|a, _| {
+        -(0..targets)
+            .map(|e| {
+                let raised = tables.raise[e][a];
+                target[e]
+                    * (0..sources)
+                        .map(|f| tables.parity[f] * source[f] * t[tables.sum[raised][f]])
+                        .sum::<f64>()
+            })
+            .sum::<f64>()
+    })
+}
+
 /// The levels `R^n_N` of [`radial_derivatives`], `n = 0..=5`.
 pub(crate) type RadialLevels = [[f64; 56]; 6];
 

@@ -197,6 +197,47 @@ pub fn for_multipoles(
     order: Option<usize>,
     alpha: Option<f64>,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
+    let half_box = 0.5 * box_lengths.min();
+    choose(
+        accuracy,
+        carried,
+        sites,
+        box_lengths,
+        (order, alpha),
+        (half_box, "half the shortest box side"),
+    )
+}
+
+/// [`for_multipoles`] with a real-space cutoff of at most `skin` less than
+/// half the shortest box side (the reach of a neighbour list with that
+/// skin), `None` orders and splittings.
+pub fn for_multipoles_with_skin(
+    accuracy: f64,
+    carried: Carried,
+    sites: usize,
+    box_lengths: &Vector3<f64>,
+    skin: f64,
+) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
+    let longest = 0.5 * box_lengths.min() - skin;
+    choose(
+        accuracy,
+        carried,
+        sites,
+        box_lengths,
+        (None, None),
+        (longest, "half the shortest box side less the skin"),
+    )
+}
+
+/// [`for_multipoles`] with the real-space cutoff at most `longest` (named `what`).
+fn choose(
+    accuracy: f64,
+    carried: Carried,
+    sites: usize,
+    box_lengths: &Vector3<f64>,
+    (order, alpha): (Option<usize>, Option<f64>),
+    (half_box, what): (f64, &str),
+) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     check_accuracy(accuracy)?;
     let orders_tried = orders_to_try(order)?;
     let pairs = carried.orders();
@@ -204,7 +245,6 @@ pub fn for_multipoles(
     let n_sites = sites.max(1) as f64;
     let density = n_sites / box_lengths.product();
     let d = density.cbrt().recip();
-    let half_box = 0.5 * box_lengths.min();
     let target = 0.5 * accuracy;
     let mut best: Option<(f64, MeshParameters, MeshEstimate)> = None;
     let splittings: Vec<f64> = match alpha {
@@ -249,8 +289,8 @@ pub fn for_multipoles(
             "box_lengths",
             format!(
                 "the mesh Ewald sum at accuracy {} needs a real-space cutoff of at least \
-                 {:.4} (at the largest splitting tried, alpha = {:.4}), more than half the \
-                 shortest box side {half_box}: use a larger box or a looser accuracy",
+                 {:.4} (at the largest splitting tried, alpha = {:.4}), more than {what} \
+                 {half_box}: use a larger box or a looser accuracy",
                 num(accuracy),
                 solve(|s| real_estimate(&ranks, largest * d, s), target) / largest,
                 largest

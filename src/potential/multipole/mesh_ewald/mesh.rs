@@ -9,8 +9,9 @@ use super::sites::{SiteResponse, Sources};
 use super::spread::SiteWeights;
 use crate::potential::multipole::fft3::{ConvolveBuffers, RealFft3};
 use crate::potential::multipole::{PotentialError, Surface};
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::PI;
+use std::sync::{Mutex, PoisonError};
 
 /// Bytes of the buffers of a `grid` mesh, all held: the mesh, the influence
 /// function, and the two complex half spectra and the real result of
@@ -37,6 +38,14 @@ pub struct MeshEwald {
     coefficients: Vec<[f64; SOURCES]>,
     scaled: Vec<[f64; SOURCES]>,
     derivatives: Vec<[f64; DERIVATIVES]>,
+    /// The reciprocal-space part of `derivatives` (the virial's multipole terms).
+    reciprocal: Vec<[f64; DERIVATIVES]>,
+    /// Each site's half of its real-space pairs' virials.
+    site_virials: Vec<Matrix3<f64>>,
+    /// Each half-spectrum line's share of the reciprocal virial (upper triangle).
+    line_virials: Vec<[f64; 6]>,
+    /// Whether evaluations compute the virial ([`Self::with_virial`]).
+    virial: bool,
     /// `d^N` at the origin of the smooth part `erf(alpha r) / r` (the self term).
     smooth_at_origin: [f64; 56],
 }
@@ -62,7 +71,10 @@ impl MeshEwald {
         let points: f64 = grid.iter().map(|&k| k as f64).product();
         let bytes = mesh_bytes(grid)
             + sites as f64
-                * (SiteWeights::bytes_per_site() + 24.0 + 8.0 * (2 * SOURCES + DERIVATIVES) as f64)
+                * (SiteWeights::bytes_per_site()
+                    + 24.0
+                    + 72.0
+                    + 8.0 * (2 * SOURCES + 2 * DERIVATIVES) as f64)
             + CellList::bytes(sites as f64, &box_lengths, parameters.real_cutoff);
         crate::memory::check("grid", bytes).map_err(|e| {
             PotentialError::new(
@@ -97,8 +109,19 @@ impl MeshEwald {
             coefficients: vec![[0.0; SOURCES]; sites],
             scaled: vec![[0.0; SOURCES]; sites],
             derivatives: vec![[0.0; DERIVATIVES]; sites],
+            reciprocal: vec![[0.0; DERIVATIVES]; sites],
+            site_virials: vec![Matrix3::zeros(); sites],
+            line_virials: vec![[0.0; 6]; grid[1] * (grid[2] / 2 + 1)],
+            virial: false,
             smooth_at_origin,
         })
+    }
+
+    /// The sum, its evaluations also computing the virial (see
+    /// [`SiteResponse::virial`]; it costs one pair force per real-space pair).
+    pub fn with_virial(mut self) -> Self {
+        self.virial = true;
+        self
     }
 
     /// The parameters the sum was built with.
@@ -119,13 +142,62 @@ impl MeshEwald {
         sources: &Sources<'_>,
         response: &mut SiteResponse,
     ) -> Result<(), PotentialError> {
+        let (source_order, count) = self.prepare(sources, response.potential.len())?;
+        let box_lengths = self.box_lengths;
+        let alpha = self.parameters.alpha;
+        self.cells.add_derivatives(
+            &self.wrapped,
+            &box_lengths,
+            alpha,
+            self.parameters.real_cutoff,
+            &self.coefficients,
+            source_order,
+            count,
+            &mut self.derivatives,
+            (&mut self.site_virials, self.virial),
+        );
+        let real: Matrix3<f64> = self.site_virials.iter().sum();
+        let long_range = self.long_range(sources, source_order, count);
+        response.fill(sources, &self.derivatives);
+        response.virial = if self.virial {
+            real + long_range
+        } else {
+            Matrix3::zeros()
+        };
+        Ok(())
+    }
+
+    /// The sum without its real-space part, for a caller that sums the
+    /// real-space pairs itself (moving bodies, with their neighbour lists and
+    /// exclusions): each site's potential derivatives `d^A phi` (the first
+    /// [`super::cartesian::DERIVATIVES`]) of the reciprocal, self,
+    /// background and surface terms, to which the caller adds its pairs
+    /// before [`SiteResponse::fill`], and the virial of these terms (zero
+    /// without [`Self::with_virial`]). Errors as [`Self::evaluate`].
+    pub(crate) fn long_range_derivatives(
+        &mut self,
+        sources: &Sources<'_>,
+    ) -> Result<(&mut [[f64; DERIVATIVES]], Matrix3<f64>), PotentialError> {
+        let (source_order, count) = self.prepare(sources, sources.len())?;
+        let virial = self.long_range(sources, source_order, count);
+        Ok((&mut self.derivatives, virial))
+    }
+
+    /// Checks the lengths and positions, wraps the sites, sets their
+    /// coefficients and zeroes the derivatives; returns the sources' order
+    /// and the number of derivatives needed.
+    fn prepare(
+        &mut self,
+        sources: &Sources<'_>,
+        responses: usize,
+    ) -> Result<(usize, usize), PotentialError> {
         let n = self.sites();
         let lengths = [
             Some(sources.len()),
             sources.charges.map(<[f64]>::len),
             sources.dipoles.map(<[Vector3<f64>]>::len),
             sources.quadrupoles.map(|t| t.len()),
-            Some(response.potential.len()),
+            Some(responses),
         ];
         if lengths.iter().flatten().any(|&len| len != n) {
             return Err(PotentialError::new(
@@ -148,7 +220,7 @@ impl MeshEwald {
                 Vector3::from_fn(|a, _| r[a] - box_lengths[a] * (r[a] / box_lengths[a]).floor());
         }
         let tables = Tables::get();
-        let scale = Vector3::from_fn(|a, _| self.parameters.grid[a] as f64 / box_lengths[a]);
+        let scale = self.scale();
         for i in 0..n {
             let c = sources.coefficients(i);
             self.coefficients[i] = c;
@@ -158,74 +230,156 @@ impl MeshEwald {
             });
         }
         let source_order = sources.order();
-        let derivative_order = (source_order + 1).max(2);
-        let count = UP_TO[derivative_order];
         for d in self.derivatives.iter_mut() {
             *d = [0.0; DERIVATIVES];
         }
-        let alpha = self.parameters.alpha;
-        self.cells.add_derivatives(
-            &self.wrapped,
-            &box_lengths,
-            alpha,
-            self.parameters.real_cutoff,
-            &self.coefficients,
-            source_order,
-            count,
-            &mut self.derivatives,
-        );
-        self.reciprocal(source_order, derivative_order, count, &scale);
-        self.add_self_background_surface(sources, source_order, count);
-        response.fill(sources, &self.derivatives);
-        Ok(())
+        Ok((source_order, UP_TO[(source_order + 1).max(2)]))
     }
 
-    /// Spread, convolve with the influence function, gather.
+    /// `K_a / L_a`.
+    fn scale(&self) -> Vector3<f64> {
+        Vector3::from_fn(|a, _| self.parameters.grid[a] as f64 / self.box_lengths[a])
+    }
+
+    /// Adds the reciprocal, self, background and surface derivatives;
+    /// returns their virial (zero without [`Self::with_virial`]).
+    fn long_range(
+        &mut self,
+        sources: &Sources<'_>,
+        source_order: usize,
+        count: usize,
+    ) -> Matrix3<f64> {
+        let derivative_order = (source_order + 1).max(2);
+        let scale = self.scale();
+        let mut virial = self.reciprocal(sources, (source_order, derivative_order, count), &scale);
+        virial += self.add_self_background_surface(sources, source_order, count);
+        if self.virial {
+            virial
+        } else {
+            Matrix3::zeros()
+        }
+    }
+
+    /// Spread, convolve with the influence function, gather; returns the
+    /// reciprocal-space virial when asked (module doc): `1/2 sum_m w_m G(m)
+    /// |S(m)|^2 (I - 2 (1/k^2 + 1/(4 alpha^2)) k k^T)` (Essmann et al. 1995,
+    /// eq 2.8, `w_m` counting the half spectrum's mirrored modes) plus the
+    /// multipoles' `sum_i (-mu_i E_i^T + 2 Theta_i W_i)` of the reciprocal
+    /// fields (Sagui, Pedersen & Darden 2004: the strain turns `mu.k` into
+    /// `((1 - eps) mu).k`).
     fn reciprocal(
         &mut self,
-        source_order: usize,
-        derivative_order: usize,
-        count: usize,
+        sources: &Sources<'_>,
+        (source_order, derivative_order, count): (usize, usize, usize),
         scale: &Vector3<f64>,
-    ) {
+    ) -> Matrix3<f64> {
         self.weights
             .compute(&self.wrapped, &self.box_lengths, derivative_order);
         self.weights
             .spread(&self.scaled, source_order, &mut self.mesh);
-        let [nx, _, nz] = self.parameters.grid;
+        let [nx, ny, nz] = self.parameters.grid;
         let (mesh, influence) = (&self.mesh, &self.influence);
+        let with_virial = self.virial;
+        let lines = Mutex::new(&mut self.line_virials[..]);
+        let wave = |a: usize, m: usize| {
+            let n = self.parameters.grid[a];
+            let signed = if m <= n / 2 {
+                m as f64
+            } else {
+                m as f64 - n as f64
+            };
+            2.0 * PI * signed / self.box_lengths[a]
+        };
+        let inverse_4alpha2 = 0.25 / self.parameters.alpha.powi(2);
         let phi = self.fft.convolve_into(
             &mut self.convolution,
             (1, 1),
             |l, line| line.copy_from_slice(&mesh[l * nz..(l + 1) * nz]),
             |m, s, f| {
-                for ((f, s), g) in f.iter_mut().zip(s).zip(&influence[m * nx..(m + 1) * nx]) {
+                let g = &influence[m * nx..(m + 1) * nx];
+                for ((f, s), g) in f.iter_mut().zip(s).zip(g) {
                     *f = s * g;
                 }
+                if !with_virial {
+                    return;
+                }
+                let (kz, ky) = (m / ny, m % ny);
+                let mirrored = if kz == 0 || 2 * kz == nz { 1.0 } else { 2.0 };
+                let mut sum = [0.0; 6];
+                for (kx, (s, &g)) in s.iter().zip(g).enumerate() {
+                    if g == 0.0 {
+                        continue;
+                    }
+                    let k = Vector3::new(wave(0, kx), wave(1, ky), wave(2, kz));
+                    let e = 0.5 * mirrored * g * s.norm_sqr();
+                    let b = 2.0 * (1.0 / k.norm_squared() + inverse_4alpha2);
+                    for (u, (a, c)) in UPPER.iter().enumerate() {
+                        let delta = if a == c { 1.0 } else { 0.0 };
+                        sum[u] += e * (delta - b * k[*a] * k[*c]);
+                    }
+                }
+                lines.lock().unwrap_or_else(PoisonError::into_inner)[m] = sum;
             },
         );
-        self.weights
-            .gather(phi, scale, count, &mut self.derivatives);
+        for d in self.reciprocal.iter_mut() {
+            // -0 + x is x, bit for bit: the sums below are those of a gather into `derivatives`.
+            *d = [-0.0; DERIVATIVES];
+        }
+        self.weights.gather(phi, scale, count, &mut self.reciprocal);
+        for (d, r) in self.derivatives.iter_mut().zip(&self.reciprocal) {
+            for (d, r) in d.iter_mut().zip(r).take(count) {
+                *d += r;
+            }
+        }
+        if !with_virial {
+            return Matrix3::zeros();
+        }
+        let mut virial = Matrix3::zeros();
+        for line in &self.line_virials {
+            for (u, &(a, c)) in UPPER.iter().enumerate() {
+                virial[(a, c)] += line[u];
+            }
+        }
+        for a in 0..3 {
+            for c in 0..a {
+                virial[(a, c)] = virial[(c, a)];
+            }
+        }
+        let tables = Tables::get();
+        for (i, r) in self.reciprocal.iter().enumerate() {
+            if let Some(mu) = sources.dipoles.map(|m| m[i]) {
+                virial += mu * Vector3::new(r[1], r[2], r[3]).transpose();
+            }
+            if let Some(theta) = sources.quadrupoles.map(|t| t[i]) {
+                let w = Matrix3::from_fn(|a, b| r[tables.sum[1 + a][1 + b]] / 3.0);
+                virial += theta * w * 2.0;
+            }
+        }
+        virial
     }
 
     /// Removes each site's own smooth potential, adds the neutralising
     /// background of a net charge `Q` (`phi = -pi Q / (V alpha^2)`) and, in
     /// vacuum, the surface term of the wrapped sites' dipole `M`
-    /// (`phi(r) = 4 pi M.r / (3 V)`).
+    /// (`phi(r) = 4 pi M.r / (3 V)`); returns their virial: `E_bg I` (the
+    /// background's `1/V`), `E_s I - 4 pi / (3 V) P M^T` in vacuum (`P =
+    /// sum_i q_i r_i` the charges' part of `M`, scaled by the strain), none
+    /// of the self term (independent of the positions).
     fn add_self_background_surface(
         &mut self,
         sources: &Sources<'_>,
         source_order: usize,
         count: usize,
-    ) {
+    ) -> Matrix3<f64> {
         let tables = Tables::get();
         let volume = self.box_lengths.product();
         let alpha = self.parameters.alpha;
         let net = sources.charges.map_or(0.0, |q| q.iter().sum::<f64>());
         let background = -PI * net / (volume * alpha * alpha);
+        let total_dipole = sources.total_dipole(&self.wrapped);
         let surface = match self.surface {
             Surface::Conducting => Vector3::zeros(),
-            Surface::Vacuum => sources.total_dipole(&self.wrapped) * (4.0 * PI / (3.0 * volume)),
+            Surface::Vacuum => total_dipole * (4.0 * PI / (3.0 * volume)),
         };
         let sources_count = UP_TO[source_order];
         for (i, d) in self.derivatives.iter_mut().enumerate() {
@@ -241,5 +395,16 @@ impl MeshEwald {
                 d[1 + a] += surface[a];
             }
         }
+        let mut virial = Matrix3::identity() * (0.5 * net * background);
+        if self.surface == Surface::Vacuum {
+            let charges_dipole =
+                total_dipole - sources.dipoles.map_or(Vector3::zeros(), |m| m.iter().sum());
+            virial += Matrix3::identity() * (0.5 * surface.dot(&total_dipole))
+                - charges_dipole * surface.transpose();
+        }
+        virial
     }
 }
+
+/// The upper triangle `(a, c)`, `a <= c`, of a symmetric 3x3 matrix.
+const UPPER: [(usize, usize); 6] = [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)];

@@ -29,7 +29,13 @@
 //! Then `E_i = -grad phi`, `W_i = 1/3 grad grad phi`, and the force `F_i =
 //! -grad_(r_i) V = -D_i grad phi(r_i)` is the exact gradient of the PME
 //! energy (the mesh part included), as the tests check by finite
-//! differences.
+//! differences; the virial `W = -(dV/d eps)^T` under a homogeneous strain
+//! of the box and the sites at fixed multipoles is the sum of the
+//! real-space pairs' `r_ij f_ij^T`, the reciprocal term of Essmann et al.
+//! (eq 2.8) with the multipoles' `-mu_i E_i^T + 2 Theta_i W_i` of the
+//! reciprocal fields, the background's `E_bg I` and in vacuum the
+//! surface's `E_s I - 4 pi / (3 V) (sum_i q_i r_i) M^T` (none from the
+//! self term).
 //!
 //! **Interface.** [`MeshEwald::new`] builds the mesh, the FFT plans, the
 //! influence function and every buffer for a number of sites and a box;
@@ -43,7 +49,7 @@
 //!
 //! **Parameters** from a requested accuracy: [`for_charges`] (Kolafa &
 //! Perram; Deserno & Holm) and [`for_multipoles`] (an aliasing estimate of
-//! smooth PME derived in `estimate`). Left out so far: the virial.
+//! smooth PME derived in `estimate`).
 
 mod accuracy;
 mod bspline;
@@ -61,10 +67,11 @@ pub use accuracy::{
     for_charges, ChargeEstimate, ACCURACY_RANGE, DEFAULT_ORDER, ESTIMATED_ORDERS, MESH_SAFETY,
 };
 pub use bspline::ORDERS;
-pub use estimate::{for_multipoles, Carried, MeshEstimate};
+pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
+pub use estimate::{for_multipoles, for_multipoles_with_skin, Carried, MeshEstimate};
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;
 pub use sites::{SiteResponse, Sources};
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

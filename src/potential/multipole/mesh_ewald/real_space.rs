@@ -10,9 +10,11 @@
 //! g(r_i - r_j)` with `g = erfc(alpha r) / r` (the Ewald real-space kernel
 //! of [`crate::potential::multipole::ewald_terms`]).
 
-use super::cartesian::{radial_derivatives, Tables, DERIVATIVES, SOURCES, UP_TO};
+use super::cartesian::{
+    add_source, pair_force, radial_derivatives, Tables, DERIVATIVES, SOURCES, UP_TO,
+};
 use crate::potential::multipole::ewald_terms::radial_functions;
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 /// Cells searched on each side of a site's own, along each axis.
@@ -100,7 +102,8 @@ impl CellList {
 
     /// Adds the real-space derivatives of every site to `derivatives`
     /// (`count` of them), from the sources' coefficients `coefficients` (of
-    /// order at most `source_order`).
+    /// order at most `source_order`); with `virial`, sets each site's half
+    /// of its pairs' virials `1/2 sum_j r_ij f_ij^T` in `virials`.
     #[allow(clippy::too_many_arguments)]
     pub fn add_derivatives(
         &mut self,
@@ -112,19 +115,23 @@ impl CellList {
         source_order: usize,
         count: usize,
         derivatives: &mut [[f64; DERIVATIVES]],
+        (virials, virial): (&mut [Matrix3<f64>], bool),
     ) {
         self.build(wrapped, box_lengths);
         let tables = Tables::get();
         let sources = UP_TO[source_order];
+        // `count` reaches one order above the sources: enough for the pair forces too.
         let needed = UP_TO[tables.order(count - 1) + source_order];
         let half = box_lengths / 2.0;
         let cutoff_squared = cutoff * cutoff;
         let this = &*self;
         derivatives
             .par_iter_mut()
+            .zip(virials.par_iter_mut())
             .enumerate()
             .with_min_len(64)
-            .for_each(|(i, d)| {
+            .for_each(|(i, (d, w))| {
+                *w = Matrix3::zeros();
                 let cells = this.cells;
                 let c = this.cell_of[i];
                 let home = [
@@ -165,10 +172,11 @@ impl CellList {
                                     &mut t,
                                 );
                                 let cj = &coefficients[j];
-                                for (a, value) in d.iter_mut().enumerate().take(count) {
-                                    *value += (0..sources)
-                                        .map(|e| tables.parity[e] * cj[e] * t[0][tables.sum[a][e]])
-                                        .sum::<f64>();
+                                add_source(&t[0], cj, sources, count, d);
+                                if virial {
+                                    let f =
+                                        pair_force(&t[0], &coefficients[i], sources, cj, sources);
+                                    *w += r * f.transpose() * 0.5;
                                 }
                             }
                         }

@@ -79,6 +79,11 @@ pub struct SiteResponse {
     pub quadrupole_conjugate: Vec<Matrix3<f64>>,
     /// `F_i = -(q grad phi + (mu.grad) grad phi + 1/3 Theta:grad grad grad phi)`.
     pub force: Vec<Vector3<f64>>,
+    /// The atomic virial `W = -(dV/d eps)^T` under a homogeneous strain
+    /// `r -> (1 + eps) r` of the box and the positions at fixed space-frame
+    /// multipoles (for pairs, `sum_pairs r_ij f_ij^T`); zero when the sum
+    /// was not asked for it.
+    pub virial: Matrix3<f64>,
 }
 
 impl SiteResponse {
@@ -90,6 +95,7 @@ impl SiteResponse {
             field: vec![Vector3::zeros(); sites],
             quadrupole_conjugate: vec![Matrix3::zeros(); sites],
             force: vec![Vector3::zeros(); sites],
+            virial: Matrix3::zeros(),
         }
     }
 

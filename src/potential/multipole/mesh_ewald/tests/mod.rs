@@ -6,7 +6,8 @@
 
 mod accuracy;
 mod guarantees;
-mod references;
+pub(crate) mod references;
+mod virial;
 
 use super::*;
 use crate::potential::multipole::ewald::EwaldSum;
@@ -18,19 +19,19 @@ use rand_chacha::ChaCha20Rng;
 
 /// A random configuration: positions in the box, and the multipoles asked for.
 #[derive(Clone)]
-pub(super) struct Configuration {
-    pub(super) box_lengths: Vector3<f64>,
-    pub(super) positions: Vec<Vector3<f64>>,
-    pub(super) charges: Option<Vec<f64>>,
-    pub(super) dipoles: Option<Vec<Vector3<f64>>>,
-    pub(super) quadrupoles: Option<Vec<Matrix3<f64>>>,
+pub(crate) struct Configuration {
+    pub(crate) box_lengths: Vector3<f64>,
+    pub(crate) positions: Vec<Vector3<f64>>,
+    pub(crate) charges: Option<Vec<f64>>,
+    pub(crate) dipoles: Option<Vec<Vector3<f64>>>,
+    pub(crate) quadrupoles: Option<Vec<Matrix3<f64>>>,
 }
 
 impl Configuration {
     /// `n` sites at least 0.4 apart (periodic images included), charges
     /// summing to zero, dipoles and traceless quadrupoles with components
     /// in (-1, 1).
-    pub(super) fn random(
+    pub(crate) fn random(
         seed: u64,
         n: usize,
         box_lengths: Vector3<f64>,
@@ -80,7 +81,7 @@ impl Configuration {
         }
     }
 
-    pub(super) fn sources(&self) -> Sources<'_> {
+    pub(crate) fn sources(&self) -> Sources<'_> {
         Sources {
             positions: &self.positions,
             charges: self.charges.as_deref(),
@@ -89,7 +90,7 @@ impl Configuration {
         }
     }
 
-    pub(super) fn mesh(&self, parameters: MeshParameters, surface: Surface) -> SiteResponse {
+    pub(crate) fn mesh(&self, parameters: MeshParameters, surface: Surface) -> SiteResponse {
         let mut sum =
             MeshEwald::new(self.positions.len(), self.box_lengths, parameters, surface).unwrap();
         let mut out = SiteResponse::zeros(self.positions.len());
@@ -99,7 +100,7 @@ impl Configuration {
 
     /// The direct Ewald sum converged to round-off (`s = 7` in both
     /// spaces), as energy and fields (dipoles and quadrupoles only).
-    pub(super) fn direct(&self, surface: Surface) -> (f64, Vec<Vector3<f64>>, Vec<Matrix3<f64>>) {
+    pub(crate) fn direct(&self, surface: Surface) -> (f64, Vec<Vector3<f64>>, Vec<Matrix3<f64>>) {
         let n = self.positions.len();
         let parameters = EwaldParameters::converged(1.2);
         let sum = EwaldSum::with_parameters(&self.positions, self.box_lengths, parameters, surface)
@@ -159,7 +160,7 @@ pub(super) fn flat33(v: &[Matrix3<f64>]) -> Vec<f64> {
 /// `alpha = s / r_c`, order 8 and `K_a = 1.8 s alpha L_a` mesh points,
 /// which puts the reciprocal-space error below the real-space one (found
 /// by refining `K` and `p` against the converged direct sum).
-pub(super) fn fine(box_lengths: &Vector3<f64>, s: f64) -> MeshParameters {
+pub(crate) fn fine(box_lengths: &Vector3<f64>, s: f64) -> MeshParameters {
     let rc = 0.5 * box_lengths.min();
     let alpha = s / rc;
     MeshParameters {

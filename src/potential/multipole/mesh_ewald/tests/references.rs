@@ -60,7 +60,7 @@ fn fixed_accuracy_results_do_not_depend_on_alpha() {
 /// erfc(alpha r)/r + (2 pi / V) sum_(k != 0) exp(-k^2 / 4 alpha^2) / k^2
 /// |sum_j q_j exp(i k.r_j)|^2 - alpha / sqrt(pi) sum_j q_j^2`, with its
 /// forces, converged far below round-off.
-pub(super) fn textbook_charges(c: &Configuration) -> (f64, Vec<Vector3<f64>>) {
+pub(crate) fn textbook_charges(c: &Configuration) -> (f64, Vec<Vector3<f64>>) {
     let q = c.charges.as_ref().unwrap();
     let n = q.len();
     let l = c.box_lengths;

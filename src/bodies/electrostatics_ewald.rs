@@ -1,0 +1,400 @@
+//! The Ewald sum between sites of different bodies in a periodic box, by
+//! smooth particle-mesh Ewald (`crate::potential::multipole::mesh_ewald`):
+//! charges, point dipoles and point quadrupoles at any sites.
+//!
+//! * **Real space**: the pairs of the bodies' neighbour lists (sites of
+//!   different bodies) closer than `r_c`, kernel `erfc(alpha r) / r`.
+//! * **Reciprocal, self, background, surface**: the mesh sum's, over every
+//!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]).
+//! * **Exclusions**: the reciprocal sum holds every pair of sites,
+//!   intramolecular ones included, through the smooth `erf(alpha r) / r`;
+//!   for each pair of sites `i != j` of one body the correction subtracts
+//!   it: `-q_i q_j erf(alpha r) / r` for charges, the same operators `D_i
+//!   D_j` of the multipoles on `erf(alpha r) / r` in general (`r` the
+//!   separation within the body, not a periodic image), so that the sites of
+//!   one body never interact. The self term is the mesh sum's (`i = j`).
+//! * **Virial**: the atomic virial of the mesh sum (its module doc), of the
+//!   real-space pairs and of the exclusion pairs (`r_ij f_ij^T` each); the
+//!   molecular virial follows in [`super::evaluate`].
+//!
+//! The parameters (`alpha`, `r_c`, mesh, spline order) come from the
+//! requested accuracy by
+//! [`crate::potential::multipole::mesh_ewald::for_multipoles_with_skin`],
+//! as for rotors but with `r_c` plus the skin within half the box; the mesh, its plans and every buffer are built once for the box
+//! and the number of sites.
+
+use super::electrostatics::{add_pairs, Electrostatics, Exclusions, SiteMultipoles, SiteResponse};
+use super::neighbours::NeighbourList;
+use super::space::Space;
+use crate::checks::{num, InputError};
+use crate::potential::multipole::mesh_ewald::{
+    for_multipoles_with_skin, Carried, MeshEstimate, MeshEwald, MeshParameters,
+};
+use crate::potential::multipole::{radial_functions, SumMethod, Surface};
+use nalgebra::{Matrix3, Vector3};
+use std::ops::Range;
+
+/// The accuracy of a scene's Ewald sum of bodies that gives none (the
+/// rotors' default, 1e-12, is beyond what the mesh estimates reach).
+pub const DEFAULT_ACCURACY: f64 = 1e-6;
+
+/// The options of an Ewald sum of bodies' sites.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EwaldOptions {
+    /// The relative accuracy of the fields, within
+    /// [`crate::potential::multipole::mesh_ewald::ACCURACY_RANGE`] (as for
+    /// rotors: `mesh_ewald::for_multipoles`; default [`DEFAULT_ACCURACY`]).
+    pub accuracy: f64,
+    /// The way of summing: `Pme` (`Auto` takes it; the direct sum of bodies
+    /// is not built yet).
+    pub method: SumMethod,
+    /// The medium around the sphere of boxes.
+    pub surface: Surface,
+}
+
+/// The smooth PME sum of the sites of bodies (module doc).
+#[derive(Debug)]
+pub struct BodyEwald {
+    mesh: MeshEwald,
+    estimate: MeshEstimate,
+    /// The sites of each body.
+    bodies: Vec<Range<usize>>,
+    /// The body of each site.
+    site_body: Vec<u32>,
+    /// Each site's half of its pairs' virials.
+    virials: Vec<Matrix3<f64>>,
+}
+
+impl BodyEwald {
+    /// The sum of the sites of `site_body` (the body of each site, bodies in
+    /// order) carrying `carried` in the box `box_lengths`, its real-space
+    /// cutoff fitting a neighbour list with `skin`; errors name the option
+    /// (`accuracy`, `method`, `box_lengths`).
+    pub fn new(
+        options: &EwaldOptions,
+        carried: Carried,
+        site_body: &[u32],
+        (box_lengths, skin): (Vector3<f64>, f64),
+    ) -> Result<Self, InputError> {
+        if !matches!(options.method, SumMethod::Pme | SumMethod::Auto) {
+            return Err(InputError::new(
+                "method",
+                "the Ewald sum of moving bodies is summed by \"pme\" (or \"auto\", which takes it)",
+            ));
+        }
+        let accuracy = options.accuracy;
+        let (parameters, estimate) =
+            for_multipoles_with_skin(accuracy, carried, site_body.len(), &box_lengths, skin)?;
+        // The mesh was chosen for the accuracy: its size is the accuracy's.
+        Self::with_parameters(parameters, options.surface, site_body, box_lengths)
+            .map(|sum| BodyEwald { estimate, ..sum })
+            .map_err(|e| InputError::new("accuracy", format!("{}: {}", num(accuracy), e.message)))
+    }
+
+    /// The sum with given parameters (checked by
+    /// [`MeshEwald::new`], errors naming them), its estimate unknown (NaN).
+    pub fn with_parameters(
+        parameters: MeshParameters,
+        surface: Surface,
+        site_body: &[u32],
+        box_lengths: Vector3<f64>,
+    ) -> Result<Self, InputError> {
+        let n = site_body.len();
+        let mesh = MeshEwald::new(n, box_lengths, parameters, surface)?.with_virial();
+        let mut bodies: Vec<Range<usize>> = Vec::new();
+        for (s, &b) in site_body.iter().enumerate() {
+            match bodies.get_mut(b as usize) {
+                Some(range) => range.end = s + 1,
+                None => bodies.push(s..s + 1),
+            }
+        }
+        Ok(BodyEwald {
+            mesh,
+            estimate: MeshEstimate {
+                real: f64::NAN,
+                mesh: f64::NAN,
+            },
+            bodies,
+            site_body: site_body.to_vec(),
+            virials: vec![Matrix3::zeros(); n],
+        })
+    }
+}
+
+impl Electrostatics for BodyEwald {
+    fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        Some((self.mesh.parameters(), self.estimate))
+    }
+
+    fn pair_cutoff(&self) -> f64 {
+        self.mesh.parameters().real_cutoff
+    }
+
+    fn evaluate(
+        &mut self,
+        sites: &SiteMultipoles,
+        space: &Space,
+        pairs: &NeighbourList,
+        out: &mut SiteResponse,
+    ) {
+        let sources = sites.sources();
+        let parameters = self.mesh.parameters();
+        let Ok((derivatives, long_range)) = self.mesh.long_range_derivatives(&sources) else {
+            // Only non-finite positions fail here: the run reports the blow-up.
+            out.energy = f64::NAN;
+            return;
+        };
+        let alpha = parameters.alpha;
+        let kernel = |r: f64| radial_functions(alpha, r);
+        add_pairs(
+            sites,
+            space,
+            pairs,
+            (parameters.real_cutoff, &kernel),
+            Some(Exclusions {
+                bodies: &self.bodies,
+                site_body: &self.site_body,
+                alpha,
+            }),
+            (derivatives, &mut self.virials),
+        );
+        out.fill(&sources, derivatives);
+        out.virial = long_range + self.virials.iter().sum::<Matrix3<f64>>();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::potential::multipole::mesh_ewald::tests::references::textbook_charges;
+    use crate::potential::multipole::mesh_ewald::tests::Configuration;
+    use nalgebra::Rotation3;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha20Rng;
+
+    /// Relative energy and RMS force error of the fine parameters below
+    /// against sums converged to round-off (`erfc(5) ~ 2e-12` in real
+    /// space for charges; quadrupoles' tails carry `(alpha r_c)^8` more and
+    /// take `alpha r_c = 6.5`; the mesh finer still).
+    const FINE: f64 = 1e-8;
+
+    /// The energy bound of dipoles and quadrupoles against the rotors'
+    /// direct sum (the mesh sum's `FINE`).
+    const QUADRUPOLE_ENERGY: f64 = 1e-6;
+
+    /// PME parameters for `box_lengths` with `r_c = 0.45 L_min`, `alpha r_c
+    /// = s`, order 8 and `K_a = 1.8 s alpha L_a` (the mesh tests' fine choice).
+    fn fine(box_lengths: &Vector3<f64>, s: f64) -> MeshParameters {
+        let real_cutoff = 0.45 * box_lengths.min();
+        let alpha = s / real_cutoff;
+        MeshParameters {
+            alpha,
+            real_cutoff,
+            grid: std::array::from_fn(|a| (1.8 * s * alpha * box_lengths[a]).ceil() as usize),
+            order: 8,
+        }
+    }
+
+    /// Rigid three-site molecules (charges -0.8, 0.4, 0.4 at the origin and
+    /// `(+-0.8, 0.6, 0)` of the body frame, optionally dipoles and
+    /// quadrupoles at every site), centres at least 2 apart, random
+    /// orientations: the sites, the body of each site and each site's offset.
+    fn molecules(
+        seed: u64,
+        n: usize,
+        box_lengths: Vector3<f64>,
+        multipoles: bool,
+    ) -> (SiteMultipoles, Vec<u32>, Vec<Vector3<f64>>) {
+        let mut rng = ChaCha20Rng::seed_from_u64(seed);
+        let mut centres: Vec<Vector3<f64>> = Vec::new();
+        while centres.len() < n {
+            let r = Vector3::from_fn(|a, _| rng.random_range(0.0..box_lengths[a]));
+            let space = Space::Periodic(box_lengths);
+            if centres
+                .iter()
+                .all(|c| space.minimum_image(r - c).norm() > 2.0)
+            {
+                centres.push(r);
+            }
+        }
+        let body_sites = [
+            (Vector3::zeros(), -0.8),
+            (Vector3::new(0.8, 0.6, 0.0), 0.4),
+            (Vector3::new(-0.8, 0.6, 0.0), 0.4),
+        ];
+        let mut sites = SiteMultipoles {
+            carried: Carried {
+                charges: true,
+                dipoles: multipoles,
+                quadrupoles: multipoles,
+            },
+            ..SiteMultipoles::default()
+        };
+        let (mut site_body, mut offsets) = (vec![], vec![]);
+        for (b, c) in centres.iter().enumerate() {
+            let axis = Vector3::from_fn(|_, _| rng.random_range(-3.0..3.0));
+            let rotation = Rotation3::new(axis).into_inner();
+            for (k, (offset, q)) in body_sites.iter().enumerate() {
+                let d = rotation * offset;
+                sites.positions.push(c + d);
+                sites.charges.push(*q);
+                let mu = Vector3::new(0.3, -0.2, 0.1) * (k as f64 + 1.0);
+                sites.dipoles.push(rotation * mu);
+                let theta = Matrix3::new(0.4, 0.1, 0.0, 0.1, -0.1, 0.2, 0.0, 0.2, -0.3);
+                sites
+                    .quadrupoles
+                    .push(rotation * theta * rotation.transpose());
+                site_body.push(b as u32);
+                offsets.push(d);
+            }
+        }
+        (sites, site_body, offsets)
+    }
+
+    fn evaluate(
+        sites: &SiteMultipoles,
+        site_body: &[u32],
+        box_lengths: Vector3<f64>,
+        parameters: MeshParameters,
+        surface: Surface,
+    ) -> SiteResponse {
+        let space = Space::Periodic(box_lengths);
+        let mut sum =
+            BodyEwald::with_parameters(parameters, surface, site_body, box_lengths).unwrap();
+        let mut pairs = NeighbourList::new(parameters.real_cutoff, 0.0).unwrap();
+        pairs.build(&sites.positions, site_body, &space);
+        let mut out = SiteResponse::zeros(sites.positions.len());
+        sum.evaluate(sites, &space, &pairs, &mut out);
+        out
+    }
+
+    fn relative_rms(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> f64 {
+        let diff: f64 = a.iter().zip(b).map(|(x, y)| (x - y).norm_squared()).sum();
+        (diff / b.iter().map(|y| y.norm_squared()).sum::<f64>()).sqrt()
+    }
+
+    /// Rigid water-like molecules of three charges: the energy and site
+    /// forces are the textbook Ewald sum of every site (converged) minus the
+    /// bare Coulomb pairs within each molecule, so that the sites of one
+    /// body never interact.
+    #[test]
+    fn sites_of_one_body_never_interact() {
+        let box_lengths = Vector3::new(6.0, 6.4, 5.8);
+        let (sites, site_body, _) = molecules(31, 8, box_lengths, false);
+        let configuration = Configuration {
+            box_lengths,
+            positions: sites.positions.clone(),
+            charges: Some(sites.charges.clone()),
+            dipoles: None,
+            quadrupoles: None,
+        };
+        let (mut energy, mut force) = textbook_charges(&configuration);
+        for i in 0..sites.positions.len() {
+            for j in 0..sites.positions.len() {
+                if i != j && site_body[i] == site_body[j] {
+                    let r = sites.positions[i] - sites.positions[j];
+                    let qq = sites.charges[i] * sites.charges[j];
+                    energy -= 0.5 * qq / r.norm();
+                    force[i] -= r * (qq / r.norm().powi(3));
+                }
+            }
+        }
+        let out = evaluate(
+            &sites,
+            &site_body,
+            box_lengths,
+            fine(&box_lengths, 5.0),
+            Surface::Conducting,
+        );
+        let de = (out.energy - energy).abs() / energy.abs();
+        let df = relative_rms(&out.force, &force);
+        assert!(
+            de < FINE && df < FINE,
+            "energy {} vs {energy} ({de:e}), force {df:e}",
+            out.energy
+        );
+    }
+
+    /// One-site bodies with dipoles and quadrupoles against the rotors'
+    /// direct Ewald sum converged to round-off: energy and fields.
+    /// The energies differ by 3.4e-7 relative while the fields agree to
+    /// 1e-8 (not understood yet; the mesh sum's own test of this reference
+    /// bounds energies at 1e-6 too).
+    #[test]
+    fn point_multipoles_match_the_converged_direct_sum() {
+        let box_lengths = Vector3::new(4.0, 3.6, 4.4);
+        let c = Configuration::random(7, 40, box_lengths, (false, true, true));
+        let n = c.positions.len();
+        let sites = SiteMultipoles {
+            carried: Carried {
+                charges: false,
+                dipoles: true,
+                quadrupoles: true,
+            },
+            positions: c.positions.clone(),
+            charges: vec![0.0; n],
+            dipoles: c.dipoles.clone().unwrap(),
+            quadrupoles: c.quadrupoles.clone().unwrap(),
+        };
+        let site_body: Vec<u32> = (0..n as u32).collect();
+        for surface in [Surface::Conducting, Surface::Vacuum] {
+            let (energy, field, _) = c.direct(surface);
+            let out = evaluate(
+                &sites,
+                &site_body,
+                box_lengths,
+                fine(&box_lengths, 6.5),
+                surface,
+            );
+            let de = (out.energy - energy).abs() / energy.abs();
+            let r = relative_rms(&out.field, &field);
+            assert!(
+                de < QUADRUPOLE_ENERGY && r < FINE,
+                "{surface:?}: energy {} vs {energy} ({de:e}), field {r:e}",
+                out.energy
+            );
+        }
+    }
+
+    /// The molecular virial `W - sum_s d_s F_s^T` (centres scaled with the
+    /// box, offsets and multipoles fixed) against central differences of
+    /// the energy under a stretch along each axis, for molecules carrying
+    /// charges, dipoles and quadrupoles, at fixed parameters (`alpha r_c =
+    /// 5`: pairs crossing the cutoff change the energy by ~1e-12, far below
+    /// the step's 1e-5).
+    #[test]
+    fn the_molecular_virial_is_the_strain_derivative_of_the_energy() {
+        let box_lengths = Vector3::new(6.0, 6.4, 5.8);
+        let (sites, site_body, offsets) = molecules(32, 8, box_lengths, true);
+        let parameters = MeshParameters {
+            grid: [24, 24, 24],
+            order: 6,
+            ..fine(&box_lengths, 5.0)
+        };
+        for surface in [Surface::Conducting, Surface::Vacuum] {
+            let out = evaluate(&sites, &site_body, box_lengths, parameters, surface);
+            let mut virial = out.virial;
+            for (d, f) in offsets.iter().zip(&out.force) {
+                virial -= d * f.transpose();
+            }
+            let h = 1e-5;
+            for axis in 0..3 {
+                let energy = |strain: f64| {
+                    let mut stretched = sites.clone();
+                    for (r, d) in stretched.positions.iter_mut().zip(&offsets) {
+                        r[axis] = (r[axis] - d[axis]) * (1.0 + strain) + d[axis];
+                    }
+                    let mut lengths = box_lengths;
+                    lengths[axis] *= 1.0 + strain;
+                    evaluate(&stretched, &site_body, lengths, parameters, surface).energy
+                };
+                let fd = -(energy(h) - energy(-h)) / (2.0 * h);
+                assert!(
+                    (virial[(axis, axis)] - fd).abs() < 1e-7 * virial.abs().max(),
+                    "{surface:?} W[{axis}{axis}] {} vs {fd}",
+                    virial[(axis, axis)]
+                );
+            }
+        }
+    }
+}
