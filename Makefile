@@ -96,6 +96,7 @@ bench: develop
 	cargo bench
 	$(PY) -m validation.bench --out benchmarks
 	$(PY) -m validation.bench.ewald --out benchmarks
+	$(PY) -m validation.bench.mesh --out benchmarks
 	$(PY) -m validation.bench.sweep --out benchmarks
 	$(PY) -m validation.bench.longrun --out benchmarks
 	$(PY) -m validation.bench.thermostats --out benchmarks

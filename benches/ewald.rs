@@ -9,7 +9,16 @@
 //! * the FFT lattice Ewald sum (1e-12) from 10^3 to 100^3 rotors (and its
 //!   one-off set-up);
 //! * the direct Ewald sum (1e-6 and 1e-12) of irregular sites (uniform random
-//!   at unit density, seed 14) from 125 to 4000 rotors.
+//!   at unit density, seed 14) from 125 to 4000 rotors;
+//! * issue 40's mesh Ewald (PME) against the direct Ewald sum at accuracy
+//!   1e-5 on a dipolar fluid-like configuration (a simple-cubic lattice of
+//!   unit spacing, each site displaced uniformly within +-0.25 per axis, so
+//!   no two closer than 0.5: irregular, as a liquid, without overlaps) from
+//!   1,000 to 1,000,000 dipoles (PME) and to 8,000 (direct: its crossover);
+//!   and at about 10,000 dipoles (22^3 such sites less 648 at random, box
+//!   22) at accuracies 1e-4 to 1e-6 for the side-by-side with LAMMPS
+//!   `pppm/dipole`, which `validation.bench.ewald` measures on a
+//!   configuration of the same kind.
 //!
 //! Each time is the median and the best of repeated single evaluations
 //! (repeats fill ~`SECONDS_PER_CASE`). Writes `<QUATROT_BENCH_RAW or
@@ -56,6 +65,42 @@ fn orientations(n: usize, seed: u64) -> Vec<Quat> {
         .collect()
 }
 
+/// The fluid-like dipolar configuration: `cells^3` jittered simple-cubic
+/// sites of unit spacing, of which `keep` (all when `None`) are kept at
+/// random; returns the sites and the cubic box edge.
+fn jittered(cells: usize, keep: Option<usize>, seed: u64) -> (Vec<Vector3<f64>>, f64) {
+    let mut rng = ChaCha20Rng::seed_from_u64(seed);
+    let mut sites: Vec<Vector3<f64>> = (0..cells.pow(3))
+        .map(|k| {
+            let cell = Vector3::new(k % cells, (k / cells) % cells, k / (cells * cells));
+            Vector3::from_fn(|a, _| cell[a] as f64 + 0.5 + rng.random_range(-0.25..0.25))
+        })
+        .collect();
+    if let Some(keep) = keep {
+        while sites.len() > keep {
+            let k = rng.random_range(0..sites.len());
+            sites.swap_remove(k);
+        }
+    }
+    (sites, cells as f64)
+}
+
+/// One PME or direct-Ewald case on the jittered configuration.
+fn irregular_case(cells: usize, keep: Option<usize>, accuracy: f64, method: SumMethod) -> Value {
+    let (sites, edge) = jittered(cells, keep, 40);
+    let rotors = dipoles(&sites);
+    let q = orientations(rotors.len(), 41);
+    let mut case = time_case(&rotors, ewald(Vector3::repeat(edge), accuracy), method, &q);
+    case["accuracy"] = json!(accuracy);
+    case["method"] = json!(if method == SumMethod::Pme {
+        "pme"
+    } else {
+        "direct"
+    });
+    eprintln!("{case}");
+    case
+}
+
 fn ewald(box_lengths: Vector3<f64>, accuracy: f64) -> Boundary {
     Boundary::Periodic {
         box_lengths,
@@ -84,9 +129,16 @@ fn time_case(rotors: &[Rotor], boundary: Boundary, method: SumMethod, q: &[Quat]
         times.push(t.elapsed().as_secs_f64());
     }
     times.sort_by(f64::total_cmp);
-    let parameters = p.ewald_parameters().map(|e| {
-        json!({"alpha": e.alpha, "real_cutoff": e.real_cutoff, "reciprocal_cutoff": e.reciprocal_cutoff})
-    });
+    let parameters = match (p.ewald_parameters(), p.mesh_parameters()) {
+        (Some(e), _) => Some(
+            json!({"alpha": e.alpha, "real_cutoff": e.real_cutoff, "reciprocal_cutoff": e.reciprocal_cutoff}),
+        ),
+        (None, Some((m, estimate))) => Some(json!({
+            "alpha": m.alpha, "real_cutoff": m.real_cutoff, "grid": m.grid, "order": m.order,
+            "estimate_real": estimate.real, "estimate_mesh": estimate.mesh,
+        })),
+        (None, None) => None,
+    };
     json!({
         "rotors": rotors.len(),
         "path": p.sum_path().as_str(),
@@ -173,7 +225,39 @@ fn main() {
                 direct.push(case);
             }
         }
+        let cells: &[usize] = if quick {
+            &[10, 20]
+        } else {
+            &[10, 20, 40, 80, 100]
+        };
+        let mut mesh_scaling: Vec<Value> = cells
+            .iter()
+            .map(|&c| irregular_case(c, None, 1e-5, SumMethod::Pme))
+            .collect();
+        let direct_cells: &[usize] = if quick {
+            &[10]
+        } else {
+            &[5, 8, 10, 13, 16, 20]
+        };
+        mesh_scaling.extend(
+            direct_cells
+                .iter()
+                .map(|&c| irregular_case(c, None, 1e-5, SumMethod::Direct)),
+        );
+        if !quick {
+            mesh_scaling.extend(
+                [5, 8, 13, 16]
+                    .iter()
+                    .map(|&c| irregular_case(c, None, 1e-5, SumMethod::Pme)),
+            );
+        }
+        let ten_thousand: Vec<Value> = [1e-4, 1e-5, 1e-6]
+            .iter()
+            .map(|&a| irregular_case(22, Some(10_000), a, SumMethod::Pme))
+            .collect();
         json!({
+            "mesh_scaling": mesh_scaling,
+            "mesh_10000": ten_thousand,
             "quick": quick,
             "quatrot": env!("CARGO_PKG_VERSION"),
             "lattice": lattice_cases,

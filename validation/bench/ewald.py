@@ -152,11 +152,7 @@ def main(argv=None) -> int:
         "fft_exponent": fit_exponent([c["rotors"] for c in fs], [c["median_seconds"] for c in fs]),
         "direct_exponents": {k: fit_exponent([c["rotors"] for c in v], [c["median_seconds"] for c in v]) for k, v in direct.items()},
     }
-    args.out.mkdir(parents=True, exist_ok=True)
-    path = args.out / "results.json"
-    results_md.update_json(path, {"ewald": result})
-    results_md.replace_section(args.out / "RESULTS.md", BEGIN, END, section(result))
-    print(f"wrote the ewald entry of {path} and its section of {args.out / 'RESULTS.md'}")
+    results_md.publish(args.out, "ewald", result, (BEGIN, END), section(result))
     return 0
 
 

@@ -297,6 +297,15 @@ def write_section(path: Path, results: dict) -> None:
     replace_section(path, BEGIN, END, section(results))
 
 
+def publish(out: Path, key: str, result: dict, markers: tuple[str, str], text: str) -> None:
+    """Writes `result` as the `key` entry of `<out>/results.json` and `text`
+    as its section (between `markers`) of `<out>/RESULTS.md`."""
+    out.mkdir(parents=True, exist_ok=True)
+    update_json(out / "results.json", {key: result})
+    replace_section(out / "RESULTS.md", *markers, text)
+    print(f"wrote the {key} entry of {out / 'results.json'} and its section of {out / 'RESULTS.md'}")
+
+
 def update_json(path: Path, results: dict) -> None:
     """Writes `results`' top-level keys into the JSON file `path`, keeping the
     keys of the other benchmarks (each owns its own keys)."""
