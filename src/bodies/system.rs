@@ -136,40 +136,7 @@ impl BodySystem {
             (_, true) => None,
         };
         let skin = non_negative(options.skin).map_err(|e| e.at("skin"))?;
-        let electrostatic = carried.charges || carried.dipoles || carried.quadrupoles;
-        let electrostatics: Option<Box<dyn Electrostatics>> =
-            match (options.electrostatics, electrostatic) {
-                (Some(ElectrostaticsOptions::Cutoff(c)), true) => Some(Box::new(
-                    CutoffSum::new(c).map_err(|e| e.at("electrostatics"))?,
-                )),
-                (Some(ElectrostaticsOptions::Ewald(o)), true) => {
-                    let Space::Periodic(box_lengths) = space else {
-                        return Err(InputError::new(
-                            "electrostatics.kind",
-                            "the Ewald sum needs a periodic box",
-                        ));
-                    };
-                    Some(Box::new(
-                        BodyEwald::new(&o, carried, &site_body, (box_lengths, skin)).map_err(
-                            |e| {
-                                // A box the cutoff does not fit is the box's error.
-                                if e.path == "box_lengths" {
-                                    e
-                                } else {
-                                    e.at("electrostatics")
-                                }
-                            },
-                        )?,
-                    ))
-                }
-                (None, true) => {
-                    return Err(required(
-                        "electrostatics",
-                        "charges, dipoles or quadrupoles",
-                    ))
-                }
-                (_, false) => None,
-            };
+        let electrostatics = electrostatics(options, carried, &site_body, (&space, skin))?;
         let cutoff = [
             lennard_jones.as_ref().map(|t| t.cutoff()),
             electrostatics.as_ref().map(|e| e.pair_cutoff()),
@@ -307,4 +274,45 @@ fn check_body(body: &mut Body, types: &[BodyType]) -> Result<(), InputError> {
     }
     body.orientation = orientation(&body.orientation).map_err(|e| e.at("orientation"))?;
     Ok(())
+}
+
+/// The electrostatic method `options` choose for sites carrying `carried`
+/// (none when no site carries a multipole), errors naming the field.
+fn electrostatics(
+    options: &InteractionOptions,
+    carried: Carried,
+    site_body: &[u32],
+    (space, skin): (&Space, f64),
+) -> Result<Option<Box<dyn Electrostatics>>, InputError> {
+    let electrostatic = carried.charges || carried.dipoles || carried.quadrupoles;
+    Ok(match (options.electrostatics, electrostatic) {
+        (Some(ElectrostaticsOptions::Cutoff(c)), true) => Some(Box::new(
+            CutoffSum::new(c).map_err(|e| e.at("electrostatics"))?,
+        )),
+        (Some(ElectrostaticsOptions::Ewald(o)), true) => {
+            let Space::Periodic(box_lengths) = *space else {
+                return Err(InputError::new(
+                    "electrostatics.kind",
+                    "the Ewald sum needs a periodic box",
+                ));
+            };
+            Some(Box::new(
+                BodyEwald::new(&o, carried, site_body, (box_lengths, skin)).map_err(|e| {
+                    // A box the cutoff does not fit is the box's error.
+                    if e.path == "box_lengths" {
+                        e
+                    } else {
+                        e.at("electrostatics")
+                    }
+                })?,
+            ))
+        }
+        (None, true) => {
+            return Err(required(
+                "electrostatics",
+                "charges, dipoles or quadrupoles",
+            ))
+        }
+        (_, false) => None,
+    })
 }

@@ -8,50 +8,27 @@
 //! every blow-up check; the energy error and the drift follow as for
 //! rotors. A blow-up names the step and the bodies (and their sites).
 
+use super::body_outputs::{open_series, record, trajectory, write_frame, Trajectory};
 use super::error::RunError;
 use super::folder::{GSD_FILE, SUMMARY_FILE};
-use super::gsd::{BodyFrame, BodyTypes, GsdBox, GsdWriter};
-use super::resume::Placement;
 use super::scene_run::{checkpoint_writer, open_folder, read_checkpoint, Outputs, RunResult};
-use super::series::{CsvTarget, Rows};
+use super::series::Rows;
 use super::summary::{BodiesSummary, Summary, Threads};
 use super::summary_file::{
     in_progress, keep_earlier_summary, placed, record_failure, SummaryAfterCheckpoint,
 };
-use super::trajectory::GSD_OPEN_MARGIN;
-use crate::bodies::{
-    BodyIntegrator, BodyQuantity, BodySystem, Evaluation, Overlap, Space, OVERLAP_FRACTION,
-};
-use crate::integrators::{IntegratorError, NoSquishOptions, Splitting};
-use crate::scene::{BodyScene, BodySeries, Scene, SceneError};
+use crate::bodies::{BodyIntegrator, BodySystem, Evaluation, Overlap, OVERLAP_FRACTION};
+use crate::integrators::IntegratorError;
+use crate::scene::{BodyScene, Scene, SceneError};
 use crate::simulation::{
     CheckpointSink, Energies, EnergyHistory, EnergyReference, RunReport, Stop,
 };
-use crate::units::{quantity_dimension, Dimension, Units};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
-
-/// A GSD trajectory being written.
-struct Trajectory {
-    every: u64,
-    path: PathBuf,
-    writer: GsdWriter,
-    cell: GsdBox,
-}
 
 /// The checkpoints of a run: their interval, and the writer that follows
 /// each with the summary in progress.
 type BodyCheckpoints = (u64, SummaryAfterCheckpoint);
-
-/// The CSV columns of a series of bodies: `step`, `time`, then the
-/// quantities'.
-pub(super) fn body_columns(series: &BodySeries) -> Vec<String> {
-    ["step", "time"]
-        .into_iter()
-        .map(String::from)
-        .chain(series.quantities.iter().flat_map(|q| q.columns()))
-        .collect()
-}
 
 /// Runs the scene of bodies `bodies` (the body part of `scene`, whose raw
 /// form is `definition`) from t = 0 or from the checkpoint `restart`,
@@ -73,41 +50,10 @@ pub(super) fn run_bodies(
         scene.engine_dt(),
     )
     .map_err(|e| SceneError::from(e.at("integrator")))?;
-    let (start_step, reference) = match restart {
-        Some(path) => {
-            let checkpoint = read_checkpoint(scene, path)?;
-            integrator
-                .restore(&mut system, &checkpoint.state())
-                .map_err(|e| RunError::Checkpoint {
-                    path: path.display().to_string(),
-                    message: match e {
-                        IntegratorError::BadCheckpoint(why) => why,
-                        other => other.to_string(),
-                    },
-                })?;
-            (checkpoint.step, checkpoint.reference())
-        }
-        None => (0, None),
-    };
+    let (start_step, reference) = restored(scene, restart, &mut system, &mut integrator)?;
     let (_lock, placement, dir) = open_folder(outputs, scene, restart, start_step)?;
     let files = dir.as_deref().zip(placement.as_ref());
-    let after = |k: usize| match &placement {
-        Some(Placement::Append(after)) => Some(after.series[k]),
-        _ => None,
-    };
-    let mut series = bodies
-        .series
-        .iter()
-        .enumerate()
-        .map(|(k, s)| {
-            let path = dir.as_ref().map(|d| d.join(format!("{}.csv", s.name)));
-            let target = path.as_deref().map(|path| match after(k) {
-                Some(after) => CsvTarget::Append { path, after },
-                None => CsvTarget::Create(path),
-            });
-            Rows::open(&s.name, body_columns(s), target, outputs.keep)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut series = open_series(bodies, (dir.as_deref(), placement.as_ref()), outputs)?;
     let mut gsd = match (&scene.record.trajectory, &dir) {
         (Some(spec), Some(d)) => Some(trajectory(&system, spec.every, d.join(GSD_FILE))?),
         _ => None,
@@ -132,17 +78,7 @@ pub(super) fn run_bodies(
         }
         None => None,
     };
-    let mut checkpoints = scene
-        .record
-        .checkpoint_every
-        .zip(files)
-        .map(|(every, (d, _))| {
-            let sink = SummaryAfterCheckpoint {
-                checkpoint: checkpoint_writer(scene, d),
-                summary: running.clone(),
-            };
-            (every, sink)
-        });
+    let mut checkpoints = body_checkpoints(scene, files.map(|(d, _)| d), &running);
     let looped = run_steps(
         (scene, bodies),
         (&mut system, &mut integrator),
@@ -161,15 +97,7 @@ pub(super) fn run_bodies(
         &report,
         (start_step, threads),
     );
-    let mut summary = described(summary, system.neighbour_builds());
-    if let Stop::BlewUp {
-        step,
-        rotor,
-        reason,
-    } = &report.stop
-    {
-        summary.message = Some(format!("blew up at step {step}, body {rotor}: {reason}"));
-    }
+    let summary = with_blow_up(described(summary, system.neighbour_builds()), &report.stop);
     let summary = placed(summary, files)?;
     Ok(RunResult {
         summary,
@@ -203,17 +131,10 @@ fn run_steps(
     outputs: &Outputs,
 ) -> Result<RunReport, RunError> {
     let started = Instant::now();
-    let kinetic = |s: &BodySystem| s.translational_kinetic_energy() + s.rotational_kinetic_energy();
     let mut current = Evaluation::default();
     let reference = match reference {
         Some(r) => r,
-        None => {
-            let k0 = kinetic(system);
-            let v0 = integrator
-                .evaluated(system, &mut current)
-                .potential_energy();
-            EnergyReference::initial(k0, k0 + v0)
-        }
+        None => initial_reference(system, integrator, &mut current),
     };
     let (mut history, mut last, mut row) = (EnergyHistory::default(), None, Vec::new());
     let mut step = start_step;
@@ -225,37 +146,24 @@ fn run_steps(
         let evaluation = (sampled || due(scene.record.check_every) || step == scene.steps)
             .then(|| integrator.evaluated(system, &mut current));
         if let Some(e) = evaluation {
-            let (k, v) = (kinetic(system), e.potential_energy());
-            let total = k + v;
-            let conserved = total + thermostat;
-            history.push(time, k, conserved);
-            let energies = Energies {
-                kinetic: k,
-                potential: v,
-                total,
-                conserved,
-                error: reference.error(conserved),
-            };
+            let energies = energies(system, e, thermostat, &reference);
+            history.push(time, energies.kinetic, energies.conserved);
             last = Some((step, energies));
-            if let Some((body, reason)) = blown_up(system, total) {
+            if let Some((rotor, reason)) = blown_up(system, energies.total) {
                 break Stop::BlewUp {
                     step,
-                    rotor: body,
+                    rotor,
                     reason,
                 };
             }
-        }
-        for (rows, spec) in series.iter_mut().zip(&bodies.series) {
-            // A series is due only at a sampled step, which has the evaluation.
-            if let (true, Some(e)) = (due(spec.every), evaluation) {
-                write_row(
-                    &spec.quantities,
-                    (&*system, e, thermostat),
-                    scene.units,
-                    &mut row,
-                );
-                rows.push(step, time, &row)?;
-            }
+            let at = (step, time);
+            record(
+                (scene, bodies),
+                (&*system, e, thermostat),
+                at,
+                series,
+                &mut row,
+            )?;
         }
         if let Some(t) = gsd.as_deref_mut().filter(|t| due(t.every)) {
             write_frame(&mut t.writer, system, (step, scene.units), &t.cell)
@@ -280,9 +188,7 @@ fn run_steps(
         }
         integrator.step(system);
         step += 1;
-        if let Some(control) = &outputs.control {
-            control.set_step(step);
-        }
+        outputs.control.iter().for_each(|c| c.set_step(step));
     };
     for rows in series.iter_mut() {
         rows.flush()?;
@@ -295,6 +201,96 @@ fn run_steps(
         energy_history: history,
         wall_seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The energies of `system` after its evaluation `e`, with the
+/// thermostat's share `thermostat` in the conserved energy and its error
+/// against `reference`.
+fn energies(
+    system: &BodySystem,
+    e: &Evaluation,
+    thermostat: f64,
+    reference: &EnergyReference,
+) -> Energies {
+    let kinetic = system.translational_kinetic_energy() + system.rotational_kinetic_energy();
+    let potential = e.potential_energy();
+    let total = kinetic + potential;
+    let conserved = total + thermostat;
+    Energies {
+        kinetic,
+        potential,
+        total,
+        conserved,
+        error: reference.error(conserved),
+    }
+}
+
+/// The checkpoints a run writes into the folder `dir` (none without one or
+/// without `record.checkpoint_every`), each followed by the summary in
+/// progress `running`.
+fn body_checkpoints(
+    scene: &Scene,
+    dir: Option<&Path>,
+    running: &Option<(std::path::PathBuf, Summary)>,
+) -> Option<BodyCheckpoints> {
+    let (every, dir) = scene.record.checkpoint_every.zip(dir)?;
+    let checkpoint = checkpoint_writer(scene, dir);
+    Some((
+        every,
+        SummaryAfterCheckpoint {
+            checkpoint,
+            summary: running.clone(),
+        },
+    ))
+}
+
+/// The step and energy reference a run starts from: 0 and none, or the
+/// checkpoint `restart`'s, restoring `system` and `integrator` from it.
+fn restored(
+    scene: &Scene,
+    restart: Option<&Path>,
+    system: &mut BodySystem,
+    integrator: &mut BodyIntegrator,
+) -> Result<(u64, Option<EnergyReference>), RunError> {
+    let Some(path) = restart else {
+        return Ok((0, None));
+    };
+    let checkpoint = read_checkpoint(scene, path)?;
+    integrator
+        .restore(system, &checkpoint.state())
+        .map_err(|e| RunError::Checkpoint {
+            path: path.display().to_string(),
+            message: match e {
+                IntegratorError::BadCheckpoint(why) => why,
+                other => other.to_string(),
+            },
+        })?;
+    Ok((checkpoint.step, checkpoint.reference()))
+}
+
+/// `summary` with the message of a blow-up `stop` (naming the body).
+fn with_blow_up(mut summary: Summary, stop: &Stop) -> Summary {
+    if let Stop::BlewUp {
+        step,
+        rotor,
+        reason,
+    } = stop
+    {
+        summary.message = Some(format!("blew up at step {step}, body {rotor}: {reason}"));
+    }
+    summary
+}
+
+/// The energy reference of a run from t = 0: the state's kinetic and total
+/// energies (evaluated into `scratch` when the integrator has not).
+fn initial_reference(
+    system: &mut BodySystem,
+    integrator: &BodyIntegrator,
+    scratch: &mut Evaluation,
+) -> EnergyReference {
+    let k0 = system.translational_kinetic_energy() + system.rotational_kinetic_energy();
+    let v0 = integrator.evaluated(system, scratch).potential_energy();
+    EnergyReference::initial(k0, k0 + v0)
 }
 
 /// Writes the checkpoint of `state` at `step` (and the summary in progress
@@ -310,26 +306,6 @@ fn save(
         rows.flush()?;
     }
     sink.write(step, &state, Some(reference))
-}
-
-/// Writes the values of `quantities` for `system` after its evaluation
-/// `e` (with the thermostat's share `thermostat` of the conserved energy)
-/// into `row`, in `units`.
-fn write_row(
-    quantities: &[BodyQuantity],
-    (system, e, thermostat): (&BodySystem, &Evaluation, f64),
-    units: Units,
-    row: &mut Vec<f64>,
-) {
-    row.clear();
-    for q in quantities {
-        let start = row.len();
-        q.write(system, e, thermostat, row);
-        let dimension = quantity_dimension(*q);
-        for value in &mut row[start..] {
-            *value = units.from_internal(*value, dimension);
-        }
-    }
 }
 
 /// What has gone wrong at a blow-up check, naming the bodies: the pair of
@@ -389,81 +365,4 @@ fn system_counts(bodies: &BodyScene) -> Vec<usize> {
         counts[b.kind] += 1;
     }
     counts
-}
-
-/// A GSD file at `path` for the bodies of `system`, a frame every `every`
-/// steps.
-fn trajectory(system: &BodySystem, every: u64, path: PathBuf) -> Result<Trajectory, RunError> {
-    let centres: Vec<_> = system.bodies.iter().map(|b| b.position).collect();
-    let box_lengths = match system.space {
-        Space::Periodic(l) => Some(l),
-        Space::Open => None,
-    };
-    let cell = GsdBox::new(box_lengths, &centres, GSD_OPEN_MARGIN).map_err(SceneError::from)?;
-    let types = &system.types;
-    let typeid: Vec<u32> = system.bodies.iter().map(|b| b.kind as u32).collect();
-    let mass: Vec<f32> = system
-        .bodies
-        .iter()
-        .map(|b| types[b.kind].mass as f32)
-        .collect();
-    let moment_inertia: Vec<[f32; 3]> = system
-        .bodies
-        .iter()
-        .map(|b| types[b.kind].moments.map(|m| m as f32).into())
-        .collect();
-    let body_types = BodyTypes {
-        types: types.len(),
-        typeid: &typeid,
-        mass: &mass,
-        moment_inertia: &moment_inertia,
-    };
-    let writer =
-        GsdWriter::create_bodies(&path, &cell, &body_types).map_err(|e| RunError::io(&path, e))?;
-    Ok(Trajectory {
-        every,
-        path,
-        writer,
-        cell,
-    })
-}
-/// Writes the frame of `system` at `step`: centres wrapped into the box
-/// with their image counts (open space: the centres as they are, relative
-/// to the box of the first frame), HOOMD's centred coordinates; velocities
-/// and angular momenta in the scene's `units`.
-fn write_frame(
-    writer: &mut GsdWriter,
-    system: &BodySystem,
-    (step, units): (u64, Units),
-    cell: &GsdBox,
-) -> std::io::Result<()> {
-    let rate = |c: f64| units.from_internal(c, Dimension::Rate) as f32;
-    let n = system.bodies.len();
-    let (mut position, mut orientation) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let (mut velocity, mut angmom, mut image) = (
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-    );
-    for b in &system.bodies {
-        let (mut x, mut images) = (b.position, b.image);
-        system.space.wrap(&mut x, &mut images);
-        let centred = x - cell.corner - cell.lengths * 0.5;
-        position.push(centred.map(|c| c as f32).into());
-        orientation.push(b.orientation.0.map(|c| c as f32));
-        velocity.push(b.velocity.map(rate).into());
-        let p = NoSquishOptions::momentum(&b.orientation, &b.angular_momentum_body);
-        angmom.push(p.0.map(rate));
-        image.push(images.map(|i| i as i32));
-    }
-    writer.write_bodies(
-        step,
-        &BodyFrame {
-            position: &position,
-            orientation: &orientation,
-            velocity: &velocity,
-            angmom: &angmom,
-            image: &image,
-        },
-    )
 }

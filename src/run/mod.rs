@@ -4,6 +4,7 @@
 //! what is computed from a run's recorded outputs (its dielectric constant).
 
 mod bodies;
+mod body_outputs;
 mod checkpoint;
 mod dcd;
 mod dielectric;

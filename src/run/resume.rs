@@ -13,7 +13,7 @@
 //!   restart writes to a new folder `restart-STEP` (or `restart-STEP-2`, ...)
 //!   inside the output folder, and says so.
 
-use super::bodies::body_columns;
+use super::body_outputs::body_columns;
 use super::dcd::{read_header, DcdHeader};
 use super::folder::{DCD_FILE, GSD_FILE, PDB_FILE, SUMMARY_FILE};
 use super::series::SeriesObserver;

@@ -334,6 +334,12 @@ impl MeshEwald {
         if !with_virial {
             return Matrix3::zeros();
         }
+        self.reciprocal_virial(sources)
+    }
+
+    /// The reciprocal-space virial of [`Self::reciprocal`] from its
+    /// per-line sums of the modes and the sites' reciprocal fields.
+    fn reciprocal_virial(&self, sources: &Sources<'_>) -> Matrix3<f64> {
         let mut virial = Matrix3::zeros();
         for line in &self.line_virials {
             for (u, &(a, c)) in UPPER.iter().enumerate() {
