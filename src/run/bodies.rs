@@ -2,9 +2,9 @@
 //! ([`BodyIntegrator`]) built from the scene, stepped from t = 0 or
 //! restored from a checkpoint, with the series (CSV), the GSD trajectory,
 //! the checkpoints and `summary.json` written through the rotors' writers
-//! ([`Rows`], [`GsdWriter`], [`super::CheckpointWriter`], the locked
+//! ([`Rows`], [`super::gsd::GsdWriter`], [`super::CheckpointWriter`], the locked
 //! [`super::OutputFolder`], the atomic summary) and a restart placed as
-//! the rotors' ([`Placement`]). Energies are computed at every sample and
+//! the rotors' ([`super::resume::Placement`]). Energies are computed at every sample and
 //! every blow-up check; the energy error and the drift follow as for
 //! rotors. A blow-up names the step and the bodies (and their sites).
 
@@ -33,7 +33,7 @@ type BodyCheckpoints = (u64, SummaryAfterCheckpoint);
 /// Runs the scene of bodies `bodies` (the body part of `scene`, whose raw
 /// form is `definition`) from t = 0 or from the checkpoint `restart`,
 /// continuing the files of the run that wrote it as a run of rotors does
-/// ([`Placement`]).
+/// ([`super::resume::Placement`]).
 pub(super) fn run_bodies(
     (scene, bodies): (&Scene, &BodyScene),
     definition: serde_json::Value,
