@@ -37,22 +37,27 @@ pub(crate) fn refusal(
     }
 }
 
+/// The integrators that carry `thermostat`, as a refusal names them.
+pub(crate) fn usable(thermostat: &ThermostatSpec) -> &'static str {
+    match thermostat {
+        ThermostatSpec::NoseHoover(_) => "no_squish, dlm or gear_a",
+        _ => "no_squish or dlm",
+    }
+}
+
 /// Checks that `integrator` can carry `thermostat` and that a stochastic
 /// thermostat has its seed (a scene sets it first). Paths are relative to
 /// the thermostat's table: `kind: "bussi" cannot run with integrator gear_b
 /// (reason); use ...`, or `seed`.
 pub fn check(integrator: &IntegratorSpec, thermostat: &ThermostatSpec) -> Result<(), InputError> {
     if let Some(reason) = refusal(integrator, thermostat) {
-        let usable = match thermostat {
-            ThermostatSpec::NoseHoover(_) => "no_squish, dlm or gear_a",
-            _ => "no_squish or dlm",
-        };
         return Err(InputError::new(
             "kind",
             format!(
-                "\"{}\" cannot run with integrator {} ({reason}); use {usable}",
+                "\"{}\" cannot run with integrator {} ({reason}); use {}",
                 thermostat.name(),
-                integrator.name()
+                integrator.name(),
+                usable(thermostat)
             ),
         ));
     }

@@ -7,7 +7,7 @@
 mod bodies_common;
 mod gear_common;
 
-use bodies_common::{bent_molecule, bodies, mixed_system, options, stockmayer};
+use bodies_common::{mixed_system, options, smooth_cluster};
 use gear_common::{fitted_order, free_symmetric_exact, max_angle};
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
@@ -102,14 +102,6 @@ fn cluster_series(build: Build) -> (Vec<f64>, Vec<f64>) {
         .iter()
         .map(|&dt| cluster_deviations(build, dt, 0.4))
         .unzip()
-}
-
-/// 12 bodies (bent molecules and Stockmayer spheres) in open space with
-/// every site pair within the cutoffs of 50, so the energy is analytic.
-fn smooth_cluster() -> BodySystem {
-    let types = vec![bent_molecule(), stockmayer()];
-    let options = options(Truncation::ForceShifted, 50.0, 50.0);
-    BodySystem::new(types, bodies(12, 1.6, 3, 2), Space::Open, &options).unwrap()
 }
 
 /// The energy error's fitted order over dt = 0.004, 0.002, 0.001 (t = 0.4,

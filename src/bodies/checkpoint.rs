@@ -14,6 +14,7 @@ use crate::integrators::checkpoint::{read_values, write_values, Components};
 use crate::integrators::gear::{GearValue, Nordsieck};
 use crate::integrators::IntegratorError;
 use crate::quaternion::Quat;
+use crate::thermostat_hook::ThermostatState;
 use nalgebra::Vector3;
 
 /// Values per body in [`BodySystem::write_checkpoint`].
@@ -65,6 +66,25 @@ pub(crate) fn take_nordsieck<'a, T: GearValue, const N: usize>(
         )));
     }
     Ok(values.read_flat(data))
+}
+
+/// Reads a thermostat's state from the front of `data`, where it follows
+/// `after`, returning the rest; refuses data too short to hold it.
+pub(crate) fn take_thermostat<'a>(
+    data: &'a [f64],
+    state: &mut dyn ThermostatState,
+    after: &str,
+) -> Result<&'a [f64], IntegratorError> {
+    let expected = state.checkpoint_len();
+    if data.len() < expected {
+        return Err(bad(&format!(
+            "expected {expected} thermostat values after {after}, got {}",
+            data.len()
+        )));
+    }
+    let (thermostat, rest) = data.split_at(expected);
+    state.read_checkpoint(thermostat)?;
+    Ok(rest)
 }
 
 impl BodySystem {

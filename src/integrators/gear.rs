@@ -111,6 +111,15 @@ impl<T: GearValue, const N: usize> Nordsieck<T, N> {
         self.as_chunk().set_rotor(i, values);
     }
 
+    /// The values of every rotor at the time `t + x h`, `t` the time of
+    /// the scaled derivatives (their Taylor polynomial, by Horner's rule),
+    /// into `out`.
+    pub fn values_at(&self, x: f64, out: &mut [T]) {
+        for (i, value) in out.iter_mut().enumerate() {
+            *value = self.r.iter().rev().fold(T::ZERO, |acc, r| acc * x + r[i]);
+        }
+    }
+
     /// The first `M <= N` scaled derivatives (a lower-order copy).
     pub fn truncated<const M: usize>(&self) -> Nordsieck<T, M> {
         Nordsieck {

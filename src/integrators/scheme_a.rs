@@ -157,7 +157,8 @@ pub struct GearA {
 /// (a conserved spin of [`CoupledDegrees`] left out), integrated by the
 /// rotors' predictor-corrector with the chain's friction at the end of the
 /// step; the chain's own equations advanced over the step by
-/// [`ChainEquations::advance`] composed to sixth order ([`YOSHIDA_6`]),
+/// [`ChainEquations::advance`] composed to sixth order
+/// ([`ChainEquations::step_composed`]),
 /// with the thermostatted kinetic energy of the predicted `w_b` polynomial.
 /// (Integrated by the same Gear corrector, as they were until issue 37, the
 /// chain's couplings `p_j p_{j+1}/Q_{j+1}` made the step unstable once
@@ -176,52 +177,19 @@ struct GearChain {
     omega_scratch: Vec<Vector3<f64>>,
 }
 
-/// The weights of the sixth-order symmetric composition of a second-order
-/// symmetric step (Yoshida, Phys. Lett. A 150, 262 (1990), solution A):
-/// the chain's step over `h` is its [`ChainEquations::advance`] over
-/// `w_k h` in turn (backwards in time for the negative weights), so that
-/// its error is of order 6 and scheme A stays of order 5 with a chain.
-const YOSHIDA_6: [f64; 7] = {
-    let (w1, w2, w3) = (
-        -1.177_679_984_178_87,
-        0.235_573_213_359_357,
-        0.784_513_610_477_560,
-    );
-    let w0 = 1.0 - 2.0 * (w1 + w2 + w3);
-    [w3, w2, w1, w0, w1, w2, w3]
-};
-
 impl GearChain {
-    /// The thermostatted kinetic energy at the time `t + h (1 + x)`, for
-    /// `x` in `[-1, 0]`, of the body angular velocities whose predicted
-    /// Nordsieck vector (at `t + h`) is `omega_body` (their polynomial over
-    /// the step: the predictor is an exact Taylor shift).
-    fn kinetic_energy_at(&mut self, omega_body: &Nordsieck<Vector3<f64>, 5>, x: f64) -> f64 {
-        for (i, w) in self.omega_scratch.iter_mut().enumerate() {
-            *w = omega_body
-                .r
-                .iter()
-                .rev()
-                .fold(Vector3::zeros(), |acc, r| acc * x + r[i]);
-        }
-        self.coupled
-            .kinetic_energy_of(&self.principal, &self.omega_scratch)
-    }
-
-    /// Advances the chain over the step `h` by the composition
-    /// [`YOSHIDA_6`], each part with the kinetic energy of the predicted
-    /// `omega_body` at its start and end; returns the friction `p_1/Q_1` at
-    /// the end of the step.
+    /// Advances the chain over the step `h` ([`ChainEquations::step_composed`])
+    /// with the thermostatted kinetic energy of the predicted `omega_body`
+    /// (at `t + h`) along the step; returns the friction `p_1/Q_1` at the
+    /// end of the step.
     fn step(&mut self, omega_body: &Nordsieck<Vector3<f64>, 5>, h: f64) -> f64 {
-        let mut x = -1.0;
-        let mut start = self.kinetic_energy_at(omega_body, x);
-        for w in YOSHIDA_6 {
-            x += w;
-            let end = self.kinetic_energy_at(omega_body, x);
-            self.chain.advance(start, end, w * h);
-            start = end;
-        }
-        self.chain.friction(self.chain.momenta())
+        let (coupled, principal, scratch) =
+            (&self.coupled, &self.principal, &mut self.omega_scratch);
+        let mut kinetic_at = |x: f64| {
+            omega_body.values_at(x, scratch);
+            coupled.kinetic_energy_of(principal, scratch)
+        };
+        self.chain.step_composed(&mut kinetic_at, h)
     }
 }
 

@@ -83,24 +83,55 @@ impl CoupledDegrees {
         (3 * self.masses.len()).saturating_sub(3)
     }
 
+    /// The velocity of the centre of mass of the centres `each` visits
+    /// (velocity and mass of every moving centre, in body order).
+    fn centre_velocity(&self, each: &impl Fn(&mut dyn FnMut(&Vector3<f64>, f64))) -> Vector3<f64> {
+        let mut momentum = Vector3::zeros();
+        each(&mut |v, mass| momentum += v * mass);
+        momentum / self.masses.iter().sum::<f64>()
+    }
+
+    /// The kinetic energy relative to the centre of mass of the centres
+    /// `each` visits, `sum m |v - V|^2 / 2` in body order (0 without
+    /// centres).
+    fn relative_kinetic_energy(&self, each: impl Fn(&mut dyn FnMut(&Vector3<f64>, f64))) -> f64 {
+        if self.masses.is_empty() {
+            return 0.0;
+        }
+        let centre = self.centre_velocity(&each);
+        let mut kinetic = 0.0;
+        each(&mut |v, mass| kinetic += 0.5 * mass * (v - centre).norm_squared());
+        kinetic
+    }
+
     /// The velocity of the centre of mass of the moving centres.
     fn centre_of_mass_velocity(&self, dynamics: &impl SplitDynamics) -> Vector3<f64> {
-        let mut momentum = Vector3::zeros();
-        dynamics.for_each_velocity(|_, v, mass| momentum += v * mass);
-        momentum / self.masses.iter().sum::<f64>()
+        self.centre_velocity(&|f| dynamics.for_each_velocity(|_, v, mass| f(v, mass)))
+    }
+
+    /// The velocity of the centre of mass of centres moving at
+    /// `velocities` (one per mass, in body order).
+    pub fn centre_of_mass_velocity_of(&self, velocities: &[Vector3<f64>]) -> Vector3<f64> {
+        self.centre_velocity(&|f| self.each_velocity_of(velocities, f))
     }
 
     /// The translational kinetic energy relative to the centre of mass,
     /// `sum m |v - V|^2 / 2`, summed in body order (0 without centres).
     pub fn translational_kinetic_energy(&self, dynamics: &impl SplitDynamics) -> f64 {
-        if self.masses.is_empty() {
-            return 0.0;
+        self.relative_kinetic_energy(|f| dynamics.for_each_velocity(|_, v, mass| f(v, mass)))
+    }
+
+    /// [`CoupledDegrees::translational_kinetic_energy`] of centres moving
+    /// at `velocities` (one per mass, in body order).
+    pub fn translational_kinetic_energy_of(&self, velocities: &[Vector3<f64>]) -> f64 {
+        self.relative_kinetic_energy(|f| self.each_velocity_of(velocities, f))
+    }
+
+    /// Calls `f(v, mass)` for `velocities` and the masses, in body order.
+    fn each_velocity_of(&self, velocities: &[Vector3<f64>], f: &mut dyn FnMut(&Vector3<f64>, f64)) {
+        for (v, mass) in velocities.iter().zip(&self.masses) {
+            f(v, *mass);
         }
-        let centre = self.centre_of_mass_velocity(dynamics);
-        let mut kinetic = 0.0;
-        dynamics
-            .for_each_velocity(|_, v, mass| kinetic += 0.5 * mass * (v - centre).norm_squared());
-        kinetic
     }
 
     /// Scales the velocities relative to the centre of mass by `factor`:

@@ -104,6 +104,14 @@ pub fn mixed_system(space: Space, truncation: Truncation, coulomb: f64, n: usize
     .expect("a valid system")
 }
 
+/// 12 bodies (bent molecules and Stockmayer spheres) in open space with
+/// every site pair within the cutoffs of 50, so the energy is analytic.
+pub fn smooth_cluster() -> BodySystem {
+    let types = vec![bent_molecule(), stockmayer()];
+    let options = options(Truncation::ForceShifted, 50.0, 50.0);
+    BodySystem::new(types, bodies(12, 1.6, 3, 2), Space::Open, &options).expect("a valid system")
+}
+
 /// The potential energy of the system's current state.
 pub fn energy(system: &mut BodySystem) -> f64 {
     let mut e = quatrot::bodies::Evaluation::default();

@@ -70,7 +70,7 @@ impl BodyGearB {
         options: GearBOptions,
     ) -> Result<Self, InputError> {
         Self::check(&options)?;
-        let setup = GearSetup::new(system, dt, options.startup)?;
+        let setup = GearSetup::new(system, dt, options.startup, None)?;
         Ok(BodyGearB {
             options,
             coefficients: second_order_6(options.c0.value()),

@@ -4,10 +4,12 @@
 //! the orders the equations give directly (`r' = v`, `v' = F/m`, eq 10,
 //! Euler's equations, eq 12), and with [`Startup::Consistent`] the higher
 //! ones from the same RK4 integration to `+-4h` and polynomial fit, here of
-//! the whole body system (65 force-and-torque evaluations once per run).
-//! The system is left as it was given. Also the schemes' shared pieces:
+//! the whole body system (65 force-and-torque evaluations once per run),
+//! with scheme A's Nose-Hoover chains integrated with the bodies when it
+//! carries them ([`GearChains`]). The system is left as it was given. Also the schemes' shared pieces:
 //! their moments, and the evaluation at predicted values.
 
+use super::gear_chains::{ChainStates, GearChains};
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::{Body, BodySystem};
 use crate::checks::{finite_and_positive, InputError};
@@ -19,7 +21,8 @@ use crate::quaternion::Quat;
 use nalgebra::Vector3;
 
 /// Displacements of the centres from their start, velocities, orientations
-/// and body angular velocities of all bodies, or their rates of change.
+/// and body angular velocities of all bodies, and the chains' variables
+/// (empty without chains), or their rates of change.
 /// (Displacements, not centres: their rounding is then that of the motion,
 /// not of the box coordinates, ~1e-15, which the fit would put into every
 /// `r_k`, and scheme B's velocity `r_1 / h` would carry as a momentum
@@ -30,6 +33,7 @@ struct State {
     velocity: Vec<Vector3<f64>>,
     q: Vec<Quat>,
     omega_body: Vec<Vector3<f64>>,
+    chains: ChainStates,
 }
 
 impl Rk4State for State {
@@ -39,6 +43,10 @@ impl Rk4State for State {
             velocity: axpy(&self.velocity, &rate.velocity, s),
             q: axpy(&self.q, &rate.q, s),
             omega_body: axpy(&self.omega_body, &rate.omega_body, s),
+            chains: (
+                self.chains.0.advanced(&rate.chains.0, s),
+                self.chains.1.advanced(&rate.chains.1, s),
+            ),
         }
     }
 }
@@ -51,39 +59,56 @@ pub(super) struct BodyDerivatives {
     pub omega_body: Nordsieck<Vector3<f64>, 6>,
 }
 
-/// The rates `(v, F/m, Q', w_b')` at `y` (the system evaluated at the
-/// centres `start + y.displacement` and the normalised orientations).
-fn rate(
-    system: &mut BodySystem,
-    moments: &[PrincipalMoments],
-    start: &[Vector3<f64>],
-    evaluation: &mut Evaluation,
-    y: &State,
-) -> State {
-    let mut positions = axpy(start, &y.displacement, 1.0);
-    evaluate_at(system, &mut positions, &y.q, evaluation);
-    let mass = |i: usize| system.types[system.bodies[i].kind].mass;
-    let n = y.q.len();
-    State {
-        displacement: y.velocity.clone(),
-        velocity: (0..n).map(|i| evaluation.force[i] / mass(i)).collect(),
-        q: (0..n)
-            .map(|i| y.q[i].q_dot_from_omega_body(&y.omega_body[i]))
-            .collect(),
-        omega_body: (0..n)
-            .map(|i| {
-                let n_b = torque_body(&y.q[i], &evaluation.torque[i]);
-                General::omega_dot_body(&moments[i], &y.omega_body[i], &n_b)
-            })
-            .collect(),
+/// What the start-up integrates: the bodies' moments, their centres at
+/// t = 0 and the chains if any.
+struct Equations<'a> {
+    moments: &'a [PrincipalMoments],
+    start: &'a [Vector3<f64>],
+    chains: Option<&'a GearChains>,
+}
+
+impl Equations<'_> {
+    /// The rates `(v, F/m, Q', w_b')` at `y` (the system evaluated at the
+    /// centres `start + y.displacement` and the normalised orientations),
+    /// less the chains' frictions, and the chains' rates.
+    fn rate(&self, system: &mut BodySystem, evaluation: &mut Evaluation, y: &State) -> State {
+        let mut positions = axpy(self.start, &y.displacement, 1.0);
+        evaluate_at(system, &mut positions, &y.q, evaluation);
+        let mass = |i: usize| system.types[system.bodies[i].kind].mass;
+        let n = y.q.len();
+        let mut rate = State {
+            displacement: y.velocity.clone(),
+            velocity: (0..n).map(|i| evaluation.force[i] / mass(i)).collect(),
+            q: (0..n)
+                .map(|i| y.q[i].q_dot_from_omega_body(&y.omega_body[i]))
+                .collect(),
+            omega_body: (0..n)
+                .map(|i| {
+                    let n_b = torque_body(&y.q[i], &evaluation.torque[i]);
+                    General::omega_dot_body(&self.moments[i], &y.omega_body[i], &n_b)
+                })
+                .collect(),
+            chains: ChainStates::default(),
+        };
+        if let Some(chains) = self.chains {
+            let (rates, frictions) = chains.rates(&y.chains, &y.omega_body, &y.velocity);
+            for i in 0..n {
+                rate.velocity[i] -= frictions.on_translation(&y.velocity[i]);
+                rate.omega_body[i] -= chains.on_rotation(&frictions, i, &y.omega_body[i]);
+            }
+            rate.chains = rates;
+        }
+        rate
     }
 }
 
 /// The scaled derivatives at t = 0 for steps of `dt` (module doc) of the
-/// bodies of `system` (principal moments `moments`, all > 0).
+/// bodies of `system` (principal moments `moments`, all > 0), with
+/// `chains` (at their state at t = 0) if given.
 fn body_derivatives(
     system: &mut BodySystem,
     moments: &[PrincipalMoments],
+    chains: Option<&GearChains>,
     startup: Startup,
     dt: f64,
 ) -> BodyDerivatives {
@@ -98,9 +123,15 @@ fn body_derivatives(
             .zip(moments)
             .map(|(b, m)| b.angular_momentum_body.component_mul(&m.inverse))
             .collect(),
+        chains: chains.map(GearChains::states).unwrap_or_default(),
+    };
+    let equations = Equations {
+        moments,
+        start: &start,
+        chains,
     };
     let mut evaluation = Evaluation::default();
-    let rate0 = rate(system, moments, &start, &mut evaluation, &y0);
+    let rate0 = equations.rate(system, &mut evaluation, &y0);
     let n = given.len();
     let mut out = BodyDerivatives {
         position: Nordsieck::zeros(n),
@@ -109,9 +140,7 @@ fn body_derivatives(
         omega_body: Nordsieck::zeros(n),
     };
     if startup == Startup::Consistent {
-        let samples = samples(&y0, dt, |y| {
-            rate(system, moments, &start, &mut evaluation, y)
-        });
+        let samples = samples(&y0, dt, |y| equations.rate(system, &mut evaluation, y));
         fit_into(&samples, |s| &s.displacement, 3, &mut out.position);
         fit_into(&samples, |s| &s.velocity, 2, &mut out.velocity);
         fit_into(&samples, |s| &s.q, 3, &mut out.q);
@@ -148,11 +177,17 @@ pub(super) struct GearSetup {
 
 impl GearSetup {
     /// The setup on `system` for steps of `dt` (> 0) with the start-up
-    /// `startup`; errors name `dt` or a linear body's type.
-    pub fn new(system: &mut BodySystem, dt: f64, startup: Startup) -> Result<Self, InputError> {
+    /// `startup` and `chains` if given; errors name `dt` or a linear body's
+    /// type.
+    pub fn new(
+        system: &mut BodySystem,
+        dt: f64,
+        startup: Startup,
+        chains: Option<&GearChains>,
+    ) -> Result<Self, InputError> {
         let dt = finite_and_positive("dt", dt)?;
         let moments = positive_moments(system)?;
-        let start = body_derivatives(system, &moments, startup, dt);
+        let start = body_derivatives(system, &moments, chains, startup, dt);
         let mut evaluation = Evaluation::default();
         system.evaluate(&mut evaluation);
         Ok(GearSetup {

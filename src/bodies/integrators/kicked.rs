@@ -23,7 +23,7 @@
 //! and the centres' velocities. Without one ([`crate::thermostat_hook::Nve`])
 //! the step is the one above.
 
-use crate::bodies::checkpoint::take_values;
+use crate::bodies::checkpoint::{take_thermostat, take_values};
 use crate::bodies::evaluate::Evaluation;
 use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
@@ -113,15 +113,7 @@ impl<S: Splitting> BodyKicked<S> {
         data: &'a [f64],
     ) -> Result<&'a [f64], IntegratorError> {
         let rest = take_values(data, &mut self.momentum, "the bodies' momenta")?;
-        let expected = self.thermostat.state().checkpoint_len();
-        if rest.len() < expected {
-            return Err(IntegratorError::BadCheckpoint(format!(
-                "expected {expected} thermostat values after the bodies' momenta, got {}",
-                rest.len()
-            )));
-        }
-        let (thermostat, rest) = rest.split_at(expected);
-        self.thermostat.state_mut().read_checkpoint(thermostat)?;
+        let rest = take_thermostat(rest, self.thermostat.state_mut(), "the bodies' momenta")?;
         system.evaluate(&mut self.evaluation);
         Ok(rest)
     }

@@ -9,15 +9,15 @@
 //!   centres: [`gear_a`] (scheme A), [`gear_b`] (scheme B), started by
 //!   `gear_start`.
 //!
-//! Thermostats: the kick-based ones carry those their rotor splitting
+//! Thermostats: every integrator carries those its rotor counterpart
 //! carries ([`crate::dynamics::check`]: NO_SQUISH and DLM every one,
-//! Richardson none), on the centres and the rotations; the Gear schemes
-//! none yet (scheme A's Nose-Hoover chain would need a friction in the
-//! centres' corrector and its start-up, not built).
+//! scheme A Nose-Hoover chains (`gear_chains`), scheme B and Richardson
+//! none), on the centres and the rotations.
 
 pub mod dlm;
 pub mod gear_a;
 pub mod gear_b;
+mod gear_chains;
 mod gear_start;
 pub mod kicked;
 pub mod no_squish;
@@ -62,27 +62,25 @@ impl BodyIntegrator {
         }
     }
 
-    /// Refuses a thermostat with any integrator but NO_SQUISH and DLM (the
-    /// rotors' reason, or for scheme A, whose Nose-Hoover chain is
-    /// integrated with rotors only, its own); the path is relative to the
-    /// thermostat's table, as [`crate::dynamics::check`]'s.
+    /// Refuses the pairs of integrator and thermostat the rotors refuse,
+    /// for their reason; the path is relative to the thermostat's table, as
+    /// [`crate::dynamics::check`]'s.
     pub fn check_thermostat(
         spec: &IntegratorSpec,
         thermostat: &ThermostatSpec,
     ) -> Result<(), InputError> {
-        if matches!(spec, IntegratorSpec::NoSquish(_) | IntegratorSpec::Dlm(_)) {
-            return Ok(());
+        match crate::dynamics::refusal(spec, thermostat) {
+            None => Ok(()),
+            Some(reason) => Err(InputError::new(
+                "kind",
+                format!(
+                    "\"{}\" cannot run with integrator {} for bodies ({reason}); use {}",
+                    thermostat.name(),
+                    spec.name(),
+                    crate::dynamics::usable(thermostat)
+                ),
+            )),
         }
-        let reason = crate::dynamics::refusal(spec, thermostat)
-            .unwrap_or("no chain is integrated with the centres' correctors");
-        Err(InputError::new(
-            "kind",
-            format!(
-                "\"{}\" cannot run with integrator {} for bodies ({reason}); use no_squish or dlm",
-                thermostat.name(),
-                spec.name()
-            ),
-        ))
     }
 
     /// The integrator `spec` names with `thermostat` (none: constant
@@ -109,7 +107,13 @@ impl BodyIntegrator {
             IntegratorSpec::Richardson(o) => {
                 Self::Richardson(BodyRichardson::with_thermostat(system, dt, o, t)?)
             }
-            IntegratorSpec::GearA(o) => Self::GearA(BodyGearA::new(system, dt, o)?),
+            IntegratorSpec::GearA(o) => {
+                let nose_hoover = match t {
+                    Some(ThermostatSpec::NoseHoover(chain)) => Some(chain),
+                    _ => None,
+                };
+                Self::GearA(BodyGearA::with_nose_hoover(system, dt, o, nose_hoover)?)
+            }
             IntegratorSpec::GearB(o) => Self::GearB(BodyGearB::new(system, dt, o)?),
         })
     }
@@ -131,7 +135,8 @@ impl BodyIntegrator {
             Self::NoSquish(i) => i.thermostat_energy(),
             Self::Dlm(i) => i.thermostat_energy(),
             Self::Richardson(i) => i.thermostat_energy(),
-            Self::GearA(_) | Self::GearB(_) => 0.0,
+            Self::GearA(i) => i.thermostat_energy(),
+            Self::GearB(_) => 0.0,
         }
     }
 
@@ -139,8 +144,8 @@ impl BodyIntegrator {
     /// out as `[system][integrator]`: the bodies and the neighbour list
     /// (`BodySystem::write_checkpoint`), then the integrator's own (the
     /// splittings' momenta, the Gear schemes' scaled derivatives). A
-    /// thermostat of bodies appends its state after the splittings' (as the
-    /// rotors' integrators do, `ThermostatState::write_checkpoint`).
+    /// thermostat of bodies appends its state after the integrator's (as
+    /// the rotors' integrators do, `ThermostatState::write_checkpoint`).
     pub fn checkpoint(&self, system: &BodySystem) -> Vec<f64> {
         let mut out = Vec::new();
         system.write_checkpoint(&mut out);
