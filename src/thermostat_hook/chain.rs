@@ -8,7 +8,7 @@ use std::fmt::Debug;
 /// a chain's step over `h` is its [`ChainEquations::advance`] over `w_k h`
 /// in turn (backwards in time for the negative weights), so that its error
 /// is of order 6 and a fifth-order Gear scheme keeps its order with a chain.
-pub const YOSHIDA_6: [f64; 7] = {
+const YOSHIDA_6: [f64; 7] = {
     let (w1, w2, w3) = (
         -1.177_679_984_178_87,
         0.235_573_213_359_357,
@@ -19,10 +19,11 @@ pub const YOSHIDA_6: [f64; 7] = {
 };
 
 /// A thermostat whose variables (positions `eta_j`, momenta `p_j`) obey
-/// first-order equations integrated beside the rotors' (scheme A's
-/// predictor-corrector and start-up): a friction `p_1/Q_1` on the coupled
-/// body angular velocities, and its own rates, which depend on the rotors'
-/// thermostatted kinetic energy.
+/// first-order equations integrated beside the rotors' or the bodies'
+/// (scheme A's predictor-corrector and start-up): a friction `p_1/Q_1` on
+/// the coupled body angular velocities (or on the centres' velocities
+/// relative to their centre of mass), and its own rates, which depend on
+/// the thermostatted kinetic energy.
 /// Its share of the conserved energy is its [`ThermostatState::energy`].
 pub trait ChainEquations: ThermostatState + Debug + Send + Sync {
     /// Resets the chain to rest for `dof` thermostatted degrees of freedom.
@@ -53,8 +54,8 @@ pub trait ChainEquations: ThermostatState + Debug + Send + Sync {
     /// rotors' friction is the caller's.
     fn advance(&mut self, kinetic_start: f64, kinetic_end: f64, h: f64);
 
-    /// Advances the chain over a whole step `h` by [`YOSHIDA_6`]'s
-    /// composition of [`ChainEquations::advance`], each part with the
+    /// Advances the chain over a whole step `h` by the sixth-order
+    /// composition `YOSHIDA_6` of [`ChainEquations::advance`], each part with the
     /// thermostatted kinetic energy `kinetic_at(x)` at its start and end,
     /// `x` in `[-1, 0]` standing for the time `t + h (1 + x)`; returns the
     /// friction at the end of the step. The step of a Gear scheme, which
