@@ -289,6 +289,48 @@ fn scheme_a_with_nose_hoover_conserves_its_extended_energy_at_its_order() {
     assert!(moved > 1e6 * excursions[2], "{moved} {excursions:?}");
 }
 
+/// Bodies take the pairs of integrator and thermostat documented for
+/// rotors (docs/scenes.md): every thermostat with NO_SQUISH and DLM,
+/// Nose-Hoover with scheme A too, none with scheme B or Richardson; an
+/// accepted pair sets up on the fluid and steps, a refused one names the
+/// thermostat's `kind` and says it is bodies that refuse it.
+#[test]
+fn bodies_take_the_documented_pairs_of_integrator_and_thermostat() {
+    let integrators = [
+        (
+            "no_squish",
+            IntegratorSpec::NoSquish(NoSquishOptions::default()),
+        ),
+        ("dlm", dlm()),
+        ("richardson", IntegratorSpec::Richardson(Default::default())),
+        ("gear_a", gear_a()),
+        ("gear_b", IntegratorSpec::GearB(Default::default())),
+    ];
+    for (i, integrator) in &integrators {
+        for (t, thermostat) in [
+            ("langevin", langevin(1.0)),
+            ("bussi", bussi()),
+            ("nose_hoover", nose_hoover()),
+        ] {
+            let accepted =
+                matches!(*i, "no_squish" | "dlm") || (*i, t) == ("gear_a", "nose_hoover");
+            let mut system = fluid(3);
+            match BodyIntegrator::new(integrator, Some(&thermostat), &mut system, 0.002) {
+                Ok(mut built) => {
+                    assert!(accepted, "{i} {t} accepted");
+                    built.step(&mut system);
+                    assert!(built.thermostat_energy().is_finite(), "{i} {t}");
+                }
+                Err(e) => {
+                    assert!(!accepted, "{i} {t}: {e:?}");
+                    assert_eq!(e.path, "thermostat.kind", "{i} {t}");
+                    assert!(e.message.contains("for bodies"), "{i} {t}: {e:?}");
+                }
+            }
+        }
+    }
+}
+
 /// Langevin without friction (`c = 1`, no noise) on Stockmayer spheres
 /// (spherical tops: DLM's exact free rotation over two halves of a step is
 /// the rotation over the step, to round-off) follows the constant-energy
