@@ -14,7 +14,7 @@
 //! `gear_start`). Every body is integrated as a general top (no
 //! spherical-top shortcut).
 //!
-//! With a Nose-Hoover thermostat ([`gear_chains`](super::gear_chains)):
+//! With a Nose-Hoover thermostat (`gear_chains`):
 //! after (c) the chains are advanced over the step with the kinetic
 //! energies of the predicted `v` and `w_b`, and (d) corrects `v` and `w_b`
 //! with their frictions at the end of the step subtracted from `F/m` and
