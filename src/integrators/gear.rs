@@ -247,6 +247,22 @@ mod tests {
         assert_eq!(n.rotor(0), scaled(3.0));
     }
 
+    /// `values_at` evaluates the Taylor polynomial: for x(t) = t^4 with
+    /// h = 1 stored at t = 2, the values at t = 2 + x are (2 + x)^4,
+    /// exactly (dyadic x).
+    #[test]
+    fn values_at_evaluates_the_taylor_polynomial() {
+        let binom = [1.0, 4.0, 6.0, 4.0, 1.0];
+        let mut n = Nordsieck::<f64, 5>::zeros(2);
+        let scaled: [f64; 5] = std::array::from_fn(|k| binom[k] * 2f64.powi(4 - k as i32));
+        n.set_rotor(1, &scaled);
+        let mut out = [f64::NAN; 2];
+        for x in [-1.0, -0.5, 0.0, 0.25] {
+            n.values_at(x, &mut out);
+            assert_eq!(out, [0.0, (2.0 + x).powi(4)], "x = {x}");
+        }
+    }
+
     /// Global error at t = 5 of the 6-value second-order method on
     /// `y'' = a y' + b y` (`y = Re exp(z t)`, `z^2 = a z + b`), from exact
     /// scaled derivatives, with `n` steps.
