@@ -133,7 +133,7 @@ impl Electrostatics for BodyEwald {
     fn evaluate(
         &mut self,
         sites: &SiteMultipoles,
-        space: &Space,
+        _space: &Space,
         pairs: &NeighbourList,
         out: &mut SiteResponse,
     ) {
@@ -148,7 +148,6 @@ impl Electrostatics for BodyEwald {
         let kernel = |r: f64| radial_functions(alpha, r);
         add_pairs(
             sites,
-            space,
             pairs,
             (parameters.real_cutoff, &kernel),
             Some(Exclusions {
