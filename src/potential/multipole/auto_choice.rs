@@ -10,13 +10,14 @@
 //! request it refuses (a box its cutoff does not fit, a mesh over the
 //! memory limit) takes the direct sum.
 //!
-//! The times per unit are least-squares fits (through the origin, relative
-//! residuals) of the single-thread evaluation times of benchmarks/RESULTS.md's
-//! mesh section (2026-11-28, jittered dipoles at 1e-5: the direct sum from
-//! 125 to 8,000 sites, PME from 125 to 1e6) against the models' costs of
-//! the same parameters. A direct real-space pair is cheap (its geometry is
-//! stored once, the sites being fixed) and a PME pair dear (its derivative
-//! tensors are computed at each evaluation), hence the two scales. The
+//! The times per unit are the geometric means of measured time over
+//! modelled cost in the single-thread evaluation times of
+//! benchmarks/RESULTS.md's mesh section (2026-11-28, jittered dipoles at
+//! 1e-5) from 512 to 2,197 sites, where the choice is close (the model's
+//! crossover is then 1,040 dipoles, the measured one 908). A direct
+//! real-space pair is cheap (its geometry is stored once, the sites being
+//! fixed) and a PME pair dear (its derivative tensors are computed at each
+//! evaluation), hence the two scales. The
 //! crossover they give, and its measurement at other accuracies, are in
 //! docs/scenes.md.
 
