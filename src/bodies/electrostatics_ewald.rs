@@ -70,8 +70,8 @@ pub struct EwaldOptions {
 /// wave vectors.
 #[derive(Debug)]
 enum LongRange {
-    Mesh(MeshEwald, MeshEstimate),
-    Waves(WaveEwald),
+    Mesh(Box<MeshEwald>, MeshEstimate),
+    Waves(Box<WaveEwald>),
 }
 
 /// The Ewald sum of the sites of bodies (module doc).
@@ -136,14 +136,14 @@ impl BodyEwald {
                 let mesh = MeshEwald::new(n, box_lengths, parameters, options.surface)
                     .map_err(sized)?
                     .with_virial();
-                Self::assemble(LongRange::Mesh(mesh, estimate), site_body)
+                Self::assemble(LongRange::Mesh(Box::new(mesh), estimate), site_body)
             }
             None => {
                 let (parameters, _) = waves()?;
                 let waves = WaveEwald::new(n, box_lengths, parameters, options.surface)
                     .map_err(sized)?
                     .with_virial();
-                Self::assemble(LongRange::Waves(waves), site_body)
+                Self::assemble(LongRange::Waves(Box::new(waves)), site_body)
             }
         };
         Ok(BodyEwald { choice, ..sum })
@@ -163,7 +163,7 @@ impl BodyEwald {
             mesh: f64::NAN,
         };
         Ok(Self::assemble(
-            LongRange::Mesh(mesh.with_virial(), estimate),
+            LongRange::Mesh(Box::new(mesh.with_virial()), estimate),
             site_body,
         ))
     }
@@ -381,7 +381,8 @@ mod tests {
             ),
             Fixed::Waves(p) => {
                 let waves = WaveEwald::new(n, box_lengths, p, surface).unwrap();
-                let sum = BodyEwald::assemble(LongRange::Waves(waves.with_virial()), site_body);
+                let sum =
+                    BodyEwald::assemble(LongRange::Waves(Box::new(waves.with_virial())), site_body);
                 (sum, p.real_cutoff)
             }
         };
