@@ -21,7 +21,8 @@ use crate::potential::multipole::mesh_ewald::{
     DERIVATIVES, UP_TO,
 };
 use crate::potential::multipole::{
-    charge_dipole_force, dipole_field, radial, radial_functions, ChargeDipole,
+    charge_dipole_force, dipole_field, radial, radial_functions, AutoChoice, ChargeDipole,
+    EwaldParameters,
 };
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -66,6 +67,16 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
 
     /// The parameters and estimated errors of a mesh sum (none by default).
     fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        None
+    }
+
+    /// The parameters of a direct Ewald sum (none by default).
+    fn ewald_parameters(&self) -> Option<EwaldParameters> {
+        None
+    }
+
+    /// What `method = "auto"` compared (none by default).
+    fn auto_choice(&self) -> Option<&AutoChoice> {
         None
     }
 
@@ -131,7 +142,6 @@ pub(super) type RadialKernel<'a> = dyn Fn(f64) -> [f64; 6] + Sync + 'a;
 /// `erf(alpha r) / r` that a reciprocal-space sum put there.
 pub(super) fn add_pairs(
     sites: &SiteMultipoles,
-    space: &Space,
     pairs: &NeighbourList,
     (cutoff, kernel): (f64, &RadialKernel<'_>),
     exclusions: Option<Exclusions<'_>>,
@@ -159,9 +169,7 @@ pub(super) fn add_pairs(
                 let f = pair_force(&t[0], &target, UP_TO[order], &source, UP_TO[order]);
                 *w += r * f.transpose() * 0.5;
             };
-            for &j in pairs.partners(i) {
-                let j = j as usize;
-                let r = space.minimum_image(sites.positions[i] - sites.positions[j]);
+            for (j, r) in pairs.separations(i, &sites.positions) {
                 if r.norm_squared() < cutoff2 {
                     pair(r, &kernel(r.norm()), j);
                 }
@@ -193,7 +201,7 @@ impl Electrostatics for CutoffSum {
     fn evaluate(
         &mut self,
         sites: &SiteMultipoles,
-        space: &Space,
+        _space: &Space,
         pairs: &NeighbourList,
         out: &mut SiteResponse,
     ) {
@@ -206,7 +214,6 @@ impl Electrostatics for CutoffSum {
             let kernel = |r: f64| radial_functions(0.0, r);
             add_pairs(
                 sites,
-                space,
                 pairs,
                 (self.cutoff, &kernel),
                 None,
@@ -229,10 +236,8 @@ impl Electrostatics for CutoffSum {
                 if target == ChargeDipole::default() {
                     return share;
                 }
-                for &j in pairs.partners(i) {
-                    let j = j as usize;
+                for (j, r) in pairs.separations(i, &sites.positions) {
                     let source = charged(j);
-                    let r = space.minimum_image(sites.positions[i] - sites.positions[j]);
                     if r.norm_squared() >= cutoff2 || source == ChargeDipole::default() {
                         continue;
                     }
