@@ -1,14 +1,16 @@
 //! Moving bodies with the particle-mesh Ewald sum: forces and torques as
-//! exact gradients (point quadrupoles at sites included).
+//! exact gradients (point quadrupoles at sites included), and energy
+//! conserved in NVE.
 
 mod bodies_common;
 
 use bodies_common::{assert_minus_gradients, bent_molecule, bodies, options};
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
-    BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, EwaldOptions, InteractionOptions,
-    LennardJones, Site, Space, Truncation,
+    BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, Evaluation,
+    EwaldOptions, InteractionOptions, LennardJones, Site, Space, Truncation,
 };
+use quatrot::integrators::NoSquishOptions;
 use quatrot::potential::multipole::{SumMethod, Surface};
 
 /// A Lennard-Jones sphere with a dipole and a point quadrupole.
@@ -60,4 +62,42 @@ fn pme_forces_and_torques_are_minus_the_energy_gradients() {
     assert_minus_gradients(&mut system(1e-7), &[0, 17], 1e-4, &|scale| {
         TOLERANCE * (1.0 + scale)
     });
+}
+
+/// The largest `|E(t) - E(0)|` of [`system`] at `accuracy` over `steps`
+/// NO_SQUISH steps of `dt`.
+fn nve_error(accuracy: f64, dt: f64, steps: usize) -> f64 {
+    let mut system = system(accuracy);
+    let mut integrator =
+        BodyNoSquish::new(&mut system, dt, NoSquishOptions::default()).expect("a valid integrator");
+    let mut energy = |system: &mut BodySystem| {
+        let mut e = Evaluation::default();
+        system.evaluate(&mut e);
+        e.potential_energy()
+            + system.translational_kinetic_energy()
+            + system.rotational_kinetic_energy()
+    };
+    let start = energy(&mut system);
+    let mut largest: f64 = 0.0;
+    for _ in 0..steps {
+        integrator.step(&mut system);
+        largest = largest.max((energy(&mut system) - start).abs());
+    }
+    largest
+}
+
+/// NVE with PME (charges, dipoles and quadrupoles at the sites, accuracy
+/// 1e-5) conserves energy as a second-order splitting with smooth forces
+/// does: over 1,000 steps of dt = 0.002 and 2,000 of 0.001 (the same time)
+/// the largest error falls by 4 (order 2 within 0.3). A drift from pairs
+/// crossing the real-space cutoff, or forces that are not the energy's
+/// gradient, would not fall with dt.
+#[test]
+fn pme_nve_energy_error_falls_as_dt_squared_without_drift() {
+    let (coarse, fine) = (nve_error(1e-5, 0.002, 1000), nve_error(1e-5, 0.001, 2000));
+    let order = (coarse / fine).log2();
+    assert!(
+        (order - 2.0).abs() < 0.3,
+        "errors {coarse:e} and {fine:e}: order {order}"
+    );
 }

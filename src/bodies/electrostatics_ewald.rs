@@ -3,9 +3,15 @@
 //! charges, point dipoles and point quadrupoles at any sites.
 //!
 //! * **Real space**: the pairs of the bodies' neighbour lists (sites of
-//!   different bodies) closer than `r_c`, kernel `erfc(alpha r) / r`.
+//!   different bodies) closer than `r_c`, kernel `phi = erfc(alpha r) / r`
+//!   made smooth at `r_c` ([`smooth_at_cutoff`]): cut bare, each pair
+//!   crossing `r_c` changes the energy by its tail (of the order of the
+//!   accuracy), and an NVE run wanders (issue 39).
 //! * **Reciprocal, self, background, surface**: the mesh sum's, over every
-//!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]).
+//!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]); the
+//!   vacuum surface term's box dipole `M` of whole molecules, each body's
+//!   sites about its centre (wrapped at each neighbour-list build), so that
+//!   a neutral body crossing the box edge leaves `M` unchanged.
 //! * **Exclusions**: the reciprocal sum holds every pair of sites,
 //!   intramolecular ones included, through the smooth `erf(alpha r) / r`;
 //!   for each pair of sites `i != j` of one body the correction subtracts
@@ -100,7 +106,9 @@ impl BodyEwald {
         box_lengths: Vector3<f64>,
     ) -> Result<Self, InputError> {
         let n = site_body.len();
-        let mesh = MeshEwald::new(n, box_lengths, parameters, surface)?.with_virial();
+        let mesh = MeshEwald::new(n, box_lengths, parameters, surface)?
+            .with_virial()
+            .with_whole_molecules();
         let mut bodies: Vec<Range<usize>> = Vec::new();
         for (s, &b) in site_body.iter().enumerate() {
             match bodies.get_mut(b as usize) {
@@ -145,7 +153,7 @@ impl Electrostatics for BodyEwald {
             return;
         };
         let alpha = parameters.alpha;
-        let kernel = |r: f64| radial_functions(alpha, r);
+        let kernel = smooth_at_cutoff(alpha, parameters.real_cutoff, sources.order());
         add_pairs(
             sites,
             space,
@@ -160,6 +168,34 @@ impl Electrostatics for BodyEwald {
         );
         out.fill(&sources, derivatives);
         out.virial = long_range + self.virials.iter().sum::<Matrix3<f64>>();
+    }
+}
+
+/// The real-space radial functions `B_0..B_5` of `erfc(alpha r) / r`
+/// vanishing with their derivatives at `cutoff` up to the forces of
+/// multipoles of `order` (0 charges, 1 dipoles, 2 quadrupoles): with `u =
+/// r^2 / 2`, `B_l = (-d/du)^l phi`, so subtracting from `phi` its Taylor
+/// polynomial in `u` about `u_c = r_c^2 / 2` of degree `K = 2 order + 1`
+/// gives `B_l - sum_(k=l..K) B_k(r_c) w^(k-l) / (k-l)!`, `w = (r_c^2 -
+/// r^2) / 2`: still the derivatives of one kernel (forces and torques the
+/// exact gradients), zero at `r_c` for `l <= K` (the energies use `B_l` up
+/// to `2 order`, the forces one more). The change inside `r_c` is of the
+/// order of the tail `B_k(r_c)` cut anyway: the force-shifted
+/// truncation generalised to any multipole order.
+fn smooth_at_cutoff(alpha: f64, cutoff: f64, order: usize) -> impl Fn(f64) -> [f64; 6] {
+    let at_cutoff: [f64; 6] = radial_functions(alpha, cutoff);
+    let degree = 2 * order + 1;
+    move |r: f64| {
+        let mut b: [f64; 6] = radial_functions(alpha, r);
+        let w = 0.5 * (cutoff * cutoff - r * r);
+        for (l, b) in b.iter_mut().enumerate().take(degree + 1) {
+            let mut power = 1.0;
+            for (k, c) in at_cutoff.iter().enumerate().take(degree + 1).skip(l) {
+                *b -= c * power;
+                power *= w / (k - l + 1) as f64;
+            }
+        }
+        b
     }
 }
 
@@ -354,6 +390,72 @@ mod tests {
                 out.energy
             );
         }
+    }
+
+    /// The smoothed kernel's `B_0..B_K` vanish at the cutoff, each
+    /// `B_(l+1)` is still `-(1/r) dB_l/dr` (central differences), and far
+    /// inside the cutoff the change is of the order of the tail.
+    #[test]
+    fn the_smoothed_real_space_kernel_vanishes_at_the_cutoff_and_stays_one_kernel() {
+        let (alpha, cutoff) = (1.1, 3.0);
+        for order in 0..3 {
+            let kernel = smooth_at_cutoff(alpha, cutoff, order);
+            let degree = 2 * order + 1;
+            let at = kernel(cutoff);
+            assert!(at[..=degree].iter().all(|b| b.abs() < 1e-15), "{at:?}");
+            for r in [0.9, 2.2] {
+                let h = 1e-5;
+                let (b, up, down) = (kernel(r), kernel(r + h), kernel(r - h));
+                for l in 0..5 {
+                    let fd = -(up[l] - down[l]) / (2.0 * h) / r;
+                    assert!(
+                        (b[l + 1] - fd).abs() < 1e-7 * b[l + 1].abs().max(1e-3),
+                        "order {order}, r {r}, B_{}: {} vs {fd}",
+                        l + 1,
+                        b[l + 1]
+                    );
+                }
+            }
+            let bare: [f64; 6] = radial_functions(alpha, 0.9);
+            let tail: [f64; 6] = radial_functions(alpha, cutoff);
+            let change = (kernel(0.9)[0] - bare[0]).abs();
+            assert!(change < 1e3 * tail[degree].max(tail[0]), "{change:e}");
+        }
+    }
+
+    /// In vacuum, a neutral molecule moved by `2 eps` across the box edge
+    /// (one of its sites crossing `x = L`, its centre staying inside)
+    /// changes the energy by the work of its forces and the forces by
+    /// `O(eps)`: the box dipole is of whole molecules, so it does not jump
+    /// by `q L` as with each site wrapped on its own (ESPResSo #4758).
+    #[test]
+    fn a_molecule_crossing_the_box_edge_leaves_the_vacuum_energy_continuous() {
+        let box_lengths = Vector3::new(6.0, 6.4, 5.8);
+        let (mut sites, site_body, _) = molecules(33, 8, box_lengths, false);
+        let eps = 1e-7;
+        // Body 0's hydrogen-like site 1 just inside x = L.
+        let shift = box_lengths.x - eps - sites.positions[1].x;
+        let parameters = MeshParameters {
+            grid: [24, 24, 24],
+            order: 6,
+            ..fine(&box_lengths, 5.0)
+        };
+        let mut at = |dx: f64| {
+            for r in &mut sites.positions[0..3] {
+                r.x += dx;
+            }
+            evaluate(&sites, &site_body, box_lengths, parameters, Surface::Vacuum)
+        };
+        let before = at(shift);
+        let after = at(2.0 * eps);
+        let work: f64 = before.force[0..3].iter().map(|f| f.x * 2.0 * eps).sum();
+        let de = after.energy - before.energy;
+        assert!(
+            (de + work).abs() < 1e-9 * before.energy.abs(),
+            "energy change {de:e}, work of the forces {work:e}"
+        );
+        let df = relative_rms(&after.force, &before.force);
+        assert!(df < 1e-6, "forces changed by {df:e}");
     }
 
     /// The molecular virial `W - sum_s d_s F_s^T` (centres scaled with the

@@ -5,8 +5,8 @@ use super::args::invalid;
 use super::arrays::{array, collect, common_len, row_major, single, Items, Values};
 use super::scene_dict::{scene_error, to_toml};
 use crate::bodies::{
-    Body, BodySystem, ElectrostaticsOptions, Evaluation, InteractionOptions, LennardJonesOptions,
-    Mixing, Space, Truncation,
+    Body, BodySystem, ElectrostaticTruncation, ElectrostaticsOptions, Evaluation,
+    InteractionOptions, LennardJonesOptions, Mixing, Space, Truncation,
 };
 use crate::checks::{from_name, InputError};
 use crate::scene::body_types;
@@ -21,6 +21,9 @@ use pyo3::types::PyDict;
 fn argument_path(e: InputError) -> PyErr {
     if e.path == "lennard_jones.cutoff" {
         return invalid("lj_cutoff", e.message);
+    }
+    if e.path == "electrostatics.truncation" {
+        return invalid("electrostatic_truncation", e.message);
     }
     if e.path.starts_with("electrostatics") {
         return invalid("electrostatic_cutoff", e.message);
@@ -48,7 +51,8 @@ fn argument_path(e: InputError) -> PyErr {
 /// g/mol, kcal/mol, fs, e, Debye, atm, as LAMMPS `units real`). Sites of different bodies
 /// interact (never within one): Lennard-Jones truncated at `lj_cutoff`,
 /// charges and point dipoles truncated at `electrostatic_cutoff` as LAMMPS
-/// `pair_style lj/cut/dipole/cut` (bare pair energies, no shift). Each body
+/// `pair_style lj/cut/dipole/cut` (bare pair energies, no shift) or
+/// `lj/sf/dipole/sf` (shifted-force). Each body
 /// type's frame is rotated to its principal axes: an orientation here is
 /// that of the principal frame.
 ///
@@ -78,6 +82,9 @@ fn argument_path(e: InputError) -> PyErr {
 ///     The Lennard-Jones mixing rule of unlike sites.
 /// electrostatic_cutoff : float, optional
 ///     Charges' and dipoles' cutoff (required when a site has one).
+/// electrostatic_truncation : {"plain", "shifted_force"}, default "plain"
+///     The charges' and dipoles' truncation at the cutoff: bare, or energy
+///     and force brought to zero there (Allen & Germano 2006).
 /// units : {"reduced", "real"}, default "reduced"
 ///     The units of every value given and returned (real: velocities in
 ///     Angstrom/fs, energies in kcal/mol, forces in kcal/(mol Angstrom),
@@ -131,7 +138,7 @@ fn argument_path(e: InputError) -> PyErr {
 ///
 /// ```
 #[pyfunction]
-#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None, units=None))]
+#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None, electrostatic_truncation=None, units=None))]
 #[allow(clippy::too_many_arguments)]
 fn bodies_evaluate<'py>(
     py: Python<'py>,
@@ -145,6 +152,7 @@ fn bodies_evaluate<'py>(
     truncation: Option<&str>,
     mixing: Option<&str>,
     electrostatic_cutoff: Option<f64>,
+    electrostatic_truncation: Option<&str>,
     units: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let units = named::<Units>(units, "units")?;
@@ -186,7 +194,16 @@ fn bodies_evaluate<'py>(
                 })
             })
             .transpose()?,
-        electrostatics: electrostatic_cutoff.map(ElectrostaticsOptions::Cutoff),
+        electrostatics: match electrostatic_cutoff {
+            Some(c) => Some(ElectrostaticsOptions::Cutoff(
+                c,
+                named::<ElectrostaticTruncation>(
+                    electrostatic_truncation,
+                    "electrostatic_truncation",
+                )?,
+            )),
+            None => None,
+        },
         skin: DEFAULT_SKIN,
     };
     let mut system = BodySystem::new(types, bodies, space, &options).map_err(argument_path)?;

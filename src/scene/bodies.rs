@@ -8,9 +8,10 @@ use super::error::SceneError;
 use super::initial::{drawn_seed, RawInitial};
 use super::tagged::tagged;
 use crate::bodies::{
-    lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, ElectrostaticsOptions,
-    EwaldOptions, InteractionOptions, Lattice, LatticeStart, LennardJonesOptions, Mixing,
-    RandomStart, Space, Truncation, DEFAULT_ACCURACY, OVERLAP_FRACTION,
+    lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, ElectrostaticTruncation,
+    ElectrostaticsOptions, EwaldOptions, InteractionOptions, Lattice, LatticeStart,
+    LennardJonesOptions, Mixing, RandomStart, Space, Truncation, DEFAULT_ACCURACY,
+    OVERLAP_FRACTION,
 };
 use crate::checks::{each, finite, num, InputError};
 use crate::potential::multipole::{SumMethod, Surface};
@@ -150,6 +151,8 @@ pub struct RawBodyEwald {
 pub struct RawElectrostaticCutoff {
     /// The cutoff.
     pub cutoff: f64,
+    /// `"plain"` (default) or `"shifted_force"`.
+    pub truncation: Option<ElectrostaticTruncation>,
 }
 
 /// The neighbour lists' skin when a scene gives none (LAMMPS's default in
@@ -270,7 +273,9 @@ fn interaction_options(raw: RawBodyInteractions) -> InteractionOptions {
             mixing: lj.mixing.unwrap_or_default(),
         }),
         electrostatics: raw.electrostatics.map(|e| match e {
-            RawBodyElectrostatics::Cutoff(c) => ElectrostaticsOptions::Cutoff(c.cutoff),
+            RawBodyElectrostatics::Cutoff(c) => {
+                ElectrostaticsOptions::Cutoff(c.cutoff, c.truncation.unwrap_or_default())
+            }
             RawBodyElectrostatics::Ewald(e) => ElectrostaticsOptions::Ewald(EwaldOptions {
                 accuracy: e.accuracy.unwrap_or(DEFAULT_ACCURACY),
                 method: e.method.unwrap_or_default(),

@@ -46,6 +46,9 @@ pub struct MeshEwald {
     line_virials: Vec<[f64; 6]>,
     /// Whether evaluations compute the virial ([`Self::with_virial`]).
     virial: bool,
+    /// Whether the surface term takes the positions as given (whole
+    /// molecules, [`Self::with_whole_molecules`]) rather than wrapped.
+    whole_molecules: bool,
     /// `d^N` at the origin of the smooth part `erf(alpha r) / r` (the self term).
     smooth_at_origin: [f64; 56],
 }
@@ -113,6 +116,7 @@ impl MeshEwald {
             site_virials: vec![Matrix3::zeros(); sites],
             line_virials: vec![[0.0; 6]; grid[1] * (grid[2] / 2 + 1)],
             virial: false,
+            whole_molecules: false,
             smooth_at_origin,
         })
     }
@@ -121,6 +125,16 @@ impl MeshEwald {
     /// [`SiteResponse::virial`]; it costs one pair force per real-space pair).
     pub fn with_virial(mut self) -> Self {
         self.virial = true;
+        self
+    }
+
+    /// The sum, its vacuum surface term taking the box dipole `M` of the
+    /// positions as given instead of each site wrapped on its own: with each
+    /// molecule's sites given whole (relative to its wrapped centre), a
+    /// molecule crossing the box edge leaves `M`, the energy and the forces
+    /// unchanged (ESPResSo #4758 is the trap of the wrapped sites).
+    pub fn with_whole_molecules(mut self) -> Self {
+        self.whole_molecules = true;
         self
     }
 
@@ -366,7 +380,8 @@ impl MeshEwald {
 
     /// Removes each site's own smooth potential, adds the neutralising
     /// background of a net charge `Q` (`phi = -pi Q / (V alpha^2)`) and, in
-    /// vacuum, the surface term of the wrapped sites' dipole `M`
+    /// vacuum, the surface term of the sites' dipole `M` (wrapped, or as
+    /// given for whole molecules)
     /// (`phi(r) = 4 pi M.r / (3 V)`); returns their virial: `E_bg I` (the
     /// background's `1/V`), `E_s I - 4 pi / (3 V) P M^T` in vacuum (`P =
     /// sum_i q_i r_i` the charges' part of `M`, scaled by the strain), none
@@ -382,7 +397,12 @@ impl MeshEwald {
         let alpha = self.parameters.alpha;
         let net = sources.charges.map_or(0.0, |q| q.iter().sum::<f64>());
         let background = -PI * net / (volume * alpha * alpha);
-        let total_dipole = sources.total_dipole(&self.wrapped);
+        let positions = if self.whole_molecules {
+            sources.positions
+        } else {
+            &self.wrapped
+        };
+        let total_dipole = sources.total_dipole(positions);
         let surface = match self.surface {
             Surface::Conducting => Vector3::zeros(),
             Surface::Vacuum => total_dipole * (4.0 * PI / (3.0 * volume)),
@@ -396,7 +416,7 @@ impl MeshEwald {
                     .sum();
                 *value -= own;
             }
-            d[0] += background + surface.dot(&self.wrapped[i]);
+            d[0] += background + surface.dot(&positions[i]);
             for a in 0..3 {
                 d[1 + a] += surface[a];
             }
