@@ -70,7 +70,7 @@ fn nve_error(accuracy: f64, dt: f64, steps: usize) -> f64 {
     let mut system = system(accuracy);
     let mut integrator =
         BodyNoSquish::new(&mut system, dt, NoSquishOptions::default()).expect("a valid integrator");
-    let mut energy = |system: &mut BodySystem| {
+    let energy = |system: &mut BodySystem| {
         let mut e = Evaluation::default();
         system.evaluate(&mut e);
         e.potential_energy()

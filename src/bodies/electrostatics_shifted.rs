@@ -125,6 +125,15 @@ mod tests {
         let h = 1e-6;
         for r in [Vector3::new(0.9, -0.4, 0.3), Vector3::new(1.2, 1.4, -1.1)] {
             let p = shifted_force_pair(&r, cutoff, &t, &s);
+            // The central difference of the energy as `change(target, +-h)` alters the target.
+            let derivative = |change: &dyn Fn(&mut ChargeDipole, f64)| {
+                let at = |d: f64| {
+                    let mut m = t;
+                    change(&mut m, d);
+                    energy(&r, cutoff, &m, &s)
+                };
+                (at(h) - at(-h)) / (2.0 * h)
+            };
             for k in 0..3 {
                 let mut step = Vector3::zeros();
                 step[k] = h;
@@ -136,24 +145,14 @@ mod tests {
                     "force {k}: {} vs {fd}",
                     p.force[k]
                 );
-                let moved = |d: f64| {
-                    let mut m = t;
-                    m.dipole[k] += d;
-                    energy(&r, cutoff, &m, &s)
-                };
-                let fd = -(moved(h) - moved(-h)) / (2.0 * h);
+                let fd = -derivative(&|m, d| m.dipole[k] += d);
                 assert!(
                     (p.field[k] - fd).abs() < DIFFERENCE,
                     "field {k}: {} vs {fd}",
                     p.field[k]
                 );
             }
-            let charged = |d: f64| {
-                let mut m = t;
-                m.charge += d;
-                energy(&r, cutoff, &m, &s)
-            };
-            let fd = (charged(h) - charged(-h)) / (2.0 * h);
+            let fd = derivative(&|m, d| m.charge += d);
             assert!((p.potential - fd).abs() < DIFFERENCE);
             let swapped = energy(&-r, cutoff, &s, &t);
             assert!((energy(&r, cutoff, &t, &s) - swapped).abs() < 1e-14);

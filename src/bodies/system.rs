@@ -93,7 +93,8 @@ pub(super) struct Scratch {
 
 impl BodySystem {
     /// The system; errors name the field (`bodies[3].orientation`,
-    /// `electrostatics.cutoff`, `electrostatics.accuracy`,
+    /// `electrostatics.cutoff`, `electrostatics.truncation`,
+    /// `electrostatics.accuracy`,
     /// `box_lengths[0]`).
     pub fn new(
         types: Vec<BodyType>,
