@@ -4,7 +4,7 @@
 //!
 //! * **Real space**: the pairs of the bodies' neighbour lists (sites of
 //!   different bodies) closer than `r_c`, kernel `phi = erfc(alpha r) / r`
-//!   made smooth at `r_c` ([`smooth_at_cutoff`]): cut bare, each pair
+//!   made smooth at `r_c` (`smooth_at_cutoff`): cut bare, each pair
 //!   crossing `r_c` changes the energy by its tail (of the order of the
 //!   accuracy), and an NVE run wanders (issue 39).
 //! * **Reciprocal, self, background, surface**: the mesh sum's, over every
