@@ -3,10 +3,7 @@
 //! charges, point dipoles and point quadrupoles at any sites.
 //!
 //! * **Real space**: the pairs of the bodies' neighbour lists (sites of
-//!   different bodies) closer than `r_c`, kernel `phi = erfc(alpha r) / r`
-//!   made smooth at `r_c` (`smooth_at_cutoff`): cut bare, each pair
-//!   crossing `r_c` changes the energy by its tail (of the order of the
-//!   accuracy), and an NVE run wanders (issue 39).
+//!   different bodies) closer than `r_c`, kernel `erfc(alpha r) / r`.
 //! * **Reciprocal, self, background, surface**: the mesh sum's, over every
 //!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]); the
 //!   vacuum surface term's box dipole `M` of whole molecules, each body's
@@ -153,7 +150,7 @@ impl Electrostatics for BodyEwald {
             return;
         };
         let alpha = parameters.alpha;
-        let kernel = smooth_at_cutoff(alpha, parameters.real_cutoff, sources.order());
+        let kernel = |r: f64| radial_functions(alpha, r);
         add_pairs(
             sites,
             space,
@@ -168,34 +165,6 @@ impl Electrostatics for BodyEwald {
         );
         out.fill(&sources, derivatives);
         out.virial = long_range + self.virials.iter().sum::<Matrix3<f64>>();
-    }
-}
-
-/// The real-space radial functions `B_0..B_5` of `erfc(alpha r) / r`
-/// vanishing with their derivatives at `cutoff` up to the forces of
-/// multipoles of `order` (0 charges, 1 dipoles, 2 quadrupoles): with `u =
-/// r^2 / 2`, `B_l = (-d/du)^l phi`, so subtracting from `phi` its Taylor
-/// polynomial in `u` about `u_c = r_c^2 / 2` of degree `K = 2 order + 1`
-/// gives `B_l - sum_(k=l..K) B_k(r_c) w^(k-l) / (k-l)!`, `w = (r_c^2 -
-/// r^2) / 2`: still the derivatives of one kernel (forces and torques the
-/// exact gradients), zero at `r_c` for `l <= K` (the energies use `B_l` up
-/// to `2 order`, the forces one more). The change inside `r_c` is of the
-/// order of the tail `B_k(r_c)` cut anyway: the force-shifted
-/// truncation generalised to any multipole order.
-fn smooth_at_cutoff(alpha: f64, cutoff: f64, order: usize) -> impl Fn(f64) -> [f64; 6] {
-    let at_cutoff: [f64; 6] = radial_functions(alpha, cutoff);
-    let degree = 2 * order + 1;
-    move |r: f64| {
-        let mut b: [f64; 6] = radial_functions(alpha, r);
-        let w = 0.5 * (cutoff * cutoff - r * r);
-        for (l, b) in b.iter_mut().enumerate().take(degree + 1) {
-            let mut power = 1.0;
-            for (k, c) in at_cutoff.iter().enumerate().take(degree + 1).skip(l) {
-                *b -= c * power;
-                power *= w / (k - l + 1) as f64;
-            }
-        }
-        b
     }
 }
 
@@ -389,37 +358,6 @@ mod tests {
                 "{surface:?}: energy {} vs {energy} ({de:e}), field {r:e}",
                 out.energy
             );
-        }
-    }
-
-    /// The smoothed kernel's `B_0..B_K` vanish at the cutoff, each
-    /// `B_(l+1)` is still `-(1/r) dB_l/dr` (central differences), and far
-    /// inside the cutoff the change is of the order of the tail.
-    #[test]
-    fn the_smoothed_real_space_kernel_vanishes_at_the_cutoff_and_stays_one_kernel() {
-        let (alpha, cutoff) = (1.1, 3.0);
-        for order in 0..3 {
-            let kernel = smooth_at_cutoff(alpha, cutoff, order);
-            let degree = 2 * order + 1;
-            let at = kernel(cutoff);
-            assert!(at[..=degree].iter().all(|b| b.abs() < 1e-15), "{at:?}");
-            for r in [0.9, 2.2] {
-                let h = 1e-5;
-                let (b, up, down) = (kernel(r), kernel(r + h), kernel(r - h));
-                for l in 0..5 {
-                    let fd = -(up[l] - down[l]) / (2.0 * h) / r;
-                    assert!(
-                        (b[l + 1] - fd).abs() < 1e-7 * b[l + 1].abs().max(1e-3),
-                        "order {order}, r {r}, B_{}: {} vs {fd}",
-                        l + 1,
-                        b[l + 1]
-                    );
-                }
-            }
-            let bare: [f64; 6] = radial_functions(alpha, 0.9);
-            let tail: [f64; 6] = radial_functions(alpha, cutoff);
-            let change = (kernel(0.9)[0] - bare[0]).abs();
-            assert!(change < 1e3 * tail[degree].max(tail[0]), "{change:e}");
         }
     }
 

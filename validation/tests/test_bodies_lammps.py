@@ -117,7 +117,7 @@ def both_codes(charged: bool, style: str, lennard_jones: bool, **options):
         kinds = [0 if q > 0 else 1 for q in charges]
     state = quatrot.bodies_evaluate(
         types, centres, orientations, kinds=kinds, velocities=velocities,
-        box_lengths=[box] * 3, electrostatic_cutoff=CUTOFF, **options,
+        box_lengths=[box] * 3, **({"electrostatic_cutoff": CUTOFF} | options),
     )
     return reference, state
 
@@ -145,9 +145,8 @@ def test_single_point_matches_lammps_lj_cut_dipole_cut(charged):
 def test_shifted_force_matches_lammps_lj_sf_dipole_sf(charged):
     """The shifted-force charges and dipoles (energy, forces, torques,
     pressure) against ``lj/sf/dipole/sf`` to round-off."""
-    reference, state = both_codes(
-        charged, "lj/sf/dipole/sf", lennard_jones=False, electrostatic_truncation="shifted_force"
-    )
+    shifted = {"kind": "cutoff", "cutoff": CUTOFF, "truncation": "shifted_force"}
+    reference, state = both_codes(charged, "lj/sf/dipole/sf", lennard_jones=False, electrostatics=shifted)
     assert reference["evdwl"] == 0.0
     assert state["energies"]["electrostatic"] == pytest.approx(reference["ecoul"], rel=ENERGY_TOLERANCE)
     np.testing.assert_allclose(state["forces"], reference["forces"], rtol=0, atol=FORCE_TOLERANCE)

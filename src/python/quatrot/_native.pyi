@@ -85,7 +85,7 @@ def bodies_evaluate(
     truncation: str | None = None,
     mixing: str | None = None,
     electrostatic_cutoff: float | None = None,
-    electrostatic_truncation: str | None = None,
+    electrostatics: dict[str, Any] | None = None,
     units: str | None = None,
 ) -> dict[str, Any]: ...
 def gear_corrections_table(
