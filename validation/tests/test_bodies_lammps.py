@@ -106,6 +106,7 @@ def both_codes(charged: bool, style: str, lennard_jones: bool, **options):
     if lennard_jones:
         site["lennard_jones"] = {"epsilon": 1.0, "sigma": 1.0}
         options["lj_cutoff"] = CUTOFF
+    options.setdefault("electrostatics", {"kind": "cutoff", "cutoff": CUTOFF})
     sphere = {"sites": [site], "mass": MASS, "inertia": np.eye(3) * INERTIA}
     # Charges per body: two body types that differ only in the charge.
     types = [sphere]
@@ -117,7 +118,7 @@ def both_codes(charged: bool, style: str, lennard_jones: bool, **options):
         kinds = [0 if q > 0 else 1 for q in charges]
     state = quatrot.bodies_evaluate(
         types, centres, orientations, kinds=kinds, velocities=velocities,
-        box_lengths=[box] * 3, **({"electrostatic_cutoff": CUTOFF} | options),
+        box_lengths=[box] * 3, **options,
     )
     return reference, state
 
