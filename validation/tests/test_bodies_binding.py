@@ -51,5 +51,11 @@ def test_bad_arguments_are_refused_naming_the_argument():
         evaluate(kinds=[0])
     with pytest.raises(ValueError, match=r"^truncation: "):
         evaluate(truncation="smooth")
+    smooth = {"kind": "cutoff", "cutoff": 2.5, "truncation": "smooth"}
+    with pytest.raises(quatrot.SceneError, match=r'^electrostatics\.truncation: must be "plain" or "shifted_force", got "smooth"$'):
+        evaluate(electrostatics=smooth)
+    quadrupolar = {**SPHERE, "sites": [{**SPHERE["sites"][0], "quadrupole": [[1, 0, 0], [0, 1, 0], [0, 0, -2]]}]}
+    with pytest.raises(ValueError, match=r'^electrostatics\.truncation: "shifted_force" truncates charges and dipoles only'):
+        evaluate(types=[quadrupolar], electrostatics={**smooth, "truncation": "shifted_force"})
     with pytest.raises(ValueError, match=r"^box_lengths\[0\]: must be at least twice the cutoff plus the skin"):
         evaluate(box_lengths=[5.0, 8.0, 8.0])
