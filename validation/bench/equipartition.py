@@ -36,9 +36,9 @@ EVERY = 50
 LEFT_OUT = 0.2
 
 
-def cached_series(scene_name: str, integrator: str, cache: Path) -> dict:
+def cached_series(scene_name: str, integrator: str, steps: int, cache: Path) -> dict:
     """The run's series and wall time, from `cache` when it holds this exact scene."""
-    scene = ep.nve_scene(scene_name, integrator, STEPS, EVERY)
+    scene = ep.nve_scene(scene_name, integrator, steps, EVERY)
     key = hashlib.sha256(json.dumps(scene, sort_keys=True).encode()).hexdigest()[:16]
     path = cache / f"{scene_name}_{integrator}_{key}.json"
     if path.exists():
@@ -59,7 +59,7 @@ def verdict(m: dict) -> str:
     return f"**differ** by {m['z']:.1f} sigma (ratio - 1 = {m['ratio'] - 1:+.4f})"
 
 
-def table(rows: list[dict]) -> str:
+def table(rows: list[dict], steps: int) -> str:
     lines = [
         "| built-in | integrator | steps (dt) | <T_trans> | <T_rot> | T_rot / T_trans | verdict at this length | T_trans first -> last tenth | E/N first -> last tenth | wall |",
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
@@ -67,7 +67,7 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         m, n = r["measured"], r["bodies"]
         lines.append(
-            f"| {r['scene']} | {r['integrator']} | {STEPS:,} ({r['dt']}) | {m['T_trans']:.4f} | {m['T_rot']:.4f} | "
+            f"| {r['scene']} | {r['integrator']} | {steps:,} ({r['dt']}) | {m['T_trans']:.4f} | {m['T_rot']:.4f} | "
             f"{m['ratio']:.4f} +- {m['ratio_error']:.4f}{'' if m['converged'] else ' (blocking not converged)'} | {verdict(m)} | "
             f"{m['T_trans_first_tenth']:.3f} -> {m['T_trans_last_tenth']:.3f} | "
             f"{m['energy_first_tenth'] / n:.4f} -> {m['energy_last_tenth'] / n:.4f} | {r['wall_seconds'] / 60:.0f} min |"
@@ -80,21 +80,23 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("benchmarks"))
     parser.add_argument("--cache", type=Path, default=Path("target/bench/equipartition"))
     parser.add_argument("--scene", choices=ep.SCENES, action="append", help="only this built-in's runs, no section")
+    parser.add_argument("--quick", action="store_true", help="2,000 steps per run, to check the pipeline")
     args = parser.parse_args(argv)
+    steps = 2_000 if args.quick else STEPS
     machine = results_md.machine()
     rows = []
     for scene_name in args.scene or ep.SCENES:
         bodies = sum(ep.nve_scene(scene_name, "no_squish", 1, 1)["bodies"]["counts"])
         for integrator in ep.INTEGRATORS:
-            print(f"equipartition, {scene_name} with {integrator}: {STEPS} steps ...", flush=True)
-            found = cached_series(scene_name, integrator, args.cache)
+            print(f"equipartition, {scene_name} with {integrator}: {steps} steps ...", flush=True)
+            found = cached_series(scene_name, integrator, steps, args.cache)
             measured = ep.measure({k: np.asarray(v) for k, v in found.items() if isinstance(v, list)}, LEFT_OUT)
             rows.append({"scene": scene_name, "integrator": integrator, "bodies": bodies, "dt": found["dt"],
                          "wall_seconds": found["wall_seconds"], "measured": measured})
             print(f"  {verdict(measured)}, {found['wall_seconds'] / 60:.0f} min", flush=True)
     if args.scene:
         return 0
-    result = {"machine": machine, "versions": {"quatrot": quatrot.__version__}, "steps": STEPS, "left_out": LEFT_OUT,
+    result = {"machine": machine, "versions": {"quatrot": quatrot.__version__}, "steps": steps, "left_out": LEFT_OUT,
               "z_max": ep.Z_MAX, "runs": rows}
     text = "\n".join([
         BEGIN,
@@ -103,7 +105,7 @@ def main(argv=None) -> int:
         f"- Machine: {machine['cpu']}, {machine['cpus']} CPUs; load average {machine['load_average']:.1f} when the section "
         f"was written (shared machine; the runs' wall times are in the table). Date: {machine['date']}. quatrot {quatrot.__version__}.",
         f"- Each run: the built-in with the integrator swapped and its thermostat removed, at constant energy from its fcc "
-        f"start, {STEPS:,} steps, T_trans and T_rot every {EVERY} steps; the first {LEFT_OUT:.0%} (the melt) left out. "
+        f"start, {steps:,} steps, T_trans and T_rot every {EVERY} steps; the first {LEFT_OUT:.0%} (the melt) left out. "
         f"<T_rot - T_trans> is block averaged (Flyvbjerg-Petersen); the verdict is |<T_rot - T_trans>| / sigma against "
         f"{ep.Z_MAX:g}, and the ratio's error is sigma / <T_trans>. Degrees of freedom as quatrot counts them: 3N - 3 "
         "translational; 2 rotational per Stockmayer sphere (no torque reaches the spin about its dipole), 3 per o-terphenyl.",
@@ -114,7 +116,7 @@ def main(argv=None) -> int:
         "its lattice start melts into a liquid near T* = 1.4, the temperature of its verdict.",
         "- `make validate`'s `equipartition_bodies` check runs the same protocol at 20,000 steps per run.",
         "",
-        table(rows),
+        table(rows, steps),
         "",
         END,
         "",
