@@ -55,7 +55,7 @@ def cached_series(scene_name: str, integrator: str, steps: int, cache: Path) -> 
 def verdict(m: dict) -> str:
     """One line: equal within Z_MAX sigma, or by how much not."""
     if m["z"] <= ep.Z_MAX:
-        return f"equal (|z| {m['z']:.2f} <= {ep.Z_MAX:g})"
+        return f"equal (z = {m['z']:.2f} <= {ep.Z_MAX:g})"
     return f"**differ** by {m['z']:.1f} sigma (ratio - 1 = {m['ratio'] - 1:+.4f})"
 
 
@@ -70,7 +70,7 @@ def table(rows: list[dict], steps: int) -> str:
             f"| {r['scene']} | {r['integrator']} | {steps:,} ({r['dt']}) | {m['T_trans']:.4f} | {m['T_rot']:.4f} | "
             f"{m['ratio']:.4f} +- {m['ratio_error']:.4f}{'' if m['converged'] else ' (blocking not converged)'} | {verdict(m)} | "
             f"{m['T_trans_first_tenth']:.3f} -> {m['T_trans_last_tenth']:.3f} | "
-            f"{m['energy_first_tenth'] / n:.4f} -> {m['energy_last_tenth'] / n:.4f} | {r['wall_seconds'] / 60:.0f} min |"
+            f"{m['energy_first_tenth'] / n:.4f} -> {m['energy_last_tenth'] / n:.4f} | {r['wall_seconds'] / 60:.1f} min |"
         )
     return "\n".join(lines)
 
@@ -106,14 +106,14 @@ def main(argv=None) -> int:
         f"was written (shared machine; the runs' wall times are in the table). Date: {machine['date']}. quatrot {quatrot.__version__}.",
         f"- Each run: the built-in with the integrator swapped and its thermostat removed, at constant energy from its fcc "
         f"start, {steps:,} steps, T_trans and T_rot every {EVERY} steps; the first {LEFT_OUT:.0%} (the melt) left out. "
-        f"<T_rot - T_trans> is block averaged (Flyvbjerg-Petersen); the verdict is |<T_rot - T_trans>| / sigma against "
+        f"<T_rot - T_trans> is block averaged (Flyvbjerg-Petersen); the verdict is z = |<T_rot - T_trans>| / sigma against "
         f"{ep.Z_MAX:g}, and the ratio's error is sigma / <T_trans>. Degrees of freedom as quatrot counts them: 3N - 3 "
         "translational; 2 rotational per Stockmayer sphere (no torque reaches the spin about its dipole), 3 per o-terphenyl.",
         "- Constant energy, not constant temperature: the Stockmayer fluid's dipoles are cut at 2.5 without a shift, so its "
         "energy jumps as pairs cross the cutoff and the run heats (the T_trans and E/N columns). Equipartition is tested "
         "on a slowly heating run: the exchange between rotation and translation is far faster than the heating. The "
         "o-terphenyl liquid (force-shifted, smooth at its cutoff) conserves its energy; without the built-in's thermostat "
-        "its lattice start melts into a liquid near T* = 1.4, the temperature of its verdict.",
+        "its lattice start heats as it melts, and its verdict is at the liquid's temperature in the T_trans column.",
         "- `make validate`'s `equipartition_bodies` check runs the same protocol at 20,000 steps per run.",
         "",
         table(rows, steps),
