@@ -9,7 +9,7 @@ use crate::bodies::{
     Mixing, Space, Truncation,
 };
 use crate::checks::{from_name, InputError};
-use crate::scene::body_types;
+use crate::scene::{body_electrostatics, body_types};
 use crate::units::{Dimension, Units};
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
@@ -17,12 +17,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 /// The library's path of a body's value as the argument that holds it
-/// (`bodies[3].orientation` is `orientations[3]`).
-fn argument_path(e: InputError) -> PyErr {
+/// (`bodies[3].orientation` is `orientations[3]`; `electrostatics.cutoff`
+/// is `electrostatic_cutoff` unless the `electrostatics` table was given).
+fn argument_path(e: InputError, table: bool) -> PyErr {
     if e.path == "lennard_jones.cutoff" {
         return invalid("lj_cutoff", e.message);
     }
-    if e.path.starts_with("electrostatics") {
+    if e.path.starts_with("electrostatics") && !table {
         return invalid("electrostatic_cutoff", e.message);
     }
     let renamed = [
@@ -77,7 +78,13 @@ fn argument_path(e: InputError) -> PyErr {
 /// mixing : {"lorentz_berthelot", "geometric"}, default "lorentz_berthelot"
 ///     The Lennard-Jones mixing rule of unlike sites.
 /// electrostatic_cutoff : float, optional
-///     Charges' and dipoles' cutoff (required when a site has one).
+///     Charges' and dipoles' cutoff (required when a site has one, unless
+///     `electrostatics` is given).
+/// electrostatics : dict, optional
+///     Instead of `electrostatic_cutoff`, a scene's ``[body_interactions]
+///     electrostatics`` table: ``{"kind": "cutoff", "cutoff": r}`` or
+///     ``{"kind": "ewald", "accuracy": 1e-6, "method": "pme", "surface":
+///     "conducting"}`` (a periodic box), with a scene's defaults and checks.
 /// units : {"reduced", "real"}, default "reduced"
 ///     The units of every value given and returned (real: velocities in
 ///     Angstrom/fs, energies in kcal/mol, forces in kcal/(mol Angstrom),
@@ -131,7 +138,7 @@ fn argument_path(e: InputError) -> PyErr {
 ///
 /// ```
 #[pyfunction]
-#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None, units=None))]
+#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None, electrostatics=None, units=None))]
 #[allow(clippy::too_many_arguments)]
 fn bodies_evaluate<'py>(
     py: Python<'py>,
@@ -145,9 +152,12 @@ fn bodies_evaluate<'py>(
     truncation: Option<&str>,
     mixing: Option<&str>,
     electrostatic_cutoff: Option<f64>,
+    electrostatics: Option<&Bound<'py, PyAny>>,
     units: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let units = named::<Units>(units, "units")?;
+    let table = electrostatics.is_some();
+    let electrostatics = electrostatics_choice(electrostatic_cutoff, electrostatics)?;
     let types = body_types_of(body_types, units)?;
     let positions = Items::new(positions, "positions", &[3], Values::Finite)?;
     let orientations = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
@@ -186,17 +196,27 @@ fn bodies_evaluate<'py>(
                 })
             })
             .transpose()?,
-        electrostatics: electrostatic_cutoff.map(ElectrostaticsOptions::Cutoff),
+        electrostatics,
         skin: DEFAULT_SKIN,
     };
-    let mut system = BodySystem::new(types, bodies, space, &options).map_err(argument_path)?;
+    let mut system =
+        BodySystem::new(types, bodies, space, &options).map_err(|e| argument_path(e, table))?;
     let (evaluation, pressure) = py.detach(|| {
         let mut e = Evaluation::default();
         system.evaluate(&mut e);
         let pressure = system.pressure(&e);
         (e, pressure)
     });
-    let site_positions: Vec<Vector3<f64>> = system
+    let in_units = |p: f64| units.from_internal(p, Dimension::Pressure);
+    let pressures = (pressure.map(in_units), in_units(evaluation.pressure_tail));
+    let out = result(py, &evaluation, pressures)?;
+    out.set_item("site_positions", rows(py, &site_positions(&system))?)?;
+    Ok(out)
+}
+
+/// The sites' positions in space, bodies in order, each body's sites in order.
+fn site_positions(system: &BodySystem) -> Vec<Vector3<f64>> {
+    system
         .bodies
         .iter()
         .flat_map(|b| {
@@ -205,12 +225,26 @@ fn bodies_evaluate<'py>(
                 .iter()
                 .map(|s| b.position + b.orientation.body_to_space(&s.position))
         })
-        .collect();
-    let in_units = |p: f64| units.from_internal(p, Dimension::Pressure);
-    let pressures = (pressure.map(in_units), in_units(evaluation.pressure_tail));
-    let out = result(py, &evaluation, pressures)?;
-    out.set_item("site_positions", rows(py, &site_positions)?)?;
-    Ok(out)
+        .collect()
+}
+
+/// The electrostatics of `electrostatic_cutoff` or of the `electrostatics`
+/// table (not both).
+fn electrostatics_choice(
+    cutoff: Option<f64>,
+    table: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<ElectrostaticsOptions>> {
+    match (cutoff, table) {
+        (Some(_), Some(_)) => {
+            let message = "give electrostatic_cutoff or electrostatics, not both".to_string();
+            Err(invalid("electrostatics", message))
+        }
+        (Some(cutoff), None) => Ok(Some(ElectrostaticsOptions::Cutoff(cutoff))),
+        (None, Some(value)) => body_electrostatics(to_toml(value, "electrostatics")?)
+            .map(Some)
+            .map_err(|e| scene_error(&e)),
+        (None, None) => Ok(None),
+    }
 }
 
 /// The neighbour lists' skin of an evaluation (any value gives the same
