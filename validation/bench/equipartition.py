@@ -110,8 +110,8 @@ def main(argv=None) -> int:
         f"{ep.Z_MAX:g}, and the ratio's error is sigma / <T_trans>. Degrees of freedom as quatrot counts them: 3N - 3 "
         "translational; 2 rotational per Stockmayer sphere (no torque reaches the spin about its dipole), 3 per o-terphenyl.",
         "- Constant energy, not constant temperature: the Stockmayer fluid's dipoles are cut at 2.5 without a shift, so its "
-        "energy jumps as pairs cross the cutoff and the run heats (the T_trans and E/N columns). Equipartition is tested "
-        "on a slowly heating run: the exchange between rotation and translation is far faster than the heating. The "
+        "energy jumps as pairs cross the cutoff and the run heats (the T_trans and E/N columns): its verdict is on a slowly "
+        "heating run, and heat fed into one kind faster than the exchange shares it out would show as a difference. The "
         "o-terphenyl liquid (force-shifted, smooth at its cutoff) conserves its energy; without the built-in's thermostat "
         "its lattice start heats as it melts, and its verdict is at the liquid's temperature in the T_trans column.",
         "- `make validate`'s `equipartition_bodies` check runs the same protocol at 20,000 steps per run.",
