@@ -21,7 +21,10 @@ multi-site Lennard-Jones bodies, their force-shifted truncation, the
 molecular virial and the thermostatted dynamics reproduce the model's
 published thermodynamics; the supercooled state of the built-in (T* =
 0.5) relaxes too slowly to be checked at this length. Production: 20,000
-steps at each temperature; quick: 2,000 steps at T* = 2.0."""
+steps at each temperature; quick: 2,000 steps at T* = 2.0. Found while
+writing it: T* = 1.0, E -9.813(11) against -9.817(9), P 5.861(28) against
+5.86(2); T* = 2.0, E -4.048(16) against -4.07(1), P 12.437(43) against
+12.37(4): 1.2 combined sigmas at most."""
 
 from __future__ import annotations
 
