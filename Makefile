@@ -100,6 +100,7 @@ bench: develop
 	$(PY) -m validation.bench.bodies --out benchmarks
 	$(PY) -m validation.bench.sweep --out benchmarks
 	$(PY) -m validation.bench.longrun --out benchmarks
+	$(PY) -m validation.bench.equipartition --out benchmarks
 	$(PY) -m validation.bench.thermostats --out benchmarks
 	$(MAKE) bench-threads
 

@@ -1,11 +1,12 @@
 //! Scenes of moving bodies run through `quatrot::run::execute` (the path of
 //! the CLI and of Python): the built-ins conserve the total linear
-//! momentum to round-off and the energy to an error that falls as dt^2, an
-//! open cluster conserves its angular momentum, a restart is refused, and
-//! the series hold what the scene asks for.
+//! momentum to round-off and (their thermostats removed) the energy to an
+//! error that falls as dt^2, an open cluster conserves its angular
+//! momentum, a restart is refused, and the series hold what the scene asks
+//! for.
 
 use quatrot::run::{execute, RunResult, SeriesTable};
-use quatrot::scene::{load, load_text, Overrides, Scene};
+use quatrot::scene::{load_text, Overrides, Scene};
 use quatrot::simulation::Stop;
 
 mod common;
@@ -35,20 +36,23 @@ fn column(table: &SeriesTable, name: &str) -> Vec<f64> {
         .collect()
 }
 
-/// The built-in `name` for `steps` steps of `dt`.
+/// The built-in `name` at constant energy for `steps` steps of `dt`.
 fn builtin(name: &str, dt: f64, steps: i64) -> Scene {
     with_integrator(name, None, dt, steps)
 }
 
-/// The built-in `name` with `integrator` (its default options; `None`: the
-/// scene's) for `steps` steps of `dt`.
+/// The built-in `name` at constant energy (its thermostat removed) with
+/// `integrator` (its default options; `None`: the scene's) for `steps`
+/// steps of `dt`.
 fn with_integrator(name: &str, integrator: Option<&str>, dt: f64, steps: i64) -> Scene {
     let overrides = Overrides {
         dt: Some(dt),
         steps: Some(steps),
         integrator: integrator.map(String::from),
     };
-    load(name, &overrides).expect("valid").1
+    load_text(&common::builtin_at_constant_energy(name), &overrides)
+        .expect("valid")
+        .1
 }
 
 /// Round-off bound of the total momentum relative to the momentum scale
@@ -258,7 +262,7 @@ fn the_summary_records_the_bodies() {
     assert_eq!(summary["bodies"]["count"], 256);
     assert_eq!(summary["bodies"]["per_type"], serde_json::json!([256]));
     assert_eq!(summary["bodies"]["sites"], 768);
-    let side = (256.0f64 / 0.3157).cbrt();
+    let side = (256.0f64 / 0.32655).cbrt();
     assert_eq!(
         summary["bodies"]["box"],
         serde_json::json!([side, side, side])
