@@ -4,8 +4,9 @@ the five integrators runs each body built-in at constant energy for 1e5
 steps of its dt (`validation.shared.equipartition`: thermostat removed, the
 first fifth left out); the section gives <T_rot> / <T_trans> with its error
 from block averages and a verdict per run stating its length, and how far
-the run's temperature and energy moved over the averaged part (the
-Stockmayer built-in's unshifted dipole cutoff heats it). `make validate`'s
+the run's temperature and energy moved over the averaged part (both
+built-ins conserve energy: the Stockmayer fluid's dipoles are
+shifted-force). `make validate`'s
 check runs the same protocol at 2e4 steps.
 
 Each run's series is kept in `--cache`, named after the scene it ran (a
@@ -109,11 +110,10 @@ def main(argv=None) -> int:
         f"<T_rot - T_trans> is block averaged (Flyvbjerg-Petersen); the verdict is z = |<T_rot - T_trans>| / sigma against "
         f"{ep.Z_MAX:g}, and the ratio's error is sigma / <T_trans>. Degrees of freedom as quatrot counts them: 3N - 3 "
         "translational; 2 rotational per Stockmayer sphere (no torque reaches the spin about its dipole), 3 per o-terphenyl.",
-        "- Constant energy, not constant temperature: the Stockmayer fluid's dipoles are cut at 2.5 without a shift, so its "
-        "energy jumps as pairs cross the cutoff and the run heats (the T_trans and E/N columns): its verdict is on a slowly "
-        "heating run, and heat fed into one kind faster than the exchange shares it out would show as a difference. The "
-        "o-terphenyl liquid (force-shifted, smooth at its cutoff) conserves its energy; without the built-in's thermostat "
-        "its lattice start heats as it melts, and its verdict is at the liquid's temperature in the T_trans column.",
+        "- Constant energy, not constant temperature: the Stockmayer fluid's dipoles are shifted-force at 2.5 and the "
+        "o-terphenyl liquid's Lennard-Jones force-shifted, so both conserve their energy (the E/N column shows how well); "
+        "without the built-ins' thermostats their lattice starts heat as they melt, and each verdict is at the liquid's "
+        "temperature in the T_trans column.",
         "- `make validate`'s `equipartition_bodies` check runs the same protocol at 20,000 steps per run.",
         "",
         table(rows, steps),
