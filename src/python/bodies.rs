@@ -9,7 +9,7 @@ use crate::bodies::{
     Mixing, Space, Truncation,
 };
 use crate::checks::{from_name, InputError};
-use crate::scene::body_types;
+use crate::scene::{body_electrostatics, body_types};
 use crate::units::{Dimension, Units};
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
@@ -18,11 +18,11 @@ use pyo3::types::PyDict;
 
 /// The library's path of a body's value as the argument that holds it
 /// (`bodies[3].orientation` is `orientations[3]`).
-fn argument_path(e: InputError) -> PyErr {
+fn argument_path(e: InputError, electrostatics_table: bool) -> PyErr {
     if e.path == "lennard_jones.cutoff" {
         return invalid("lj_cutoff", e.message);
     }
-    if e.path.starts_with("electrostatics") {
+    if e.path.starts_with("electrostatics") && !electrostatics_table {
         return invalid("electrostatic_cutoff", e.message);
     }
     let renamed = [
@@ -77,7 +77,14 @@ fn argument_path(e: InputError) -> PyErr {
 /// mixing : {"lorentz_berthelot", "geometric"}, default "lorentz_berthelot"
 ///     The Lennard-Jones mixing rule of unlike sites.
 /// electrostatic_cutoff : float, optional
-///     Charges' and dipoles' cutoff (required when a site has one).
+///     Charges' and dipoles' cutoff (required when a site has one, unless
+///     `electrostatics` is given).
+/// electrostatics : dict, optional
+///     The sum of charges, dipoles and quadrupoles, as a scene's
+///     ``body_interactions.electrostatics`` table: ``{"kind": "cutoff",
+///     "cutoff": r}`` or ``{"kind": "ewald", "accuracy": a, "method":
+///     "pme", "surface": "conducting"}`` (periodic box only; accuracy
+///     default 1e-6). Not with `electrostatic_cutoff`.
 /// units : {"reduced", "real"}, default "reduced"
 ///     The units of every value given and returned (real: velocities in
 ///     Angstrom/fs, energies in kcal/mol, forces in kcal/(mol Angstrom),
@@ -100,9 +107,11 @@ fn argument_path(e: InputError) -> PyErr {
 /// ------
 /// ValueError
 ///     For bad shapes or values (named), a box shorter than twice the
-///     largest cutoff plus 0.3.
+///     largest cutoff plus 0.3, both `electrostatic_cutoff` and
+///     `electrostatics`.
 /// quatrot.SceneError
-///     For a bad body type (the field named: ``body_types[0].mass``).
+///     For a bad body type or `electrostatics` table (the field named:
+///     ``body_types[0].mass``, ``electrostatics.accuracy``).
 ///
 /// Examples
 /// --------
@@ -131,7 +140,7 @@ fn argument_path(e: InputError) -> PyErr {
 ///
 /// ```
 #[pyfunction]
-#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None, units=None))]
+#[pyo3(signature = (body_types, positions, orientations, *, kinds=None, velocities=None, box_lengths=None, lj_cutoff=None, truncation=None, mixing=None, electrostatic_cutoff=None, electrostatics=None, units=None))]
 #[allow(clippy::too_many_arguments)]
 fn bodies_evaluate<'py>(
     py: Python<'py>,
@@ -145,9 +154,23 @@ fn bodies_evaluate<'py>(
     truncation: Option<&str>,
     mixing: Option<&str>,
     electrostatic_cutoff: Option<f64>,
+    electrostatics: Option<&Bound<'py, PyAny>>,
     units: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let units = named::<Units>(units, "units")?;
+    let electrostatics_table = electrostatics.is_some();
+    let electrostatics = match (electrostatic_cutoff, electrostatics) {
+        (Some(_), Some(_)) => {
+            let message = "give electrostatic_cutoff or electrostatics, not both".to_string();
+            return Err(invalid("electrostatics", message));
+        }
+        (Some(cutoff), None) => Some(ElectrostaticsOptions::Cutoff(cutoff)),
+        (None, Some(table)) => Some(
+            body_electrostatics(to_toml(table, "electrostatics")?).map_err(|e| scene_error(&e))?,
+        ),
+        (None, None) => None,
+    };
+
     let types = body_types_of(body_types, units)?;
     let positions = Items::new(positions, "positions", &[3], Values::Finite)?;
     let orientations = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
@@ -186,10 +209,11 @@ fn bodies_evaluate<'py>(
                 })
             })
             .transpose()?,
-        electrostatics: electrostatic_cutoff.map(ElectrostaticsOptions::Cutoff),
+        electrostatics,
         skin: DEFAULT_SKIN,
     };
-    let mut system = BodySystem::new(types, bodies, space, &options).map_err(argument_path)?;
+    let mut system = BodySystem::new(types, bodies, space, &options)
+        .map_err(|e| argument_path(e, electrostatics_table))?;
     let (evaluation, pressure) = py.detach(|| {
         let mut e = Evaluation::default();
         system.evaluate(&mut e);

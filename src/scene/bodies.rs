@@ -6,6 +6,7 @@
 use super::body_types::{checked_types, RawBodyType};
 use super::error::SceneError;
 use super::initial::{drawn_seed, RawInitial};
+use super::parse::parse_value;
 use super::tagged::tagged;
 use crate::bodies::{
     lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, ElectrostaticsOptions,
@@ -269,16 +270,35 @@ fn interaction_options(raw: RawBodyInteractions) -> InteractionOptions {
             truncation: lj.truncation.unwrap_or_default(),
             mixing: lj.mixing.unwrap_or_default(),
         }),
-        electrostatics: raw.electrostatics.map(|e| match e {
-            RawBodyElectrostatics::Cutoff(c) => ElectrostaticsOptions::Cutoff(c.cutoff),
-            RawBodyElectrostatics::Ewald(e) => ElectrostaticsOptions::Ewald(EwaldOptions {
-                accuracy: e.accuracy.unwrap_or(DEFAULT_ACCURACY),
-                method: e.method.unwrap_or_default(),
-                surface: e.surface.unwrap_or_default(),
-            }),
-        }),
+        electrostatics: raw.electrostatics.map(electrostatics_options),
         skin: raw.skin.unwrap_or(DEFAULT_SKIN),
     }
+}
+
+/// The options of an `electrostatics` table, defaults filled in.
+fn electrostatics_options(raw: RawBodyElectrostatics) -> ElectrostaticsOptions {
+    match raw {
+        RawBodyElectrostatics::Cutoff(c) => ElectrostaticsOptions::Cutoff(c.cutoff),
+        RawBodyElectrostatics::Ewald(e) => ElectrostaticsOptions::Ewald(EwaldOptions {
+            accuracy: e.accuracy.unwrap_or(DEFAULT_ACCURACY),
+            method: e.method.unwrap_or_default(),
+            surface: e.surface.unwrap_or_default(),
+        }),
+    }
+}
+
+/// The electrostatics of bodies from a table written as a scene's
+/// `body_interactions.electrostatics` (`{ kind = "ewald", accuracy = 1e-6
+/// }`), errors at `electrostatics.accuracy`; the system checks the values.
+pub fn body_electrostatics(value: toml::Value) -> Result<ElectrostaticsOptions, SceneError> {
+    #[derive(Deserialize)]
+    struct Table {
+        electrostatics: RawBodyElectrostatics,
+    }
+    let mut table = toml::Table::new();
+    let _ = table.insert("electrostatics".to_string(), value);
+    let raw: Table = parse_value(toml::Value::Table(table))?;
+    Ok(electrostatics_options(raw.electrostatics))
 }
 
 /// The space and the bodies at t = 0, with the seed that drew them.

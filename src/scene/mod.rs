@@ -28,7 +28,7 @@ mod validate;
 mod water;
 
 pub use crate::parallel::ThreadCount;
-pub use bodies::{BodyScene, BodySeries, DEFAULT_SKIN};
+pub use bodies::{body_electrostatics, BodyScene, BodySeries, DEFAULT_SKIN};
 pub use body_types::{body_types, RawBodySite, RawBodyType, RawLennardJones};
 pub use builtin::{builtin, Builtin, BUILTINS};
 pub use error::SceneError;

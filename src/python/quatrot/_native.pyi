@@ -85,6 +85,7 @@ def bodies_evaluate(
     truncation: str | None = None,
     mixing: str | None = None,
     electrostatic_cutoff: float | None = None,
+    electrostatics: dict[str, Any] | None = None,
     units: str | None = None,
 ) -> dict[str, Any]: ...
 def gear_corrections_table(
