@@ -159,17 +159,7 @@ fn bodies_evaluate<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let units = named::<Units>(units, "units")?;
     let electrostatics_table = electrostatics.is_some();
-    let electrostatics = match (electrostatic_cutoff, electrostatics) {
-        (Some(_), Some(_)) => {
-            let message = "give electrostatic_cutoff or electrostatics, not both".to_string();
-            return Err(invalid("electrostatics", message));
-        }
-        (Some(cutoff), None) => Some(ElectrostaticsOptions::Cutoff(cutoff)),
-        (None, Some(table)) => Some(
-            body_electrostatics(to_toml(table, "electrostatics")?).map_err(|e| scene_error(&e))?,
-        ),
-        (None, None) => None,
-    };
+    let electrostatics = electrostatics_choice(electrostatic_cutoff, electrostatics)?;
 
     let types = body_types_of(body_types, units)?;
     let positions = Items::new(positions, "positions", &[3], Values::Finite)?;
@@ -220,7 +210,36 @@ fn bodies_evaluate<'py>(
         let pressure = system.pressure(&e);
         (e, pressure)
     });
-    let site_positions: Vec<Vector3<f64>> = system
+    let site_positions = site_positions(&system);
+    let in_units = |p: f64| units.from_internal(p, Dimension::Pressure);
+    let pressures = (pressure.map(in_units), in_units(evaluation.pressure_tail));
+    let out = result(py, &evaluation, pressures)?;
+    out.set_item("site_positions", rows(py, &site_positions)?)?;
+    Ok(out)
+}
+
+/// The electrostatics of `electrostatic_cutoff` or of the table
+/// `electrostatics` (not both).
+fn electrostatics_choice(
+    cutoff: Option<f64>,
+    table: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<ElectrostaticsOptions>> {
+    match (cutoff, table) {
+        (Some(_), Some(_)) => {
+            let message = "give electrostatic_cutoff or electrostatics, not both".to_string();
+            Err(invalid("electrostatics", message))
+        }
+        (Some(cutoff), None) => Ok(Some(ElectrostaticsOptions::Cutoff(cutoff))),
+        (None, Some(table)) => body_electrostatics(to_toml(table, "electrostatics")?)
+            .map(Some)
+            .map_err(|e| scene_error(&e)),
+        (None, None) => Ok(None),
+    }
+}
+
+/// The sites' positions in space, bodies in order.
+fn site_positions(system: &BodySystem) -> Vec<Vector3<f64>> {
+    system
         .bodies
         .iter()
         .flat_map(|b| {
@@ -229,12 +248,7 @@ fn bodies_evaluate<'py>(
                 .iter()
                 .map(|s| b.position + b.orientation.body_to_space(&s.position))
         })
-        .collect();
-    let in_units = |p: f64| units.from_internal(p, Dimension::Pressure);
-    let pressures = (pressure.map(in_units), in_units(evaluation.pressure_tail));
-    let out = result(py, &evaluation, pressures)?;
-    out.set_item("site_positions", rows(py, &site_positions)?)?;
-    Ok(out)
+        .collect()
 }
 
 /// The neighbour lists' skin of an evaluation (any value gives the same

@@ -3,10 +3,11 @@ issue 40's charge benchmark, after `cargo bench --bench pme_charges` (whose
 configuration, reference forces and quatrot timings it reads): quatrot's
 smooth PME against OpenMM's CPU platform PME (`NonbondedForce`, one thread)
 on a water-like configuration of 3 x 4,000 point charges, per evaluation,
-at the same measured RMS force accuracy, side by side in one run.
+at the same measured RMS force accuracy, side by side in one run; and
+quatrot at forced splittings at 1e-4, to show what its cost model chooses.
 
 Both codes' errors are RMS force errors against quatrot's PME at accuracy
-1e-10 (the direct sum would hold 7e7 pairs within its cutoff; the
+1e-9 (the direct sum would hold 7e7 pairs within its cutoff; the
 pme_references check of `make validate` checks quatrot's PME against the
 converged numpy Ewald sum on smaller water-like sets), itself checked here
 against OpenMM's Reference platform (double precision) at ewaldErrorTolerance
@@ -15,17 +16,17 @@ precision property: its RMS error cannot fall below float rounding); each
 OpenMM time is the median of repeated `getState(energy, forces)` calls at
 fixed positions (the neighbour list built once, as quatrot's set-up
 excluded: quatrot's evaluation rebuilds its cell list each time, so the
-comparison leans in OpenMM's favour). Writes the `charges` entry of
+comparison leans in OpenMM's favour). Times compared are process CPU
+times (all threads): the machine is shared, and wall times follow the
+other jobs. Writes the `charges` entry of
 `<out>/results.json` and its section of `<out>/RESULTS.md`."""
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -34,24 +35,31 @@ from validation.shared.pme_peers import openmm_charges, rms
 
 BEGIN = "<!-- make bench: charges section begin -->"
 END = "<!-- make bench: charges section end -->"
-TOLERANCES = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5)  # OpenMM ewaldErrorTolerance
+TOLERANCES = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 2e-6)  # OpenMM ewaldErrorTolerance
 CUTOFFS = (0.8, 1.0, 1.2)  # nm, OpenMM's real-space cutoff (1.0 is common)
 REFERENCE_TOLERANCE = 1e-7  # OpenMM Reference platform, to check the reference
 SECONDS_PER_CASE = 3.0
 TARGET = 1.5  # issue 40: quatrot within 1.5x of OpenMM's time
+# The time compared: the median process CPU time per evaluation (the
+# machine is shared: wall times follow the other jobs, CPU times far less).
+TIME = "median_cpu_seconds"
 
 
-def time_openmm(evaluate, positions) -> tuple[float, float, np.ndarray]:
-    """(median seconds, best seconds, forces) of repeated evaluations."""
+def time_openmm(evaluate, positions) -> tuple[dict, np.ndarray]:
+    """Median and best wall and process CPU seconds of repeated evaluations, and the forces."""
     _, forces = evaluate(positions)
-    times = []
+    times, cpu_times = [], []
     start = time.perf_counter()
     while len(times) < 5 or (time.perf_counter() - start < SECONDS_PER_CASE and len(times) < 500):
-        t = time.perf_counter()
+        t, cpu = time.perf_counter(), time.process_time()
         evaluate.state()
         times.append(time.perf_counter() - t)
+        cpu_times.append(time.process_time() - cpu)
     times.sort()
-    return times[len(times) // 2], times[0], forces
+    cpu_times.sort()
+    middle = len(times) // 2
+    timing = {"median_seconds": times[middle], "best_seconds": times[0], "median_cpu_seconds": cpu_times[middle], "best_cpu_seconds": cpu_times[0]}
+    return timing, forces
 
 
 def openmm_rows(raw: dict) -> tuple[list[dict], dict]:
@@ -72,7 +80,7 @@ def openmm_rows(raw: dict) -> tuple[list[dict], dict]:
     for cutoff in CUTOFFS:
         for tolerance in TOLERANCES:
             evaluate = openmm_charges(sites, charges, box, cutoff, tolerance, platform="CPU")
-            median, best, forces = time_openmm(evaluate, sites)
+            timing, forces = time_openmm(evaluate, sites)
             alpha, nx, ny, nz = evaluate.parameters()
             error = rms(forces - reference)
             rows.append(
@@ -81,8 +89,7 @@ def openmm_rows(raw: dict) -> tuple[list[dict], dict]:
                     "tolerance": tolerance,
                     "alpha": alpha,
                     "grid": [nx, ny, nz],
-                    "median_seconds": median,
-                    "best_seconds": best,
+                    **timing,
                     "rms_force_error": error,
                     "relative_force_error": error / scale,
                 }
@@ -97,8 +104,8 @@ def matched(quatrot_cases: list[dict], openmm: list[dict]) -> list[dict]:
     out = []
     for q in quatrot_cases:
         good = [o for o in openmm if o["rms_force_error"] <= q["rms_force_error"]]
-        best = min(good, key=lambda o: o["median_seconds"]) if good else None
-        out.append({"quatrot": q, "openmm": best, "ratio": q["median_seconds"] / best["median_seconds"] if best else None})
+        best = min(good, key=lambda o: o[TIME]) if good else None
+        out.append({"quatrot": q, "openmm": best, "ratio": q[TIME] / best[TIME] if best else None})
     return out
 
 
@@ -113,25 +120,32 @@ def section(r: dict) -> str:
         f"- quatrot {raw['quatrot']} (one thread), OpenMM {r['openmm_version']} CPU platform (`Threads = 1`; single precision: the CPU platform has no double), same run.",
         f"- Configuration: {raw['molecules']} water-like molecules (SPC/E geometry and charges, every pair summed), "
         f"{3 * raw['molecules']} sites in a cube of {raw['box_edge']:.4f} nm (33.4 molecules per nm^3), random orientations (module doc of `validation.bench.charges`).",
-        "- Time per evaluation: energy and forces of every site, set-up excluded, median of repeats. Errors: RMS force against quatrot's PME at 1e-10 "
+        "- Time per evaluation: energy and forces of every site, set-up excluded, median of repeats, in process CPU time (all threads; "
+        "the wall time in brackets: on a shared machine it follows the other jobs), the time compared. Errors: RMS force against quatrot's PME at 1e-9 "
         f"(RMS force {r['reference_rms_force']:.4g} e^2/nm^2); that reference against OpenMM's Reference platform (double) at tolerance "
         f"{r['reference_check']['tolerance']:g}: forces {r['reference_check']['relative_force_difference']:.2e}, energy {r['reference_check']['relative_energy_difference']:.2e} relative.",
         "",
-        "| code | requested | alpha (1/nm) | r_c (nm) | mesh | order | time per evaluation | relative RMS force error |",
+        "| code | requested | alpha (1/nm) | r_c (nm) | mesh | order | CPU time per evaluation (wall) | relative RMS force error |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for q in raw["cases"]:
         p = q["parameters"]
+        code = "quatrot PME" if q.get("forced_alpha") is None else f"quatrot PME, alpha forced to {q['forced_alpha']:g}"
         lines.append(
-            f"| quatrot PME | {q['accuracy']:g} | {p['alpha']:.3f} | {p['real_cutoff']:.3f} | {'x'.join(map(str, p['grid']))} | {p['order']} "
-            f"| {q['median_seconds'] * 1e3:.4g} ms | {q['relative_force_error']:.2e} |"
+            f"| {code} | {q['accuracy']:g} | {p['alpha']:.3f} | {p['real_cutoff']:.3f} | {'x'.join(map(str, p['grid']))} | {p['order']} "
+            f"| {q[TIME] * 1e3:.4g} ms ({q['median_seconds'] * 1e3:.4g} ms) | {q['relative_force_error']:.2e} |"
         )
     for o in r["openmm"]:
         lines.append(
             f"| OpenMM CPU PME | {o['tolerance']:g} | {o['alpha']:.3f} | {o['cutoff']:g} | {'x'.join(map(str, o['grid']))} | 5 "
-            f"| {o['median_seconds'] * 1e3:.4g} ms | {o['relative_force_error']:.2e} |"
+            f"| {o[TIME] * 1e3:.4g} ms ({o['median_seconds'] * 1e3:.4g} ms) | {o['relative_force_error']:.2e} |"
         )
-    lines += ["", f"At the same measured accuracy (for each quatrot case, the fastest OpenMM run at least as accurate; target: quatrot / OpenMM at most {TARGET:g}):", ""]
+    lines += [
+        "",
+        "At the same measured accuracy (for each quatrot case of the cost model's choice, the fastest OpenMM run at least as accurate; "
+        f"target: quatrot / OpenMM at most {TARGET:g}):",
+        "",
+    ]
     for mt in r["matched"]:
         q = mt["quatrot"]
         if mt["openmm"] is None:
@@ -150,10 +164,7 @@ def section(r: dict) -> str:
 def main(argv=None) -> int:
     import openmm
 
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=Path("benchmarks"))
-    parser.add_argument("--raw", type=Path, default=Path("target/bench/raw"))
-    args = parser.parse_args(argv)
+    args = results_md.arguments(__doc__, argv)
     raw = json.loads((args.raw / "pme_charges.json").read_text())
     machine = results_md.machine()
     rows, check = openmm_rows(raw)
@@ -166,7 +177,7 @@ def main(argv=None) -> int:
         "reference_check": check,
         "openmm": rows,
     }
-    result["matched"] = matched(raw["cases"], rows)
+    result["matched"] = matched([q for q in raw["cases"] if q.get("forced_alpha") is None], rows)
     results_md.publish(args.out, "charges", result, (BEGIN, END), section(result))
     return 0
 

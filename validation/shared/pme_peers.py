@@ -27,7 +27,7 @@ import math
 import numpy as np
 from scipy.special import erfc
 
-from validation.shared.ewald_reference import S_CONVERGED
+from validation.shared.ewald_reference import S_CONVERGED, image_shifts, wave_vectors
 from validation.shared.openmm_multipoles import ONE_4PI_EPS0, random_orientations, rotation
 
 WATER_DENSITY = 33.4  # molecules per nm^3 (liquid water at 300 K)
@@ -68,8 +68,7 @@ def charge_ewald(sites, charges, box, alpha=None) -> tuple[float, np.ndarray]:
     volume = float(np.prod(box))
     alpha = 5.0 / box.min() if alpha is None else alpha
     rc, kc = S_CONVERGED / alpha, 2 * alpha * S_CONVERGED
-    m = np.ceil(rc / box).astype(int) + 1
-    shifts = np.array(np.meshgrid(*[np.arange(-k, k + 1) for k in m], indexing="ij")).reshape(3, -1).T * box
+    shifts = image_shifts(box, rc)
     energy = 0.0
     forces = np.zeros((n, 3))
     for t in range(n):
@@ -82,12 +81,7 @@ def charge_ewald(sites, charges, box, alpha=None) -> tuple[float, np.ndarray]:
         energy += 0.5 * charges[t] * np.sum(q * b0)
         b1 = (b0 + 2 * alpha / math.sqrt(math.pi) * np.exp(-((alpha * d) ** 2))) / d**2
         forces[t] = charges[t] * np.sum((q * b1)[:, None] * r, axis=0)
-    kmax = np.floor(kc * box / (2 * math.pi)).astype(int)
-    grid = np.array(np.meshgrid(*[np.arange(-k, k + 1) for k in kmax], indexing="ij")).reshape(3, -1).T
-    k = grid * (2 * math.pi / box)
-    k2 = np.einsum("ka,ka->k", k, k)
-    keep = (k2 > 0) & (k2 <= kc * kc)
-    k, k2 = k[keep], k2[keep]
+    k, k2 = wave_vectors(box, kc)
     g = 4 * math.pi / volume * np.exp(-k2 / (4 * alpha**2)) / k2
     phase = np.exp(-1j * sites @ k.T)  # (n, k)
     s = phase.T @ charges
