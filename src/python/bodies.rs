@@ -17,12 +17,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 /// The library's path of a body's value as the argument that holds it
-/// (`bodies[3].orientation` is `orientations[3]`).
-fn argument_path(e: InputError, electrostatics_table: bool) -> PyErr {
+/// (`bodies[3].orientation` is `orientations[3]`; `electrostatics.cutoff`
+/// is `electrostatic_cutoff` unless the `electrostatics` table was given).
+fn argument_path(e: InputError, table: bool) -> PyErr {
     if e.path == "lennard_jones.cutoff" {
         return invalid("lj_cutoff", e.message);
     }
-    if e.path.starts_with("electrostatics") && !electrostatics_table {
+    if e.path.starts_with("electrostatics") && !table {
         return invalid("electrostatic_cutoff", e.message);
     }
     let renamed = [
@@ -80,11 +81,10 @@ fn argument_path(e: InputError, electrostatics_table: bool) -> PyErr {
 ///     Charges' and dipoles' cutoff (required when a site has one, unless
 ///     `electrostatics` is given).
 /// electrostatics : dict, optional
-///     The sum of charges, dipoles and quadrupoles, as a scene's
-///     ``body_interactions.electrostatics`` table: ``{"kind": "cutoff",
-///     "cutoff": r}`` or ``{"kind": "ewald", "accuracy": a, "method":
-///     "pme", "surface": "conducting"}`` (periodic box only; accuracy
-///     default 1e-6). Not with `electrostatic_cutoff`.
+///     Instead of `electrostatic_cutoff`, a scene's ``[body_interactions]
+///     electrostatics`` table: ``{"kind": "cutoff", "cutoff": r}`` or
+///     ``{"kind": "ewald", "accuracy": 1e-6, "method": "pme", "surface":
+///     "conducting"}`` (a periodic box), with a scene's defaults and checks.
 /// units : {"reduced", "real"}, default "reduced"
 ///     The units of every value given and returned (real: velocities in
 ///     Angstrom/fs, energies in kcal/mol, forces in kcal/(mol Angstrom),
@@ -107,11 +107,9 @@ fn argument_path(e: InputError, electrostatics_table: bool) -> PyErr {
 /// ------
 /// ValueError
 ///     For bad shapes or values (named), a box shorter than twice the
-///     largest cutoff plus 0.3, both `electrostatic_cutoff` and
-///     `electrostatics`.
+///     largest cutoff plus 0.3.
 /// quatrot.SceneError
-///     For a bad body type or `electrostatics` table (the field named:
-///     ``body_types[0].mass``, ``electrostatics.accuracy``).
+///     For a bad body type (the field named: ``body_types[0].mass``).
 ///
 /// Examples
 /// --------
@@ -158,9 +156,8 @@ fn bodies_evaluate<'py>(
     units: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let units = named::<Units>(units, "units")?;
-    let electrostatics_table = electrostatics.is_some();
+    let table = electrostatics.is_some();
     let electrostatics = electrostatics_choice(electrostatic_cutoff, electrostatics)?;
-
     let types = body_types_of(body_types, units)?;
     let positions = Items::new(positions, "positions", &[3], Values::Finite)?;
     let orientations = Items::new(orientations, "orientations", &[4], Values::Quaternions)?;
@@ -202,42 +199,22 @@ fn bodies_evaluate<'py>(
         electrostatics,
         skin: DEFAULT_SKIN,
     };
-    let mut system = BodySystem::new(types, bodies, space, &options)
-        .map_err(|e| argument_path(e, electrostatics_table))?;
+    let mut system =
+        BodySystem::new(types, bodies, space, &options).map_err(|e| argument_path(e, table))?;
     let (evaluation, pressure) = py.detach(|| {
         let mut e = Evaluation::default();
         system.evaluate(&mut e);
         let pressure = system.pressure(&e);
         (e, pressure)
     });
-    let site_positions = site_positions(&system);
     let in_units = |p: f64| units.from_internal(p, Dimension::Pressure);
     let pressures = (pressure.map(in_units), in_units(evaluation.pressure_tail));
     let out = result(py, &evaluation, pressures)?;
-    out.set_item("site_positions", rows(py, &site_positions)?)?;
+    out.set_item("site_positions", rows(py, &site_positions(&system))?)?;
     Ok(out)
 }
 
-/// The electrostatics of `electrostatic_cutoff` or of the table
-/// `electrostatics` (not both).
-fn electrostatics_choice(
-    cutoff: Option<f64>,
-    table: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Option<ElectrostaticsOptions>> {
-    match (cutoff, table) {
-        (Some(_), Some(_)) => {
-            let message = "give electrostatic_cutoff or electrostatics, not both".to_string();
-            Err(invalid("electrostatics", message))
-        }
-        (Some(cutoff), None) => Ok(Some(ElectrostaticsOptions::Cutoff(cutoff))),
-        (None, Some(table)) => body_electrostatics(to_toml(table, "electrostatics")?)
-            .map(Some)
-            .map_err(|e| scene_error(&e)),
-        (None, None) => Ok(None),
-    }
-}
-
-/// The sites' positions in space, bodies in order.
+/// The sites' positions in space, bodies in order, each body's sites in order.
 fn site_positions(system: &BodySystem) -> Vec<Vector3<f64>> {
     system
         .bodies
@@ -249,6 +226,25 @@ fn site_positions(system: &BodySystem) -> Vec<Vector3<f64>> {
                 .map(|s| b.position + b.orientation.body_to_space(&s.position))
         })
         .collect()
+}
+
+/// The electrostatics of `electrostatic_cutoff` or of the `electrostatics`
+/// table (not both).
+fn electrostatics_choice(
+    cutoff: Option<f64>,
+    table: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<ElectrostaticsOptions>> {
+    match (cutoff, table) {
+        (Some(_), Some(_)) => {
+            let message = "give electrostatic_cutoff or electrostatics, not both".to_string();
+            Err(invalid("electrostatics", message))
+        }
+        (Some(cutoff), None) => Ok(Some(ElectrostaticsOptions::Cutoff(cutoff))),
+        (None, Some(value)) => body_electrostatics(to_toml(value, "electrostatics")?)
+            .map(Some)
+            .map_err(|e| scene_error(&e)),
+        (None, None) => Ok(None),
+    }
 }
 
 /// The neighbour lists' skin of an evaluation (any value gives the same

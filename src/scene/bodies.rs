@@ -287,18 +287,20 @@ fn electrostatics_options(raw: RawBodyElectrostatics) -> ElectrostaticsOptions {
     }
 }
 
-/// The electrostatics of bodies from a table written as a scene's
-/// `body_interactions.electrostatics` (`{ kind = "ewald", accuracy = 1e-6
-/// }`), errors at `electrostatics.accuracy`; the system checks the values.
+/// The options of `value`, a `[body_interactions] electrostatics` table
+/// (`quatrot.bodies_evaluate`'s `electrostatics`), errors naming the field
+/// (`electrostatics.accuracy`); the values are checked by the system.
 pub fn body_electrostatics(value: toml::Value) -> Result<ElectrostaticsOptions, SceneError> {
-    #[derive(Deserialize)]
-    struct Table {
-        electrostatics: RawBodyElectrostatics,
-    }
     let mut table = toml::Table::new();
     let _ = table.insert("electrostatics".to_string(), value);
-    let raw: Table = parse_value(toml::Value::Table(table))?;
+    let raw: RawElectrostaticsTable = parse_value(toml::Value::Table(table))?;
     Ok(electrostatics_options(raw.electrostatics))
+}
+
+/// A lone `electrostatics` table.
+#[derive(Deserialize)]
+struct RawElectrostaticsTable {
+    electrostatics: RawBodyElectrostatics,
 }
 
 /// The space and the bodies at t = 0, with the seed that drew them.

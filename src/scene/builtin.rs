@@ -30,6 +30,7 @@ pub const BUILTINS: &[Builtin] = &[
     builtin!("multipole_tops_bcc"),
     builtin!("stockmayer_fluid"),
     builtin!("lewis_wahnstrom_otp"),
+    builtin!("spce_water_512"),
 ];
 
 /// The built-in scene called `name`, if any.

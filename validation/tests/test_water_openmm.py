@@ -29,28 +29,11 @@ import pytest
 
 import quatrot
 
-openmm = pytest.importorskip("openmm")
-from openmm import unit  # noqa: E402
+pytest.importorskip("openmm")
 
+from validation.shared.openmm_water import KJ_PER_KCAL, PUBLISHED, openmm_water, site_parameters  # noqa: E402
 from validation.tests.test_unit_constants import openmm_coulomb_kcal_per_mol_angstrom  # noqa: E402
 
-KJ_PER_KCAL = 4.184
-# The models as published (Angstrom, degrees, e, kcal/mol): SPC/E, Berendsen,
-# Grigera & Straatsma, J. Phys. Chem. 91, 6269 (1987); TIP3P, Jorgensen et
-# al., J. Chem. Phys. 79, 926 (1983) (A = 582.0e3 kcal A^12/mol, C = 595.0
-# kcal A^6/mol); TIP4P/2005, Abascal & Vega, J. Chem. Phys. 123, 234505
-# (2005) (epsilon/k_B = 93.2 K, with the exact k_B N_A of SI 2019).
-PUBLISHED = {
-    "spce": dict(r=1.0, angle=109.47, q_h=0.4238, d_om=0.0, sigma=3.166, epsilon=0.650 / KJ_PER_KCAL),
-    "tip3p": dict(
-        r=0.9572, angle=104.52, q_h=0.417, d_om=0.0,
-        sigma=(582.0e3 / 595.0) ** (1 / 6), epsilon=595.0**2 / (4 * 582.0e3),
-    ),
-    "tip4p_2005": dict(
-        r=0.9572, angle=104.52, q_h=0.5564, d_om=0.1546,
-        sigma=3.1589, epsilon=93.2 * 1.380649e-23 * 6.02214076e23 / 4184,
-    ),
-}
 MOLECULES = 8
 CUTOFF = 30.0  # Angstrom: above the cluster's size, so every pair counts
 # Round-off of sums of ~100 pair terms of either sign, relative to the
@@ -65,51 +48,6 @@ def cluster(seed=11):
     positions = grid * 3.1 + rng.uniform(-0.2, 0.2, (MOLECULES, 3))
     q = rng.normal(size=(MOLECULES, 4))
     return positions, q / np.linalg.norm(q, axis=1, keepdims=True)
-
-
-def site_parameters(model):
-    """(charge, sigma, epsilon) per site, O H H (M), from the published values."""
-    p = PUBLISHED[model]
-    q_negative = -2 * p["q_h"]
-    oxygen = (0.0 if p["d_om"] else q_negative, p["sigma"], p["epsilon"])
-    sites = [oxygen, (p["q_h"], 1.0, 0.0), (p["q_h"], 1.0, 0.0)]
-    if p["d_om"]:
-        sites.append((q_negative, 1.0, 0.0))
-    return sites
-
-
-def openmm_groups(site_positions, parameters):
-    """OpenMM's energies (kJ/mol) by term and total site forces (kJ/mol/nm):
-    Coulomb in force group 0, Lennard-Jones in group 1, each molecule's own
-    pairs excluded."""
-    per_molecule = len(parameters)
-    system = openmm.System()
-    coulomb, lj = openmm.NonbondedForce(), openmm.NonbondedForce()
-    for force, group in ((coulomb, 0), (lj, 1)):
-        force.setNonbondedMethod(openmm.NonbondedForce.NoCutoff)
-        force.setForceGroup(group)
-        system.addForce(force)
-    for _ in range(MOLECULES):
-        for charge, sigma, epsilon in parameters:
-            system.addParticle(1.0)
-            coulomb.addParticle(charge, 0.1, 0.0)
-            lj.addParticle(0.0, sigma / 10, epsilon * KJ_PER_KCAL)
-    for m in range(MOLECULES):
-        first = m * per_molecule
-        for i in range(first, first + per_molecule):
-            for j in range(i + 1, first + per_molecule):
-                coulomb.addException(i, j, 0.0, 0.1, 0.0)
-                lj.addException(i, j, 0.0, 0.1, 0.0)
-    context = openmm.Context(
-        system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference")
-    )
-    context.setPositions(site_positions / 10.0)
-    energies = {}
-    for name, group in (("electrostatic", {0}), ("lennard_jones", {1})):
-        state = context.getState(getEnergy=True, groups=group)
-        energies[name] = state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole)
-    forces = context.getState(getForces=True).getForces(asNumpy=True)
-    return energies, forces.value_in_unit(unit.kilojoule_per_mole / unit.nanometer)
 
 
 def quatrot_coulomb_constant():
@@ -134,8 +72,8 @@ def test_a_water_cluster_matches_openmm_by_term(model):
     sites = state["site_positions"]
     parameters = site_parameters(model)
     assert sites.shape == (MOLECULES * len(parameters), 3)
-    reference_kj, forces_kj = openmm_groups(sites, parameters)
-    reference = {k: v / KJ_PER_KCAL for k, v in reference_kj.items()}
+    reference, site_forces = openmm_water(sites, model, MOLECULES)
+    reference_kj = {k: v * KJ_PER_KCAL for k, v in reference.items()}
     energies = state["energies"]
     c_quatrot, c_openmm = quatrot_coulomb_constant(), openmm_coulomb_kcal_per_mol_angstrom()
     print(f"{model}: Coulomb constants quatrot {c_quatrot!r}, OpenMM {c_openmm!r} kcal A/(mol e^2)")
@@ -146,8 +84,6 @@ def test_a_water_cluster_matches_openmm_by_term(model):
     assert energies["lennard_jones_tail"] == 0.0
     total_kj = energies["total"] * KJ_PER_KCAL
     assert total_kj == pytest.approx(sum(reference_kj.values()), rel=ROUND_OFF)
-    # Forces: kJ/mol/nm to kcal/mol/A.
-    site_forces = forces_kj / (KJ_PER_KCAL * 10.0)
     scale = np.abs(site_forces).max()
     np.testing.assert_allclose(state["site_forces"], site_forces, rtol=0, atol=ROUND_OFF * scale)
     per = len(parameters)
