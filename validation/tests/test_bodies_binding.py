@@ -80,14 +80,3 @@ def test_the_ewald_sum_of_charged_bodies_gives_the_madelung_constant():
     assert state["energies"]["electrostatic"] / pairs == pytest.approx(-1.747564594633182, rel=1e-7)
     assert np.abs(state["forces"]).max() < 1e-6
 
-
-def test_electrostatics_tables_are_refused_naming_the_field():
-    positions, kinds, edge = _rock_salt(1)
-    ion = {"sites": [{"position": [0, 0, 0], "charge": 1.0}], "mass": 1.0, "inertia": np.eye(3).tolist()}
-    common = {"box_lengths": [edge + 2] * 3}
-    with pytest.raises(ValueError, match=r"^electrostatics: give electrostatic_cutoff or electrostatics, not both$"):
-        quatrot.bodies_evaluate([ion], positions, [[1, 0, 0, 0]] * 8, electrostatic_cutoff=1.0, electrostatics={"kind": "cutoff", "cutoff": 1.0}, **common)
-    with pytest.raises(quatrot.SceneError, match=r"^electrostatics\.acuracy: unknown field `acuracy`"):
-        quatrot.bodies_evaluate([ion], positions, [[1, 0, 0, 0]] * 8, electrostatics={"kind": "ewald", "acuracy": 1e-5}, **common)
-    with pytest.raises(ValueError, match=r"^electrostatics\.accuracy: "):
-        quatrot.bodies_evaluate([ion], positions, [[1, 0, 0, 0]] * 8, electrostatics={"kind": "ewald", "accuracy": 1e-14}, **common)
