@@ -7,11 +7,11 @@ at the same measured RMS force accuracy, side by side in one run; and
 quatrot at forced splittings at 1e-4, to show what its cost model chooses.
 
 Both codes' errors are RMS force errors against quatrot's PME at accuracy
-1e-9 (the direct sum would hold 7e7 pairs within its cutoff; the
+1e-9 (a converged direct sum of 12,000 sites is beyond this benchmark; the
 pme_references check of `make validate` checks quatrot's PME against the
 converged numpy Ewald sum on smaller water-like sets), itself checked here
 against OpenMM's Reference platform (double precision) at ewaldErrorTolerance
-1e-7. OpenMM's CPU platform computes in single precision (it has no
+1e-6. OpenMM's CPU platform computes in single precision (it has no
 precision property: its RMS error cannot fall below float rounding); each
 OpenMM time is the median of repeated `getState(energy, forces)` calls at
 fixed positions (the neighbour list built once, as quatrot's set-up
@@ -37,7 +37,7 @@ BEGIN = "<!-- make bench: charges section begin -->"
 END = "<!-- make bench: charges section end -->"
 TOLERANCES = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 2e-6)  # OpenMM ewaldErrorTolerance
 CUTOFFS = (0.8, 1.0, 1.2)  # nm, OpenMM's real-space cutoff (1.0 is common)
-REFERENCE_TOLERANCE = 1e-7  # OpenMM Reference platform, to check the reference
+REFERENCE_TOLERANCE = 1e-6  # OpenMM Reference platform, to check the reference
 SECONDS_PER_CASE = 3.0
 TARGET = 1.5  # issue 40: quatrot within 1.5x of OpenMM's time
 # The time compared: the median process CPU time per evaluation (the
