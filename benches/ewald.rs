@@ -8,7 +8,7 @@
 //!   accuracies 1e-6 and 1e-12, the direct Ewald sum at 1e-6 and 1e-12;
 //! * the FFT lattice Ewald sum (1e-12) from 10^3 to 100^3 rotors (and its
 //!   one-off set-up);
-//! * the direct Ewald sum (1e-6 and 1e-12) of irregular sites (uniform random
+//! * the direct Ewald sum (1e-6 and 1e-12, `method = "direct"`) of irregular sites (uniform random
 //!   at unit density, seed 14) from 125 to 4000 rotors;
 //! * issue 40's mesh Ewald (PME) against the direct Ewald sum at accuracy
 //!   1e-5 on a dipolar fluid-like configuration (a simple-cubic lattice of
@@ -18,7 +18,10 @@
 //!   and at about 10,000 dipoles (22^3 such sites less 648 at random, box
 //!   22) at accuracies 1e-4 to 1e-6 for the side-by-side with LAMMPS
 //!   `pppm/dipole`, which `validation.bench.ewald` measures on a
-//!   configuration of the same kind.
+//!   configuration of the same kind; the crossover of the two sums at
+//!   1e-4 and 1e-6 (512 to 4,096 dipoles), and the automatic choice's
+//!   estimates of both (`method = "auto"`'s cost models) at 1e-4 to 1e-6,
+//!   for the crossover they give.
 //!
 //! Each time is the median and the best of repeated single evaluations
 //! (repeats fill ~`SECONDS_PER_CASE`). Writes `<QUATROT_BENCH_RAW or
@@ -101,6 +104,28 @@ fn irregular_case(cells: usize, keep: Option<usize>, accuracy: f64, method: SumM
     });
     eprintln!("{case}");
     case
+}
+
+/// What `method = "auto"` estimates for the jittered configuration of
+/// `cells^3` dipoles at `accuracy` (its cost models in seconds, the path
+/// it takes), for the crossover the models give.
+fn auto_choice(cells: usize, accuracy: f64) -> Value {
+    let (sites, edge) = jittered(cells, None, 40);
+    let p = MultipolePotential::with_method(
+        &dipoles(&sites),
+        ewald(Vector3::repeat(edge), accuracy),
+        ExternalFields::NONE,
+        SumMethod::Auto,
+    )
+    .expect("valid potential");
+    let choice = p.auto_choice().expect("irregular sites: a choice");
+    json!({
+        "rotors": sites.len(),
+        "accuracy": accuracy,
+        "path": p.sum_path().as_str(),
+        "direct_seconds": choice.direct_seconds,
+        "pme_seconds": choice.pme_seconds,
+    })
 }
 
 fn ewald(box_lengths: Vector3<f64>, accuracy: f64) -> Boundary {
@@ -215,7 +240,7 @@ fn main() {
                 let mut case = time_case(
                     &rotors,
                     ewald(Vector3::repeat(edge), accuracy),
-                    SumMethod::Auto,
+                    SumMethod::Direct,
                     &q,
                 );
                 case["accuracy"] = json!(accuracy);
@@ -249,6 +274,20 @@ fn main() {
                     .map(|&c| irregular_case(c, None, 1e-5, SumMethod::Pme)),
             );
         }
+        let crossover_cells: &[usize] = if quick { &[8, 10] } else { &[8, 10, 13, 16] };
+        let mut crossover = Vec::new();
+        for &accuracy in &[1e-4, 1e-6] {
+            for &c in crossover_cells {
+                crossover.push(irregular_case(c, None, accuracy, SumMethod::Direct));
+                crossover.push(irregular_case(c, None, accuracy, SumMethod::Pme));
+            }
+        }
+        let mut auto_choices = Vec::new();
+        for &accuracy in &[1e-4, 1e-5, 1e-6] {
+            for &c in direct_cells {
+                auto_choices.push(auto_choice(c, accuracy));
+            }
+        }
         let ten_thousand: Vec<Value> = [1e-4, 1e-5, 1e-6]
             .iter()
             .map(|&a| irregular_case(22, Some(10_000), a, SumMethod::Pme))
@@ -256,6 +295,8 @@ fn main() {
         json!({
             "mesh_scaling": mesh_scaling,
             "mesh_10000": ten_thousand,
+            "crossover": crossover,
+            "auto_choices": auto_choices,
             "quick": quick,
             "quatrot": env!("CARGO_PKG_VERSION"),
             "lattice": lattice_cases,

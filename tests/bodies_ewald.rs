@@ -1,13 +1,15 @@
-//! Moving bodies with the particle-mesh Ewald sum: forces and torques as
-//! exact gradients (point quadrupoles at sites included).
+//! Moving bodies with the Ewald sum, by particle-mesh Ewald and directly
+//! over the wave vectors: forces and torques as exact gradients (point
+//! quadrupoles at sites included), the two paths against each other, and
+//! `method = "auto"`'s choice between them.
 
 mod bodies_common;
 
 use bodies_common::{assert_minus_gradients, bent_molecule, bodies, options};
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
-    BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, EwaldOptions, InteractionOptions,
-    LennardJones, Site, Space, Truncation,
+    BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, Evaluation, EwaldOptions,
+    InteractionOptions, LennardJones, Site, Space, Truncation,
 };
 use quatrot::potential::multipole::{SumMethod, Surface};
 
@@ -29,24 +31,30 @@ fn quadrupolar_sphere() -> BodyType {
     .expect("a valid sphere")
 }
 
-/// 64 bodies, bent molecules and quadrupolar spheres, in a box of 6.4, PME
-/// at `accuracy`.
-fn system(accuracy: f64) -> BodySystem {
+/// `n` bodies (64 in a box of 6.4), bent molecules and quadrupolar spheres
+/// at spacing 1.6, the Ewald sum by `method` at `accuracy`.
+fn system_of(n: usize, accuracy: f64, method: SumMethod) -> BodySystem {
     let interactions = InteractionOptions {
         electrostatics: Some(ElectrostaticsOptions::Ewald(EwaldOptions {
             accuracy,
-            method: SumMethod::Pme,
+            method,
             surface: Surface::Conducting,
         })),
         ..options(Truncation::ForceShifted, 2.5, 2.5)
     };
+    let edge = 1.6 * (n as f64).cbrt().ceil();
     BodySystem::new(
         vec![bent_molecule(), quadrupolar_sphere()],
-        bodies(64, 1.6, 5, 2),
-        Space::Periodic(Vector3::repeat(6.4)),
+        bodies(n, 1.6, 5, 2),
+        Space::Periodic(Vector3::repeat(edge)),
         &interactions,
     )
     .expect("a valid system")
+}
+
+/// The 64 bodies with PME at `accuracy`.
+fn system(accuracy: f64) -> BodySystem {
+    system_of(64, accuracy, SumMethod::Pme)
 }
 
 /// Every body's force and torque are minus the central differences of the
@@ -60,4 +68,67 @@ fn pme_forces_and_torques_are_minus_the_energy_gradients() {
     assert_minus_gradients(&mut system(1e-7), &[0, 17], 1e-4, &|scale| {
         TOLERANCE * (1.0 + scale)
     });
+}
+
+/// The same with the direct sum over the wave vectors (at 1e-7 as well).
+#[test]
+fn direct_forces_and_torques_are_minus_the_energy_gradients() {
+    const TOLERANCE: f64 = 1e-5;
+    let mut direct = system_of(64, 1e-7, SumMethod::Direct);
+    assert!(direct
+        .electrostatic_sum()
+        .and_then(|s| s.ewald_parameters())
+        .is_some());
+    assert_minus_gradients(&mut direct, &[0, 17], 1e-4, &|scale| {
+        TOLERANCE * (1.0 + scale)
+    });
+}
+
+/// The direct sum at 1e-10 and PME at 1e-10 (each converged to ~1e-10 of
+/// the field scale by its estimate) give the same electrostatic energy,
+/// site forces and body torques, within `AGREE` of their scales.
+#[test]
+fn direct_and_pme_agree_at_a_tight_accuracy() {
+    /// Two sums each within ~1e-10 of the field scale, which is ~1e-1 of
+    /// the forces' RMS here: 1e-8 leaves a margin of 10 over the estimates.
+    const AGREE: f64 = 1e-8;
+    let evaluate = |method| {
+        let mut system = system_of(64, 1e-10, method);
+        let mut e = Evaluation::default();
+        system.evaluate(&mut e);
+        e
+    };
+    let (direct, pme) = (evaluate(SumMethod::Direct), evaluate(SumMethod::Pme));
+    let de = (direct.electrostatic - pme.electrostatic).abs() / pme.electrostatic.abs();
+    let rms = |v: &[Vector3<f64>]| {
+        (v.iter().map(|x| x.norm_squared()).sum::<f64>() / v.len() as f64).sqrt()
+    };
+    let differences = |a: &[Vector3<f64>], b: &[Vector3<f64>]| {
+        let d: Vec<Vector3<f64>> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+        rms(&d) / rms(b)
+    };
+    let df = differences(&direct.site_force, &pme.site_force);
+    let dt = differences(&direct.torque, &pme.torque);
+    println!("energy {de:.2e}, site forces {df:.2e}, torques {dt:.2e}");
+    assert!(
+        de < AGREE && df < AGREE && dt < AGREE,
+        "energy {de:e}, forces {df:e}, torques {dt:e}"
+    );
+}
+
+/// `method = "auto"` takes the direct sum for 64 bodies and PME for 8,000
+/// (their cost models, docs/scenes.md), recording both estimates; an
+/// accuracy beyond PME's range takes the direct sum.
+#[test]
+fn auto_takes_the_direct_sum_for_small_systems_and_pme_for_large() {
+    for (n, accuracy, direct) in [(64, 1e-5, true), (8000, 1e-5, false), (64, 1e-12, true)] {
+        let system = system_of(n, accuracy, SumMethod::Auto);
+        let sum = system.electrostatic_sum().expect("electrostatics");
+        let choice = sum.auto_choice().expect("a choice");
+        println!("{n} bodies at {accuracy:e}: {choice:?}");
+        assert_eq!(sum.ewald_parameters().is_some(), direct, "{n}: {choice:?}");
+        assert_eq!(sum.mesh_parameters().is_none(), direct, "{n}: {choice:?}");
+        assert_eq!(choice.takes_pme(), !direct);
+        assert_eq!(choice.pme_seconds.is_none(), accuracy < 1e-10);
+    }
 }

@@ -38,6 +38,7 @@ fn ewald(box_lengths: [f64; 3], surface: Surface) -> InteractionsSummary {
         ewald: None,
         lattice: None,
         mesh: None,
+        choice: None,
     }
 }
 
@@ -153,6 +154,7 @@ fn refusals_name_what_is_missing() {
         ewald: None,
         lattice: None,
         mesh: None,
+        choice: None,
     };
     assert!(err(Some(&open), &table, None).starts_with("boundary: open: no fluctuation formula"));
     assert_eq!(

@@ -21,7 +21,8 @@ use crate::potential::multipole::mesh_ewald::{
     DERIVATIVES, UP_TO,
 };
 use crate::potential::multipole::{
-    charge_dipole_force, dipole_field, radial, radial_functions, ChargeDipole,
+    charge_dipole_force, dipole_field, radial, radial_functions, AutoChoice, ChargeDipole,
+    EwaldParameters,
 };
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -66,6 +67,16 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
 
     /// The parameters and estimated errors of a mesh sum (none by default).
     fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        None
+    }
+
+    /// The parameters of a direct Ewald sum (none by default).
+    fn ewald_parameters(&self) -> Option<EwaldParameters> {
+        None
+    }
+
+    /// What `method = "auto"` compared (none by default).
+    fn auto_choice(&self) -> Option<&AutoChoice> {
         None
     }
 

@@ -1,11 +1,14 @@
 //! The Ewald sum between sites of different bodies in a periodic box, by
-//! smooth particle-mesh Ewald (`crate::potential::multipole::mesh_ewald`):
-//! charges, point dipoles and point quadrupoles at any sites.
+//! smooth particle-mesh Ewald (`crate::potential::multipole::mesh_ewald`)
+//! or directly over the wave vectors: charges, point dipoles and point
+//! quadrupoles at any sites.
 //!
 //! * **Real space**: the pairs of the bodies' neighbour lists (sites of
 //!   different bodies) closer than `r_c`, kernel `erfc(alpha r) / r`.
 //! * **Reciprocal, self, background, surface**: the mesh sum's, over every
-//!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]).
+//!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]), or the
+//!   same terms with the reciprocal part by structure factors
+//!   ([`crate::potential::multipole::mesh_ewald::WaveEwald`]).
 //! * **Exclusions**: the reciprocal sum holds every pair of sites,
 //!   intramolecular ones included, through the smooth `erf(alpha r) / r`;
 //!   for each pair of sites `i != j` of one body the correction subtracts
@@ -20,17 +23,27 @@
 //! The parameters (`alpha`, `r_c`, mesh, spline order) come from the
 //! requested accuracy by
 //! [`crate::potential::multipole::mesh_ewald::for_multipoles_with_skin`],
-//! as for rotors but with `r_c` plus the skin within half the box; the mesh, its plans and every buffer are built once for the box
-//! and the number of sites.
+//! as for rotors but with `r_c` plus the skin within half the box; the
+//! mesh, its plans and every buffer are built once for the box and the
+//! number of sites. The direct sum's (`alpha`, `r_c`, `k_c`) come from
+//! [`crate::potential::multipole::mesh_ewald::for_waves`] with the same
+//! bound; `method = "auto"` takes the cheaper of the two by their cost
+//! models in real-space pairs ([`AutoChoice`]), the direct sum when PME
+//! cannot reach the accuracy.
 
 use super::electrostatics::{add_pairs, Electrostatics, Exclusions, SiteMultipoles, SiteResponse};
 use super::neighbours::NeighbourList;
 use super::space::Space;
 use crate::checks::{num, InputError};
+use crate::potential::multipole::mesh_ewald::Sources;
 use crate::potential::multipole::mesh_ewald::{
-    for_multipoles_with_skin, Carried, MeshEstimate, MeshEwald, MeshParameters,
+    for_multipoles_with_skin, for_waves, mesh_cost, Carried, MeshEstimate, MeshEwald,
+    MeshParameters, WaveEwald, DERIVATIVES,
 };
-use crate::potential::multipole::{radial_functions, SumMethod, Surface};
+use crate::potential::multipole::{
+    radial_functions, AutoChoice, EwaldParameters, PotentialError, SumMethod, Surface,
+    PME_SECONDS_PER_UNIT,
+};
 use nalgebra::{Matrix3, Vector3};
 use std::ops::Range;
 
@@ -41,22 +54,32 @@ pub const DEFAULT_ACCURACY: f64 = 1e-6;
 /// The options of an Ewald sum of bodies' sites.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EwaldOptions {
-    /// The relative accuracy of the fields, within
-    /// [`crate::potential::multipole::mesh_ewald::ACCURACY_RANGE`] (as for
-    /// rotors: `mesh_ewald::for_multipoles`; default [`DEFAULT_ACCURACY`]).
+    /// The relative accuracy of the fields (as for rotors:
+    /// `mesh_ewald::for_multipoles`; default [`DEFAULT_ACCURACY`]): within
+    /// [`crate::potential::multipole::mesh_ewald::ACCURACY_RANGE`] for PME,
+    /// in (0, 1) for the direct sum.
     pub accuracy: f64,
-    /// The way of summing: `Pme` (`Auto` takes it; the direct sum of bodies
-    /// is not built yet).
+    /// The way of summing: `Pme`, `Direct` (over the wave vectors) or
+    /// `Auto` (the cheaper by the cost models; module doc).
     pub method: SumMethod,
     /// The medium around the sphere of boxes.
     pub surface: Surface,
 }
 
-/// The smooth PME sum of the sites of bodies (module doc).
+/// The long-range terms of a sum of bodies' sites: on a mesh, or over the
+/// wave vectors.
+#[derive(Debug)]
+enum LongRange {
+    Mesh(Box<MeshEwald>, MeshEstimate),
+    Waves(Box<WaveEwald>),
+}
+
+/// The Ewald sum of the sites of bodies (module doc).
 #[derive(Debug)]
 pub struct BodyEwald {
-    mesh: MeshEwald,
-    estimate: MeshEstimate,
+    long_range: LongRange,
+    /// What `method = "auto"` compared.
+    choice: Option<AutoChoice>,
     /// The sites of each body.
     bodies: Vec<Range<usize>>,
     /// The body of each site.
@@ -76,19 +99,54 @@ impl BodyEwald {
         site_body: &[u32],
         (box_lengths, skin): (Vector3<f64>, f64),
     ) -> Result<Self, InputError> {
-        if !matches!(options.method, SumMethod::Pme | SumMethod::Auto) {
-            return Err(InputError::new(
-                "method",
-                "the Ewald sum of moving bodies is summed by \"pme\" (or \"auto\", which takes it)",
-            ));
-        }
-        let accuracy = options.accuracy;
-        let (parameters, estimate) =
-            for_multipoles_with_skin(accuracy, carried, site_body.len(), &box_lengths, skin)?;
-        // The mesh was chosen for the accuracy: its size is the accuracy's.
-        Self::with_parameters(parameters, options.surface, site_body, box_lengths)
-            .map(|sum| BodyEwald { estimate, ..sum })
-            .map_err(|e| InputError::new("accuracy", format!("{}: {}", num(accuracy), e.message)))
+        let (accuracy, n) = (options.accuracy, site_body.len());
+        let mesh = || for_multipoles_with_skin(accuracy, carried, n, &box_lengths, skin);
+        let longest = (
+            0.5 * box_lengths.min() - skin,
+            "half the shortest box side less the skin",
+        );
+        let waves = || for_waves(accuracy, carried, n, &box_lengths, longest);
+        let (take_mesh, choice) =
+            match options.method {
+                SumMethod::Pme => (Some(mesh()?), None),
+                SumMethod::Direct => (None, None),
+                SumMethod::Auto => match (waves(), mesh()) {
+                    (Err(_), Err(e)) => return Err(e),
+                    (Err(_), Ok(m)) => (Some(m), None),
+                    (Ok((_, units)), m) => {
+                        let pme_seconds = m
+                            .as_ref()
+                            .map(|(p, _)| mesh_cost(p, n, &box_lengths) * PME_SECONDS_PER_UNIT)
+                            .map_err(Clone::clone);
+                        let choice = AutoChoice::compare(units * PME_SECONDS_PER_UNIT, pme_seconds);
+                        (m.ok().filter(|_| choice.takes_pme()), Some(choice))
+                    }
+                },
+                SumMethod::LatticeFft => return Err(InputError::new(
+                    "method",
+                    "the Ewald sum of moving bodies is summed by \"pme\", \"direct\" or \"auto\"",
+                )),
+            };
+        // The mesh or the wave vectors were chosen for the accuracy: their size is the accuracy's.
+        let sized = |e: PotentialError| {
+            InputError::new("accuracy", format!("{}: {}", num(accuracy), e.message))
+        };
+        let sum = match take_mesh {
+            Some((parameters, estimate)) => {
+                let mesh = MeshEwald::new(n, box_lengths, parameters, options.surface)
+                    .map_err(sized)?
+                    .with_virial();
+                Self::assemble(LongRange::Mesh(Box::new(mesh), estimate), site_body)
+            }
+            None => {
+                let (parameters, _) = waves()?;
+                let waves = WaveEwald::new(n, box_lengths, parameters, options.surface)
+                    .map_err(sized)?
+                    .with_virial();
+                Self::assemble(LongRange::Waves(Box::new(waves)), site_body)
+            }
+        };
+        Ok(BodyEwald { choice, ..sum })
     }
 
     /// The sum with given parameters (checked by
@@ -99,8 +157,20 @@ impl BodyEwald {
         site_body: &[u32],
         box_lengths: Vector3<f64>,
     ) -> Result<Self, InputError> {
+        let mesh = MeshEwald::new(site_body.len(), box_lengths, parameters, surface)?;
+        let estimate = MeshEstimate {
+            real: f64::NAN,
+            mesh: f64::NAN,
+        };
+        Ok(Self::assemble(
+            LongRange::Mesh(Box::new(mesh.with_virial()), estimate),
+            site_body,
+        ))
+    }
+
+    /// The sum of `long_range` for the sites of `site_body`.
+    fn assemble(long_range: LongRange, site_body: &[u32]) -> Self {
         let n = site_body.len();
-        let mesh = MeshEwald::new(n, box_lengths, parameters, surface)?.with_virial();
         let mut bodies: Vec<Range<usize>> = Vec::new();
         for (s, &b) in site_body.iter().enumerate() {
             match bodies.get_mut(b as usize) {
@@ -108,26 +178,58 @@ impl BodyEwald {
                 None => bodies.push(s..s + 1),
             }
         }
-        Ok(BodyEwald {
-            mesh,
-            estimate: MeshEstimate {
-                real: f64::NAN,
-                mesh: f64::NAN,
-            },
+        BodyEwald {
+            long_range,
+            choice: None,
             bodies,
             site_body: site_body.to_vec(),
             virials: vec![Matrix3::zeros(); n],
-        })
+        }
+    }
+}
+
+impl LongRange {
+    /// The splitting `alpha` and the real-space cutoff.
+    fn splitting(&self) -> (f64, f64) {
+        match self {
+            LongRange::Mesh(mesh, _) => (mesh.parameters().alpha, mesh.parameters().real_cutoff),
+            LongRange::Waves(waves) => (waves.parameters().alpha, waves.parameters().real_cutoff),
+        }
+    }
+
+    /// Each site's long-range potential derivatives and their virial.
+    fn derivatives(
+        &mut self,
+        sources: &Sources<'_>,
+    ) -> Result<(&mut [[f64; DERIVATIVES]], Matrix3<f64>), PotentialError> {
+        match self {
+            LongRange::Mesh(mesh, _) => mesh.long_range_derivatives(sources),
+            LongRange::Waves(waves) => waves.long_range_derivatives(sources),
+        }
     }
 }
 
 impl Electrostatics for BodyEwald {
     fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
-        Some((self.mesh.parameters(), self.estimate))
+        match &self.long_range {
+            LongRange::Mesh(mesh, estimate) => Some((mesh.parameters(), *estimate)),
+            LongRange::Waves(_) => None,
+        }
+    }
+
+    fn ewald_parameters(&self) -> Option<EwaldParameters> {
+        match &self.long_range {
+            LongRange::Waves(waves) => Some(waves.parameters()),
+            LongRange::Mesh(..) => None,
+        }
+    }
+
+    fn auto_choice(&self) -> Option<&AutoChoice> {
+        self.choice.as_ref()
     }
 
     fn pair_cutoff(&self) -> f64 {
-        self.mesh.parameters().real_cutoff
+        self.long_range.splitting().1
     }
 
     fn evaluate(
@@ -138,19 +240,18 @@ impl Electrostatics for BodyEwald {
         out: &mut SiteResponse,
     ) {
         let sources = sites.sources();
-        let parameters = self.mesh.parameters();
-        let Ok((derivatives, long_range)) = self.mesh.long_range_derivatives(&sources) else {
+        let (alpha, real_cutoff) = self.long_range.splitting();
+        let Ok((derivatives, long_range)) = self.long_range.derivatives(&sources) else {
             // Only non-finite positions fail here: the run reports the blow-up.
             out.energy = f64::NAN;
             return;
         };
-        let alpha = parameters.alpha;
         let kernel = |r: f64| radial_functions(alpha, r);
         add_pairs(
             sites,
             space,
             pairs,
-            (parameters.real_cutoff, &kernel),
+            (real_cutoff, &kernel),
             Some(Exclusions {
                 bodies: &self.bodies,
                 site_body: &self.site_body,
@@ -251,17 +352,41 @@ mod tests {
         (sites, site_body, offsets)
     }
 
+    /// Fixed parameters of either way of summing.
+    #[derive(Clone, Copy)]
+    enum Fixed {
+        Mesh(MeshParameters),
+        Waves(EwaldParameters),
+    }
+
+    /// Direct sums converged far below round-off, `alpha` from the longest
+    /// real-space cutoff `7 / alpha` a box fits ([`EwaldParameters::converged`]).
+    fn converged_waves(box_lengths: &Vector3<f64>) -> Fixed {
+        Fixed::Waves(EwaldParameters::converged(7.0 / (0.45 * box_lengths.min())))
+    }
+
     fn evaluate(
         sites: &SiteMultipoles,
         site_body: &[u32],
         box_lengths: Vector3<f64>,
-        parameters: MeshParameters,
+        fixed: Fixed,
         surface: Surface,
     ) -> SiteResponse {
         let space = Space::Periodic(box_lengths);
-        let mut sum =
-            BodyEwald::with_parameters(parameters, surface, site_body, box_lengths).unwrap();
-        let mut pairs = NeighbourList::new(parameters.real_cutoff, 0.0).unwrap();
+        let n = site_body.len();
+        let (mut sum, cutoff) = match fixed {
+            Fixed::Mesh(p) => (
+                BodyEwald::with_parameters(p, surface, site_body, box_lengths).unwrap(),
+                p.real_cutoff,
+            ),
+            Fixed::Waves(p) => {
+                let waves = WaveEwald::new(n, box_lengths, p, surface).unwrap();
+                let sum =
+                    BodyEwald::assemble(LongRange::Waves(Box::new(waves.with_virial())), site_body);
+                (sum, p.real_cutoff)
+            }
+        };
+        let mut pairs = NeighbourList::new(cutoff, 0.0).unwrap();
         pairs.build(&sites.positions, site_body, &space);
         let mut out = SiteResponse::zeros(sites.positions.len());
         sum.evaluate(sites, &space, &pairs, &mut out);
@@ -276,7 +401,8 @@ mod tests {
     /// Rigid water-like molecules of three charges: the energy and site
     /// forces are the textbook Ewald sum of every site (converged) minus the
     /// bare Coulomb pairs within each molecule, so that the sites of one
-    /// body never interact.
+    /// body never interact; by PME and by the direct sum over the wave
+    /// vectors.
     #[test]
     fn sites_of_one_body_never_interact() {
         let box_lengths = Vector3::new(6.0, 6.4, 5.8);
@@ -299,24 +425,24 @@ mod tests {
                 }
             }
         }
-        let out = evaluate(
-            &sites,
-            &site_body,
-            box_lengths,
-            fine(&box_lengths, 5.0),
-            Surface::Conducting,
-        );
-        let de = (out.energy - energy).abs() / energy.abs();
-        let df = relative_rms(&out.force, &force);
-        assert!(
-            de < FINE && df < FINE,
-            "energy {} vs {energy} ({de:e}), force {df:e}",
-            out.energy
-        );
+        for fixed in [
+            Fixed::Mesh(fine(&box_lengths, 5.0)),
+            converged_waves(&box_lengths),
+        ] {
+            let out = evaluate(&sites, &site_body, box_lengths, fixed, Surface::Conducting);
+            let de = (out.energy - energy).abs() / energy.abs();
+            let df = relative_rms(&out.force, &force);
+            assert!(
+                de < FINE && df < FINE,
+                "energy {} vs {energy} ({de:e}), force {df:e}",
+                out.energy
+            );
+        }
     }
 
     /// One-site bodies with dipoles and quadrupoles against the rotors'
-    /// direct Ewald sum converged to round-off: energy and fields.
+    /// direct Ewald sum converged to round-off: energy and fields, by PME
+    /// and by the direct sum over the wave vectors.
     /// The energies differ by 3.4e-7 relative while the fields agree to
     /// 1e-8 (not understood yet; the mesh sum's own test of this reference
     /// bounds energies at 1e-6 too).
@@ -339,20 +465,19 @@ mod tests {
         let site_body: Vec<u32> = (0..n as u32).collect();
         for surface in [Surface::Conducting, Surface::Vacuum] {
             let (energy, field, _) = c.direct(surface);
-            let out = evaluate(
-                &sites,
-                &site_body,
-                box_lengths,
-                fine(&box_lengths, 6.5),
-                surface,
-            );
-            let de = (out.energy - energy).abs() / energy.abs();
-            let r = relative_rms(&out.field, &field);
-            assert!(
-                de < QUADRUPOLE_ENERGY && r < FINE,
-                "{surface:?}: energy {} vs {energy} ({de:e}), field {r:e}",
-                out.energy
-            );
+            for fixed in [
+                Fixed::Mesh(fine(&box_lengths, 6.5)),
+                converged_waves(&box_lengths),
+            ] {
+                let out = evaluate(&sites, &site_body, box_lengths, fixed, surface);
+                let de = (out.energy - energy).abs() / energy.abs();
+                let r = relative_rms(&out.field, &field);
+                assert!(
+                    de < QUADRUPOLE_ENERGY && r < FINE,
+                    "{surface:?}: energy {} vs {energy} ({de:e}), field {r:e}",
+                    out.energy
+                );
+            }
         }
     }
 
@@ -361,17 +486,23 @@ mod tests {
     /// the energy under a stretch along each axis, for molecules carrying
     /// charges, dipoles and quadrupoles, at fixed parameters (`alpha r_c =
     /// 5`: pairs crossing the cutoff change the energy by ~1e-12, far below
-    /// the step's 1e-5).
+    /// the step's 1e-5; the direct sum's at `alpha r_c = 7` and `k_c = 14
+    /// alpha`, so that wave vectors crossing `k_c` change nothing), by PME
+    /// and by the direct sum.
     #[test]
     fn the_molecular_virial_is_the_strain_derivative_of_the_energy() {
         let box_lengths = Vector3::new(6.0, 6.4, 5.8);
         let (sites, site_body, offsets) = molecules(32, 8, box_lengths, true);
-        let parameters = MeshParameters {
+        let mesh = Fixed::Mesh(MeshParameters {
             grid: [24, 24, 24],
             order: 6,
             ..fine(&box_lengths, 5.0)
-        };
-        for surface in [Surface::Conducting, Surface::Vacuum] {
+        });
+        let surfaces = [Surface::Conducting, Surface::Vacuum];
+        for (parameters, surface) in [mesh, converged_waves(&box_lengths)]
+            .into_iter()
+            .flat_map(|p| surfaces.map(|s| (p, s)))
+        {
             let out = evaluate(&sites, &site_body, box_lengths, parameters, surface);
             let mut virial = out.virial;
             for (d, f) in offsets.iter().zip(&out.force) {

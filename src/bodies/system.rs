@@ -179,6 +179,12 @@ impl BodySystem {
         self.electrostatics.as_ref()?.mesh_parameters()
     }
 
+    /// The electrostatic method (`None` without electrostatics): its
+    /// parameters and, for `method = "auto"`, its choice.
+    pub fn electrostatic_sum(&self) -> Option<&dyn Electrostatics> {
+        self.electrostatics.as_deref()
+    }
+
     /// How many times the neighbour list was built.
     pub fn neighbour_builds(&self) -> u64 {
         self.neighbours.builds()

@@ -144,8 +144,11 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 ///     The Ewald sum's surroundings (default "conducting").
 /// method : {"auto", "direct", "lattice_fft", "pme"}, optional
 ///     "auto" (default): the FFT lattice sum for an Ewald sum on a lattice,
-///     the direct sums otherwise; "pme": the smooth particle-mesh Ewald sum
-///     (`sum="ewald"` only; accuracy from 1e-10 to 1e-2).
+///     on other sites the cheaper of the direct Ewald sum and PME by their
+///     cost models (the direct sum for small systems and for accuracies
+///     PME cannot reach), the pair sums otherwise; "pme": the smooth
+///     particle-mesh Ewald sum (`sum="ewald"` only; accuracy from 1e-10 to
+///     1e-2).
 /// details : bool, default False
 ///     Also return a dict of how the sum was made.
 ///
@@ -162,7 +165,10 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 ///     `"ewald_lattice_fft"`, `"ewald_pme"`), for Ewald sums `alpha`,
 ///     `real_cutoff`, `reciprocal_cutoff` and the error estimates, for the
 ///     PME sum `alpha`, `real_cutoff`, `grid`, `order`, `real_estimate` and
-///     `mesh_estimate`, for FFT sums `cells` and `basis`.
+///     `mesh_estimate`, for FFT sums `cells` and `basis`; when "auto" chose
+///     between the direct sum and PME, `choice`: a dict of each path's
+///     estimated `direct_seconds` and `pme_seconds` per evaluation (None
+///     when PME cannot be built) and the `reason`.
 ///
 /// Raises
 /// ------
@@ -268,6 +274,13 @@ fn details_dict<'py>(
         info.set_item("order", p.order)?;
         info.set_item("real_estimate", e.real)?;
         info.set_item("mesh_estimate", e.mesh)?;
+    }
+    if let Some(c) = potential.auto_choice() {
+        let choice = PyDict::new(py);
+        choice.set_item("direct_seconds", c.direct_seconds)?;
+        choice.set_item("pme_seconds", c.pme_seconds)?;
+        choice.set_item("reason", &c.reason)?;
+        info.set_item("choice", choice)?;
     }
     if let Some(grid) = potential.lattice() {
         info.set_item("cells", grid.cells.to_vec())?;

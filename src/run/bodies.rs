@@ -13,7 +13,7 @@ use super::error::RunError;
 use super::folder::{GSD_FILE, SUMMARY_FILE};
 use super::scene_run::{checkpoint_writer, open_folder, read_checkpoint, Outputs, RunResult};
 use super::series::Rows;
-use super::summary::{BodiesSummary, Summary, Threads};
+use super::summary::{BodiesSummary, BodyElectrostaticsSummary, Summary, Threads};
 use super::summary_file::{
     in_progress, keep_earlier_summary, placed, record_failure, SummaryAfterCheckpoint,
 };
@@ -59,13 +59,13 @@ pub(super) fn run_bodies(
         _ => None,
     };
     keep_earlier_summary(files, start_step)?;
-    let mesh = system.mesh_parameters();
+    let electrostatics = BodyElectrostaticsSummary::new(bodies, system.electrostatic_sum());
     let described = |mut summary: Summary, builds: u64| {
         summary.bodies = Some(BodiesSummary::new(
             &system_counts(bodies),
             bodies,
             builds,
-            mesh,
+            electrostatics.clone(),
         ));
         summary.units = scene.units.names();
         summary

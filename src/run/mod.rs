@@ -36,7 +36,7 @@ pub use resume::{AppendAfter, Placement};
 pub use scene_run::{run_scene, Outputs, Progress, RunResult, ScenePotential};
 pub use series::{CsvTarget, SeriesObserver, SeriesTable};
 pub use summary::{
-    BodiesSummary, Drift, EwaldSummary, FinalEnergies, InteractionsSummary, LatticeSummary,
-    MeshSummary, Summary, Threads, Versions,
+    BodiesSummary, ChoiceSummary, Drift, EwaldSummary, FinalEnergies, InteractionsSummary,
+    LatticeSummary, MeshSummary, Summary, Threads, Versions,
 };
 pub use trajectory::{TrajectoryFiles, TrajectoryFrames, TrajectoryObserver, GSD_OPEN_MARGIN};

@@ -2,9 +2,10 @@
 //! pair interactions were summed, the time taken, the final energies and
 //! the drift.
 
+use crate::bodies::electrostatics::Electrostatics;
 use crate::bodies::{ElectrostaticsOptions, Space};
 use crate::potential::multipole::mesh_ewald::{MeshEstimate, MeshParameters};
-use crate::potential::multipole::{EwaldParameters, SumPath};
+use crate::potential::multipole::{AutoChoice, EwaldParameters, SumPath};
 use crate::potential::{Boundary, MultipolePotential, PeriodicSum, SumKind, Surface};
 use crate::scene::{BodyScene, Interactions, Scene, SCENE_VERSION};
 use crate::simulation::{Energies, EnergyReference, RunReport, Stop};
@@ -78,9 +79,35 @@ pub struct InteractionsSummary {
     pub ewald: Option<EwaldSummary>,
     /// The cells and the sites per cell of the lattice an FFT path runs on.
     pub lattice: Option<LatticeSummary>,
-    /// The parameters of the mesh Ewald sum (`method = "pme"`; absent otherwise).
+    /// The parameters of the mesh Ewald sum (path `"ewald_pme"`; absent otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mesh: Option<MeshSummary>,
+    /// Why `method = "auto"` took the direct Ewald sum or PME on sites that
+    /// are not a lattice (absent for every other path and method).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub choice: Option<ChoiceSummary>,
+}
+
+/// What the automatic choice compared ([`AutoChoice`]): each path's
+/// estimated seconds per evaluation and the reason.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ChoiceSummary {
+    /// The direct Ewald sum's estimated seconds per evaluation.
+    pub direct_seconds: f64,
+    /// The mesh Ewald sum's (absent when it cannot be built for the request).
+    pub pme_seconds: Option<f64>,
+    /// Why the path was taken.
+    pub reason: String,
+}
+
+impl From<&AutoChoice> for ChoiceSummary {
+    fn from(c: &AutoChoice) -> Self {
+        ChoiceSummary {
+            direct_seconds: c.direct_seconds,
+            pme_seconds: c.pme_seconds,
+            reason: c.reason.clone(),
+        }
+    }
 }
 
 /// The parameters a mesh Ewald sum chose for its accuracy
@@ -174,6 +201,7 @@ impl InteractionsSummary {
                 basis: grid.basis.len(),
             }),
             mesh: potential.mesh_parameters().map(MeshSummary::from),
+            choice: potential.auto_choice().map(ChoiceSummary::from),
         };
         if let Boundary::Periodic { box_lengths, sum } = interactions.boundary {
             out.boundary = "periodic".to_string();
@@ -205,8 +233,9 @@ pub struct BodiesSummary {
     pub box_lengths: Option<[f64; 3]>,
     /// How many times the neighbour list was built.
     pub neighbour_builds: u64,
-    /// The electrostatic sum when it is an Ewald sum: its method
-    /// (`"ewald_pme"`) and parameters (absent for a cutoff sum).
+    /// The electrostatic sum when it is an Ewald sum: its path
+    /// (`"ewald_pme"` or `"ewald_direct"`) and parameters (absent for a
+    /// cutoff sum).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub electrostatics: Option<BodyElectrostaticsSummary>,
 }
@@ -214,37 +243,59 @@ pub struct BodiesSummary {
 /// The Ewald sum of a run of bodies.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct BodyElectrostaticsSummary {
-    /// The way it is summed: `"ewald_pme"`.
+    /// The way it is summed: `"ewald_pme"` or `"ewald_direct"`.
     pub path: String,
     /// The accuracy asked for.
     pub accuracy: f64,
     /// The surroundings.
     pub surface: Surface,
-    /// The parameters chosen for the accuracy.
-    pub mesh: MeshSummary,
+    /// The mesh parameters chosen for the accuracy (PME).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshSummary>,
+    /// The splitting and cutoffs chosen for the accuracy (direct sum).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ewald: Option<EwaldSummary>,
+    /// What `method = "auto"` compared (absent for a method given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub choice: Option<ChoiceSummary>,
+}
+
+impl BodyElectrostaticsSummary {
+    /// The record of the electrostatics `sum` of `bodies` (from
+    /// [`crate::bodies::BodySystem::electrostatic_sum`]) when it is an Ewald sum.
+    pub fn new(bodies: &BodyScene, sum: Option<&dyn Electrostatics>) -> Option<Self> {
+        let (Some(ElectrostaticsOptions::Ewald(o)), Some(sum)) =
+            (bodies.interactions.electrostatics, sum)
+        else {
+            return None;
+        };
+        let mesh = sum.mesh_parameters().map(MeshSummary::from);
+        let path = if mesh.is_some() {
+            SumPath::EwaldPme
+        } else {
+            SumPath::EwaldDirect
+        };
+        Some(BodyElectrostaticsSummary {
+            path: path.as_str().to_string(),
+            accuracy: o.accuracy,
+            surface: o.surface,
+            mesh,
+            ewald: sum.ewald_parameters().map(EwaldSummary::from),
+            choice: sum.auto_choice().map(ChoiceSummary::from),
+        })
+    }
 }
 
 impl BodiesSummary {
     /// The summary of `bodies` (`per_type` of each type) after
-    /// `neighbour_builds` builds, its Ewald sum's parameters `mesh` (from
-    /// [`crate::bodies::BodySystem::mesh_parameters`]).
+    /// `neighbour_builds` builds, with the record of its Ewald sum
+    /// ([`BodyElectrostaticsSummary::new`]).
     pub fn new(
         per_type: &[usize],
         bodies: &BodyScene,
         neighbour_builds: u64,
-        mesh: Option<(MeshParameters, MeshEstimate)>,
+        electrostatics: Option<BodyElectrostaticsSummary>,
     ) -> Self {
-        let electrostatics = match (bodies.interactions.electrostatics, mesh) {
-            (Some(ElectrostaticsOptions::Ewald(o)), Some(mesh)) => {
-                Some(BodyElectrostaticsSummary {
-                    path: SumPath::EwaldPme.as_str().to_string(),
-                    accuracy: o.accuracy,
-                    surface: o.surface,
-                    mesh: mesh.into(),
-                })
-            }
-            _ => None,
-        };
         BodiesSummary {
             count: bodies.bodies.len(),
             per_type: per_type.to_vec(),

@@ -139,7 +139,7 @@ tagged!(RawBodyElectrostatics {
 pub struct RawBodyEwald {
     /// Relative accuracy (default [`DEFAULT_ACCURACY`]).
     pub accuracy: Option<f64>,
-    /// `"pme"` or `"auto"` (default, which takes PME).
+    /// `"pme"`, `"direct"` or `"auto"` (default: the cheaper by the cost models).
     pub method: Option<SumMethod>,
     /// `"conducting"` (default) or `"vacuum"`.
     pub surface: Option<Surface>,

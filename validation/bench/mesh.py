@@ -2,7 +2,8 @@
 issue 40's mesh Ewald (PME) benchmark, after `cargo bench --bench ewald`
 (whose quatrot timings it reads): PME's time per evaluation at accuracy
 1e-5 from 1,000 to 1,000,000 dipoles with its fitted exponent, the
-crossover with the direct Ewald sum, and at 10,000 dipoles the side by side
+crossover with the direct Ewald sum at 1e-4 to 1e-6 measured and as the
+automatic choice's cost models give it, and at 10,000 dipoles the side by side
 with LAMMPS `pppm/dipole` at the same measured accuracy (one thread each).
 
 The configurations are fluid-like: a simple-cubic lattice of unit spacing,
@@ -107,7 +108,27 @@ def crossover(cases: list[dict]) -> float | None:
     interpolation of each (None when one is cheaper throughout)."""
     direct = sorted((c["rotors"], c["median_seconds"]) for c in cases if c["method"] == "direct")
     mesh = {c["rotors"]: c["median_seconds"] for c in cases if c["method"] == "pme"}
-    shared = [(n, t, mesh[n]) for n, t in direct if n in mesh]
+    return interpolated([(n, t, mesh[n]) for n, t in direct if n in mesh])
+
+
+def model_crossover(choices: list[dict], accuracy: float) -> float | None:
+    """The N where `method = "auto"`'s cost models (src/potential/multipole/auto_choice.rs)
+    price both sums the same at `accuracy`."""
+    rows = sorted((c["rotors"], c["direct_seconds"], c["pme_seconds"]) for c in choices if c["accuracy"] == accuracy)
+    return interpolated(rows)
+
+
+def crossovers(raw: dict) -> list[dict]:
+    """Measured and modelled crossovers at 1e-4, 1e-5 (the scaling cases) and 1e-6."""
+    out = []
+    for accuracy in (1e-4, 1e-5, 1e-6):
+        cases = raw["mesh_scaling"] if accuracy == 1e-5 else [c for c in raw["crossover"] if c["accuracy"] == accuracy]
+        out.append({"accuracy": accuracy, "measured": crossover(cases), "model": model_crossover(raw["auto_choices"], accuracy)})
+    return out
+
+
+def interpolated(shared: list[tuple[float, float, float]]) -> float | None:
+    """The N where the two times of `(N, direct, mesh)` rows (sorted by N) cross, log-log."""
     for (n0, d0, m0), (n1, d1, m1) in zip(shared, shared[1:]):
         if (d0 - m0) * (d1 - m1) <= 0:
             g0, g1 = np.log(d0 / m0), np.log(d1 / m1)
@@ -151,6 +172,17 @@ def section(r: dict) -> str:
         f"Crossover N where PME becomes cheaper than the direct sum at 1e-5: {r['crossover']:.0f}." if r["crossover"] else
         "No crossover inside the sizes timed.",
         "",
+        "Crossover N of the two sums measured (512 to 8,000 dipoles) and priced by `method = \"auto\"`'s cost models "
+        "(src/potential/multipole/auto_choice.rs), which choose the path:",
+        "",
+        "| accuracy | measured | model |",
+        "|---|---|---|",
+    ]
+    for c in r["crossovers"]:
+        shown = [f"{c[k]:.0f}" if c[k] else "none inside the sizes" for k in ("measured", "model")]
+        lines.append(f"| {c['accuracy']:g} | {shown[0]} | {shown[1]} |")
+    lines += [
+        "",
         f"10,000 dipoles (22^3 jittered sites less 648, box 22): RMS torque errors against PME at 1e-10 (RMS torque {r['side_by_side']['reference_rms_torque']:.3g}):",
         "",
         "| code | requested accuracy | time per evaluation / step | RMS torque error | relative |",
@@ -188,6 +220,7 @@ def main(argv=None) -> int:
         "side_by_side": side_by_side(raw),
         "mesh_exponent": fit_exponent([c["rotors"] for c in mesh], [c["median_seconds"] for c in mesh]),
         "crossover": crossover(raw["mesh_scaling"]),
+        "crossovers": crossovers(raw),
     }
     result["matched"] = matched(result)
     results_md.publish(args.out, "mesh", result, (BEGIN, END), section(result))

@@ -140,3 +140,34 @@ def test_pme_keyword_lorentz_energy_and_details():
     assert info["real_estimate"] + info["mesh_estimate"] <= 1e-6
     with pytest.raises(ValueError, match='method: the mesh Ewald sum needs sum = "ewald", got sum = "cutoff"'):
         quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=[3.0, 3, 3], cutoff=1.4, method="pme")
+
+
+def _jittered(cells, seed):
+    """cells^3 unit dipoles on a simple-cubic lattice of unit spacing, each
+    site moved within +-0.25 per axis (not a lattice), random orientations."""
+    rng = np.random.default_rng(seed)
+    grid = np.stack(np.meshgrid(*[np.arange(cells)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    sites = grid + 0.5 + rng.uniform(-0.25, 0.25, grid.shape)
+    q = rng.normal(size=(len(sites), 4))
+    return sites, q / np.linalg.norm(q, axis=1)[:, None], float(cells)
+
+
+@pytest.mark.parametrize("cells, accuracy, path", [(4, 1e-5, "ewald_direct"), (12, 1e-4, "ewald_pme"), (4, 1e-12, "ewald_direct")])
+def test_auto_chooses_as_scenes_do_and_reports_why(cells, accuracy, path):
+    """method="auto" (the default) on irregular sites takes the direct sum for
+    64 dipoles and PME for 1,728 at 1e-4 (the cost models' crossover is 550
+    dipoles there), and the direct sum at 1e-12, beyond PME's range; `details`
+    reports both estimates and the reason, and the energy equals the forced
+    path's bit for bit."""
+    sites, q, edge = _jittered(cells, 5)
+    kwargs = {"dipoles_body": [0, 0, 1.0], "box_lengths": [edge] * 3, "accuracy": accuracy, "details": True}
+    e, _, _, info = quatrot.multipole_evaluate(sites, q, **kwargs)
+    assert info["path"] == path
+    choice = info["choice"]
+    assert choice["direct_seconds"] > 0
+    if accuracy < 1e-10:
+        assert choice["pme_seconds"] is None and "accuracy: must be from 1e-10 to 1e-2" in choice["reason"]
+    else:
+        assert (choice["pme_seconds"] < choice["direct_seconds"]) == (path == "ewald_pme")
+    forced, _, _, forced_info = quatrot.multipole_evaluate(sites, q, method=path.removeprefix("ewald_"), **kwargs)
+    assert forced == e and "choice" not in forced_info

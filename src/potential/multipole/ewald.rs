@@ -29,13 +29,13 @@ const SITES_PER_TASK: usize = 64;
 /// One reciprocal-space wave vector `k = 2 pi (h / L_x, k / L_y, l / L_z)` of
 /// the half space (its opposite is folded in by the factor 2 of `weight`).
 #[derive(Clone, Copy, Debug)]
-struct WaveVector {
-    index: [i32; 3],
-    k: Vector3<f64>,
+pub(crate) struct WaveVector {
+    pub index: [i32; 3],
+    pub k: Vector3<f64>,
     /// `-1/3 k k^T` as (xx, yy, zz, xy, xz, yz).
     kk: [f64; 6],
     /// `(8 pi / V) exp(-k^2 / 4 alpha^2) / k^2`.
-    weight: f64,
+    pub weight: f64,
 }
 
 /// The direct Ewald sum of one set of sites (built once; see the module doc).
@@ -219,24 +219,6 @@ impl EwaldSum {
 
     /// The phases `exp(i 2 pi m x_a / L_a)` of one site for `m` in
     /// `-max..=max` along each axis (index `m + max`).
-    fn phases(&self, site: &Vector3<f64>) -> [Vec<Complex<f64>>; 3] {
-        [0, 1, 2].map(|a| {
-            let m = self.max_index[a];
-            let step = Complex::from_polar(1.0, 2.0 * PI * site[a] / self.box_lengths[a]);
-            let mut out = vec![Complex::new(1.0, 0.0); (2 * m + 1) as usize];
-            for p in 1..=m as usize {
-                out[m as usize + p] = out[m as usize + p - 1] * step;
-                out[m as usize - p] = out[m as usize + p].conj();
-            }
-            out
-        })
-    }
-
-    fn phase(&self, phases: &[Vec<Complex<f64>>; 3], index: [i32; 3]) -> Complex<f64> {
-        let at = |a: usize| phases[a][(index[a] + self.max_index[a]) as usize];
-        at(0) * at(1) * at(2)
-    }
-
     /// Structure factors `S(k) = sum_j c_j(k) exp(-i k.r_j)`, then the fields
     /// `E_i = sum_k w k Im[S exp(i k.r_i)]`, `W_i = sum_k w (-1/3 k k^T) Re[...]`.
     fn reciprocal_space<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
@@ -258,9 +240,10 @@ impl EwaldSum {
             .map(|chunk| {
                 let mut s = vec![Complex::new(0.0, 0.0); self.waves.len()];
                 for &j in chunk {
-                    let phases = self.phases(&self.sites[j]);
+                    let phases = phases(&self.sites[j], &self.box_lengths, self.max_index);
                     for (s, wave) in s.iter_mut().zip(&self.waves) {
-                        *s += coefficient(j, wave) * self.phase(&phases, wave.index).conj();
+                        *s += coefficient(j, wave)
+                            * phase(&phases, self.max_index, wave.index).conj();
                     }
                 }
                 s
@@ -277,10 +260,10 @@ impl EwaldSum {
             .into_par_iter()
             .with_min_len(SITES_PER_TASK)
             .map(|i| {
-                let phases = self.phases(&self.sites[i]);
+                let phases = phases(&self.sites[i], &self.box_lengths, self.max_index);
                 let (mut e, mut w) = ([0.0; 3], [0.0; 6]);
                 for (s, wave) in structure.iter().zip(&self.waves) {
-                    let t = s * self.phase(&phases, wave.index);
+                    let t = s * phase(&phases, self.max_index, wave.index);
                     if K::DIPOLES {
                         let f = wave.weight * t.im;
                         for (e, k) in e.iter_mut().zip(wave.k.iter()) {
@@ -328,8 +311,37 @@ fn add(
     }
 }
 
+/// `exp(i 2 pi p r_a / L_a)` of `site` for `p` from `-max_index[a]` to
+/// `max_index[a]` along each axis `a`.
+pub(crate) fn phases(
+    site: &Vector3<f64>,
+    box_lengths: &Vector3<f64>,
+    max_index: [i32; 3],
+) -> [Vec<Complex<f64>>; 3] {
+    [0, 1, 2].map(|a| {
+        let m = max_index[a];
+        let step = Complex::from_polar(1.0, 2.0 * PI * site[a] / box_lengths[a]);
+        let mut out = vec![Complex::new(1.0, 0.0); (2 * m + 1) as usize];
+        for p in 1..=m as usize {
+            out[m as usize + p] = out[m as usize + p - 1] * step;
+            out[m as usize - p] = out[m as usize + p].conj();
+        }
+        out
+    })
+}
+
+/// `exp(i k.r)` of the wave vector `index` from the [`phases`] of `r`.
+pub(crate) fn phase(
+    phases: &[Vec<Complex<f64>>; 3],
+    max_index: [i32; 3],
+    index: [i32; 3],
+) -> Complex<f64> {
+    let at = |a: usize| phases[a][(index[a] + max_index[a]) as usize];
+    at(0) * at(1) * at(2)
+}
+
 /// The half space of wave vectors `0 < |k| <= kc` (first nonzero index positive).
-fn wave_vectors(
+pub(crate) fn wave_vectors(
     box_lengths: &Vector3<f64>,
     max_index: [i32; 3],
     alpha: f64,

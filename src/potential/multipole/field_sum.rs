@@ -1,14 +1,16 @@
 //! [`FieldSum`]: how a [`super::MultipolePotential`] sums its pair fields,
 //! chosen once from the boundary and the way of summing ([`SumMethod`]).
 
+use super::auto_choice::{AutoChoice, DIRECT_SECONDS_PER_UNIT, PME_SECONDS_PER_UNIT};
 use super::ewald::EwaldSum;
 use super::lattice_fft::LatticeFft;
 use super::lattice_grid;
+use super::mesh_ewald::mesh_cost;
 use super::mesh_sum::MeshSum;
 use super::pairs::{OpenPairs, PairTable};
 use super::row_quads::RowQuads;
 use super::sum_method::SumMethod;
-use super::{Boundary, PeriodicSum, PotentialError, SumKind};
+use super::{Accuracy, Boundary, EwaldParameters, PeriodicSum, PotentialError, SumKind, Surface};
 use nalgebra::Vector3;
 
 /// How the pair fields are summed, fixed at construction.
@@ -33,13 +35,15 @@ pub(super) enum FieldSum {
 
 impl FieldSum {
     /// The sum for `boundary` and `method` (see [`SumMethod`]), for the
-    /// multipole kinds `(dipoles, quadrupoles)` carried.
+    /// multipole kinds `(dipoles, quadrupoles)` carried, with what the
+    /// automatic choice compared when it chose between the direct Ewald sum
+    /// and PME ([`AutoChoice`]).
     pub(super) fn build(
         sites: &[Vector3<f64>],
         boundary: Boundary,
         method: SumMethod,
         kinds: (bool, bool),
-    ) -> Result<FieldSum, PotentialError> {
+    ) -> Result<(FieldSum, Option<AutoChoice>), PotentialError> {
         let pair_sum = |images: (Vector3<f64>, f64)| -> Result<FieldSum, PotentialError> {
             let pairs = PairTable::build(sites, Some(images))?;
             let row_quads = if kinds == (true, false) {
@@ -50,7 +54,7 @@ impl FieldSum {
             Ok(FieldSum::Pairs { pairs, row_quads })
         };
         let Boundary::Periodic { box_lengths, sum } = boundary else {
-            return Self::open(sites, method);
+            return Ok((Self::open(sites, method)?, None));
         };
         if method == SumMethod::Pme {
             let PeriodicSum::Ewald { accuracy, surface } = sum else {
@@ -60,8 +64,9 @@ impl FieldSum {
                 ));
             };
             if !sites.is_empty() {
-                let mesh = MeshSum::new(sites, box_lengths, accuracy, surface, kinds)?;
-                return Ok(FieldSum::Mesh(Box::new(mesh)));
+                let chosen = MeshSum::choose(sites.len(), &box_lengths, accuracy, kinds)?;
+                let mesh = MeshSum::new(sites, box_lengths, (accuracy, surface), chosen, kinds)?;
+                return Ok((FieldSum::Mesh(Box::new(mesh)), None));
             }
         }
         if sites.is_empty() {
@@ -69,7 +74,7 @@ impl FieldSum {
                 PeriodicSum::Cutoff { cutoff } => cutoff,
                 PeriodicSum::Ewald { .. } => 0.0,
             };
-            return pair_sum((box_lengths, cutoff));
+            return Ok((pair_sum((box_lengths, cutoff))?, None));
         }
         let fft = match method {
             SumMethod::LatticeFft => true,
@@ -83,7 +88,7 @@ impl FieldSum {
                     let cost = LatticeFft::cost(&grid, &box_lengths);
                     let chosen = sum.choose(density, kinds, cost, &box_lengths)?;
                     let sum = LatticeFft::new(grid, &box_lengths, chosen, kinds)?;
-                    return Ok(FieldSum::LatticeFft(Box::new(sum)));
+                    return Ok((FieldSum::LatticeFft(Box::new(sum)), None));
                 }
                 None if method == SumMethod::LatticeFft => {
                     return Err(PotentialError::new(
@@ -99,16 +104,50 @@ impl FieldSum {
         let cost = EwaldSum::cost(sites.len(), &box_lengths);
         let chosen = sum.choose(density, kinds, cost, &box_lengths)?;
         match (chosen.sum, chosen.parameters) {
-            (PeriodicSum::Ewald { surface, .. }, Some(parameters)) => {
-                Ok(FieldSum::Ewald(Box::new(EwaldSum::with_parameters(
+            (PeriodicSum::Ewald { accuracy, surface }, Some(parameters)) => {
+                let auto = (method == SumMethod::Auto)
+                    .then(|| cost.of(parameters.real_cutoff, parameters.reciprocal_cutoff));
+                Self::ewald(
                     sites,
                     box_lengths,
-                    parameters,
-                    surface,
-                )?)))
+                    (accuracy, surface),
+                    (parameters, auto),
+                    kinds,
+                )
             }
-            _ => pair_sum((box_lengths, chosen.reach)),
+            _ => Ok((pair_sum((box_lengths, chosen.reach))?, None)),
         }
+    }
+
+    /// The direct Ewald sum of `sites` with `parameters`, or, when `auto`
+    /// gives its cost (`method = "auto"`), the cheaper of it and PME by
+    /// their cost models ([`AutoChoice`]).
+    fn ewald(
+        sites: &[Vector3<f64>],
+        box_lengths: Vector3<f64>,
+        (accuracy, surface): (Accuracy, Surface),
+        (parameters, auto): (EwaldParameters, Option<f64>),
+        kinds: (bool, bool),
+    ) -> Result<(FieldSum, Option<AutoChoice>), PotentialError> {
+        let choice = auto.map(|direct| {
+            let mesh = MeshSum::choose(sites.len(), &box_lengths, accuracy, kinds);
+            let pme = mesh
+                .as_ref()
+                .map(|(p, _)| mesh_cost(p, sites.len(), &box_lengths) * PME_SECONDS_PER_UNIT)
+                .map_err(Clone::clone);
+            (
+                AutoChoice::compare(direct * DIRECT_SECONDS_PER_UNIT, pme),
+                mesh,
+            )
+        });
+        if let Some((choice, Ok(mesh))) = &choice {
+            if choice.takes_pme() {
+                let sum = MeshSum::new(sites, box_lengths, (accuracy, surface), *mesh, kinds)?;
+                return Ok((FieldSum::Mesh(Box::new(sum)), Some(choice.clone())));
+            }
+        }
+        let ewald = EwaldSum::with_parameters(sites, box_lengths, parameters, surface)?;
+        Ok((FieldSum::Ewald(Box::new(ewald)), choice.map(|(c, _)| c)))
     }
 
     /// Every pair of `sites` in open space; `method` must not be one of

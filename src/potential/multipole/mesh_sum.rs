@@ -41,23 +41,34 @@ impl Clone for MeshSum {
 }
 
 impl MeshSum {
-    /// The sum of `sites` in `box_lengths` carrying `(dipoles, quadrupoles)`,
-    /// at `accuracy`; errors name the option (`accuracy`, `box_lengths`).
-    pub fn new(
-        sites: &[Vector3<f64>],
-        box_lengths: Vector3<f64>,
+    /// The parameters of the sum of `sites` sites in `box_lengths` carrying
+    /// `(dipoles, quadrupoles)` at `accuracy` ([`for_multipoles`]); errors
+    /// name the option (`accuracy`, `box_lengths`).
+    pub fn choose(
+        sites: usize,
+        box_lengths: &Vector3<f64>,
         accuracy: Accuracy,
-        surface: Surface,
         (dipoles, quadrupoles): (bool, bool),
-    ) -> Result<MeshSum, PotentialError> {
+    ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
         let carried = Carried {
             charges: false,
             dipoles,
             quadrupoles,
         };
+        for_multipoles(accuracy.get(), carried, sites, box_lengths, None, None)
+    }
+
+    /// The sum of `sites` in `box_lengths` with `parameters` chosen for
+    /// `accuracy` ([`Self::choose`]), carrying `(dipoles, quadrupoles)`;
+    /// a refusal of its size names `accuracy`.
+    pub fn new(
+        sites: &[Vector3<f64>],
+        box_lengths: Vector3<f64>,
+        (accuracy, surface): (Accuracy, Surface),
+        (parameters, estimate): (MeshParameters, MeshEstimate),
+        (dipoles, quadrupoles): (bool, bool),
+    ) -> Result<MeshSum, PotentialError> {
         let n = sites.len();
-        let (parameters, estimate) =
-            for_multipoles(accuracy.get(), carried, n, &box_lengths, None, None)?;
         // The mesh was chosen for the accuracy: its size is the accuracy's.
         let sum = MeshEwald::new(n, box_lengths, parameters, surface).map_err(|e| {
             PotentialError::new(

@@ -4,6 +4,7 @@
 //! energy is a polynomial of the quaternion components, so the quaternion
 //! force of eq 14 is its analytic gradient.
 
+mod auto_choice;
 mod boundary;
 pub mod convention;
 mod error;
@@ -25,6 +26,7 @@ mod potential;
 mod row_quads;
 mod sum_method;
 
+pub use auto_choice::{AutoChoice, DIRECT_SECONDS_PER_UNIT, PME_SECONDS_PER_UNIT};
 pub use boundary::{Boundary, BYTES_PER_PAIR, MAX_PAIRS};
 pub use error::PotentialError;
 pub use ewald::MAX_WAVE_VECTORS;

@@ -1,6 +1,7 @@
 //! [`MultipolePotential`]: point multipoles on fixed sites, as polynomials of
 //! the quaternions.
 
+use super::auto_choice::AutoChoice;
 use super::field_sum::FieldSum;
 use super::kernels::{
     accumulate_pair_fields, Dipoles, DipolesAndQuadrupoles, Lanes, MultipoleKind, Quadrupoles,
@@ -78,6 +79,7 @@ pub struct MultipolePotential {
     dipoles_body: Vec<Vector3<f64>>,
     quadrupoles_body: Vec<Matrix3<f64>>,
     sum: FieldSum,
+    choice: Option<AutoChoice>,
     external: ExternalFields,
 }
 
@@ -120,28 +122,20 @@ impl MultipolePotential {
         } else {
             rotors.iter().map(|r| r.site).collect()
         };
-        let sum = FieldSum::build(&sites, boundary, method, (has_dipoles, has_quadrupoles))?;
-        let dipoles_body = if has_dipoles {
-            rotors
-                .iter()
-                .map(|r| r.dipole_body.unwrap_or_default())
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let quadrupoles_body = if has_quadrupoles {
-            rotors
-                .iter()
-                .map(|r| r.quadrupole_body.unwrap_or_default())
-                .collect()
-        } else {
-            Vec::new()
-        };
+        let (sum, choice) =
+            FieldSum::build(&sites, boundary, method, (has_dipoles, has_quadrupoles))?;
+        // Each carried kind for every rotor (zero where a rotor has none).
+        let body = |carried: bool| rotors.iter().filter(move |_| carried);
         Ok(MultipolePotential {
             carried,
-            dipoles_body,
-            quadrupoles_body,
+            dipoles_body: body(has_dipoles)
+                .map(|r| r.dipole_body.unwrap_or_default())
+                .collect(),
+            quadrupoles_body: body(has_quadrupoles)
+                .map(|r| r.quadrupole_body.unwrap_or_default())
+                .collect(),
             sum,
+            choice,
             external,
         })
     }
@@ -196,6 +190,13 @@ impl MultipolePotential {
             FieldSum::LatticeFft(fft) => fft.parameters(),
             FieldSum::Pairs { .. } | FieldSum::Open(_) | FieldSum::Mesh(_) => None,
         }
+    }
+
+    /// What `method = "auto"` compared when it chose between the direct
+    /// Ewald sum and PME on sites that are not a lattice (`None` for every
+    /// other path and method).
+    pub fn auto_choice(&self) -> Option<&AutoChoice> {
+        self.choice.as_ref()
     }
 
     /// The mesh Ewald parameters chosen for the requested accuracy and

@@ -9,9 +9,11 @@ use crate::checks::named_choices;
 /// (what [`super::MultipolePotential::new`] uses) takes the FFT lattice sum for an
 /// Ewald sum whose sites are a lattice of the box (detected: see
 /// [`crate::potential::multipole::LatticeGrid`]; vacancies and mixed
-/// multipoles included), the direct Ewald sum for other sites, and the pair
-/// list for a truncated sum (bit for bit the sum of earlier versions); it
-/// never takes the mesh Ewald sum (yet: the crossover is to be measured).
+/// multipoles included), for other sites the cheaper of the direct Ewald
+/// sum and the mesh Ewald sum by their cost models ([`super::AutoChoice`]:
+/// the direct sum below a crossover size, PME above, the direct sum for
+/// accuracies PME cannot reach), and the pair list for a truncated sum (bit
+/// for bit the sum of earlier versions).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SumMethod {
     /// The fastest path that is exact for the sites (the default).

@@ -78,7 +78,7 @@ pub struct Carried {
 
 impl Carried {
     /// The pairs `(s, g)` of source order and field order (module doc).
-    fn orders(&self) -> Vec<(i32, i32)> {
+    pub(crate) fn orders(&self) -> Vec<(i32, i32)> {
         let sources: Vec<i32> = [(self.charges, 0), (self.dipoles, 1), (self.quadrupoles, 2)]
             .iter()
             .filter_map(|&(c, s)| c.then_some(s))
@@ -179,6 +179,20 @@ pub(crate) fn cost(sites: f64, density: f64, rc: f64, grid: [usize; 3], order: u
     sites * density * (2.0 * PI / 3.0) * rc.powi(3)
         + FFT_COST * points * points.log2()
         + SPLINE_COST * sites * (order as f64).powi(3)
+}
+
+/// [`cost`] of the sum of `sites` sites in `box_lengths` with `parameters`:
+/// what [`crate::potential::multipole`]'s automatic choice weighs against the
+/// direct sum.
+pub fn mesh_cost(parameters: &MeshParameters, sites: usize, box_lengths: &Vector3<f64>) -> f64 {
+    let n = sites.max(1) as f64;
+    cost(
+        n,
+        n / box_lengths.product(),
+        parameters.real_cutoff,
+        parameters.grid,
+        parameters.order,
+    )
 }
 
 /// The cost of a mesh point (times `log2` of the point count) relative to a

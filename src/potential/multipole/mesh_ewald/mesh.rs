@@ -26,7 +26,6 @@ pub(crate) fn mesh_bytes(grid: [usize; 3]) -> f64 {
 #[derive(Clone, Debug)]
 pub struct MeshEwald {
     parameters: MeshParameters,
-    surface: Surface,
     box_lengths: Vector3<f64>,
     fft: RealFft3,
     convolution: ConvolveBuffers,
@@ -46,8 +45,8 @@ pub struct MeshEwald {
     line_virials: Vec<[f64; 6]>,
     /// Whether evaluations compute the virial ([`Self::with_virial`]).
     virial: bool,
-    /// `d^N` at the origin of the smooth part `erf(alpha r) / r` (the self term).
-    smooth_at_origin: [f64; 56],
+    /// The self, background and surface terms.
+    terms: SiteTerms,
 }
 
 impl MeshEwald {
@@ -87,17 +86,8 @@ impl MeshEwald {
         })?;
         let fft = RealFft3::new(grid);
         let influence = influence(&fft, &box_lengths, parameters.alpha, parameters.order);
-        let alpha = parameters.alpha;
-        // B_l(0) of erf(alpha r) / r: (2 alpha / sqrt(pi)) (2 alpha^2)^l / (2l + 1).
-        let smooth: [f64; 6] = std::array::from_fn(|l| {
-            2.0 * alpha / PI.sqrt() * (2.0 * alpha * alpha).powi(l as i32) / (2 * l + 1) as f64
-        });
-        let mut levels = [[0.0; 56]; 6];
-        radial_derivatives(&Vector3::zeros(), &smooth, 56, &mut levels);
-        let smooth_at_origin = levels[0];
         Ok(MeshEwald {
             parameters,
-            surface,
             box_lengths,
             influence,
             mesh: vec![0.0; points as usize],
@@ -113,7 +103,7 @@ impl MeshEwald {
             site_virials: vec![Matrix3::zeros(); sites],
             line_virials: vec![[0.0; 6]; grid[1] * (grid[2] / 2 + 1)],
             virial: false,
-            smooth_at_origin,
+            terms: SiteTerms::new(parameters.alpha, surface, box_lengths),
         })
     }
 
@@ -183,57 +173,28 @@ impl MeshEwald {
         Ok((&mut self.derivatives, virial))
     }
 
-    /// Checks the lengths and positions, wraps the sites, sets their
-    /// coefficients and zeroes the derivatives; returns the sources' order
-    /// and the number of derivatives needed.
+    /// [`SiteTerms::prepare`], and the coefficients scaled to the mesh;
+    /// returns the sources' order and the number of derivatives needed.
     fn prepare(
         &mut self,
         sources: &Sources<'_>,
         responses: usize,
     ) -> Result<(usize, usize), PotentialError> {
-        let n = self.sites();
-        let lengths = [
-            Some(sources.len()),
-            sources.charges.map(<[f64]>::len),
-            sources.dipoles.map(<[Vector3<f64>]>::len),
-            sources.quadrupoles.map(|t| t.len()),
-            Some(responses),
-        ];
-        if lengths.iter().flatten().any(|&len| len != n) {
-            return Err(PotentialError::new(
-                "positions",
-                format!(
-                    "the sum was built for {n} sites, got (positions, charges, dipoles, \
-                     quadrupoles, response) lengths {lengths:?}"
-                ),
-            ));
-        }
-        let box_lengths = self.box_lengths;
-        for (i, r) in sources.positions.iter().enumerate() {
-            if !r.iter().all(|x| x.is_finite()) {
-                return Err(PotentialError::new(
-                    format!("positions[{i}]"),
-                    format!("must be finite, got {r:?}"),
-                ));
-            }
-            self.wrapped[i] =
-                Vector3::from_fn(|a, _| r[a] - box_lengths[a] * (r[a] / box_lengths[a]).floor());
-        }
+        let prepared = self.terms.prepare(
+            sources,
+            responses,
+            (&mut self.wrapped, &mut self.coefficients),
+            &mut self.derivatives,
+        )?;
         let tables = Tables::get();
         let scale = self.scale();
-        for i in 0..n {
-            let c = sources.coefficients(i);
-            self.coefficients[i] = c;
-            self.scaled[i] = std::array::from_fn(|e| {
+        for (scaled, c) in self.scaled.iter_mut().zip(&self.coefficients) {
+            *scaled = std::array::from_fn(|e| {
                 let x = tables.exponents[e];
                 c[e] * (0..3).map(|a| scale[a].powi(x[a] as i32)).product::<f64>()
             });
         }
-        let source_order = sources.order();
-        for d in self.derivatives.iter_mut() {
-            *d = [0.0; DERIVATIVES];
-        }
-        Ok((source_order, UP_TO[(source_order + 1).max(2)]))
+        Ok(prepared)
     }
 
     /// `K_a / L_a`.
@@ -252,7 +213,12 @@ impl MeshEwald {
         let derivative_order = (source_order + 1).max(2);
         let scale = self.scale();
         let mut virial = self.reciprocal(sources, (source_order, derivative_order, count), &scale);
-        virial += self.add_self_background_surface(sources, source_order, count);
+        virial += self.terms.add(
+            sources,
+            (&self.wrapped, &self.coefficients),
+            (source_order, count),
+            &mut self.derivatives,
+        );
         if self.virial {
             virial
         } else {
@@ -351,17 +317,108 @@ impl MeshEwald {
                 virial[(a, c)] = virial[(c, a)];
             }
         }
-        let tables = Tables::get();
-        for (i, r) in self.reciprocal.iter().enumerate() {
-            if let Some(mu) = sources.dipoles.map(|m| m[i]) {
-                virial += mu * Vector3::new(r[1], r[2], r[3]).transpose();
-            }
-            if let Some(theta) = sources.quadrupoles.map(|t| t[i]) {
-                let w = Matrix3::from_fn(|a, b| r[tables.sum[1 + a][1 + b]] / 3.0);
-                virial += theta * w * 2.0;
-            }
+        virial + multipole_virial(sources, &self.reciprocal)
+    }
+}
+
+/// The multipoles' share of a reciprocal-space virial, from each site's
+/// reciprocal potential derivatives `reciprocal`: `sum_i (-mu_i E_i^T + 2
+/// Theta_i W_i)` (Sagui, Pedersen & Darden 2004: the strain turns `mu.k`
+/// into `((1 - eps) mu).k`).
+pub(crate) fn multipole_virial(
+    sources: &Sources<'_>,
+    reciprocal: &[[f64; DERIVATIVES]],
+) -> Matrix3<f64> {
+    let tables = Tables::get();
+    let mut virial = Matrix3::zeros();
+    for (i, r) in reciprocal.iter().enumerate() {
+        if let Some(mu) = sources.dipoles.map(|m| m[i]) {
+            virial += mu * Vector3::new(r[1], r[2], r[3]).transpose();
         }
-        virial
+        if let Some(theta) = sources.quadrupoles.map(|t| t[i]) {
+            let w = Matrix3::from_fn(|a, b| r[tables.sum[1 + a][1 + b]] / 3.0);
+            virial += theta * w * 2.0;
+        }
+    }
+    virial
+}
+
+/// The terms every Ewald sum of sites has besides its real and reciprocal
+/// parts (self, background, surface: module doc of [`super`]), for a
+/// splitting and a box.
+#[derive(Clone, Debug)]
+pub(crate) struct SiteTerms {
+    alpha: f64,
+    surface: Surface,
+    box_lengths: Vector3<f64>,
+    /// `d^N` at the origin of the smooth part `erf(alpha r) / r` (the self term).
+    smooth_at_origin: [f64; 56],
+}
+
+impl SiteTerms {
+    /// The terms of splitting `alpha` in `box_lengths` with `surface`.
+    pub fn new(alpha: f64, surface: Surface, box_lengths: Vector3<f64>) -> Self {
+        // B_l(0) of erf(alpha r) / r: (2 alpha / sqrt(pi)) (2 alpha^2)^l / (2l + 1).
+        let smooth: [f64; 6] = std::array::from_fn(|l| {
+            2.0 * alpha / PI.sqrt() * (2.0 * alpha * alpha).powi(l as i32) / (2 * l + 1) as f64
+        });
+        let mut levels = [[0.0; 56]; 6];
+        radial_derivatives(&Vector3::zeros(), &smooth, 56, &mut levels);
+        SiteTerms {
+            alpha,
+            surface,
+            box_lengths,
+            smooth_at_origin: levels[0],
+        }
+    }
+
+    /// Checks the lengths (path `positions`) and the positions (finite,
+    /// `positions[i]`), wraps the sites into the box, sets their
+    /// coefficients and zeroes the derivatives (all sized for the sites);
+    /// returns the sources' order and the number of derivatives needed.
+    pub fn prepare(
+        &self,
+        sources: &Sources<'_>,
+        responses: usize,
+        (wrapped, coefficients): (&mut [Vector3<f64>], &mut [[f64; SOURCES]]),
+        derivatives: &mut [[f64; DERIVATIVES]],
+    ) -> Result<(usize, usize), PotentialError> {
+        let n = wrapped.len();
+        let lengths = [
+            Some(sources.len()),
+            sources.charges.map(<[f64]>::len),
+            sources.dipoles.map(<[Vector3<f64>]>::len),
+            sources.quadrupoles.map(|t| t.len()),
+            Some(responses),
+        ];
+        if lengths.iter().flatten().any(|&len| len != n) {
+            return Err(PotentialError::new(
+                "positions",
+                format!(
+                    "the sum was built for {n} sites, got (positions, charges, dipoles, \
+                     quadrupoles, response) lengths {lengths:?}"
+                ),
+            ));
+        }
+        let box_lengths = self.box_lengths;
+        for (i, r) in sources.positions.iter().enumerate() {
+            if !r.iter().all(|x| x.is_finite()) {
+                return Err(PotentialError::new(
+                    format!("positions[{i}]"),
+                    format!("must be finite, got {r:?}"),
+                ));
+            }
+            wrapped[i] =
+                Vector3::from_fn(|a, _| r[a] - box_lengths[a] * (r[a] / box_lengths[a]).floor());
+        }
+        for (i, c) in coefficients.iter_mut().enumerate() {
+            *c = sources.coefficients(i);
+        }
+        let source_order = sources.order();
+        for d in derivatives.iter_mut() {
+            *d = [0.0; DERIVATIVES];
+        }
+        Ok((source_order, UP_TO[(source_order + 1).max(2)]))
     }
 
     /// Removes each site's own smooth potential, adds the neutralising
@@ -371,32 +428,33 @@ impl MeshEwald {
     /// background's `1/V`), `E_s I - 4 pi / (3 V) P M^T` in vacuum (`P =
     /// sum_i q_i r_i` the charges' part of `M`, scaled by the strain), none
     /// of the self term (independent of the positions).
-    fn add_self_background_surface(
-        &mut self,
+    pub fn add(
+        &self,
         sources: &Sources<'_>,
-        source_order: usize,
-        count: usize,
+        (wrapped, coefficients): (&[Vector3<f64>], &[[f64; SOURCES]]),
+        (source_order, count): (usize, usize),
+        derivatives: &mut [[f64; DERIVATIVES]],
     ) -> Matrix3<f64> {
         let tables = Tables::get();
         let volume = self.box_lengths.product();
-        let alpha = self.parameters.alpha;
+        let alpha = self.alpha;
         let net = sources.charges.map_or(0.0, |q| q.iter().sum::<f64>());
         let background = -PI * net / (volume * alpha * alpha);
-        let total_dipole = sources.total_dipole(&self.wrapped);
+        let total_dipole = sources.total_dipole(wrapped);
         let surface = match self.surface {
             Surface::Conducting => Vector3::zeros(),
             Surface::Vacuum => total_dipole * (4.0 * PI / (3.0 * volume)),
         };
         let sources_count = UP_TO[source_order];
-        for (i, d) in self.derivatives.iter_mut().enumerate() {
-            let c = &self.coefficients[i];
+        for (i, d) in derivatives.iter_mut().enumerate() {
+            let c = &coefficients[i];
             for (a, value) in d.iter_mut().enumerate().take(count) {
                 let own: f64 = (0..sources_count)
                     .map(|e| tables.parity[e] * c[e] * self.smooth_at_origin[tables.sum[a][e]])
                     .sum();
                 *value -= own;
             }
-            d[0] += background + surface.dot(&self.wrapped[i]);
+            d[0] += background + surface.dot(&wrapped[i]);
             for a in 0..3 {
                 d[1 + a] += surface[a];
             }

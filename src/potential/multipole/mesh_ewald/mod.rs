@@ -50,6 +50,11 @@
 //! **Parameters** from a requested accuracy: [`for_charges`] (Kolafa &
 //! Perram; Deserno & Holm) and [`for_multipoles`] (an aliasing estimate of
 //! smooth PME derived in `estimate`).
+//!
+//! **Without the mesh**: [`WaveEwald`], the same terms with the reciprocal
+//! part summed over the wave vectors (the direct Ewald sum of moving
+//! sites, cheaper than a mesh for small systems), its parameters by
+//! [`for_waves`].
 
 mod accuracy;
 mod bspline;
@@ -62,16 +67,18 @@ mod parameters;
 mod real_space;
 mod sites;
 mod spread;
+mod waves;
 
 pub use accuracy::{
     for_charges, ChargeEstimate, ACCURACY_RANGE, DEFAULT_ORDER, ESTIMATED_ORDERS, MESH_SAFETY,
 };
 pub use bspline::ORDERS;
 pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
-pub use estimate::{for_multipoles, for_multipoles_with_skin, Carried, MeshEstimate};
+pub use estimate::{for_multipoles, for_multipoles_with_skin, mesh_cost, Carried, MeshEstimate};
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;
 pub use sites::{SiteResponse, Sources};
+pub use waves::{for_waves, WaveEwald, WAVE_COST};
 
 #[cfg(test)]
 pub(crate) mod tests;
