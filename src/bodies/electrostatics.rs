@@ -142,7 +142,6 @@ pub(super) type RadialKernel<'a> = dyn Fn(f64) -> [f64; 6] + Sync + 'a;
 /// `erf(alpha r) / r` that a reciprocal-space sum put there.
 pub(super) fn add_pairs(
     sites: &SiteMultipoles,
-    space: &Space,
     pairs: &NeighbourList,
     (cutoff, kernel): (f64, &RadialKernel<'_>),
     exclusions: Option<Exclusions<'_>>,
@@ -170,9 +169,7 @@ pub(super) fn add_pairs(
                 let f = pair_force(&t[0], &target, UP_TO[order], &source, UP_TO[order]);
                 *w += r * f.transpose() * 0.5;
             };
-            for &j in pairs.partners(i) {
-                let j = j as usize;
-                let r = space.minimum_image(sites.positions[i] - sites.positions[j]);
+            for (j, r) in pairs.separations(i, &sites.positions) {
                 if r.norm_squared() < cutoff2 {
                     pair(r, &kernel(r.norm()), j);
                 }
@@ -204,7 +201,7 @@ impl Electrostatics for CutoffSum {
     fn evaluate(
         &mut self,
         sites: &SiteMultipoles,
-        space: &Space,
+        _space: &Space,
         pairs: &NeighbourList,
         out: &mut SiteResponse,
     ) {
@@ -217,7 +214,6 @@ impl Electrostatics for CutoffSum {
             let kernel = |r: f64| radial_functions(0.0, r);
             add_pairs(
                 sites,
-                space,
                 pairs,
                 (self.cutoff, &kernel),
                 None,
@@ -240,10 +236,8 @@ impl Electrostatics for CutoffSum {
                 if target == ChargeDipole::default() {
                     return share;
                 }
-                for &j in pairs.partners(i) {
-                    let j = j as usize;
+                for (j, r) in pairs.separations(i, &sites.positions) {
                     let source = charged(j);
-                    let r = space.minimum_image(sites.positions[i] - sites.positions[j]);
                     if r.norm_squared() >= cutoff2 || source == ChargeDipole::default() {
                         continue;
                     }

@@ -235,7 +235,7 @@ impl Electrostatics for BodyEwald {
     fn evaluate(
         &mut self,
         sites: &SiteMultipoles,
-        space: &Space,
+        _space: &Space,
         pairs: &NeighbourList,
         out: &mut SiteResponse,
     ) {
@@ -249,7 +249,6 @@ impl Electrostatics for BodyEwald {
         let kernel = |r: f64| radial_functions(alpha, r);
         add_pairs(
             sites,
-            space,
             pairs,
             (real_cutoff, &kernel),
             Some(Exclusions {

@@ -46,11 +46,11 @@ impl BodySystem {
     /// Evaluates the interactions at the bodies' positions and
     /// orientations, first rebuilding the neighbour list (after wrapping
     /// the centres into a periodic box) if a site has moved more than half
-    /// the skin.
+    /// the skin or the space has changed.
     pub fn evaluate(&mut self, out: &mut Evaluation) {
         let mut positions = std::mem::take(&mut self.scratch.multipoles.positions);
         self.site_positions(&mut positions);
-        if self.neighbours.is_stale(&positions) {
+        if self.neighbours.is_stale(&positions, &self.space) {
             let space = self.space;
             for body in &mut self.bodies {
                 space.wrap(&mut body.position, &mut body.image);
@@ -68,13 +68,7 @@ impl BodySystem {
         if let Some(term) = &self.lennard_jones {
             let sums = &mut self.scratch.lennard_jones;
             let positions = &self.scratch.multipoles.positions;
-            term.evaluate(
-                positions,
-                &self.lj_kind,
-                &self.space,
-                &self.neighbours,
-                sums,
-            );
+            term.evaluate(positions, &self.lj_kind, &self.neighbours, sums);
             out.lennard_jones = sums.energy;
             virial += sums.virial;
             add(&mut out.site_force, &sums.force);

@@ -14,7 +14,6 @@
 
 use super::neighbours::NeighbourList;
 use super::site::LennardJones;
-use super::space::Space;
 use crate::checks::{named_choices, positive, InputError};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -187,7 +186,6 @@ impl LennardJonesTerm {
         &self,
         positions: &[Vector3<f64>],
         kind: &[Option<u32>],
-        space: &Space,
         pairs: &NeighbourList,
         out: &mut PairSums,
     ) {
@@ -199,9 +197,8 @@ impl LennardJonesTerm {
                 let Some(a) = kind[i] else {
                     return (energy, virial, force);
                 };
-                for &j in pairs.partners(i) {
-                    let Some(b) = kind[j as usize] else { continue };
-                    let r = space.minimum_image(positions[i] - positions[j as usize]);
+                for (j, r) in pairs.separations(i, positions) {
+                    let Some(b) = kind[j] else { continue };
                     let r2 = r.norm_squared();
                     if r2 < cutoff2 {
                         let (u, f_over_r) = self.pair(a as usize, b as usize, r2);

@@ -24,13 +24,20 @@ pub const CELLS_PER_SITE: usize = 8;
 const SITES_PER_TASK: usize = 512;
 
 /// A full Verlet list of the sites.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct NeighbourList {
     cutoff: f64,
     skin: f64,
     /// Site `i`'s partners are `partner[start[i]..start[i + 1]]`.
     start: Vec<usize>,
     partner: Vec<u32>,
+    /// For each pair, the box lengths between its separation and that
+    /// separation's minimum image at the build (within the cutoff, it stays
+    /// the minimum image until the list goes stale). Sites are never more
+    /// than a body's size outside the box, so the counts fit.
+    image: Vec<[i8; 3]>,
+    /// The space of the last build.
+    space: Space,
     /// Site positions at the last build.
     reference: Vec<Vector3<f64>>,
     builds: u64,
@@ -52,7 +59,12 @@ impl NeighbourList {
         Ok(NeighbourList {
             cutoff: positive(cutoff).map_err(|e| e.at("cutoff"))?,
             skin: non_negative(skin).map_err(|e| e.at("skin"))?,
-            ..NeighbourList::default()
+            start: Vec::new(),
+            partner: Vec::new(),
+            image: Vec::new(),
+            space: Space::Open,
+            reference: Vec::new(),
+            builds: 0,
         })
     }
 
@@ -72,13 +84,38 @@ impl NeighbourList {
         &self.partner[self.start[i]..self.start[i + 1]]
     }
 
-    /// Whether the list must be rebuilt for `sites`: never built, another
-    /// number of sites, or a site more than half the skin from where it was
+    /// The partners `j` of site `i` with the separations `x_i - x_j` of
+    /// `positions` (those of the sites the list was built for, moved since)
+    /// in the image of the build: the minimum image, the same bits as
+    /// [`Space::minimum_image`], for every pair within the cutoff, without
+    /// its divisions and roundings.
+    #[inline]
+    pub fn separations<'a>(
+        &'a self,
+        i: usize,
+        positions: &'a [Vector3<f64>],
+    ) -> impl Iterator<Item = (usize, Vector3<f64>)> + 'a {
+        let range = self.start[i]..self.start[i + 1];
+        let (x, space) = (positions[i], self.space);
+        self.partner[range.clone()]
+            .iter()
+            .zip(&self.image[range])
+            .map(move |(&j, counts)| {
+                let j = j as usize;
+                let counts = Vector3::from_fn(|k, _| f64::from(counts[k]));
+                (j, x - positions[j] - space.shift(&counts))
+            })
+    }
+
+    /// Whether the list must be rebuilt for `sites` in `space`: never
+    /// built, another number of sites, another space (its image counts
+    /// would be wrong), or a site more than half the skin from where it was
     /// at the last build.
-    pub fn is_stale(&self, sites: &[Vector3<f64>]) -> bool {
+    pub fn is_stale(&self, sites: &[Vector3<f64>], space: &Space) -> bool {
         let limit = (0.5 * self.skin).powi(2);
         self.reference.len() != sites.len()
             || self.start.is_empty()
+            || self.space != *space
             || sites
                 .par_iter()
                 .zip(&self.reference)
@@ -91,38 +128,46 @@ impl NeighbourList {
         let reach = self.reach();
         let cells = Cells::new(sites, space, reach);
         let reach2 = reach * reach;
-        let tasks: Vec<(Vec<usize>, Vec<u32>)> = (0..sites.len().div_ceil(SITES_PER_TASK))
+        type Task = (Vec<usize>, Vec<u32>, Vec<[i8; 3]>);
+        let tasks: Vec<Task> = (0..sites.len().div_ceil(SITES_PER_TASK))
             .into_par_iter()
             .map(|task| {
                 let range = task * SITES_PER_TASK..((task + 1) * SITES_PER_TASK).min(sites.len());
-                let (mut counts, mut partners) = (Vec::with_capacity(range.len()), Vec::new());
+                let mut counts = Vec::with_capacity(range.len());
+                let (mut partners, mut images) = (Vec::new(), Vec::new());
                 for i in range {
                     let before = partners.len();
                     for c in cells.neighbours(cells.cell_of[i]) {
                         for &j in cells.sites(c) {
                             let ju = j as usize;
-                            if ju != i
-                                && body[ju] != body[i]
-                                && space.minimum_image(sites[i] - sites[ju]).norm_squared() < reach2
-                            {
+                            if ju == i || body[ju] == body[i] {
+                                continue;
+                            }
+                            let d = sites[i] - sites[ju];
+                            let image = space.image_counts(d);
+                            if (d - space.shift(&image)).norm_squared() < reach2 {
                                 partners.push(j);
+                                images.push([0, 1, 2].map(|k| image[k] as i8));
                             }
                         }
                     }
                     counts.push(partners.len() - before);
                 }
-                (counts, partners)
+                (counts, partners, images)
             })
             .collect();
         self.start.clear();
         self.start.push(0);
         self.partner.clear();
-        for (counts, partners) in tasks {
+        self.image.clear();
+        for (counts, partners, images) in tasks {
             for c in counts {
                 self.start.push(self.start.last().copied().unwrap_or(0) + c);
             }
             self.partner.extend_from_slice(&partners);
+            self.image.extend_from_slice(&images);
         }
+        self.space = *space;
         self.reference.clear();
         self.reference.extend_from_slice(sites);
         self.builds += 1;
@@ -168,6 +213,7 @@ impl NeighbourList {
         if sites == 0 {
             self.start.clear();
             self.partner.clear();
+            self.image.clear();
             self.reference.clear();
         } else {
             self.build(&reference, body, space);
@@ -308,17 +354,61 @@ mod tests {
         }
     }
 
-    /// The list is stale once a site has moved more than half the skin, not before.
+    /// After the sites have moved (each by less than half the skin, across
+    /// the box's faces too), the list's separations of every pair within
+    /// the cutoff are the minimum images bit for bit, and no pair within
+    /// the cutoff is missing.
+    #[test]
+    fn separations_are_the_minimum_images_until_stale() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let (n, lengths, cutoff, skin) = (400, Vector3::new(6.0, 6.5, 7.0), 2.0, 0.6);
+        let space = Space::Periodic(lengths);
+        let mut sites: Vec<Vector3<f64>> = (0..n)
+            .map(|_| Vector3::from_fn(|k, _| rng.random::<f64>() * lengths[k]))
+            .collect();
+        let body: Vec<u32> = (0..n as u32).collect();
+        let mut list = NeighbourList::new(cutoff, skin).unwrap();
+        list.build(&sites, &body, &space);
+        for x in &mut sites {
+            *x += Vector3::from_fn(|_, _| (rng.random::<f64>() - 0.5) * 0.3);
+        }
+        assert!(!list.is_stale(&sites, &space));
+        let mut within = 0;
+        for i in 0..n {
+            let listed: Vec<(usize, Vector3<f64>)> = list.separations(i, &sites).collect();
+            for j in (0..n).filter(|&j| j != i) {
+                let image = space.minimum_image(sites[i] - sites[j]);
+                if image.norm() < cutoff {
+                    within += 1;
+                    let found = listed.iter().find(|(k, _)| *k == j).map(|(_, r)| *r);
+                    assert_eq!(
+                        found.map(|r| r.map(f64::to_bits)),
+                        Some(image.map(f64::to_bits)),
+                        "{i} {j}"
+                    );
+                }
+            }
+        }
+        assert!(within > 10 * n, "{within} pairs within the cutoff");
+    }
+
+    /// The list is stale once a site has moved more than half the skin, not
+    /// before, and in another space.
     #[test]
     fn the_list_is_stale_after_half_a_skin() {
-        let mut sites = vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
+        let (mut sites, space) = (
+            vec![Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)],
+            Space::Open,
+        );
         let mut list = NeighbourList::new(1.0, 0.4).unwrap();
-        assert!(list.is_stale(&sites));
-        list.build(&sites, &[0, 1], &Space::Open);
+        assert!(list.is_stale(&sites, &space));
+        list.build(&sites, &[0, 1], &space);
         sites[1].y = 0.19;
-        assert!(!list.is_stale(&sites));
+        assert!(!list.is_stale(&sites, &space));
         sites[1].y = 0.21;
-        assert!(list.is_stale(&sites));
+        assert!(list.is_stale(&sites, &space));
+        sites[1].y = 0.0;
+        assert!(list.is_stale(&sites, &Space::Periodic(Vector3::repeat(5.0))));
     }
 
     /// Open space with sites spread along a line far longer than the
