@@ -97,9 +97,11 @@ bench: develop
 	$(PY) -m validation.bench --out benchmarks
 	$(PY) -m validation.bench.ewald --out benchmarks
 	$(PY) -m validation.bench.mesh --out benchmarks
+	$(PY) -m validation.bench.charges --out benchmarks
 	$(PY) -m validation.bench.bodies --out benchmarks
 	$(PY) -m validation.bench.sweep --out benchmarks
 	$(PY) -m validation.bench.longrun --out benchmarks
+	$(PY) -m validation.bench.equipartition --out benchmarks
 	$(PY) -m validation.bench.thermostats --out benchmarks
 	$(MAKE) bench-threads
 

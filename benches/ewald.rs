@@ -27,6 +27,9 @@
 //! (repeats fill ~`SECONDS_PER_CASE`). Writes `<QUATROT_BENCH_RAW or
 //! target/bench/raw>/ewald.json`; `QUATROT_BENCH_QUICK=1` shrinks the sizes.
 
+#[path = "shared/harness.rs"]
+mod harness;
+
 use nalgebra::Vector3;
 use quatrot::lattice::{Lattice, LatticeKind};
 use quatrot::potential::{
@@ -39,7 +42,6 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha20Rng;
 use serde_json::{json, Value};
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::Instant;
 
 /// Wall time spent on each timed case (its repeats).
@@ -177,13 +179,9 @@ fn time_case(rotors: &[Rotor], boundary: Boundary, method: SumMethod, q: &[Quat]
 }
 
 fn main() {
-    let quick = std::env::var("QUATROT_BENCH_QUICK").is_ok_and(|v| v == "1");
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("thread pool");
+    let quick = harness::quick();
     let started = Instant::now();
-    let out = pool.install(|| {
+    let out = harness::one_thread(|| {
         let lattice = Lattice::cubic(LatticeKind::SimpleCubic, 10, 1.0).expect("lattice");
         let rotors = dipoles(&lattice.sites);
         let q = orientations(rotors.len(), 1);
@@ -306,12 +304,5 @@ fn main() {
             "direct_scaling": direct,
         })
     });
-    let dir = PathBuf::from(
-        std::env::var("QUATROT_BENCH_RAW").unwrap_or_else(|_| "target/bench/raw".into()),
-    );
-    std::fs::create_dir_all(&dir).expect("output folder");
-    let mut out = out;
-    out["seconds"] = json!(started.elapsed().as_secs_f64());
-    std::fs::write(dir.join("ewald.json"), out.to_string()).expect("write ewald.json");
-    eprintln!("wrote {}", dir.join("ewald.json").display());
+    harness::write("ewald.json", out, started);
 }

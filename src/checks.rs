@@ -66,6 +66,13 @@ pub fn num(x: f64) -> String {
     }
 }
 
+/// A number a message derives from input values by arithmetic (twice a
+/// cutoff plus a skin), rounded to 12 significant digits so that binary
+/// round-off (`0.8999999999999999` for `2 (0.3 + 0.15)`) does not show.
+pub fn derived(x: f64) -> String {
+    num(format!("{x:.11e}").parse().unwrap_or(x))
+}
+
 /// Text from the input as a message quotes it: control characters escaped
 /// as Rust writes them (`\n`, `\u{1b}`), at most `max_chars` characters
 /// shown (escapes counted as written), the length of the rest stated.
@@ -408,6 +415,8 @@ mod tests {
             "must be >= 1, got -3"
         );
         assert_eq!(at_least_one(2), Ok(2));
+        assert_eq!(derived(2.0 * (0.3 + 0.15)), "0.9");
+        assert_eq!(derived(1.0 / 3.0), "0.333333333333");
         assert_eq!(
             non_negative(-0.5).unwrap_err().message,
             "must be >= 0, got -0.5"

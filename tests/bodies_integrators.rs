@@ -12,8 +12,8 @@ use gear_common::{fitted_order, free_symmetric_exact, max_angle};
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
     Body, BodyDlm, BodyGearA, BodyGearB, BodyKicked, BodyNoSquish, BodyRichardson, BodySystem,
-    BodyType, BodyTypeSpec, ElectrostaticsOptions, Evaluation, InteractionOptions, LennardJones,
-    Site, Space, Truncation,
+    BodyType, BodyTypeSpec, ElectrostaticTruncation, ElectrostaticsOptions, Evaluation,
+    InteractionOptions, LennardJones, Site, Space, Truncation,
 };
 use quatrot::integrators::{
     DlmOptions, FirstCorrector, GearA, GearAOptions, GearB, GearBOptions, Integrator, Kicked,
@@ -356,7 +356,10 @@ fn bodies_held_in_place_rotate_as_the_rotor_integrators() {
             .collect();
         let options = InteractionOptions {
             lennard_jones: None,
-            electrostatics: Some(ElectrostaticsOptions::Cutoff(100.0)),
+            electrostatics: Some(ElectrostaticsOptions::Cutoff(
+                100.0,
+                ElectrostaticTruncation::Plain,
+            )),
             skin: 0.3,
         };
         let mut system = BodySystem::new(types.clone(), bodies, Space::Open, &options).unwrap();

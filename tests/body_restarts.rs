@@ -9,7 +9,7 @@
 use quatrot::run::{
     execute, Checkpoint, Outputs, Placement, RunResult, CHECKPOINT_FILE, GSD_FILE, SUMMARY_FILE,
 };
-use quatrot::scene::{builtin, load_text, Overrides, Scene};
+use quatrot::scene::{load_text, Overrides, Scene};
 use quatrot::simulation::{Control, Stop};
 use std::path::Path;
 use std::sync::Arc;
@@ -31,7 +31,7 @@ const RUN_FIELDS: [&str; 4] = ["wall_seconds", "start_step", "drift", "outputs"]
 /// The built-in `name` with a series every 5 steps, checkpoints every 10,
 /// and a GSD frame every 10 steps if `gsd` (none otherwise).
 fn text(name: &str, gsd: bool) -> String {
-    let toml = builtin(name).expect("a built-in").toml;
+    let toml = common::builtin_at_constant_energy(name);
     let toml = toml
         .replace(
             "[[record.series]]",

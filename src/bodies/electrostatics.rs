@@ -10,9 +10,12 @@
 //! neither shifted nor smoothed, the forces their exact gradients (no
 //! impulse at the cutoff). Sites with point quadrupoles take the Cartesian
 //! tensors of any order (`crate::potential::multipole::mesh_ewald`'s
-//! multi-indices) with the same bare `1/r`. The Ewald sums are in
+//! multi-indices) with the same bare `1/r`. The shifted-force truncation of
+//! charges and dipoles (LAMMPS `lj/sf/dipole/sf`) is in
+//! [`super::electrostatics_shifted`], the Ewald sums in
 //! [`super::electrostatics_ewald`].
 
+use super::electrostatics_shifted::{shifted_force_pair, ElectrostaticTruncation, PairResponse};
 use super::neighbours::NeighbourList;
 use super::space::Space;
 use crate::checks::{positive, InputError};
@@ -90,20 +93,35 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
     );
 }
 
-/// The sum truncated at a cutoff (LAMMPS `lj/cut/dipole/cut`).
+/// The sum truncated at a cutoff (LAMMPS `lj/cut/dipole/cut`, or
+/// `lj/sf/dipole/sf` shifted-force).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CutoffSum {
     cutoff: f64,
+    truncation: ElectrostaticTruncation,
     /// Each site's potential derivatives and half pair virials (sites with quadrupoles).
     derivatives: Vec<[f64; DERIVATIVES]>,
     virials: Vec<Matrix3<f64>>,
 }
 
 impl CutoffSum {
-    /// The sum over pairs closer than `cutoff` (> 0).
-    pub fn new(cutoff: f64) -> Result<Self, InputError> {
+    /// The sum over pairs closer than `cutoff` (> 0) of sites carrying
+    /// `carried`, truncated by `truncation` (shifted-force refuses
+    /// quadrupoles, naming `truncation`).
+    pub fn new(
+        cutoff: f64,
+        truncation: ElectrostaticTruncation,
+        carried: Carried,
+    ) -> Result<Self, InputError> {
+        if truncation == ElectrostaticTruncation::ShiftedForce && carried.quadrupoles {
+            return Err(InputError::new(
+                "truncation",
+                "\"shifted_force\" truncates charges and dipoles only, and sites carry quadrupoles",
+            ));
+        }
         Ok(CutoffSum {
             cutoff: positive(cutoff).map_err(|e| e.at("cutoff"))?,
+            truncation,
             derivatives: Vec::new(),
             virials: Vec::new(),
         })
@@ -241,13 +259,16 @@ impl Electrostatics for CutoffSum {
                     if r.norm_squared() >= cutoff2 || source == ChargeDipole::default() {
                         continue;
                     }
-                    let b = radial(0.0, r.norm());
-                    let force = charge_dipole_force(&r, &b, &target, &source);
-                    share.potential += source.charge * b[0] + source.dipole.dot(&r) * b[1];
-                    share.field +=
-                        r * (source.charge * b[1]) + dipole_field(&r, &b, &source.dipole);
-                    share.force += force;
-                    share.virial += r * force.transpose() * 0.5;
+                    let pair = match self.truncation {
+                        ElectrostaticTruncation::Plain => plain_pair(&r, &target, &source),
+                        ElectrostaticTruncation::ShiftedForce => {
+                            shifted_force_pair(&r, self.cutoff, &target, &source)
+                        }
+                    };
+                    share.potential += pair.potential;
+                    share.field += pair.field;
+                    share.force += pair.force;
+                    share.virial += r * pair.force.transpose() * 0.5;
                 }
                 share.energy =
                     0.5 * (target.charge * share.potential - target.dipole.dot(&share.field));
@@ -255,6 +276,18 @@ impl Electrostatics for CutoffSum {
             })
             .collect();
         gather(&shares, out);
+    }
+}
+
+/// The bare pair of a target at offset `r` from a source (LAMMPS
+/// `lj/cut/dipole/cut`).
+#[inline]
+fn plain_pair(r: &Vector3<f64>, target: &ChargeDipole, source: &ChargeDipole) -> PairResponse {
+    let b = radial(0.0, r.norm());
+    PairResponse {
+        potential: source.charge * b[0] + source.dipole.dot(r) * b[1],
+        field: r * (source.charge * b[1]) + dipole_field(r, &b, &source.dipole),
+        force: charge_dipole_force(r, &b, target, source),
     }
 }
 

@@ -8,7 +8,10 @@
 //! * **Reciprocal, self, background, surface**: the mesh sum's, over every
 //!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]), or the
 //!   same terms with the reciprocal part by structure factors
-//!   ([`crate::potential::multipole::mesh_ewald::WaveEwald`]).
+//!   ([`crate::potential::multipole::mesh_ewald::WaveEwald`]); the vacuum
+//!   surface term's box dipole `M` of whole molecules, each body's sites
+//!   about its centre (wrapped at each neighbour-list build), so that a
+//!   neutral body crossing the box edge leaves `M` unchanged.
 //! * **Exclusions**: the reciprocal sum holds every pair of sites,
 //!   intramolecular ones included, through the smooth `erf(alpha r) / r`;
 //!   for each pair of sites `i != j` of one body the correction subtracts
@@ -135,14 +138,16 @@ impl BodyEwald {
             Some((parameters, estimate)) => {
                 let mesh = MeshEwald::new(n, box_lengths, parameters, options.surface)
                     .map_err(sized)?
-                    .with_virial();
+                    .with_virial()
+                    .with_whole_molecules();
                 Self::assemble(LongRange::Mesh(Box::new(mesh), estimate), site_body)
             }
             None => {
                 let (parameters, _) = waves()?;
                 let waves = WaveEwald::new(n, box_lengths, parameters, options.surface)
                     .map_err(sized)?
-                    .with_virial();
+                    .with_virial()
+                    .with_whole_molecules();
                 Self::assemble(LongRange::Waves(Box::new(waves)), site_body)
             }
         };
@@ -163,7 +168,7 @@ impl BodyEwald {
             mesh: f64::NAN,
         };
         Ok(Self::assemble(
-            LongRange::Mesh(Box::new(mesh.with_virial()), estimate),
+            LongRange::Mesh(Box::new(mesh.with_virial().with_whole_molecules()), estimate),
             site_body,
         ))
     }
@@ -381,7 +386,7 @@ mod tests {
             Fixed::Waves(p) => {
                 let waves = WaveEwald::new(n, box_lengths, p, surface).unwrap();
                 let sum =
-                    BodyEwald::assemble(LongRange::Waves(Box::new(waves.with_virial())), site_body);
+                    BodyEwald::assemble(LongRange::Waves(Box::new(waves.with_virial().with_whole_molecules())), site_body);
                 (sum, p.real_cutoff)
             }
         };
@@ -478,6 +483,41 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// In vacuum, a neutral molecule moved by `2 eps` across the box edge
+    /// (one of its sites crossing `x = L`, its centre staying inside)
+    /// changes the energy by the work of its forces and the forces by
+    /// `O(eps)`: the box dipole is of whole molecules, so it does not jump
+    /// by `q L` as with each site wrapped on its own (ESPResSo #4758).
+    #[test]
+    fn a_molecule_crossing_the_box_edge_leaves_the_vacuum_energy_continuous() {
+        let box_lengths = Vector3::new(6.0, 6.4, 5.8);
+        let (mut sites, site_body, _) = molecules(33, 8, box_lengths, false);
+        let eps = 1e-7;
+        // Body 0's hydrogen-like site 1 just inside x = L.
+        let shift = box_lengths.x - eps - sites.positions[1].x;
+        let parameters = MeshParameters {
+            grid: [24, 24, 24],
+            order: 6,
+            ..fine(&box_lengths, 5.0)
+        };
+        let mut at = |dx: f64| {
+            for r in &mut sites.positions[0..3] {
+                r.x += dx;
+            }
+            evaluate(&sites, &site_body, box_lengths, parameters, Surface::Vacuum)
+        };
+        let before = at(shift);
+        let after = at(2.0 * eps);
+        let work: f64 = before.force[0..3].iter().map(|f| f.x * 2.0 * eps).sum();
+        let de = after.energy - before.energy;
+        assert!(
+            (de + work).abs() < 1e-9 * before.energy.abs(),
+            "energy change {de:e}, work of the forces {work:e}"
+        );
+        let df = relative_rms(&after.force, &before.force);
+        assert!(df < 1e-6, "forces changed by {df:e}");
     }
 
     /// The molecular virial `W - sum_s d_s F_s^T` (centres scaled with the

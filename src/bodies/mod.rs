@@ -7,9 +7,10 @@
 //!   principal moments and sites in the principal frame.
 //! * [`space`]: open space or a periodic orthorhombic box.
 //! * [`neighbours`]: cell and Verlet lists with a skin.
-//! * [`lennard_jones`], [`electrostatics`], [`electrostatics_ewald`]: the
-//!   site-pair terms (the electrostatic methods behind one trait: a cutoff
-//!   sum, the particle-mesh Ewald sum).
+//! * [`lennard_jones`], [`electrostatics`], [`electrostatics_shifted`],
+//!   [`electrostatics_ewald`]: the site-pair terms (the electrostatic
+//!   methods behind one trait: a cutoff sum, plain or shifted-force, the
+//!   particle-mesh Ewald sum).
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -27,6 +28,7 @@ pub mod body_type;
 mod checkpoint;
 pub mod electrostatics;
 pub mod electrostatics_ewald;
+pub mod electrostatics_shifted;
 pub mod evaluate;
 pub mod generate;
 pub mod integrators;
@@ -42,6 +44,7 @@ pub mod temperature;
 pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 pub use electrostatics_ewald::{BodyEwald, EwaldOptions, DEFAULT_ACCURACY};
+pub use electrostatics_shifted::ElectrostaticTruncation;
 pub use evaluate::Evaluation;
 pub use generate::{lattice_start, random_start, Lattice, LatticeStart, RandomStart, MAX_PACKING};
 pub use integrators::{

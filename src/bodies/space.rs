@@ -2,7 +2,7 @@
 //! `[0, L_x) x [0, L_y) x [0, L_z)` (minimum image; positions wrapped with
 //! their image counts kept, so trajectories can be unwrapped).
 
-use crate::checks::{each, positive, InputError};
+use crate::checks::{derived, each, num, positive, InputError};
 use nalgebra::Vector3;
 
 /// Open space or a periodic orthorhombic box.
@@ -26,8 +26,8 @@ impl Space {
                     format!("box_lengths[{k}]"),
                     format!(
                         "must be at least twice the cutoff plus the skin ({}), got {}",
-                        2.0 * reach,
-                        lengths[k]
+                        derived(2.0 * reach),
+                        num(lengths[k])
                     ),
                 ));
             }

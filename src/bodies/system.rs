@@ -4,6 +4,7 @@
 use super::body_type::BodyType;
 use super::electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 use super::electrostatics_ewald::{BodyEwald, EwaldOptions};
+use super::electrostatics_shifted::ElectrostaticTruncation;
 use super::lennard_jones::{LennardJonesOptions, LennardJonesTerm, PairSums};
 use super::neighbours::NeighbourList;
 use super::site::LennardJones;
@@ -48,8 +49,9 @@ pub struct InteractionOptions {
 /// The electrostatics of bodies: the one choice of method.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ElectrostaticsOptions {
-    /// The bare pair terms within a cutoff (> 0), [`CutoffSum`].
-    Cutoff(f64),
+    /// The pair terms within a cutoff (> 0), plain or shifted-force,
+    /// [`CutoffSum`].
+    Cutoff(f64, ElectrostaticTruncation),
     /// The Ewald sum (periodic boxes only), [`BodyEwald`].
     Ewald(EwaldOptions),
 }
@@ -91,7 +93,8 @@ pub(super) struct Scratch {
 
 impl BodySystem {
     /// The system; errors name the field (`bodies[3].orientation`,
-    /// `electrostatics.cutoff`, `electrostatics.accuracy`,
+    /// `electrostatics.cutoff`, `electrostatics.truncation`,
+    /// `electrostatics.accuracy`,
     /// `box_lengths[0]`).
     pub fn new(
         types: Vec<BodyType>,
@@ -292,8 +295,8 @@ fn electrostatics(
 ) -> Result<Option<Box<dyn Electrostatics>>, InputError> {
     let electrostatic = carried.charges || carried.dipoles || carried.quadrupoles;
     Ok(match (options.electrostatics, electrostatic) {
-        (Some(ElectrostaticsOptions::Cutoff(c)), true) => Some(Box::new(
-            CutoffSum::new(c).map_err(|e| e.at("electrostatics"))?,
+        (Some(ElectrostaticsOptions::Cutoff(c, truncation)), true) => Some(Box::new(
+            CutoffSum::new(c, truncation, carried).map_err(|e| e.at("electrostatics"))?,
         )),
         (Some(ElectrostaticsOptions::Ewald(o)), true) => {
             let Space::Periodic(box_lengths) = *space else {

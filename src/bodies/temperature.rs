@@ -72,8 +72,8 @@ impl BodySystem {
 #[cfg(test)]
 mod tests {
     use crate::bodies::{
-        Body, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, InteractionOptions,
-        LennardJones, LennardJonesOptions, Mixing, Site, Space, Truncation,
+        Body, BodySystem, BodyType, BodyTypeSpec, ElectrostaticTruncation, ElectrostaticsOptions,
+        InteractionOptions, LennardJones, LennardJonesOptions, Mixing, Site, Space, Truncation,
     };
     use crate::quaternion::Quat;
     use nalgebra::{Matrix3, Vector3};
@@ -145,7 +145,10 @@ mod tests {
                 truncation: Truncation::Plain,
                 mixing: Mixing::LorentzBerthelot,
             }),
-            electrostatics: Some(ElectrostaticsOptions::Cutoff(2.5)),
+            electrostatics: Some(ElectrostaticsOptions::Cutoff(
+                2.5,
+                ElectrostaticTruncation::Plain,
+            )),
             skin: 0.3,
         };
         BodySystem::new(types(), bodies, Space::Open, &options).unwrap()

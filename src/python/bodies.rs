@@ -5,8 +5,8 @@ use super::args::invalid;
 use super::arrays::{array, collect, common_len, row_major, single, Items, Values};
 use super::scene_dict::{scene_error, to_toml};
 use crate::bodies::{
-    Body, BodySystem, ElectrostaticsOptions, Evaluation, InteractionOptions, LennardJonesOptions,
-    Mixing, Space, Truncation,
+    Body, BodySystem, ElectrostaticTruncation, ElectrostaticsOptions, Evaluation,
+    InteractionOptions, LennardJonesOptions, Mixing, Space, Truncation,
 };
 use crate::checks::{from_name, InputError};
 use crate::scene::{body_electrostatics, body_types};
@@ -49,7 +49,8 @@ fn argument_path(e: InputError, table: bool) -> PyErr {
 /// g/mol, kcal/mol, fs, e, Debye, atm, as LAMMPS `units real`). Sites of different bodies
 /// interact (never within one): Lennard-Jones truncated at `lj_cutoff`,
 /// charges and point dipoles truncated at `electrostatic_cutoff` as LAMMPS
-/// `pair_style lj/cut/dipole/cut` (bare pair energies, no shift). Each body
+/// `pair_style lj/cut/dipole/cut` (bare pair energies, no shift; the
+/// `electrostatics` table may ask for shifted force). Each body
 /// type's frame is rotated to its principal axes: an orientation here is
 /// that of the principal frame.
 ///
@@ -82,7 +83,9 @@ fn argument_path(e: InputError, table: bool) -> PyErr {
 ///     `electrostatics` is given).
 /// electrostatics : dict, optional
 ///     Instead of `electrostatic_cutoff`, a scene's ``[body_interactions]
-///     electrostatics`` table: ``{"kind": "cutoff", "cutoff": r}`` or
+///     electrostatics`` table: ``{"kind": "cutoff", "cutoff": r,
+///     "truncation": "plain"}`` (or ``"shifted_force"``, LAMMPS
+///     ``lj/sf/dipole/sf``) or
 ///     ``{"kind": "ewald", "accuracy": 1e-6, "method": "pme", "surface":
 ///     "conducting"}`` (a periodic box), with a scene's defaults and checks.
 /// units : {"reduced", "real"}, default "reduced"
@@ -239,7 +242,10 @@ fn electrostatics_choice(
             let message = "give electrostatic_cutoff or electrostatics, not both".to_string();
             Err(invalid("electrostatics", message))
         }
-        (Some(cutoff), None) => Ok(Some(ElectrostaticsOptions::Cutoff(cutoff))),
+        (Some(cutoff), None) => Ok(Some(ElectrostaticsOptions::Cutoff(
+            cutoff,
+            ElectrostaticTruncation::Plain,
+        ))),
         (None, Some(value)) => body_electrostatics(to_toml(value, "electrostatics")?)
             .map(Some)
             .map_err(|e| scene_error(&e)),

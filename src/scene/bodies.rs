@@ -9,9 +9,10 @@ use super::initial::{drawn_seed, RawInitial};
 use super::parse::parse_value;
 use super::tagged::tagged;
 use crate::bodies::{
-    lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, ElectrostaticsOptions,
-    EwaldOptions, InteractionOptions, Lattice, LatticeStart, LennardJonesOptions, Mixing,
-    RandomStart, Space, Truncation, DEFAULT_ACCURACY, OVERLAP_FRACTION,
+    lattice_start, random_start, Body, BodyQuantity, BodySystem, BodyType, ElectrostaticTruncation,
+    ElectrostaticsOptions, EwaldOptions, InteractionOptions, Lattice, LatticeStart,
+    LennardJonesOptions, Mixing, RandomStart, Space, Truncation, DEFAULT_ACCURACY,
+    OVERLAP_FRACTION,
 };
 use crate::checks::{each, finite, num, InputError};
 use crate::potential::multipole::{SumMethod, Surface};
@@ -151,6 +152,8 @@ pub struct RawBodyEwald {
 pub struct RawElectrostaticCutoff {
     /// The cutoff.
     pub cutoff: f64,
+    /// `"plain"` (default) or `"shifted_force"`.
+    pub truncation: Option<ElectrostaticTruncation>,
 }
 
 /// The neighbour lists' skin when a scene gives none (LAMMPS's default in
@@ -278,7 +281,9 @@ fn interaction_options(raw: RawBodyInteractions) -> InteractionOptions {
 /// The options of an `electrostatics` table, defaults filled in.
 fn electrostatics_options(raw: RawBodyElectrostatics) -> ElectrostaticsOptions {
     match raw {
-        RawBodyElectrostatics::Cutoff(c) => ElectrostaticsOptions::Cutoff(c.cutoff),
+        RawBodyElectrostatics::Cutoff(c) => {
+            ElectrostaticsOptions::Cutoff(c.cutoff, c.truncation.unwrap_or_default())
+        }
         RawBodyElectrostatics::Ewald(e) => ElectrostaticsOptions::Ewald(EwaldOptions {
             accuracy: e.accuracy.unwrap_or(DEFAULT_ACCURACY),
             method: e.method.unwrap_or_default(),

@@ -4,8 +4,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
-    Body, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, InteractionOptions,
-    LennardJones, LennardJonesOptions, Mixing, Site, Space, Truncation,
+    Body, BodySystem, BodyType, BodyTypeSpec, ElectrostaticTruncation, ElectrostaticsOptions,
+    InteractionOptions, LennardJones, LennardJonesOptions, Mixing, Site, Space, Truncation,
 };
 use quatrot::Quat;
 use rand::{RngExt, SeedableRng};
@@ -88,7 +88,10 @@ pub fn options(truncation: Truncation, lj_cutoff: f64, coulomb: f64) -> Interact
             truncation,
             mixing: Mixing::LorentzBerthelot,
         }),
-        electrostatics: Some(ElectrostaticsOptions::Cutoff(coulomb)),
+        electrostatics: Some(ElectrostaticsOptions::Cutoff(
+            coulomb,
+            ElectrostaticTruncation::Plain,
+        )),
         skin: 0.3,
     }
 }

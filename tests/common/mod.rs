@@ -158,6 +158,22 @@ pub fn scene_with(text: &str, overrides: &Overrides) -> (RawScene, Scene) {
     (raw, scene)
 }
 
+/// The built-in scene `name`'s TOML without its `[thermostat]` table: the
+/// scene at constant energy, which every integrator runs (the o-terphenyl
+/// built-in holds a Bussi thermostat, which richardson and the Gear schemes
+/// refuse for bodies). The rest of the text is kept as it is.
+pub fn builtin_at_constant_energy(name: &str) -> String {
+    let text = quatrot::scene::builtin(name).expect("a built-in").toml;
+    match text.find("\n[thermostat]\n") {
+        Some(at) => {
+            let rest = &text[at + 1..];
+            let end = rest[1..].find("\n[").map_or(rest.len(), |k| k + 2);
+            format!("{}{}", &text[..at + 1], &rest[end..])
+        }
+        None => text.to_string(),
+    }
+}
+
 /// Overrides of the run length only.
 pub fn steps(steps: i64) -> Overrides {
     Overrides {

@@ -10,11 +10,9 @@ sites). Writes the `ewald` entry of `<out>/results.json` and its section of
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -132,10 +130,7 @@ def section(r: dict) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=Path("benchmarks"))
-    parser.add_argument("--raw", type=Path, default=Path("target/bench/raw"))
-    args = parser.parse_args(argv)
+    args = results_md.arguments(__doc__, argv)
     raw = json.loads((args.raw / "ewald.json").read_text())
     system = lattice(SEED)
     machine = results_md.machine()

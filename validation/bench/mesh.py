@@ -20,11 +20,9 @@ accuracy against that direct sum on smaller configurations. Writes the `mesh` en
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -211,10 +209,7 @@ def section(r: dict) -> str:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=Path("benchmarks"))
-    parser.add_argument("--raw", type=Path, default=Path("target/bench/raw"))
-    args = parser.parse_args(argv)
+    args = results_md.arguments(__doc__, argv)
     raw = json.loads((args.raw / "ewald.json").read_text())
     machine = results_md.machine()
     mesh = [c for c in raw["mesh_scaling"] if c["method"] == "pme"]

@@ -297,6 +297,18 @@ def write_section(path: Path, results: dict) -> None:
     replace_section(path, BEGIN, END, section(results))
 
 
+def arguments(doc: str, argv=None):
+    """The command line of a bench module that reads a Rust bench's raw
+    results: ``--out`` (default ``benchmarks``) and ``--raw`` (default
+    ``target/bench/raw``), described by the first paragraph of ``doc``."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--out", type=Path, default=Path("benchmarks"))
+    parser.add_argument("--raw", type=Path, default=Path("target/bench/raw"))
+    return parser.parse_args(argv)
+
+
 def publish(out: Path, key: str, result: dict, markers: tuple[str, str], text: str) -> None:
     """Writes `result` as the `key` entry of `<out>/results.json` and `text`
     as its section (between `markers`) of `<out>/RESULTS.md`."""

@@ -67,6 +67,22 @@ class EwaldResult:
     torques: np.ndarray  # (n, 3) space frame
 
 
+def image_shifts(box, rc) -> np.ndarray:
+    """The lattice vectors of the box's images reaching within ``rc`` of the box, (m, 3)."""
+    m = np.ceil(rc / box).astype(int) + 1
+    return np.array(np.meshgrid(*[np.arange(-k, k + 1) for k in m], indexing="ij")).reshape(3, -1).T * box
+
+
+def wave_vectors(box, kc) -> tuple[np.ndarray, np.ndarray]:
+    """Every wave vector ``2 pi (h / L_x, k / L_y, l / L_z)`` with ``0 < |k| <= kc``, and ``|k|^2``."""
+    kmax = np.floor(kc * box / (2 * math.pi)).astype(int)
+    grid = np.array(np.meshgrid(*[np.arange(-k, k + 1) for k in kmax], indexing="ij")).reshape(3, -1).T
+    k = grid * (2 * math.pi / box)
+    k2 = np.einsum("ka,ka->k", k, k)
+    keep = (k2 > 0) & (k2 <= kc * kc)
+    return k[keep], k2[keep]
+
+
 def ewald(sites, box, mu=None, theta=None, surface="conducting", alpha=None) -> EwaldResult:
     """The converged Ewald energy, fields and torques (see the module doc)."""
     sites = np.asarray(sites, float)
@@ -84,8 +100,7 @@ def ewald(sites, box, mu=None, theta=None, surface="conducting", alpha=None) -> 
     # V is bilinear, so dV/dmu_t and dV/dTheta_t collect the target's terms.
     dv_dmu = np.zeros((n, 3))
     dv_dtheta = np.zeros((n, 3, 3))
-    m = np.ceil(rc / box).astype(int) + 1
-    shifts = np.array(np.meshgrid(*[np.arange(-k, k + 1) for k in m], indexing="ij")).reshape(3, -1).T * box
+    shifts = image_shifts(box, rc)
     for t in range(n):
         r = sites[t] - sites[None, :, :] + shifts[:, None, :]  # (images, sources, 3): r_t - (r_s - shift)
         r = r.reshape(-1, 3)
@@ -102,12 +117,7 @@ def ewald(sites, box, mu=None, theta=None, surface="conducting", alpha=None) -> 
     # Each pair appears from both ends: V_real = 1/2 sum_t (mu_t.dV/dmu_t + Theta_t:dV/dTheta_t).
 
     # Reciprocal space: every wave vector with 0 < |k| <= kc.
-    kmax = np.floor(kc * box / (2 * math.pi)).astype(int)
-    grid = np.array(np.meshgrid(*[np.arange(-k, k + 1) for k in kmax], indexing="ij")).reshape(3, -1).T
-    k = grid * (2 * math.pi / box)
-    k2 = np.einsum("ka,ka->k", k, k)
-    keep = (k2 > 0) & (k2 <= kc * kc)
-    k, k2 = k[keep], k2[keep]
+    k, k2 = wave_vectors(box, kc)
     g = 4 * math.pi / volume * np.exp(-k2 / (4 * alpha**2)) / k2
     phase = np.exp(-1j * sites @ k.T)  # (n, k): exp(-i k.r_j)
     coef = -1j * (mu @ k.T) - np.einsum("ka,jab,kb->jk", k, theta, k) / 3

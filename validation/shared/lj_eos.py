@@ -1,8 +1,10 @@
-"""The Lennard-Jones fluid's equation of state of J. K. Johnson, J. A.
-Zollweg and K. E. Gubbins, "The Lennard-Jones equation of state
-revisited", Mol. Phys. 78, 591 (1993) (JZG): a modified Benedict-Webb-Rubin
-form fitted to simulations of the full (untruncated) LJ potential, reduced
-units (epsilon = sigma = k_B = 1).
+"""Two equations of state of the Lennard-Jones fluid, both fitted to
+simulations of the full (untruncated) LJ potential, in reduced units
+(epsilon = sigma = k_B = 1): Kolafa and Nezbeda's (1994, KN: the `kn_`
+functions at the end, the reference of the equation-of-state check) and,
+first, J. K. Johnson, J. A. Zollweg and K. E. Gubbins, "The Lennard-Jones
+equation of state revisited", Mol. Phys. 78, 591 (1993) (JZG): a modified
+Benedict-Webb-Rubin form.
 
 Pressure, residual Helmholtz energy and residual internal energy per
 particle:
@@ -28,6 +30,7 @@ writing this implementation was also compared once with teqp 0.23.2's
 
 from __future__ import annotations
 
+import cmath
 import math
 
 GAMMA = 3.0
@@ -105,3 +108,54 @@ def helmholtz_residual(temperature: float, density: float) -> float:
 def internal_energy(temperature: float, density: float) -> float:
     """U_res / N, the potential energy per particle."""
     return _residual(temperature, density, energy=True)
+
+
+# Kolafa and Nezbeda, "The Lennard-Jones fluid: an accurate analytic and
+# theoretically-based equation of state", Fluid Phase Equilib. 100, 1 (1994)
+# (KN), their eq 30 for the residual Helmholtz energy per particle:
+#
+#     A_res = T A_HS(eta) + exp(-gamma rho^2) rho T dB2(T) + sum_ij C_ij T^(i/2) rho^j,
+#
+# A_HS = (5/3) ln(1 - eta) + eta (34 - 33 eta + 4 eta^2) / (6 (1 - eta)^2) the
+# hard-sphere term at the packing eta = pi rho d^3 / 6 of the hybrid
+# Barker-Henderson diameter d(T), dB2 the second virial coefficient's
+# correction, gamma = 1.92907278; the coefficients are the paper's, as
+# restated by SklogWiki's "Lennard-Jones equation of state" page. P and U
+# (eqs 31-32) are taken here as exact derivatives of A_res (complex step:
+# f'(x) = Im f(x + i h) / h to round-off), not from their printed forms.
+KN_GAMMA = 1.92907278
+# d(T) = sum_k D_k T^(k/2) + D_ln ln T, k = -2, -1, 0, 1.
+KN_DIAMETER = {-2: 0.011117524, -1: -0.076383859, 0: 1.080142248, 1: 0.000693129}
+KN_DIAMETER_LN = -0.063920968
+# dB2(T) = sum_k B_k T^(k/2), k = -7 .. 0.
+KN_VIRIAL = {-7: -0.58544978, -6: 0.43102052, -5: 0.87361369, -4: -4.13749995, -3: 2.90616279, -2: -7.02181962, 0: 0.02459877}
+# C_ij: {i: (C_i2, C_i3, ...)} for T^(i/2) rho^j, j = 2, 3, ...
+KN_C = {
+    0: (2.01546797, -28.17881636, 28.28313847, -10.42402873),
+    -1: (-19.58371655, 75.62340289, -120.70586598, 93.92740328, -27.37737354),
+    -2: (29.34470520, -112.35356937, 170.64908980, -123.06669187, 34.42288969),
+    -4: (-13.37031968, 65.38059570, -115.09233113, 88.91973082, -25.62099890),
+}
+_STEP = 1e-20
+
+
+def kn_helmholtz_residual(temperature, density):
+    """A_res / N of KN eq 30 (accepts complex arguments for the derivatives)."""
+    d = sum(c * temperature ** (k / 2) for k, c in KN_DIAMETER.items()) + KN_DIAMETER_LN * cmath.log(temperature)
+    eta = math.pi / 6 * density * d**3
+    hard = 5 / 3 * cmath.log(1 - eta) + eta * (34 - 33 * eta + 4 * eta**2) / (6 * (1 - eta) ** 2)
+    virial = sum(c * temperature ** (k / 2) for k, c in KN_VIRIAL.items())
+    polynomial = sum(c * temperature ** (i / 2) * density ** (j + 2) for i, cs in KN_C.items() for j, c in enumerate(cs))
+    return temperature * hard + cmath.exp(-KN_GAMMA * density**2) * density * temperature * virial + polynomial
+
+
+def kn_pressure(temperature: float, density: float) -> float:
+    """P = rho T + rho^2 dA_res/drho."""
+    slope = kn_helmholtz_residual(temperature, complex(density, _STEP)).imag / _STEP
+    return density * temperature + density**2 * slope
+
+
+def kn_internal_energy(temperature: float, density: float) -> float:
+    """U_res / N = d(A_res / T)/d(1/T) = A_res - T dA_res/dT."""
+    slope = kn_helmholtz_residual(complex(temperature, _STEP), density).imag / _STEP
+    return kn_helmholtz_residual(temperature, density).real - temperature * slope

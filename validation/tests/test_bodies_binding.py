@@ -51,5 +51,38 @@ def test_bad_arguments_are_refused_naming_the_argument():
         evaluate(kinds=[0])
     with pytest.raises(ValueError, match=r"^truncation: "):
         evaluate(truncation="smooth")
+    smooth = {"kind": "cutoff", "cutoff": 2.5, "truncation": "smooth"}
+    with pytest.raises(quatrot.SceneError, match=r'^electrostatics\.truncation: must be "plain" or "shifted_force", got "smooth"$'):
+        evaluate(electrostatics=smooth)
+    quadrupolar = {**SPHERE, "sites": [{**SPHERE["sites"][0], "quadrupole": [[1, 0, 0], [0, 1, 0], [0, 0, -2]]}]}
+    with pytest.raises(ValueError, match=r'^electrostatics\.truncation: "shifted_force" truncates charges and dipoles only'):
+        evaluate(types=[quadrupolar], electrostatics={**smooth, "truncation": "shifted_force"})
     with pytest.raises(ValueError, match=r"^box_lengths\[0\]: must be at least twice the cutoff plus the skin"):
         evaluate(box_lengths=[5.0, 8.0, 8.0])
+
+
+def _rock_salt(cells):
+    """Ions of the rock-salt lattice (nearest-neighbour distance 1), `cells`
+    conventional cells per side: positions, kinds (0: +1, 1: -1), box edge."""
+    grid = np.stack(np.meshgrid(*[np.arange(2 * cells)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    return grid.astype(float), (grid.sum(axis=1) % 2).tolist(), 2.0 * cells
+
+
+def test_the_ewald_sum_of_charged_bodies_gives_the_madelung_constant():
+    """`electrostatics` takes a scene's table: rock salt by PME at 1e-8 gives
+    the energy per ion pair -M / r0, M = 1.747564594633182 (Glasser & Zucker,
+    1980), to 1e-7 relative (the request bounds the fields, not the energy)."""
+    positions, kinds, edge = _rock_salt(2)
+    ion = lambda q: {"sites": [{"position": [0, 0, 0], "charge": q}], "mass": 1.0, "inertia": np.eye(3).tolist()}  # noqa: E731
+    state = quatrot.bodies_evaluate(
+        [ion(1.0), ion(-1.0)],
+        positions,
+        [[1, 0, 0, 0]] * len(positions),
+        kinds=kinds,
+        box_lengths=[edge] * 3,
+        electrostatics={"kind": "ewald", "accuracy": 1e-8, "method": "pme"},
+    )
+    pairs = len(positions) / 2
+    assert state["energies"]["electrostatic"] / pairs == pytest.approx(-1.747564594633182, rel=1e-7)
+    assert np.abs(state["forces"]).max() < 1e-6
+

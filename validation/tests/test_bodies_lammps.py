@@ -3,7 +3,11 @@ a Stockmayer fluid (dipolar Lennard-Jones spheres, random and
 non-overlapping, periodic) evaluated by LAMMPS ``pair_style
 lj/cut/dipole/cut`` and by ``quatrot.bodies_evaluate``: the Lennard-Jones
 and electrostatic energies, the forces, the torques and the pressure agree
-to round-off; the same with charges on the spheres too.
+to round-off; the same with charges on the spheres too. The shifted-force
+truncation of charges and dipoles against ``lj/sf/dipole/sf`` (Allen &
+Germano 2006) likewise, its Lennard-Jones switched off (``epsilon = 0``:
+LAMMPS's own shifted-force Lennard-Jones is quadratic in ``r^2``, not
+quatrot's ``force_shifted``).
 
 LAMMPS runs in LJ units (``qqrd2e = 1``: 4 pi eps0 = 1 as in quatrot), its
 ``lj/cut/dipole/cut`` truncating both terms without shifting them (its
@@ -53,14 +57,15 @@ def configuration(seed: int):
     return box, np.array(centres), directions, velocities, charges
 
 
-def lammps_single_point(box, centres, dipoles, velocities, charges):
-    """LAMMPS's evdwl, ecoul, forces, torques and pressure."""
+def lammps_single_point(box, centres, dipoles, velocities, charges, style="lj/cut/dipole/cut", epsilon=1.0):
+    """LAMMPS's evdwl, ecoul, forces, torques and pressure with pair `style`
+    and Lennard-Jones `epsilon`."""
     lmp = periodic_cube(box, "hybrid sphere dipole", centres)
     try:
         for c in [
             f"set type 1 mass {MASS:.17g}",
-            f"pair_style lj/cut/dipole/cut {CUTOFF:.17g}",
-            "pair_coeff * * 1.0 1.0",
+            f"pair_style {style} {CUTOFF:.17g}",
+            f"pair_coeff * * {epsilon:.17g} 1.0",
             "neighbor 0.3 bin",
             "thermo_style custom step pe evdwl ecoul press",
             "thermo_modify norm no",
@@ -85,20 +90,24 @@ def lammps_single_point(box, centres, dipoles, velocities, charges):
         lmp.close()
 
 
-@pytest.mark.parametrize("charged", [False, True], ids=["stockmayer", "charged_stockmayer"])
-def test_single_point_matches_lammps_lj_cut_dipole_cut(charged):
+def both_codes(charged: bool, style: str, lennard_jones: bool, **options):
+    """LAMMPS's single point with `style` and quatrot's state with
+    `options`, on the configuration of seed 39 (Lennard-Jones on the sites
+    or not, charges or not)."""
     box, centres, directions, velocities, charges = configuration(seed=39)
     if not charged:
         charges = np.zeros(N)
     orientations = np.array([quatrot_rotor(d, np.zeros(3))[0] for d in directions])
     # The space dipoles quatrot builds, R(Q) (0, 0, mu), given to LAMMPS.
     dipoles = np.array([space_to_body(q).T @ [0.0, 0.0, MU] for q in orientations])
-    reference = lammps_single_point(box, centres, dipoles, velocities, charges)
-    sphere = {
-        "sites": [{"position": [0, 0, 0], "lennard_jones": {"epsilon": 1.0, "sigma": 1.0}, "dipole": [0, 0, MU]}],
-        "mass": MASS,
-        "inertia": np.eye(3) * INERTIA,
-    }
+    epsilon = 1.0 if lennard_jones else 0.0
+    reference = lammps_single_point(box, centres, dipoles, velocities, charges, style, epsilon)
+    site = {"position": [0, 0, 0], "dipole": [0, 0, MU]}
+    if lennard_jones:
+        site["lennard_jones"] = {"epsilon": 1.0, "sigma": 1.0}
+        options["lj_cutoff"] = CUTOFF
+    options.setdefault("electrostatics", {"kind": "cutoff", "cutoff": CUTOFF})
+    sphere = {"sites": [site], "mass": MASS, "inertia": np.eye(3) * INERTIA}
     # Charges per body: two body types that differ only in the charge.
     types = [sphere]
     kinds = [0] * N
@@ -109,8 +118,14 @@ def test_single_point_matches_lammps_lj_cut_dipole_cut(charged):
         kinds = [0 if q > 0 else 1 for q in charges]
     state = quatrot.bodies_evaluate(
         types, centres, orientations, kinds=kinds, velocities=velocities,
-        box_lengths=[box] * 3, lj_cutoff=CUTOFF, electrostatic_cutoff=CUTOFF,
+        box_lengths=[box] * 3, **options,
     )
+    return reference, state
+
+
+@pytest.mark.parametrize("charged", [False, True], ids=["stockmayer", "charged_stockmayer"])
+def test_single_point_matches_lammps_lj_cut_dipole_cut(charged):
+    reference, state = both_codes(charged, "lj/cut/dipole/cut", lennard_jones=True)
     energies = state["energies"]
     assert energies["lennard_jones"] == pytest.approx(reference["evdwl"], rel=ENERGY_TOLERANCE)
     assert energies["electrostatic"] == pytest.approx(reference["ecoul"], rel=ENERGY_TOLERANCE)
@@ -125,6 +140,22 @@ def test_single_point_matches_lammps_lj_cut_dipole_cut(charged):
     p_tail = 16 / 3 * math.pi * rho**2 * (2 * x3**3 / 3 - x3)
     assert energies["lennard_jones_tail"] == pytest.approx(e_tail, rel=1e-12)
     assert state["pressure_tail"] == pytest.approx(p_tail, rel=1e-12)
+
+
+@pytest.mark.parametrize("charged", [False, True], ids=["dipoles", "charges_and_dipoles"])
+def test_shifted_force_matches_lammps_lj_sf_dipole_sf(charged):
+    """The shifted-force charges and dipoles (energy, forces, torques,
+    pressure) against ``lj/sf/dipole/sf`` to round-off."""
+    shifted = {"kind": "cutoff", "cutoff": CUTOFF, "truncation": "shifted_force"}
+    reference, state = both_codes(charged, "lj/sf/dipole/sf", lennard_jones=False, electrostatics=shifted)
+    assert reference["evdwl"] == 0.0
+    assert state["energies"]["electrostatic"] == pytest.approx(reference["ecoul"], rel=ENERGY_TOLERANCE)
+    np.testing.assert_allclose(state["forces"], reference["forces"], rtol=0, atol=FORCE_TOLERANCE)
+    np.testing.assert_allclose(state["torques"], reference["torques"], rtol=0, atol=FORCE_TOLERANCE)
+    assert state["pressure"] == pytest.approx(reference["press"], rel=ENERGY_TOLERANCE)
+    # Not the plain truncation: the shift changes the energy far above round-off.
+    plain = both_codes(charged, "lj/cut/dipole/cut", lennard_jones=False)[1]
+    assert abs(plain["energies"]["electrostatic"] - reference["ecoul"]) > 1e-3 * abs(reference["ecoul"])
 
 
 def test_trap_lj_cut_dipole_cut_ignores_tail_corrections():

@@ -92,7 +92,7 @@ def test_a_builtin_writes_a_gsd_trajectory_of_its_bodies(tmp_path: Path):
     scene["record"]["trajectory"]["every"] = 20
     result = quatrot.run(scene, out_dir=str(tmp_path))
     series = result["series"]["series"]
-    side = (256 / 0.3157) ** (1 / 3)
+    side = (256 / 0.32655) ** (1 / 3)
     with gsd.hoomd.open(str(tmp_path / "trajectory.gsd")) as frames:
         assert len(frames) == 4
         first = frames[0]

@@ -38,3 +38,22 @@ def test_pressure_and_energy_derive_from_the_helmholtz_energy(temperature, densi
     beta = 1 / temperature
     u = ((beta + h) * a(1 / (beta + h), density) - (beta - h) * a(1 / (beta - h), density)) / (2 * h)
     assert u == pytest.approx(lj_eos.internal_energy(temperature, density), abs=DERIVATIVE_TOLERANCE)
+
+
+# The one-off comparison with teqp 0.23.2's ``LJ126_KolafaNezbeda1994`` (pip,
+# not a dependency), P and U/N at three states, and the values SklogWiki's
+# code of the Kolafa-Nezbeda equation prints for confidence (its digits of
+# the diameter's coefficients are fewer: 1e-6 relative differences).
+KN_TEQP = {(2.0, 0.5): (1.0739205751812677, -3.1500977332932982),
+           (2.0, 0.8): (5.290202736954679, -4.750694356496939),
+           (1.35, 0.8): (2.6316266103073627, -5.24143791201754)}
+KN_SKLOGWIKI = {(1.3, 0.2): (0.12147936810578708, -1.5371511277396868),
+                (1.3, 0.4): (0.11253334756806482, -2.806016725054152)}
+
+
+@pytest.mark.parametrize("state, reference, tolerance",
+                         [(s, r, 1e-7) for s, r in KN_TEQP.items()] + [(s, r, 1e-5) for s, r in KN_SKLOGWIKI.items()])
+def test_kolafa_nezbeda_matches_other_implementations(state, reference, tolerance):
+    temperature, density = state
+    assert lj_eos.kn_pressure(temperature, density) == pytest.approx(reference[0], rel=tolerance)
+    assert lj_eos.kn_internal_energy(temperature, density) == pytest.approx(reference[1], rel=tolerance)

@@ -5,7 +5,7 @@
 
 use super::bspline::MAX_DERIVATIVE;
 use super::cartesian::Tables;
-use super::spread::SiteWeights;
+use super::spread::{mesh_points, SiteWeights};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -27,12 +27,19 @@ impl SiteWeights {
             let e = tables.exponents[a];
             (0..3).map(|k| scale[k].powi(e[k] as i32)).product()
         });
+        // The z-derivatives the first `count` multi-indices need.
+        let z_orders = 1
+            + (0..count)
+                .map(|a| tables.exponents[a][2])
+                .max()
+                .unwrap_or(0);
         derivatives
             .par_iter_mut()
             .zip(&self.axes)
             .with_min_len(64)
             .for_each(|(d, [wx, wy, wz])| {
                 let mut sum = [0.0; D];
+                let zs = mesh_points(wz.base, kz, p);
                 for tx in 0..p {
                     let x = (wx.base + kx - tx) % kx;
                     for ty in 0..p {
@@ -40,9 +47,9 @@ impl SiteWeights {
                         let row = &phi[(x * ky + y) * kz..(x * ky + y + 1) * kz];
                         // Contract z first: by_z[n] = sum_tz wz^(n) phi.
                         let mut by_z = [0.0; MAX_DERIVATIVE + 1];
-                        for tz in 0..p {
-                            let value = row[(wz.base + kz - tz) % kz];
-                            for (n, out) in by_z.iter_mut().enumerate() {
+                        for (tz, &z) in zs.iter().enumerate().take(p) {
+                            let value = row[z];
+                            for (n, out) in by_z.iter_mut().enumerate().take(z_orders) {
                                 *out += wz.weight[n][tz] * value;
                             }
                         }

@@ -114,6 +114,16 @@ impl MeshEwald {
         self
     }
 
+    /// The sum, its vacuum surface term taking the box dipole `M` of the
+    /// positions as given instead of each site wrapped on its own: with each
+    /// molecule's sites given whole (relative to its wrapped centre), a
+    /// molecule crossing the box edge leaves `M`, the energy and the forces
+    /// unchanged (ESPResSo #4758 is the trap of the wrapped sites).
+    pub fn with_whole_molecules(mut self) -> Self {
+        self.terms.whole_molecules = true;
+        self
+    }
+
     /// The parameters the sum was built with.
     pub fn parameters(&self) -> MeshParameters {
         self.parameters
@@ -353,6 +363,9 @@ pub(crate) struct SiteTerms {
     box_lengths: Vector3<f64>,
     /// `d^N` at the origin of the smooth part `erf(alpha r) / r` (the self term).
     smooth_at_origin: [f64; 56],
+    /// Whether the surface term takes the positions as given (whole
+    /// molecules) rather than wrapped (`with_whole_molecules` of the sums).
+    pub(crate) whole_molecules: bool,
 }
 
 impl SiteTerms {
@@ -369,6 +382,7 @@ impl SiteTerms {
             surface,
             box_lengths,
             smooth_at_origin: levels[0],
+            whole_molecules: false,
         }
     }
 
@@ -423,7 +437,8 @@ impl SiteTerms {
 
     /// Removes each site's own smooth potential, adds the neutralising
     /// background of a net charge `Q` (`phi = -pi Q / (V alpha^2)`) and, in
-    /// vacuum, the surface term of the wrapped sites' dipole `M`
+    /// vacuum, the surface term of the sites' dipole `M` (wrapped, or as
+    /// given for whole molecules)
     /// (`phi(r) = 4 pi M.r / (3 V)`); returns their virial: `E_bg I` (the
     /// background's `1/V`), `E_s I - 4 pi / (3 V) P M^T` in vacuum (`P =
     /// sum_i q_i r_i` the charges' part of `M`, scaled by the strain), none
@@ -440,7 +455,12 @@ impl SiteTerms {
         let alpha = self.alpha;
         let net = sources.charges.map_or(0.0, |q| q.iter().sum::<f64>());
         let background = -PI * net / (volume * alpha * alpha);
-        let total_dipole = sources.total_dipole(wrapped);
+        let positions = if self.whole_molecules {
+            sources.positions
+        } else {
+            wrapped
+        };
+        let total_dipole = sources.total_dipole(positions);
         let surface = match self.surface {
             Surface::Conducting => Vector3::zeros(),
             Surface::Vacuum => total_dipole * (4.0 * PI / (3.0 * volume)),
@@ -454,7 +474,7 @@ impl SiteTerms {
                     .sum();
                 *value -= own;
             }
-            d[0] += background + surface.dot(&wrapped[i]);
+            d[0] += background + surface.dot(&positions[i]);
             for a in 0..3 {
                 d[1 + a] += surface[a];
             }

@@ -24,7 +24,9 @@
 //!   `phi = -pi Q / (V alpha^2)` (energy `-pi Q^2 / (2 V alpha^2)`);
 //! * surface, vacuum only (de Leeuw, Perram & Smith 1980): `V = 2 pi |M|^2
 //!   / (3 V)` with `M = sum_i (q_i r_i + mu_i)` over the sites wrapped into
-//!   `[0, L_a)` (with net charge `M` depends on that convention).
+//!   `[0, L_a)`, or for moving molecules over the sites as given, each
+//!   molecule whole about its wrapped centre (`MeshEwald::with_whole_molecules`;
+//!   with net charge `M` depends on the convention).
 //!
 //! Then `E_i = -grad phi`, `W_i = 1/3 grad grad phi`, and the force `F_i =
 //! -grad_(r_i) V = -D_i grad phi(r_i)` is the exact gradient of the PME

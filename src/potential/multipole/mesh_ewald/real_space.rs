@@ -124,6 +124,9 @@ impl CellList {
         let needed = UP_TO[tables.order(count - 1) + source_order];
         let half = box_lengths / 2.0;
         let cutoff_squared = cutoff * cutoff;
+        // Charges without the virial: the potential and field only, by a
+        // kernel of B_0 and B_1 (the same sums as the general path).
+        let charges_only = source_order == 0 && count == UP_TO[1] && !virial;
         let this = &*self;
         derivatives
             .par_iter_mut()
@@ -152,17 +155,14 @@ impl CellList {
                                 if j == i {
                                     continue;
                                 }
-                                // Minimum image: wrapped sites are less than L_a apart.
-                                let mut r = wrapped[i] - wrapped[j];
-                                for a in 0..3 {
-                                    if r[a] > half[a] {
-                                        r[a] -= box_lengths[a];
-                                    } else if r[a] < -half[a] {
-                                        r[a] += box_lengths[a];
-                                    }
-                                }
+                                let r = minimum_image(wrapped[i] - wrapped[j], box_lengths, &half);
                                 let distance_squared = r.norm_squared();
                                 if distance_squared >= cutoff_squared {
+                                    continue;
+                                }
+                                let cj = &coefficients[j];
+                                if charges_only {
+                                    add_charge(cj[0], &r, distance_squared.sqrt(), alpha, d);
                                     continue;
                                 }
                                 radial_derivatives(
@@ -171,7 +171,6 @@ impl CellList {
                                     needed,
                                     &mut t,
                                 );
-                                let cj = &coefficients[j];
                                 add_source(&t[0], cj, sources, count, d);
                                 if virial {
                                     let f =
@@ -183,5 +182,33 @@ impl CellList {
                     }
                 }
             });
+    }
+}
+
+/// The minimum image of the offset `r` of two wrapped sites (less than
+/// `L_a` apart along each axis), `half` holding `L_a / 2`.
+fn minimum_image(
+    mut r: Vector3<f64>,
+    box_lengths: &Vector3<f64>,
+    half: &Vector3<f64>,
+) -> Vector3<f64> {
+    for a in 0..3 {
+        if r[a] > half[a] {
+            r[a] -= box_lengths[a];
+        } else if r[a] < -half[a] {
+            r[a] += box_lengths[a];
+        }
+    }
+    r
+}
+
+/// Adds a charge `q`'s potential and its gradient at offset `r` (length
+/// `distance`) to `d`: `q (B_0, -r B_1)`, the sums of [`add_source`] for a
+/// charge, unrolled.
+fn add_charge(q: f64, r: &Vector3<f64>, distance: f64, alpha: f64, d: &mut [f64; DERIVATIVES]) {
+    let b = radial_functions::<2>(alpha, distance);
+    d[0] += q * b[0];
+    for a in 0..3 {
+        d[1 + a] += q * -(r[a] * b[1]);
     }
 }

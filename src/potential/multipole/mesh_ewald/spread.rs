@@ -99,6 +99,7 @@ impl SiteWeights {
                     for &i in &self.by_plane[self.plane_start[base]..self.plane_start[base + 1]] {
                         let [wx, wy, wz] = &self.axes[i];
                         let c = &scaled[i];
+                        let zs = mesh_points(wz.base, kz, p);
                         for ty in 0..p {
                             let y = (wy.base + ky - ty) % ky;
                             // sum_E c_E wx^(E_x) wy^(E_y), per z-derivative order.
@@ -108,8 +109,14 @@ impl SiteWeights {
                                 by_z[ez] += c * wx.weight[ex][t] * wy.weight[ey][ty];
                             }
                             let row = &mut plane[y * kz..(y + 1) * kz];
-                            for tz in 0..p {
-                                let z = (wz.base + kz - tz) % kz;
+                            if source_order == 0 {
+                                // Charges: no z-derivatives.
+                                for (tz, &z) in zs.iter().enumerate().take(p) {
+                                    row[z] += by_z[0] * wz.weight[0][tz];
+                                }
+                                continue;
+                            }
+                            for (tz, &z) in zs.iter().enumerate().take(p) {
                                 row[z] += by_z[0] * wz.weight[0][tz]
                                     + by_z[1] * wz.weight[1][tz]
                                     + by_z[2] * wz.weight[2][tz];
@@ -119,4 +126,15 @@ impl SiteWeights {
                 }
             });
     }
+}
+
+/// The mesh points `base - t` (modulo `points`) of a stencil, `t < order`.
+pub(super) fn mesh_points(base: usize, points: usize, order: usize) -> [usize; 8] {
+    std::array::from_fn(|t| {
+        if t < order {
+            (base + points - t) % points
+        } else {
+            0
+        }
+    })
 }

@@ -174,6 +174,13 @@ impl WaveEwald {
         self
     }
 
+    /// The sum, its vacuum surface term taking the positions as given
+    /// (whole molecules), as [`super::MeshEwald::with_whole_molecules`].
+    pub fn with_whole_molecules(mut self) -> Self {
+        self.terms.whole_molecules = true;
+        self
+    }
+
     /// The parameters the sum was built with.
     pub fn parameters(&self) -> EwaldParameters {
         self.parameters

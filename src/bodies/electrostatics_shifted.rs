@@ -1,0 +1,191 @@
+//! The shifted-force truncation of charges and point dipoles (Allen &
+//! Germano, Mol. Phys. 104, 3225 (2006); LAMMPS `pair_style
+//! lj/sf/dipole/sf`): energy and force both vanish at the cutoff `r_c`, so
+//! that pairs crossing it leave the total energy continuous.
+//!
+//! **Derivation.** A pair's energy is a sum of terms of rank `l`, an
+//! angular factor in `r^ = r / r` times the radial `f_l(r) = 1 / r^(l+1)`:
+//! `q_t q_s f_0` (`l = 0`), `(a.r^) f_1` with `a = q_t mu_s - q_s mu_t`
+//! (`l = 1`), `(mu_t.mu_s - 3 (mu_t.r^)(mu_s.r^)) f_2` (`l = 2`), for `r =
+//! r_t - r_s`. Each `f_l` is replaced by its shifted-force form
+//! `f_l(r) - f_l(r_c) - (r - r_c) f_l'(r_c) = s_l(x) / r^(l+1)`, `x = r /
+//! r_c`, with
+//!
+//! `s_l(x) = 1 - (l + 2) x^(l+1) + (l + 1) x^(l+2)`:
+//! `s_0 = (1 - x)^2`, `s_1 = 1 - 3 x^2 + 2 x^3`, `s_2 = 1 - 4 x^3 + 3 x^4`,
+//!
+//! the factors of LAMMPS's `lj/sf/dipole/sf` (its `ecoul`, `pqfac`,
+//! `bfac`), `s_l(1) = s_l'(1) = 0`. The forces and fields below are the
+//! exact gradients of these energies (the tests check them by central
+//! differences); the radial derivative `-d(s_l / r^(l+1))/dr = (l + 1) (1 -
+//! x^(l+2)) / r^(l+2)` is LAMMPS's `afac = 1 - x^4` for `l = 2`.
+
+use crate::potential::multipole::ChargeDipole;
+use nalgebra::Vector3;
+
+/// How a cutoff sum of charges and dipoles is truncated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ElectrostaticTruncation {
+    /// The bare pair terms inside the cutoff (default; LAMMPS
+    /// `lj/cut/dipole/cut`): the energy jumps as pairs cross it.
+    #[default]
+    Plain,
+    /// Energy and force brought to zero at the cutoff (module doc; LAMMPS
+    /// `lj/sf/dipole/sf`); charges and dipoles only.
+    ShiftedForce,
+}
+
+crate::checks::named_choices!(ElectrostaticTruncation {
+    "plain" => ElectrostaticTruncation::Plain,
+    "shifted_force" => ElectrostaticTruncation::ShiftedForce,
+});
+
+/// A target's share of one pair: the potential `dU/dq_t`, the field `E =
+/// -dU/dmu_t` and the force `-dU/dr_t`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct PairResponse {
+    pub potential: f64,
+    pub field: Vector3<f64>,
+    pub force: Vector3<f64>,
+}
+
+/// The shifted-force pair (module doc) of a target at offset `r = r_t -
+/// r_s` (`|r| < cutoff`) from a source.
+#[inline]
+pub(super) fn shifted_force_pair(
+    r: &Vector3<f64>,
+    cutoff: f64,
+    target: &ChargeDipole,
+    source: &ChargeDipole,
+) -> PairResponse {
+    let r2 = r.norm_squared();
+    let inv_r = 1.0 / r2.sqrt();
+    let (inv_r3, x) = (inv_r / r2, r2.sqrt() / cutoff);
+    let inv_r5 = inv_r3 / r2;
+    let (x2, x3) = (x * x, x * x * x);
+    let (s0, s1, s2) = (
+        (1.0 - x) * (1.0 - x),
+        1.0 - 3.0 * x2 + 2.0 * x3,
+        1.0 - 4.0 * x3 + 3.0 * x3 * x,
+    );
+    let (q_t, q_s) = (target.charge, source.charge);
+    let (mu_t, mu_s) = (&target.dipole, &source.dipole);
+    let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
+    let a = mu_s * q_t - mu_t * q_s;
+    // The force's component along r, over r.
+    let radial = q_t * q_s * (1.0 - x2) * inv_r3
+        + 3.0 * a.dot(r) * (1.0 - x2) * inv_r5
+        + 3.0
+            * inv_r5
+            * ((1.0 - x2 * x2) * (mu_t.dot(mu_s) - 3.0 * t_r * s_r / r2)
+                - 2.0 * s2 * t_r * s_r / r2);
+    PairResponse {
+        potential: q_s * s0 * inv_r + s1 * s_r * inv_r3,
+        field: r * (q_s * s1 * inv_r3 + 3.0 * s2 * s_r * inv_r5) - mu_s * (s2 * inv_r3),
+        force: r * radial - a * (s1 * inv_r3) + (mu_t * s_r + mu_s * t_r) * (3.0 * s2 * inv_r5),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Central differences of the pair energy at steps of 1e-6: errors
+    /// ~1e-12 from the third derivative, ~1e-10 from round-off.
+    const DIFFERENCE: f64 = 1e-8;
+
+    fn pair() -> (ChargeDipole, ChargeDipole) {
+        (
+            ChargeDipole {
+                charge: 0.7,
+                dipole: Vector3::new(0.3, -0.8, 0.5),
+            },
+            ChargeDipole {
+                charge: -1.2,
+                dipole: Vector3::new(-0.6, 0.2, 0.9),
+            },
+        )
+    }
+
+    /// The pair energy `q_t phi + ... - mu_t.E`, bilinear in the target's
+    /// charge and dipole.
+    fn energy(r: &Vector3<f64>, cutoff: f64, t: &ChargeDipole, s: &ChargeDipole) -> f64 {
+        let p = shifted_force_pair(r, cutoff, t, s);
+        t.charge * p.potential - t.dipole.dot(&p.field)
+    }
+
+    /// The force is minus the gradient of the energy, the field minus its
+    /// derivative in the target's dipole, the potential its derivative in
+    /// the target's charge, and swapping target and source gives the same
+    /// energy.
+    #[test]
+    fn force_field_and_potential_are_derivatives_of_the_energy() {
+        let (t, s) = pair();
+        let cutoff = 2.5;
+        let h = 1e-6;
+        for r in [Vector3::new(0.9, -0.4, 0.3), Vector3::new(1.2, 1.4, -1.1)] {
+            let p = shifted_force_pair(&r, cutoff, &t, &s);
+            // The central difference of the energy as `change(target, +-h)` alters the target.
+            let derivative = |change: &dyn Fn(&mut ChargeDipole, f64)| {
+                let at = |d: f64| {
+                    let mut m = t;
+                    change(&mut m, d);
+                    energy(&r, cutoff, &m, &s)
+                };
+                (at(h) - at(-h)) / (2.0 * h)
+            };
+            for k in 0..3 {
+                let mut step = Vector3::zeros();
+                step[k] = h;
+                let fd = -(energy(&(r + step), cutoff, &t, &s)
+                    - energy(&(r - step), cutoff, &t, &s))
+                    / (2.0 * h);
+                assert!(
+                    (p.force[k] - fd).abs() < DIFFERENCE,
+                    "force {k}: {} vs {fd}",
+                    p.force[k]
+                );
+                let fd = -derivative(&|m, d| m.dipole[k] += d);
+                assert!(
+                    (p.field[k] - fd).abs() < DIFFERENCE,
+                    "field {k}: {} vs {fd}",
+                    p.field[k]
+                );
+            }
+            let fd = derivative(&|m, d| m.charge += d);
+            assert!((p.potential - fd).abs() < DIFFERENCE);
+            let swapped = energy(&-r, cutoff, &s, &t);
+            assert!((energy(&r, cutoff, &t, &s) - swapped).abs() < 1e-14);
+        }
+    }
+
+    /// Energy, force and field fall to zero at the cutoff (to the order of
+    /// the distance left, `(1 - x)^2` for the energy, `1 - x` for the rest).
+    #[test]
+    fn energy_and_force_vanish_at_the_cutoff() {
+        let (t, s) = pair();
+        let direction = Vector3::new(0.48, -0.6, 0.64);
+        let gap = 1e-6;
+        let r = direction * (2.5 - gap);
+        let p = shifted_force_pair(&r, 2.5, &t, &s);
+        assert!(energy(&r, 2.5, &t, &s).abs() < 10.0 * gap * gap);
+        assert!(p.force.norm() < 10.0 * gap && p.field.norm() < 10.0 * gap);
+        assert!(p.potential.abs() < 10.0 * gap * gap);
+    }
+
+    /// Far inside the cutoff the terms tend to the bare ones: the energy of
+    /// two dipoles at `r << r_c` against `(mu_t.mu_s - 3 (mu_t.r^)(mu_s.r^))
+    /// / r^3` within the `4 (r / r_c)^3` of `s_2`.
+    #[test]
+    fn the_bare_dipole_pair_is_the_limit_of_a_large_cutoff() {
+        let (mut t, mut s) = pair();
+        (t.charge, s.charge) = (0.0, 0.0);
+        let r = Vector3::new(0.9, -0.4, 0.3);
+        let cutoff = 1e3;
+        let d = r.norm();
+        let bare = (t.dipole.dot(&s.dipole) - 3.0 * t.dipole.dot(&r) * s.dipole.dot(&r) / (d * d))
+            / d.powi(3);
+        let e = energy(&r, cutoff, &t, &s);
+        assert!((e - bare).abs() < 5.0 * (d / cutoff).powi(3) * bare.abs());
+    }
+}
