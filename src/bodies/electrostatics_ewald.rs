@@ -168,7 +168,10 @@ impl BodyEwald {
             mesh: f64::NAN,
         };
         Ok(Self::assemble(
-            LongRange::Mesh(Box::new(mesh.with_virial().with_whole_molecules()), estimate),
+            LongRange::Mesh(
+                Box::new(mesh.with_virial().with_whole_molecules()),
+                estimate,
+            ),
             site_body,
         ))
     }
@@ -385,8 +388,10 @@ mod tests {
             ),
             Fixed::Waves(p) => {
                 let waves = WaveEwald::new(n, box_lengths, p, surface).unwrap();
-                let sum =
-                    BodyEwald::assemble(LongRange::Waves(Box::new(waves.with_virial().with_whole_molecules())), site_body);
+                let sum = BodyEwald::assemble(
+                    LongRange::Waves(Box::new(waves.with_virial().with_whole_molecules())),
+                    site_body,
+                );
                 (sum, p.real_cutoff)
             }
         };
@@ -506,7 +511,13 @@ mod tests {
             for r in &mut sites.positions[0..3] {
                 r.x += dx;
             }
-            evaluate(&sites, &site_body, box_lengths, parameters, Surface::Vacuum)
+            evaluate(
+                &sites,
+                &site_body,
+                box_lengths,
+                Fixed::Mesh(parameters),
+                Surface::Vacuum,
+            )
         };
         let before = at(shift);
         let after = at(2.0 * eps);
