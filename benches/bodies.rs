@@ -9,9 +9,9 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
-    lattice_start, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, Evaluation,
-    InteractionOptions, Lattice, LatticeStart, LennardJones, LennardJonesOptions, Mixing, Site,
-    Truncation,
+    lattice_start, BodySystem, BodyType, BodyTypeSpec, ElectrostaticTruncation,
+    ElectrostaticsOptions, Evaluation, InteractionOptions, Lattice, LatticeStart, LennardJones,
+    LennardJonesOptions, Mixing, Site, Truncation,
 };
 use std::hint::black_box;
 use std::time::Duration;
@@ -47,7 +47,10 @@ fn stockmayer_fluid(n: usize) -> BodySystem {
             truncation: Truncation::Shifted,
             mixing: Mixing::LorentzBerthelot,
         }),
-        electrostatics: Some(ElectrostaticsOptions::Cutoff(2.5)),
+        electrostatics: Some(ElectrostaticsOptions::Cutoff(
+            2.5,
+            ElectrostaticTruncation::Plain,
+        )),
         skin: 0.3,
     };
     BodySystem::new(types, bodies, space, &options).expect("a valid system")

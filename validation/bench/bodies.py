@@ -92,7 +92,10 @@ def quatrot_scene(name: str, lattice: str, bodies: int, steps: int) -> str:
     before, thermostat, after = head.partition("\n[thermostat]\n")
     if thermostat:  # at constant energy, as LAMMPS runs it (o-terphenyl's built-in holds a thermostat)
         head = before + "\n" + after[after.index("\n[") + 1 :]
+    # LAMMPS's lj/cut/dipole/cut truncates the dipoles plainly (the built-in's are shifted-force since it conserves energy).
+    head = head.replace('truncation = "shifted_force"', 'truncation = "plain"')
     check = tomllib.loads(head)
+    assert check["body_interactions"].get("electrostatics", {}).get("truncation", "plain") == "plain"
     assert check["bodies"]["counts"] == [bodies] and check["run"]["steps"] == steps and check["bodies"]["lattice"] == lattice
     assert "thermostat" not in check
     return head
