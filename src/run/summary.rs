@@ -289,7 +289,7 @@ impl BodyElectrostaticsSummary {
 impl BodiesSummary {
     /// The summary of `bodies` (`per_type` of each type) after
     /// `neighbour_builds` builds, with the record of its Ewald sum
-    /// ([`BodyElectrostaticsSummary::new`]).
+    /// (`BodyElectrostaticsSummary::new`).
     pub fn new(
         per_type: &[usize],
         bodies: &BodyScene,

@@ -181,7 +181,7 @@ pub(crate) fn cost(sites: f64, density: f64, rc: f64, grid: [usize; 3], order: u
         + SPLINE_COST * sites * (order as f64).powi(3)
 }
 
-/// [`cost`] of the sum of `sites` sites in `box_lengths` with `parameters`:
+/// `cost` of the sum of `sites` sites in `box_lengths` with `parameters`:
 /// what [`crate::potential::multipole`]'s automatic choice weighs against the
 /// direct sum.
 pub fn mesh_cost(parameters: &MeshParameters, sites: usize, box_lengths: &Vector3<f64>) -> f64 {

@@ -44,7 +44,7 @@ const SITES_PER_TASK: usize = 32;
 
 /// The parameters of a direct Ewald sum of `sites` sites carrying `carried`
 /// in `box_lengths` at `accuracy` (in (0, 1), the relative field accuracy of
-/// [`super::estimate`]), its real-space cutoff at most `longest` (named
+/// the mesh sum's estimate module), its real-space cutoff at most `longest` (named
 /// `what` when no splitting fits it), with the cost of one evaluation in
 /// real-space pairs: `alpha` minimises the pairs plus [`WAVE_COST`] per
 /// site and wave vector (`crate::potential::multipole::ewald_parameters`'
