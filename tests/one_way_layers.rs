@@ -99,17 +99,14 @@ fn occurrences(needle: &str) -> Vec<String> {
 
 /// The Ewald accuracy is checked once per run: only `Accuracy::new` makes
 /// one (its field is private) and holds the range check, and it is called
-/// once, where the sum's options are read (`Boundary::periodic`, for the
-/// scene and the bindings alike); the potential trusts the type (the range
-/// was checked by `Boundary::validate` in the scene and again by the
-/// potential).
+/// where a sum's options are read, once for each kind of run: rotors'
+/// `Boundary::periodic` (the scene and the bindings alike; the potential
+/// trusts the type) and the direct Ewald sum of moving bodies
+/// (`mesh_ewald::for_waves`, which bodies' `method = "direct"` reaches
+/// without a `Boundary`).
 #[test]
 fn the_accuracy_is_checked_in_one_place() {
-    for needle in [
-        "must be in (0, 1)",
-        "Accuracy::new",
-        "pub struct Accuracy(f64);",
-    ] {
+    for needle in ["must be in (0, 1)", "pub struct Accuracy(f64);"] {
         let found = occurrences(needle);
         assert_eq!(found.len(), 1, "{needle}: {found:#?}");
         assert!(
@@ -117,6 +114,13 @@ fn the_accuracy_is_checked_in_one_place() {
             "{needle}: {found:#?}"
         );
     }
+    let readers = occurrences("Accuracy::new");
+    assert_eq!(readers.len(), 2, "Accuracy::new: {readers:#?}");
+    assert!(
+        readers.iter().any(|p| p.ends_with("periodic_sum.rs"))
+            && readers.iter().any(|p| p.ends_with("mesh_ewald/waves.rs")),
+        "Accuracy::new: {readers:#?}"
+    );
 }
 
 /// Field paths are typed in the scene layer: no marker character puts a path
