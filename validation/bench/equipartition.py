@@ -1,7 +1,7 @@
 """`python -m validation.bench.equipartition --out benchmarks`: issue 39's
 equipartition verdict at production length, a step of `make bench`. Each of
 the five integrators runs each body built-in at constant energy for 1e5
-steps of its dt (`validation.shared.equipartition`: thermostat removed, the
+steps of its dt (`validation.shared.equipartition_runs`: thermostat removed, the
 first fifth left out); the section gives <T_rot> / <T_trans> with its error
 from block averages and a verdict per run stating its length, and how far
 the run's temperature and energy moved over the averaged part (both
@@ -28,7 +28,7 @@ import numpy as np
 
 import quatrot
 from validation.bench import results_md
-from validation.shared import equipartition as ep
+from validation.shared import equipartition_runs as ep
 
 BEGIN = "<!-- make bench: equipartition section begin -->"
 END = "<!-- make bench: equipartition section end -->"

@@ -12,7 +12,7 @@ ten 1e5-step runs take about two hours of a 2-core machine, four times
 `make validate`'s budget.
 
 Each run is the built-in with the integrator swapped and its thermostat
-removed (`validation.shared.equipartition`): dt = 0.002, the fcc start at
+removed (`validation.shared.equipartition_runs`): dt = 0.002, the fcc start at
 the built-in's initial temperature, which melts (the melt and the sharing
 of its heat take ~5,000 steps for the Stockmayer fluid, ~600 for
 o-terphenyl); recorded every 100 steps. The Stockmayer fluid keeps heating
@@ -28,7 +28,7 @@ by how much it does not (the ratio <T_rot>/<T_trans> is in the details)."""
 from __future__ import annotations
 
 import quatrot
-from validation.shared import equipartition as ep
+from validation.shared import equipartition_runs as ep
 from validation.shared.check import Check, Context
 
 EQUILIBRATION = {"production": 0.3, "quick": 0.4}

@@ -61,7 +61,7 @@ def test_body_builtins_run_with_every_thermostat(name, thermostat, integrator):
 @pytest.mark.parametrize(
     "integrator, thermostat, message",
     [
-        ("gear_a", "nose_hoover", '"nose_hoover" cannot run with integrator gear_a for bodies'),
+        ("gear_b", "nose_hoover", '"nose_hoover" cannot run with integrator gear_b for bodies'),
         ("gear_b", "bussi", '"bussi" cannot run with integrator gear_b for bodies'),
         ("richardson", "langevin", '"langevin" cannot run with integrator richardson for bodies'),
     ],
