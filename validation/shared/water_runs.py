@@ -207,3 +207,46 @@ def openmm_series(state, dt: float, steps: int) -> np.ndarray:
         energies.append([s.getPotentialEnergy().value_in_unit(unit.kilocalorie_per_mole),
                          s.getKineticEnergy().value_in_unit(unit.kilocalorie_per_mole)])
     return np.array(energies)
+
+
+def lammps_water_box(site_positions, box: float, cutoff: float, accuracy: float):
+    """LAMMPS ``units real`` single point of rigid SPC/E in a periodic cube:
+    ``pair_style lj/cut/coul/long`` with ``pair_modify tail yes`` and
+    ``kspace_style pppm`` at `accuracy` (tin-foil); each molecule's own
+    pairs excluded the way LAMMPS users do it (O-H bonds of ``bond_style
+    zero``, ``special_bonds lj/coul 0 0 0``, so that the pair style also
+    removes their reciprocal-space part). Charges scaled to quatrot's
+    Coulomb constant (``lammps_series``). Returns the energies (LJ inside
+    the cutoff, its tail, electrostatic; kcal/mol) and the site forces in
+    the order of `site_positions` (O H H per molecule)."""
+    sites = np.asarray(site_positions, float)
+    (q_o, sigma, epsilon), (q_h, _, _), _ = site_parameters("spce")
+    lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+    try:
+        for c in ["units real", "atom_style full", "atom_modify map array sort 0 0", "boundary p p p",
+                  f"region box block 0 {box:.17g} 0 {box:.17g} 0 {box:.17g}",
+                  "create_box 2 box bond/types 1 extra/bond/per/atom 2 extra/special/per/atom 2",
+                  f"mass 1 {MASSES[0]:.17g}", f"mass 2 {MASSES[1]:.17g}", "bond_style zero", "bond_coeff 1",
+                  "special_bonds lj/coul 0.0 0.0 0.0"]:
+            lmp.command(c)
+        scale = math.sqrt(quatrot_coulomb_constant() / lmp.extract_global("qqr2e"))
+        for i, x in enumerate(np.mod(sites, box)):
+            lmp.command(f"create_atoms {1 if i % 3 == 0 else 2} single {x[0]:.17g} {x[1]:.17g} {x[2]:.17g}")
+            lmp.command(f"set atom {i + 1} mol {i // 3 + 1} charge {(q_o if i % 3 == 0 else q_h) * scale:.17g}")
+        for i in range(0, len(sites), 3):
+            lmp.command(f"create_bonds single/bond 1 {i + 1} {i + 2} special yes")
+            lmp.command(f"create_bonds single/bond 1 {i + 1} {i + 3} special yes")
+        for c in ["special_bonds lj/coul 0.0 0.0 0.0", f"pair_style lj/cut/coul/long {cutoff:.17g}",
+                  f"pair_coeff 1 1 {epsilon:.17g} {sigma:.17g}", "pair_coeff 2 2 0.0 1.0", "pair_coeff 1 2 0.0 1.0",
+                  "pair_modify tail yes", f"kspace_style pppm {accuracy:.17g}", "neighbor 2.0 bin",
+                  "thermo_style custom step evdwl etail ecoul elong", "thermo_modify norm no"]:
+            lmp.command(c)
+        lmp.command("run 0 post no")
+        n = len(sites)
+        order = np.argsort(lmp.numpy.extract_atom("id")[:n])
+        tail = lmp.get_thermo("etail")
+        energies = {"lennard_jones": lmp.get_thermo("evdwl") - tail, "lennard_jones_tail": tail,
+                    "electrostatic": lmp.get_thermo("ecoul") + lmp.get_thermo("elong")}
+        return energies, np.array(lmp.numpy.extract_atom("f")[:n][order]), lmp.extract_global("qqr2e")
+    finally:
+        lmp.close()
