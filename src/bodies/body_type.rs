@@ -297,6 +297,18 @@ mod tests {
         assert!((body.moments[1] - 0.5).abs() < 1e-14 && (body.moments[2] - 0.5).abs() < 1e-14);
         assert_eq!(body.rotational_degrees(), 2);
         assert_eq!(body.conserved_spin(), None);
+        // Given a zero moment, sites on the axis (or at the centre) are
+        // accepted, rounding included: one site off by 1e-9 of the reach.
+        let given = |sites: Vec<Site>| BodyTypeSpec {
+            sites,
+            mass: Some(1.0),
+            inertia: Some(Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 1.0))),
+        };
+        assert!(BodyType::new(&given(vec![point([0.0; 3], 0.0)])).is_ok());
+        let on_axis = vec![point([-1.0, 0.0, 0.0], 0.0), point([2.0, 1e-9, 0.0], 0.0)];
+        assert!(BodyType::new(&given(on_axis)).is_ok());
+        let off_axis = vec![point([-1.0, 0.0, 0.0], 0.0), point([2.0, 0.0, 1e-5], 0.0)];
+        assert!(BodyType::new(&given(off_axis)).is_err());
     }
 
     /// A dipolar sphere keeps its spin about the dipole; a dipole off the
