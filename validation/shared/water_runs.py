@@ -19,7 +19,7 @@ import numpy as np
 
 import quatrot
 from validation.shared.lammps_driver import _load_lammps, space_to_body
-from validation.shared.openmm_water import KJ_PER_KCAL, site_parameters
+from validation.shared.openmm_water import site_parameters, water_system
 
 CUTOFF = 30.0  # A: above the cluster's size, so every pair counts
 SPACING = 3.1  # A between neighbouring centres
@@ -169,23 +169,7 @@ def openmm_series(state, dt: float, steps: int) -> np.ndarray:
     from openmm import unit
 
     sites, site_velocities = sites_and_velocities(*state)
-    n = len(sites)
-    system = openmm.System()
-    force = openmm.NonbondedForce()
-    force.setNonbondedMethod(openmm.NonbondedForce.NoCutoff)
-    parameters = site_parameters("spce")
-    for _ in range(n):
-        first = system.getNumParticles()
-        for mass, (charge, sigma, epsilon) in zip(MASSES, parameters):
-            system.addParticle(mass)
-            force.addParticle(charge, sigma / 10, epsilon * KJ_PER_KCAL)
-        for a, b in ((0, 1), (0, 2), (1, 2)):
-            force.addException(first + a, first + b, 0.0, 1.0, 0.0)
-    body = body_sites()
-    for i in range(n):
-        for a, b in ((0, 1), (0, 2), (1, 2)):
-            system.addConstraint(3 * i + a, 3 * i + b, float(np.linalg.norm(body[a] - body[b])) / 10)
-    system.addForce(force)
+    system = water_system("spce", len(sites), masses=MASSES)
     integrator = openmm.CustomIntegrator(dt / 1000)
     integrator.addPerDofVariable("x1", 0)
     integrator.addUpdateContextState()
