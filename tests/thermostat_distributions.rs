@@ -249,12 +249,13 @@ fn mean_p_value(samples: &[f64], mean: f64, variance: f64) -> f64 {
 /// Langevin's step (B A O A B) leaves the orientations of a harmonic
 /// libration exact at any `dt`, but its momenta after the last half kick,
 /// where the kinetic temperature is read, are low by `(w0 dt / 2)^2` (issue
-/// 41's water: T_rot 1.2 % low at 2 fs). Closed form: the full step is
-/// velocity Verlet around the O step, whose linear map for a harmonic
-/// oscillator of frequency `w0` keeps `w0^2 q^2 + p^2 / (1 - (w0 dt/2)^2)`
-/// (mass 1), and the O step keeps `p` exactly Maxwell in the middle of the
-/// step, so the stationary density is `exp(-(w0^2 q^2 + p^2 / (1 -
-/// (w0 dt/2)^2)) / 2T)`: `<q^2>` exact, `<p^2> = T (1 - (w0 dt/2)^2)`.
+/// 41's water: T_rot 1.2 % low at 2 fs). Closed form for a harmonic
+/// oscillator of frequency `w0` (mass 1, `a = (w0 dt/2)^2`): from one O
+/// step to the next the map is position Verlet (A B B A), which keeps
+/// `w0^2 q^2 / (1 - a) + p^2`, and the O step keeps `p` exactly Maxwell, so
+/// in mid-step `<p^2> = T`, `<q^2> = T (1 - a) / w0^2`; the last A and B
+/// take that to velocity Verlet's invariant `w0^2 q^2 + p^2 / (1 - a)`:
+/// at the full step `<q^2> = T / w0^2` exact, `<p^2> = T (1 - a)`.
 /// A spherical top (`I = 0.1`) with a dipole in the field `E = x T`,
 /// `x = 1000`, librates about the two axes normal to the dipole at
 /// `w0 = sqrt(mu E / I)`; at `w0 dt = 1`: `I w_k^2 / T` has mean 3/4 on
