@@ -299,8 +299,9 @@ fn choose(
         return Err(PotentialError::new(
             "real_cutoff",
             format!(
-                "{} does not fit the box: it is more than {what} {half_box}",
-                num(rc)
+                "{} does not fit the box: it is more than {what} {}",
+                num(rc),
+                crate::checks::derived(half_box)
             ),
         ));
     }
@@ -425,8 +426,8 @@ fn not_reached(accuracy: f64, m: &Missed) -> PotentialError {
     PotentialError::new(
         field,
         format!(
-            "{value} reaches {:.1e} at best (with alpha {:.4}, {rest}), not the requested {}",
-            m.reach,
+            "{value} reaches {} at best (with alpha {:.4}, {rest}), not the requested {}",
+            crate::checks::derived(format!("{:.1e}", m.reach).parse().unwrap_or(m.reach)),
             p.alpha,
             num(accuracy)
         ),
