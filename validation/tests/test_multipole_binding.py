@@ -181,11 +181,11 @@ def test_pme_forced_parameters_are_kept_and_refused_when_they_miss():
     method is refused naming the keyword."""
     sites, q, mu = _lattice_args()
     kwargs = {"dipoles_body": mu, "box_lengths": [3.0, 3, 3], "accuracy": 1e-5, "method": "pme", "details": True}
-    e, _, _, info = quatrot.multipole_evaluate(sites, q, order=6, grid=[20, 24, 27], real_cutoff=1.45, alpha=2.3, **kwargs)
-    assert (info["order"], list(info["grid"]), info["real_cutoff"], info["alpha"]) == (6, [20, 24, 27], 1.45, 2.3)
+    e, _, _, info = quatrot.multipole_evaluate(sites, q, order=6, grid=[75, 80, 81], real_cutoff=1.45, alpha=3.0, **kwargs)
+    assert (info["order"], list(info["grid"]), info["real_cutoff"], info["alpha"]) == (6, [75, 80, 81], 1.45, 3.0)
     assert abs(e / 27 + 2 * np.pi / 3) <= 1e-5
-    _, _, _, info = quatrot.multipole_evaluate(sites, q, grid=30, **kwargs)
-    assert list(info["grid"]) == [30, 30, 30]
+    _, _, _, info = quatrot.multipole_evaluate(sites, q, grid=40, **kwargs)
+    assert list(info["grid"]) == [40, 40, 40]
     with pytest.raises(ValueError, match=r"^grid: \[6, 6, 6\] at order 4 reaches .* at best .*, not the requested 0\.00001$"):
         quatrot.multipole_evaluate(sites, q, order=4, grid=6, **kwargs)
     with pytest.raises(ValueError, match=r'^order: forces a parameter of the mesh Ewald sum: only with method = "pme", got method = "auto"$'):
