@@ -12,6 +12,7 @@ use quatrot::bodies::{
     EwaldOptions, InteractionOptions, LennardJones, Site, Space, Truncation,
 };
 use quatrot::integrators::NoSquishOptions;
+use quatrot::potential::multipole::mesh_ewald::ForcedMesh;
 use quatrot::potential::multipole::{SumMethod, Surface};
 
 /// A Lennard-Jones sphere with a dipole and a point quadrupole.
@@ -40,6 +41,7 @@ fn system_of(n: usize, sphere: BodyType, accuracy: f64, method: SumMethod) -> Bo
             accuracy,
             method,
             surface: Surface::Conducting,
+            forced: ForcedMesh::default(),
         })),
         ..options(Truncation::ForceShifted, 2.5, 2.5)
     };

@@ -4,6 +4,7 @@
 //! recording the path taken and the Ewald parameters chosen.
 
 use nalgebra::Vector3;
+use quatrot::potential::multipole::mesh_ewald::ForcedMesh;
 use quatrot::potential::{Boundary, PeriodicSum, SumMethod, Surface};
 use quatrot::run::{execute, potential, RunResult, SUMMARY_FILE};
 use quatrot::scene::{load, load_text, Interactions, Overrides};
@@ -107,6 +108,7 @@ fn the_builtin_lattice_is_ewald_and_its_cutoff_variant_the_same_system_truncated
         Some(Interactions {
             boundary: Boundary::periodic_ewald(box_lengths),
             method: SumMethod::Auto,
+            forced: ForcedMesh::default(),
         })
     );
     assert_eq!(
@@ -114,6 +116,7 @@ fn the_builtin_lattice_is_ewald_and_its_cutoff_variant_the_same_system_truncated
         Some(Interactions {
             boundary: Boundary::periodic_cutoff(box_lengths, 3.1),
             method: SumMethod::Auto,
+            forced: ForcedMesh::default(),
         })
     );
     assert_eq!(

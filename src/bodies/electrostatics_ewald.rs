@@ -40,7 +40,7 @@ use super::space::Space;
 use crate::checks::{num, InputError};
 use crate::potential::multipole::mesh_ewald::Sources;
 use crate::potential::multipole::mesh_ewald::{
-    for_multipoles_with_skin, for_waves, mesh_cost, Carried, MeshEstimate, MeshEwald,
+    for_multipoles_with_skin, for_waves, mesh_cost, Carried, ForcedMesh, MeshEstimate, MeshEwald,
     MeshParameters, WaveEwald, DERIVATIVES,
 };
 use crate::potential::multipole::{
@@ -67,6 +67,8 @@ pub struct EwaldOptions {
     pub method: SumMethod,
     /// The medium around the sphere of boxes.
     pub surface: Surface,
+    /// PME's parameters forced (only with `Pme`; the others chosen for the accuracy).
+    pub forced: ForcedMesh,
 }
 
 /// The long-range terms of a sum of bodies' sites: on a mesh, or over the
@@ -103,7 +105,9 @@ impl BodyEwald {
         (box_lengths, skin): (Vector3<f64>, f64),
     ) -> Result<Self, InputError> {
         let (accuracy, n) = (options.accuracy, site_body.len());
-        let mesh = || for_multipoles_with_skin(accuracy, carried, n, &box_lengths, skin);
+        options.method.check_forced(&options.forced)?;
+        let mesh =
+            || for_multipoles_with_skin(accuracy, carried, n, &box_lengths, skin, &options.forced);
         let longest = (
             0.5 * box_lengths.min() - skin,
             "half the shortest box side less the skin",

@@ -87,7 +87,9 @@ fn argument_path(e: InputError, table: bool) -> PyErr {
 ///     "truncation": "plain"}`` (or ``"shifted_force"``, LAMMPS
 ///     ``lj/sf/dipole/sf``) or
 ///     ``{"kind": "ewald", "accuracy": 1e-6, "method": "pme", "surface":
-///     "conducting"}`` (a periodic box), with a scene's defaults and checks.
+///     "conducting"}`` (a periodic box; with ``"pme"`` also the forced
+///     ``"order"``, ``"grid"``, ``"real_cutoff"`` and ``"alpha"``), with a
+///     scene's defaults and checks.
 /// units : {"reduced", "real"}, default "reduced"
 ///     The units of every value given and returned (real: velocities in
 ///     Angstrom/fs, energies in kcal/mol, forces in kcal/(mol Angstrom),
@@ -110,7 +112,8 @@ fn argument_path(e: InputError, table: bool) -> PyErr {
 /// ------
 /// ValueError
 ///     For bad shapes or values (named), a box shorter than twice the
-///     largest cutoff plus 0.3.
+///     largest cutoff plus 0.3, forced PME parameters that do not reach the
+///     accuracy (``electrostatics.grid: ...``, saying what they reach).
 /// quatrot.SceneError
 ///     For a bad body type (the field named: ``body_types[0].mass``).
 ///

@@ -4,6 +4,7 @@ use super::args::{invalid, optional_text};
 use super::arrays::{collect, common_len, overflow, single, Items, Values};
 use super::rotors::rotors;
 use crate::checks::from_name;
+use crate::potential::multipole::mesh_ewald::ForcedMesh;
 use crate::potential::{
     Boundary, ExternalFields, MultipolePotential, PotentialError, SumMethod, SumOptions,
 };
@@ -73,6 +74,14 @@ fn sum_options(
         accuracy,
         surface: by_name(surface, "surface")?,
     })
+}
+
+/// The mesh counts of the keyword `grid`: one int, or a sequence of them.
+fn grid_counts(grid: &Bound<'_, PyAny>) -> PyResult<Vec<i64>> {
+    grid.extract::<i64>()
+        .map(|k| vec![k])
+        .or_else(|_| grid.extract::<Vec<i64>>())
+        .map_err(|_| invalid("grid", "expected an int or a sequence of 3 ints"))
 }
 
 /// The value named by the optional text `obj` (argument `name`).
@@ -149,6 +158,15 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 ///     PME cannot reach), the pair sums otherwise; "pme": the smooth
 ///     particle-mesh Ewald sum (`sum="ewald"` only; accuracy from 1e-10 to
 ///     1e-2).
+/// order : int, optional
+///     PME's B-spline order forced, 4 to 8 (`method="pme"` only, as the
+///     next three; what is not forced is chosen for `accuracy`).
+/// grid : int or sequence of 3 ints, optional
+///     PME's mesh points along x, y, z forced (one int: every axis).
+/// real_cutoff : float, optional
+///     PME's real-space cutoff forced (at most half the shortest box side).
+/// alpha : float, optional
+///     PME's splitting parameter forced (inverse length).
 /// details : bool, default False
 ///     Also return a dict of how the sum was made.
 ///
@@ -174,7 +192,9 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 /// ------
 /// ValueError
 ///     For bad shapes, non-finite numbers, coincident sites, a keyword
-///     combination that means nothing, or sizes beyond the memory limit.
+///     combination that means nothing, sizes beyond the memory limit, or
+///     forced PME parameters that do not reach `accuracy` (the message says
+///     what they reach).
 ///
 /// Examples
 /// --------
@@ -191,7 +211,7 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 ///
 /// ```
 #[pyfunction]
-#[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None, sum=None, accuracy=None, surface=None, method=None, details=false))]
+#[pyo3(signature = (sites, orientations, dipoles_body=None, quadrupoles_body=None, field=None, field_gradient=None, box_lengths=None, cutoff=None, sum=None, accuracy=None, surface=None, method=None, order=None, grid=None, real_cutoff=None, alpha=None, details=false))]
 #[allow(clippy::too_many_arguments)]
 fn multipole_evaluate<'py>(
     py: Python<'py>,
@@ -207,6 +227,10 @@ fn multipole_evaluate<'py>(
     accuracy: Option<f64>,
     surface: Option<&Bound<'py, PyAny>>,
     method: Option<&Bound<'py, PyAny>>,
+    order: Option<i64>,
+    grid: Option<&Bound<'py, PyAny>>,
+    real_cutoff: Option<f64>,
+    alpha: Option<f64>,
     details: bool,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let sites = Items::new(sites, "sites", &[3], Values::Finite)?;
@@ -226,9 +250,12 @@ fn multipole_evaluate<'py>(
     let options = sum_options(sum, cutoff, accuracy, surface)?;
     let boundary = boundary(box_lengths, &options)?;
     let method: SumMethod = by_name(method, "method")?.unwrap_or_default();
+    let grid = grid.map(grid_counts).transpose()?;
+    let forced = ForcedMesh::new(order, grid.as_deref(), real_cutoff, alpha)?;
     let q: Vec<Quat> = (0..n).map(|i| orientations.quat(i)).collect();
     let (energy, gradient, torques, potential) = py.detach(|| -> Result<_, PotentialError> {
-        let potential = MultipolePotential::with_method(&rotors, boundary, external, method)?;
+        let potential =
+            MultipolePotential::with_forced_mesh(&rotors, boundary, external, method, &forced)?;
         let mut gradient = vec![Quat::ZERO; n];
         let mut torques = vec![Vector3::zeros(); n];
         let energy = potential.evaluate(&q, Some(&mut gradient), Some(&mut torques));

@@ -8,6 +8,7 @@ use super::limits::check_run_limits;
 use super::scene_run::{run_scene, thread_record, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
 use crate::parallel::{automatic_threads, in_pool, on_worker, ThreadCount, ROTORS_PER_THREAD};
+use crate::potential::multipole::mesh_ewald::ForcedMesh;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
 use crate::scene::{boundary_error, Interactions, Scene};
 use std::num::NonZeroUsize;
@@ -25,11 +26,16 @@ pub fn potential(scene: &Scene) -> Result<Option<MultipolePotential>, RunError> 
     if scene.interactions.is_none() && scene.fields == ExternalFields::NONE {
         return Ok(None);
     }
-    let Interactions { boundary, method } = scene.interactions.unwrap_or(Interactions {
+    let Interactions {
+        boundary,
+        method,
+        forced,
+    } = scene.interactions.unwrap_or(Interactions {
         boundary: Boundary::Open,
         method: SumMethod::Auto,
+        forced: ForcedMesh::default(),
     });
-    MultipolePotential::with_method(&scene.rotors, boundary, scene.fields, method)
+    MultipolePotential::with_forced_mesh(&scene.rotors, boundary, scene.fields, method, &forced)
         .map(Some)
         .map_err(|e| match boundary_error(&e) {
             Some(scene_error) => RunError::Scene(scene_error),

@@ -6,6 +6,7 @@
 use super::body_types::{checked_types, RawBodyType};
 use super::error::SceneError;
 use super::initial::{drawn_seed, RawInitial};
+use super::interactions::forced_mesh;
 use super::parse::parse_value;
 use super::tagged::tagged;
 use crate::bodies::{
@@ -144,6 +145,14 @@ pub struct RawBodyEwald {
     pub method: Option<SumMethod>,
     /// `"conducting"` (default) or `"vacuum"`.
     pub surface: Option<Surface>,
+    /// The spline order forced (`method = "pme"` only, as the next three).
+    pub order: Option<i64>,
+    /// The mesh forced: one count of points for every axis, or three.
+    pub grid: Option<toml::Value>,
+    /// The real-space cutoff forced.
+    pub real_cutoff: Option<f64>,
+    /// The splitting parameter forced.
+    pub alpha: Option<f64>,
 }
 
 /// The cutoff of charges and dipoles.
@@ -226,7 +235,8 @@ pub(super) fn body_scene(
     };
     let types = checked_types(raw_types, units)?;
     let (space, bodies, seed) = start(&types, raw, initial, units)?;
-    let interactions = interaction_options(interactions.cloned().unwrap_or_default());
+    let interactions = interaction_options(interactions.cloned().unwrap_or_default())
+        .map_err(|e| SceneError::renamed(e, SYSTEM_PATHS))?;
     let scene = BodyScene {
         types,
         bodies,
@@ -265,22 +275,25 @@ pub(super) fn body_scene(
     Ok((scene, seed))
 }
 
-/// The interaction options of the section (checked by the system).
-fn interaction_options(raw: RawBodyInteractions) -> InteractionOptions {
-    InteractionOptions {
+/// The interaction options of the section (checked by the system; the
+/// forced mesh parameters by their owner), errors naming the field
+/// (`electrostatics.grid`).
+fn interaction_options(raw: RawBodyInteractions) -> Result<InteractionOptions, InputError> {
+    Ok(InteractionOptions {
         lennard_jones: raw.lennard_jones.map(|lj| LennardJonesOptions {
             cutoff: lj.cutoff,
             truncation: lj.truncation.unwrap_or_default(),
             mixing: lj.mixing.unwrap_or_default(),
         }),
-        electrostatics: raw.electrostatics.map(electrostatics_options),
+        electrostatics: raw.electrostatics.map(electrostatics_options).transpose()?,
         skin: raw.skin.unwrap_or(DEFAULT_SKIN),
-    }
+    })
 }
 
-/// The options of an `electrostatics` table, defaults filled in.
-fn electrostatics_options(raw: RawBodyElectrostatics) -> ElectrostaticsOptions {
-    match raw {
+/// The options of an `electrostatics` table, defaults filled in, the
+/// forced mesh parameters checked ([`forced_mesh`]; path `electrostatics.grid`).
+fn electrostatics_options(raw: RawBodyElectrostatics) -> Result<ElectrostaticsOptions, InputError> {
+    Ok(match raw {
         RawBodyElectrostatics::Cutoff(c) => {
             ElectrostaticsOptions::Cutoff(c.cutoff, c.truncation.unwrap_or_default())
         }
@@ -288,8 +301,10 @@ fn electrostatics_options(raw: RawBodyElectrostatics) -> ElectrostaticsOptions {
             accuracy: e.accuracy.unwrap_or(DEFAULT_ACCURACY),
             method: e.method.unwrap_or_default(),
             surface: e.surface.unwrap_or_default(),
+            forced: forced_mesh(e.order, e.grid.as_ref(), e.real_cutoff, e.alpha)
+                .map_err(|err| err.at("electrostatics"))?,
         }),
-    }
+    })
 }
 
 /// The options of `value`, a `[body_interactions] electrostatics` table
@@ -299,7 +314,7 @@ pub fn body_electrostatics(value: toml::Value) -> Result<ElectrostaticsOptions, 
     let mut table = toml::Table::new();
     let _ = table.insert("electrostatics".to_string(), value);
     let raw: RawElectrostaticsTable = parse_value(toml::Value::Table(table))?;
-    Ok(electrostatics_options(raw.electrostatics))
+    Ok(electrostatics_options(raw.electrostatics)?)
 }
 
 /// A lone `electrostatics` table.

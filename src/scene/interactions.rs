@@ -11,6 +11,7 @@ use super::error::SceneError;
 use super::model::Interactions;
 use super::tagged::tagged;
 use crate::checks::{num, InputError};
+use crate::potential::multipole::mesh_ewald::ForcedMesh;
 pub use crate::potential::SumKind;
 use crate::potential::{Boundary, SumMethod, SumOptions, Surface};
 use crate::rotor::Rotor;
@@ -49,7 +50,9 @@ pub struct RawOpen {}
 /// lattice's, summed as `sum`, `cutoff`, `accuracy` and `surface` say (read
 /// by their owner, [`Boundary::periodic`]: the Ewald sum by default, a
 /// spherical cutoff with `sum = "cutoff"` or a `cutoff` alone); `method`
-/// chooses the way of summing ([`SumMethod`]).
+/// chooses the way of summing ([`SumMethod`]); `order`, `grid`,
+/// `real_cutoff` and `alpha` force the mesh Ewald sum's parameters
+/// ([`ForcedMesh`], `method = "pme"` only).
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPeriodic {
@@ -63,6 +66,14 @@ pub struct RawPeriodic {
     pub surface: Option<Surface>,
     /// The way of summing (default "auto").
     pub method: Option<SumMethod>,
+    /// [`ForcedMesh::order`].
+    pub order: Option<i64>,
+    /// [`ForcedMesh::grid`]: one count for every axis, or three.
+    pub grid: Option<toml::Value>,
+    /// [`ForcedMesh::real_cutoff`].
+    pub real_cutoff: Option<f64>,
+    /// [`ForcedMesh::alpha`].
+    pub alpha: Option<f64>,
     /// The box (default: the lattice's).
     #[serde(rename = "box")]
     pub box_lengths: Option<[f64; 3]>,
@@ -77,12 +88,16 @@ const TERM_NAMES: [&str; 3] = [
 
 /// The scene paths of the physics' boundary errors ([`Boundary::periodic`],
 /// [`Boundary::validate`] and the sums built from it).
-const BOUNDARY_PATHS: [(&str, &str); 5] = [
+const BOUNDARY_PATHS: [(&str, &str); 9] = [
     ("box_lengths", "interactions.boundary.box"),
     ("cutoff", "interactions.boundary.cutoff"),
     ("accuracy", "interactions.boundary.accuracy"),
     ("surface", "interactions.boundary.surface"),
     ("method", "interactions.boundary.method"),
+    ("order", "interactions.boundary.order"),
+    ("grid", "interactions.boundary.grid"),
+    ("real_cutoff", "interactions.boundary.real_cutoff"),
+    ("alpha", "interactions.boundary.alpha"),
 ];
 
 /// The error of building a scene's potential at the scene's path when it
@@ -129,6 +144,7 @@ pub(super) fn interactions(
         return Ok(Interactions {
             boundary: Boundary::Open,
             method: SumMethod::Auto,
+            forced: ForcedMesh::default(),
         });
     };
     let box_lengths = match (p.box_lengths, lattice_box) {
@@ -152,10 +168,45 @@ pub(super) fn interactions(
     if explicit_sites {
         check_inside_box(rotors, &box_lengths)?;
     }
+    let method = p.method.unwrap_or_default();
+    let forced = forced_mesh(p.order, p.grid.as_ref(), p.real_cutoff, p.alpha)
+        .and_then(|forced| method.check_forced(&forced).map(|()| forced))
+        .map_err(at_scene_path)?;
     Ok(Interactions {
         boundary,
-        method: p.method.unwrap_or_default(),
+        method,
+        forced,
     })
+}
+
+/// The mesh Ewald sum's parameters a table forces (`grid`: one count of
+/// mesh points or a list of three), checked by their owner
+/// ([`ForcedMesh::new`]); errors name the key (`grid[1]`).
+pub(super) fn forced_mesh(
+    order: Option<i64>,
+    grid: Option<&toml::Value>,
+    real_cutoff: Option<f64>,
+    alpha: Option<f64>,
+) -> Result<ForcedMesh, InputError> {
+    let counts = grid
+        .map(|value| {
+            let bad = || {
+                InputError::new(
+                    "grid",
+                    format!("must be a count of mesh points or a list of three, got {value}"),
+                )
+            };
+            match value {
+                toml::Value::Integer(k) => Ok(vec![*k]),
+                toml::Value::Array(items) => items
+                    .iter()
+                    .map(|v| v.as_integer().ok_or_else(bad))
+                    .collect(),
+                _ => Err(bad()),
+            }
+        })
+        .transpose()?;
+    ForcedMesh::new(order, counts.as_deref(), real_cutoff, alpha)
 }
 
 /// The listed terms (a check, optional in the file) must be exactly the ones
@@ -292,7 +343,8 @@ mod tests {
             read("boundary = { kind = 'periodic' }"),
             Interactions {
                 boundary: Boundary::periodic_ewald(l),
-                method: SumMethod::Auto
+                method: SumMethod::Auto,
+                forced: ForcedMesh::default(),
             }
         );
         assert_eq!(
@@ -312,7 +364,8 @@ mod tests {
                         surface: Surface::Vacuum
                     }
                 },
-                method: SumMethod::Direct
+                method: SumMethod::Direct,
+                forced: ForcedMesh::default(),
             }
         );
     }

@@ -5,6 +5,7 @@ use super::bodies::BodyScene;
 use super::record::Record;
 use crate::integrators::{IntegratorSpec, RotorState};
 use crate::parallel::ThreadCount;
+use crate::potential::multipole::mesh_ewald::ForcedMesh;
 use crate::potential::{Boundary, ExternalFields, SumMethod};
 use crate::rotor::{Inertia, Rotor};
 use crate::thermostats::ThermostatSpec;
@@ -19,6 +20,9 @@ pub struct Interactions {
     pub boundary: Boundary,
     /// The way of summing (the scene's `method`, default automatic).
     pub method: SumMethod,
+    /// The mesh Ewald sum's parameters the scene forces (`order`, `grid`,
+    /// `real_cutoff`, `alpha`; only with `method = "pme"`).
+    pub forced: ForcedMesh,
 }
 
 /// A complete, validated scene.

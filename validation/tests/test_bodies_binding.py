@@ -86,3 +86,17 @@ def test_the_ewald_sum_of_charged_bodies_gives_the_madelung_constant():
     assert state["energies"]["electrostatic"] / pairs == pytest.approx(-1.747564594633182, rel=1e-7)
     assert np.abs(state["forces"]).max() < 1e-6
 
+
+
+def test_forced_pme_parameters_of_bodies_are_kept_or_refused_naming_the_key():
+    """The `electrostatics` table takes the rotors' forced PME parameters:
+    rock salt with a forced order and grid keeps the Madelung energy within
+    the request; a grid too coarse is refused naming `electrostatics.grid`."""
+    positions, kinds, edge = _rock_salt(2)
+    ion = lambda q: {"sites": [{"position": [0, 0, 0], "charge": q}], "mass": 1.0, "inertia": np.eye(3).tolist()}  # noqa: E731
+    args = ([ion(1.0), ion(-1.0)], positions, [[1, 0, 0, 0]] * len(positions))
+    table = {"kind": "ewald", "accuracy": 1e-5, "method": "pme", "order": 6, "grid": 64}
+    state = quatrot.bodies_evaluate(*args, kinds=kinds, box_lengths=[edge] * 3, electrostatics=table)
+    assert state["energies"]["electrostatic"] / (len(positions) / 2) == pytest.approx(-1.747564594633182, rel=1e-5)
+    with pytest.raises(ValueError, match=r"^electrostatics\.grid: \[4, 4, 4\] at order 4 reaches "):
+        quatrot.bodies_evaluate(*args, kinds=kinds, box_lengths=[edge] * 3, electrostatics={**table, "order": 4, "grid": 4})

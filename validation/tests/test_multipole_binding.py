@@ -171,3 +171,24 @@ def test_auto_chooses_as_scenes_do_and_reports_why(cells, accuracy, path):
         assert (choice["pme_seconds"] < choice["direct_seconds"]) == (path == "ewald_pme")
     forced, _, _, forced_info = quatrot.multipole_evaluate(sites, q, method=path.removeprefix("ewald_"), **kwargs)
     assert forced == e and "choice" not in forced_info
+
+
+def test_pme_forced_parameters_are_kept_and_refused_when_they_miss():
+    """order, grid, real_cutoff and alpha force PME's parameters (details
+    report them as given, the rest chosen for the accuracy) and the Lorentz
+    energy -(2 pi/3) n mu^2 holds within the request; a grid too coarse for
+    the accuracy is refused saying what it reaches, and forcing with another
+    method is refused naming the keyword."""
+    sites, q, mu = _lattice_args()
+    kwargs = {"dipoles_body": mu, "box_lengths": [3.0, 3, 3], "accuracy": 1e-5, "method": "pme", "details": True}
+    e, _, _, info = quatrot.multipole_evaluate(sites, q, order=6, grid=[75, 80, 81], real_cutoff=1.45, alpha=3.0, **kwargs)
+    assert (info["order"], list(info["grid"]), info["real_cutoff"], info["alpha"]) == (6, [75, 80, 81], 1.45, 3.0)
+    assert abs(e / 27 + 2 * np.pi / 3) <= 1e-5
+    _, _, _, info = quatrot.multipole_evaluate(sites, q, grid=40, **kwargs)
+    assert list(info["grid"]) == [40, 40, 40]
+    with pytest.raises(ValueError, match=r"^grid: \[6, 6, 6\] at order 4 reaches .* at best .*, not the requested 0\.00001$"):
+        quatrot.multipole_evaluate(sites, q, order=4, grid=6, **kwargs)
+    with pytest.raises(ValueError, match=r'^order: forces a parameter of the mesh Ewald sum: only with method = "pme", got method = "auto"$'):
+        quatrot.multipole_evaluate(sites, q, dipoles_body=mu, box_lengths=[3.0, 3, 3], order=6)
+    with pytest.raises(ValueError, match=r"^grid: expected an int or a sequence of 3 ints$"):
+        quatrot.multipole_evaluate(sites, q, grid="fine", **kwargs)

@@ -5,7 +5,7 @@ use super::auto_choice::{AutoChoice, DIRECT_SECONDS_PER_UNIT, PME_SECONDS_PER_UN
 use super::ewald::EwaldSum;
 use super::lattice_fft::LatticeFft;
 use super::lattice_grid;
-use super::mesh_ewald::mesh_cost;
+use super::mesh_ewald::{mesh_cost, ForcedMesh};
 use super::mesh_sum::MeshSum;
 use super::pairs::{OpenPairs, PairTable};
 use super::row_quads::RowQuads;
@@ -34,16 +34,18 @@ pub(super) enum FieldSum {
 }
 
 impl FieldSum {
-    /// The sum for `boundary` and `method` (see [`SumMethod`]), for the
-    /// multipole kinds `(dipoles, quadrupoles)` carried, with what the
-    /// automatic choice compared when it chose between the direct Ewald sum
-    /// and PME ([`AutoChoice`]).
+    /// The sum for `boundary` and `method` (see [`SumMethod`]; the mesh
+    /// Ewald sum's parameters `forced` as given, refused with another
+    /// method), for the multipole kinds `(dipoles, quadrupoles)` carried,
+    /// with what the automatic choice compared when it chose between the
+    /// direct Ewald sum and PME ([`AutoChoice`]).
     pub(super) fn build(
         sites: &[Vector3<f64>],
         boundary: Boundary,
-        method: SumMethod,
+        (method, forced): (SumMethod, &ForcedMesh),
         kinds: (bool, bool),
     ) -> Result<(FieldSum, Option<AutoChoice>), PotentialError> {
+        method.check_forced(forced)?;
         let pair_sum = |images: (Vector3<f64>, f64)| -> Result<FieldSum, PotentialError> {
             let pairs = PairTable::build(sites, Some(images))?;
             let row_quads = if kinds == (true, false) {
@@ -64,7 +66,7 @@ impl FieldSum {
                 ));
             };
             if !sites.is_empty() {
-                let chosen = MeshSum::choose(sites.len(), &box_lengths, accuracy, kinds)?;
+                let chosen = MeshSum::choose(sites.len(), &box_lengths, (accuracy, forced), kinds)?;
                 let mesh = MeshSum::new(sites, box_lengths, (accuracy, surface), chosen, kinds)?;
                 return Ok((FieldSum::Mesh(Box::new(mesh)), None));
             }
@@ -130,7 +132,8 @@ impl FieldSum {
         kinds: (bool, bool),
     ) -> Result<(FieldSum, Option<AutoChoice>), PotentialError> {
         let choice = auto.map(|direct| {
-            let mesh = MeshSum::choose(sites.len(), &box_lengths, accuracy, kinds);
+            let free = ForcedMesh::default();
+            let mesh = MeshSum::choose(sites.len(), &box_lengths, (accuracy, &free), kinds);
             let pme = mesh
                 .as_ref()
                 .map(|(p, _)| mesh_cost(p, sites.len(), &box_lengths) * PME_SECONDS_PER_UNIT)

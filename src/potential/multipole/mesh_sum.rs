@@ -4,7 +4,8 @@
 
 use super::kernels::{Lanes, MultipoleKind, SiteFields, SpaceMultipoles};
 use super::mesh_ewald::{
-    for_multipoles, Carried, MeshEstimate, MeshEwald, MeshParameters, SiteResponse, Sources,
+    for_multipoles_forced, Carried, ForcedMesh, MeshEstimate, MeshEwald, MeshParameters,
+    SiteResponse, Sources,
 };
 use super::{Accuracy, PotentialError, Surface};
 use crate::checks::num;
@@ -22,7 +23,7 @@ struct Buffers {
 }
 
 /// The smooth PME sum of fixed sites, its parameters chosen for an accuracy
-/// ([`for_multipoles`]).
+/// ([`for_multipoles_forced`]).
 #[derive(Debug)]
 pub(crate) struct MeshSum {
     positions: Vec<Vector3<f64>>,
@@ -42,12 +43,13 @@ impl Clone for MeshSum {
 
 impl MeshSum {
     /// The parameters of the sum of `sites` sites in `box_lengths` carrying
-    /// `(dipoles, quadrupoles)` at `accuracy` ([`for_multipoles`]); errors
-    /// name the option (`accuracy`, `box_lengths`).
+    /// `(dipoles, quadrupoles)` at `accuracy`, those `forced` as given
+    /// ([`for_multipoles_forced`]); errors name the option (`accuracy`,
+    /// `box_lengths`, the forced ones).
     pub fn choose(
         sites: usize,
         box_lengths: &Vector3<f64>,
-        accuracy: Accuracy,
+        (accuracy, forced): (Accuracy, &ForcedMesh),
         (dipoles, quadrupoles): (bool, bool),
     ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
         let carried = Carried {
@@ -55,7 +57,7 @@ impl MeshSum {
             dipoles,
             quadrupoles,
         };
-        for_multipoles(accuracy.get(), carried, sites, box_lengths, None, None)
+        for_multipoles_forced(accuracy.get(), carried, sites, box_lengths, forced)
     }
 
     /// The sum of `sites` in `box_lengths` with `parameters` chosen for

@@ -8,7 +8,7 @@ use super::kernels::{
     SiteFields, SpaceMultipoles,
 };
 use super::lattice_grid::LatticeGrid;
-use super::mesh_ewald::{MeshEstimate, MeshParameters};
+use super::mesh_ewald::{ForcedMesh, MeshEstimate, MeshParameters};
 use super::pairs::{balanced_blocks, PairRows};
 use super::sum_method::{SumMethod, SumPath};
 use super::{Boundary, EwaldParameters, ExternalFields, PotentialError};
@@ -104,6 +104,18 @@ impl MultipolePotential {
         external: ExternalFields,
         method: SumMethod,
     ) -> Result<MultipolePotential, PotentialError> {
+        Self::with_forced_mesh(rotors, boundary, external, method, &ForcedMesh::default())
+    }
+
+    /// [`Self::with_method`] with parameters of the mesh Ewald sum `forced`
+    /// (only with [`SumMethod::Pme`]; the others chosen for the accuracy).
+    pub fn with_forced_mesh(
+        rotors: &[Rotor],
+        boundary: Boundary,
+        external: ExternalFields,
+        method: SumMethod,
+        forced: &ForcedMesh,
+    ) -> Result<MultipolePotential, PotentialError> {
         boundary.validate(rotors.len())?;
         external.validate()?;
         for (i, rotor) in rotors.iter().enumerate() {
@@ -122,8 +134,12 @@ impl MultipolePotential {
         } else {
             rotors.iter().map(|r| r.site).collect()
         };
-        let (sum, choice) =
-            FieldSum::build(&sites, boundary, method, (has_dipoles, has_quadrupoles))?;
+        let (sum, choice) = FieldSum::build(
+            &sites,
+            boundary,
+            (method, forced),
+            (has_dipoles, has_quadrupoles),
+        )?;
         // Each carried kind for every rotor (zero where a rotor has none).
         let body = |carried: bool| rotors.iter().filter(move |_| carried);
         Ok(MultipolePotential {

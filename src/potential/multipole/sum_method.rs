@@ -3,6 +3,8 @@
 //! is a variant of each, checked against the sum it needs where the sum is
 //! built (`field_sum.rs`).
 
+use super::mesh_ewald::ForcedMesh;
+use super::PotentialError;
 use crate::checks::named_choices;
 
 /// Which way of summing a periodic system is wanted. [`SumMethod::Auto`]
@@ -35,6 +37,24 @@ named_choices!(SumMethod {
     "lattice_fft" => SumMethod::LatticeFft,
     "pme" => SumMethod::Pme,
 });
+
+impl SumMethod {
+    /// Refuses parameters of the mesh Ewald sum `forced` with a way of
+    /// summing other than [`SumMethod::Pme`], naming the first forced.
+    pub fn check_forced(self, forced: &ForcedMesh) -> Result<(), PotentialError> {
+        match forced.first_forced() {
+            Some(name) if self != SumMethod::Pme => Err(PotentialError::new(
+                name,
+                format!(
+                    "forces a parameter of the mesh Ewald sum: only with method = \"pme\", got \
+                     method = \"{}\"",
+                    self.as_str()
+                ),
+            )),
+            _ => Ok(()),
+        }
+    }
+}
 
 /// The way a potential sums its pair fields (see [`super::MultipolePotential::sum_path`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -71,6 +71,10 @@ def multipole_evaluate(
     accuracy: float | None = None,
     surface: str | None = None,
     method: str | None = None,
+    order: int | None = None,
+    grid: int | Sequence[int] | None = None,
+    real_cutoff: float | None = None,
+    alpha: float | None = None,
     details: bool = False,
 ) -> tuple[Any, ...]: ...
 def bodies_evaluate(

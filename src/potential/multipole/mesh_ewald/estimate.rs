@@ -49,7 +49,7 @@
 
 use super::accuracy::{check_accuracy, fft_size};
 use super::mesh::mesh_bytes;
-use super::parameters::MeshParameters;
+use super::parameters::{ForcedMesh, MeshParameters};
 use crate::checks::num;
 use crate::potential::multipole::ewald_parameters::{real_estimate, solve};
 use crate::potential::multipole::PotentialError;
@@ -209,10 +209,7 @@ const SPLINE_COST: f64 = 0.01;
 /// The parameters for `sites` sites carrying `carried` in `box_lengths` at
 /// relative field accuracy `accuracy` (module doc), at spline order `order`
 /// (or the cheapest of 4 to 8) and splitting `alpha` (or the cheapest of
-/// those tried). Refuses (naming the field) an accuracy
-/// outside [`super::ACCURACY_RANGE`], an order outside [`super::ORDERS`], a
-/// box the real-space cutoff does not fit (`box_lengths`) and meshes over
-/// the memory limit (`accuracy`).
+/// those tried): [`for_multipoles_forced`] with those two forced.
 pub fn for_multipoles(
     accuracy: f64,
     carried: Carried,
@@ -221,26 +218,51 @@ pub fn for_multipoles(
     order: Option<usize>,
     alpha: Option<f64>,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
+    let forced = ForcedMesh {
+        order,
+        alpha,
+        ..ForcedMesh::default()
+    };
+    for_multipoles_forced(accuracy, carried, sites, box_lengths, &forced)
+}
+
+/// The parameters for `sites` sites carrying `carried` in `box_lengths` at
+/// relative field accuracy `accuracy` (module doc), the values `forced`
+/// taken as given and the rest chosen. Refuses (naming the field) an
+/// accuracy outside [`super::ACCURACY_RANGE`], an order outside
+/// [`super::ORDERS`], a forced real-space cutoff longer than half the
+/// shortest box side (`real_cutoff`), forced values whose estimated error
+/// exceeds the accuracy (`grid` or `real_cutoff`, saying the accuracy they
+/// reach), a box the real-space cutoff does not fit (`box_lengths`) and
+/// meshes over the memory limit (`accuracy`).
+pub fn for_multipoles_forced(
+    accuracy: f64,
+    carried: Carried,
+    sites: usize,
+    box_lengths: &Vector3<f64>,
+    forced: &ForcedMesh,
+) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     let half_box = 0.5 * box_lengths.min();
     choose(
         accuracy,
         carried,
         sites,
         box_lengths,
-        (order, alpha),
+        forced,
         (half_box, "half the shortest box side"),
     )
 }
 
-/// [`for_multipoles`] with a real-space cutoff of at most `skin` less than
-/// half the shortest box side (the reach of a neighbour list with that
-/// skin), `None` orders and splittings.
+/// [`for_multipoles_forced`] with a real-space cutoff of at most `skin`
+/// less than half the shortest box side (the reach of a neighbour list with
+/// that skin).
 pub fn for_multipoles_with_skin(
     accuracy: f64,
     carried: Carried,
     sites: usize,
     box_lengths: &Vector3<f64>,
     skin: f64,
+    forced: &ForcedMesh,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     let longest = 0.5 * box_lengths.min() - skin;
     choose(
@@ -248,22 +270,41 @@ pub fn for_multipoles_with_skin(
         carried,
         sites,
         box_lengths,
-        (None, None),
+        forced,
         (longest, "half the shortest box side less the skin"),
     )
 }
 
-/// [`for_multipoles`] with the real-space cutoff at most `longest` (named `what`).
+/// The forced values' closest approach to the accuracy over the choices
+/// tried: the accuracy they reach (twice the larger of their parts'
+/// estimates, each part getting half) and the choice.
+struct Missed {
+    reach: f64,
+    mesh_part: bool,
+    parameters: MeshParameters,
+}
+
+/// [`for_multipoles_forced`] with the real-space cutoff at most `longest` (named `what`).
 fn choose(
     accuracy: f64,
     carried: Carried,
     sites: usize,
     box_lengths: &Vector3<f64>,
-    (order, alpha): (Option<usize>, Option<f64>),
+    forced: &ForcedMesh,
     (half_box, what): (f64, &str),
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     check_accuracy(accuracy)?;
-    let orders_tried = orders_to_try(order)?;
+    let orders_tried = orders_to_try(forced.order)?;
+    if let Some(rc) = forced.real_cutoff.filter(|&rc| rc > half_box) {
+        return Err(PotentialError::new(
+            "real_cutoff",
+            format!(
+                "{} does not fit the box: it is more than {what} {}",
+                num(rc),
+                crate::checks::derived(half_box)
+            ),
+        ));
+    }
     let pairs = carried.orders();
     let ranks: Vec<i32> = pairs.iter().map(|(s, g)| s + g).collect();
     let n_sites = sites.max(1) as f64;
@@ -271,7 +312,8 @@ fn choose(
     let d = density.cbrt().recip();
     let target = 0.5 * accuracy;
     let mut best: Option<(f64, MeshParameters, MeshEstimate)> = None;
-    let splittings: Vec<f64> = match alpha {
+    let mut missed: Option<Missed> = None;
+    let splittings: Vec<f64> = match forced.alpha {
         Some(alpha) => vec![alpha],
         None => (0..SPLITTINGS)
             .map(|k| 0.5 / d * 10f64.powf(k as f64 / (SPLITTINGS - 1) as f64))
@@ -279,18 +321,30 @@ fn choose(
     };
     let largest = splittings.iter().copied().fold(0.0, f64::max);
     for alpha in splittings {
-        let s_real = solve(|s| real_estimate(&ranks, alpha * d, s), target);
-        let rc = s_real / alpha;
+        let (rc, real) = match forced.real_cutoff {
+            Some(rc) => (rc, real_estimate(&ranks, alpha * d, alpha * rc)),
+            None => {
+                let s_real = solve(|s| real_estimate(&ranks, alpha * d, s), target);
+                (s_real / alpha, real_estimate(&ranks, alpha * d, s_real))
+            }
+        };
         if rc > half_box {
             continue;
         }
         for &p in &orders_tried {
-            let estimate = |h: f64| mesh_estimate(&pairs, alpha, &[h; 3], p, density);
-            let Some(fine) = largest_spacing(estimate, alpha, target) else {
-                continue;
+            let grid = match forced.grid {
+                Some(grid) if grid.iter().any(|&k| k < p) => continue,
+                Some(grid) => grid,
+                None => {
+                    let estimate = |h: f64| mesh_estimate(&pairs, alpha, &[h; 3], p, density);
+                    let Some(fine) = largest_spacing(estimate, alpha, target) else {
+                        continue;
+                    };
+                    std::array::from_fn(|a| {
+                        fft_size(((box_lengths[a] / fine).ceil() as usize).max(p))
+                    })
+                }
             };
-            let grid: [usize; 3] =
-                std::array::from_fn(|a| fft_size(((box_lengths[a] / fine).ceil() as usize).max(p)));
             let spacing: [f64; 3] = std::array::from_fn(|a| box_lengths[a] / grid[a] as f64);
             let parameters = MeshParameters {
                 alpha,
@@ -299,14 +353,39 @@ fn choose(
                 order: p,
             };
             let estimate = MeshEstimate {
-                real: real_estimate(&ranks, alpha * d, s_real),
+                real,
                 mesh: mesh_estimate(&pairs, alpha, &spacing, p, density),
             };
+            // Only forced values can miss: the others are chosen to meet the target.
+            let real_part = if forced.real_cutoff.is_some() {
+                estimate.real
+            } else {
+                0.0
+            };
+            let mesh_part = if forced.grid.is_some() {
+                estimate.mesh
+            } else {
+                0.0
+            };
+            if real_part.max(mesh_part) > target {
+                let reach = 2.0 * real_part.max(mesh_part);
+                if missed.as_ref().is_none_or(|m| reach < m.reach) {
+                    missed = Some(Missed {
+                        reach,
+                        mesh_part: mesh_part >= real_part,
+                        parameters,
+                    });
+                }
+                continue;
+            }
             let c = cost(n_sites, density, rc, grid, p);
             if best.as_ref().is_none_or(|(b, _, _)| c < *b) {
                 best = Some((c, parameters, estimate));
             }
         }
+    }
+    if let (None, Some(m)) = (&best, missed) {
+        return Err(not_reached(accuracy, &m));
     }
     let Some((_, parameters, estimate)) = best else {
         return Err(PotentialError::new(
@@ -323,6 +402,36 @@ fn choose(
     };
     check_mesh_memory(accuracy, parameters.grid)?;
     Ok((parameters, estimate))
+}
+
+/// The error of forced values that do not reach `accuracy`: it names the
+/// forced grid when its mesh part misses (else the forced real-space
+/// cutoff) and says the accuracy reached at best, with the choice that
+/// reaches it.
+fn not_reached(accuracy: f64, m: &Missed) -> PotentialError {
+    let p = &m.parameters;
+    let (field, value, rest) = if m.mesh_part {
+        (
+            "grid",
+            format!("{:?} at order {}", p.grid, p.order),
+            format!("real_cutoff {:.4}", p.real_cutoff),
+        )
+    } else {
+        (
+            "real_cutoff",
+            num(p.real_cutoff),
+            format!("grid {:?} at order {}", p.grid, p.order),
+        )
+    };
+    PotentialError::new(
+        field,
+        format!(
+            "{value} reaches {} at best (with alpha {:.4}, {rest}), not the requested {}",
+            crate::checks::derived(format!("{:.1e}", m.reach).parse().unwrap_or(m.reach)),
+            p.alpha,
+            num(accuracy)
+        ),
+    )
 }
 
 /// The spline orders to try: `order` if given (refused outside

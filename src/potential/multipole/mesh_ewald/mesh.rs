@@ -18,7 +18,9 @@ use std::sync::{Mutex, PoisonError};
 /// [`RealFft3::convolve_into`].
 pub(crate) fn mesh_bytes(grid: [usize; 3]) -> f64 {
     let points: f64 = grid.iter().map(|&k| k as f64).product();
-    16.0 * points + RealFft3::spectrum_len_of(grid) as f64 * (8.0 + 2.0 * 16.0)
+    // RealFft3::spectrum_len_of in floating point: a forced grid's count may overflow.
+    let spectrum = grid[0] as f64 * grid[1] as f64 * (grid[2] / 2 + 1) as f64;
+    16.0 * points + spectrum * (8.0 + 2.0 * 16.0)
 }
 
 /// A smooth particle-mesh Ewald sum for a fixed number of sites in a fixed

@@ -76,9 +76,12 @@ pub use accuracy::{
 };
 pub use bspline::ORDERS;
 pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
-pub use estimate::{for_multipoles, for_multipoles_with_skin, mesh_cost, Carried, MeshEstimate};
+pub use estimate::{
+    for_multipoles, for_multipoles_forced, for_multipoles_with_skin, mesh_cost, Carried,
+    MeshEstimate,
+};
 pub use mesh::MeshEwald;
-pub use parameters::MeshParameters;
+pub use parameters::{ForcedMesh, MeshParameters};
 pub use sites::{SiteResponse, Sources};
 pub use waves::{for_waves, WaveEwald, WAVE_COST};
 

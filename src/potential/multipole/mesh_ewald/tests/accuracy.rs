@@ -3,7 +3,8 @@
 use super::references::textbook_charges;
 use super::{flat3, flat33, relative_rms, Configuration};
 use crate::potential::multipole::mesh_ewald::{
-    for_charges, for_multipoles, Carried, MeshParameters, SiteResponse, ACCURACY_RANGE,
+    for_charges, for_multipoles, for_multipoles_forced, Carried, ForcedMesh, MeshParameters,
+    SiteResponse, ACCURACY_RANGE,
 };
 use crate::potential::multipole::Surface;
 use nalgebra::Vector3;
@@ -206,4 +207,84 @@ fn multipole_results_at_fixed_accuracy_do_not_depend_on_the_splitting() {
             b.0
         );
     }
+}
+
+/// Forced parameters are kept, the rest chosen for the accuracy, and the
+/// estimate holds for them: on random dipoles, each forced set the
+/// estimates accept at 1e-5 gives a measured field error within 1e-5
+/// against the converged direct sum; each set they refuse says the
+/// accuracy it reaches, and asked for that (10 % over the two digits
+/// printed), the same set is accepted and its measured error is within it.
+/// The sets keep `alpha d` (`d = n^(-1/3)`) at most 3: beyond, the mesh
+/// estimate of dipoles falls short (2026-11-28, this configuration, a forced
+/// `real_cutoff = 1.3` taking `alpha d = 4.3`: measured up to 4.2x the
+/// request, at order 5; `alpha d = 3.7` at order 8: 1.3x), an open defect
+/// of the estimate that the automatic choice meets only where such
+/// splittings are cheapest (none of its accuracy tests).
+#[test]
+fn forced_parameters_are_kept_and_reach_what_their_estimate_says() {
+    let box_lengths = Vector3::new(6.0, 6.5, 7.0);
+    let c = Configuration::random(25, 150, box_lengths, (false, true, false));
+    let carried = Carried {
+        dipoles: true,
+        ..Carried::default()
+    };
+    let accuracy = 1e-5;
+    let forced = |order: Option<i64>, grid: Option<&[i64]>, rc: Option<f64>, alpha: Option<f64>| {
+        ForcedMesh::new(order, grid, rc, alpha).unwrap()
+    };
+    let sets = [
+        forced(Some(4), None, None, None),
+        forced(None, Some(&[30]), None, None),
+        forced(Some(8), Some(&[24, 25, 27]), None, None),
+        forced(None, None, Some(2.9), None),
+        forced(None, None, None, Some(1.4)),
+        forced(Some(6), Some(&[40]), Some(2.6), Some(1.3)),
+        forced(Some(4), Some(&[12]), None, None),
+        forced(None, None, Some(2.0), None),
+        forced(None, None, Some(2.0), Some(1.0)),
+    ];
+    let (mut accepted, mut refused) = (0, 0);
+    for set in sets {
+        let request = match for_multipoles_forced(accuracy, carried, 150, &box_lengths, &set) {
+            Ok(_) => {
+                accepted += 1;
+                accuracy
+            }
+            Err(e) => {
+                refused += 1;
+                assert!(["grid", "real_cutoff"].contains(&e.path.as_str()), "{e}");
+                let reach: f64 = e
+                    .message
+                    .split(" reaches ")
+                    .nth(1)
+                    .and_then(|rest| rest.split(' ').next())
+                    .and_then(|x| x.parse().ok())
+                    .unwrap_or_else(|| panic!("no accuracy reached in {e}"));
+                assert!(reach > accuracy, "{e}");
+                1.1 * reach
+            }
+        };
+        if request > ACCURACY_RANGE.1 {
+            continue;
+        }
+        let (p, estimate) = for_multipoles_forced(request, carried, 150, &box_lengths, &set)
+            .unwrap_or_else(|e| panic!("{set:?} at its reach {request:.2e}: {e}"));
+        let kept = [
+            set.order.is_none_or(|o| o == p.order),
+            set.grid.is_none_or(|g| g == p.grid),
+            set.real_cutoff.is_none_or(|r| r == p.real_cutoff),
+            set.alpha.is_none_or(|a| a == p.alpha),
+        ];
+        assert_eq!(kept, [true; 4], "{set:?} gave {p:?}");
+        let (measured, _) = multipole_field_errors(&c, p);
+        assert!(
+            measured <= request,
+            "{set:?} at {request:.2e}: measured {measured:.2e}, estimated {estimate:?}, {p:?}"
+        );
+    }
+    assert!(
+        accepted >= 4 && refused >= 2,
+        "{accepted} accepted, {refused} refused"
+    );
 }
