@@ -40,7 +40,7 @@ use super::space::Space;
 use crate::checks::{num, InputError};
 use crate::potential::multipole::mesh_ewald::Sources;
 use crate::potential::multipole::mesh_ewald::{
-    for_multipoles_with_skin, for_waves, mesh_cost, Carried, MeshEstimate, MeshEwald,
+    for_multipoles_with_skin, for_waves, mesh_cost, Carried, ErfcTable, MeshEstimate, MeshEwald,
     MeshParameters, WaveEwald, DERIVATIVES,
 };
 use crate::potential::multipole::{
@@ -48,6 +48,7 @@ use crate::potential::multipole::{
     PME_SECONDS_PER_UNIT,
 };
 use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
 use std::ops::Range;
 
 /// The accuracy of a scene's Ewald sum of bodies that gives none (the
@@ -254,21 +255,93 @@ impl Electrostatics for BodyEwald {
             out.energy = f64::NAN;
             return;
         };
-        let kernel = |r: f64| radial_functions(alpha, r);
-        add_pairs(
-            sites,
-            pairs,
-            (real_cutoff, &kernel),
-            Some(Exclusions {
-                bodies: &self.bodies,
-                site_body: &self.site_body,
-                alpha,
-            }),
-            (derivatives, &mut self.virials),
-        );
+        let exclusions = Exclusions {
+            bodies: &self.bodies,
+            site_body: &self.site_body,
+            alpha,
+        };
+        let carried = sites.carried;
+        if carried.dipoles || carried.quadrupoles {
+            let kernel = |r: f64| radial_functions(alpha, r);
+            add_pairs(
+                sites,
+                pairs,
+                (real_cutoff, &kernel),
+                Some(exclusions),
+                (derivatives, &mut self.virials),
+            );
+        } else {
+            add_charge_pairs(
+                sites,
+                pairs,
+                real_cutoff,
+                exclusions,
+                (derivatives, &mut self.virials),
+            );
+        }
         out.fill(&sources, derivatives);
         out.virial = long_range + self.virials.iter().sum::<Matrix3<f64>>();
     }
+}
+
+/// [`add_pairs`] for sites that carry charges only, unrolled: each pair
+/// within `cutoff` adds `q_j (B_0, -r B_1)` to site `i`'s potential and
+/// field (`d[0..4]`; the higher derivatives, which no charge uses, keep
+/// the long-range part only) and `1/2 r (q_i q_j B_1 r)^T` to its virial,
+/// with the tabulated `erfc` ([`ErfcTable::radial`]); each body's
+/// own pairs subtract `erf(alpha r) / r`.
+fn add_charge_pairs(
+    sites: &SiteMultipoles,
+    pairs: &NeighbourList,
+    cutoff: f64,
+    exclusions: Exclusions<'_>,
+    (derivatives, virials): (&mut [[f64; DERIVATIVES]], &mut [Matrix3<f64>]),
+) {
+    let table = ErfcTable::get();
+    let Exclusions {
+        bodies,
+        site_body,
+        alpha,
+    } = exclusions;
+    let (positions, charges) = (&sites.positions, &sites.charges);
+    let cutoff2 = cutoff * cutoff;
+    derivatives
+        .par_iter_mut()
+        .zip(virials.par_iter_mut())
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(i, (d, w))| {
+            let q_i = charges[i];
+            let mut sums = [0.0; 4];
+            let mut virial = Matrix3::zeros();
+            let mut pair = |r: Vector3<f64>, b: [f64; 2], j: usize| {
+                let q_j = charges[j];
+                sums[0] += q_j * b[0];
+                let g = q_j * b[1];
+                for a in 0..3 {
+                    sums[1 + a] -= g * r[a];
+                }
+                virial += r * (r.transpose() * (0.5 * q_i * g));
+            };
+            for (j, r) in pairs.separations(i, positions) {
+                let r2 = r.norm_squared();
+                if r2 < cutoff2 {
+                    pair(r, table.radial::<2>(alpha, r2), j);
+                }
+            }
+            for j in bodies[site_body[i] as usize].clone().filter(|&j| j != i) {
+                let r = positions[i] - positions[j];
+                let r2 = r.norm_squared();
+                let damped = table.radial::<2>(alpha, r2);
+                let bare = 1.0 / r2.sqrt();
+                // -erf(alpha r) / r = erfc(alpha r) / r - 1 / r.
+                pair(r, [damped[0] - bare, damped[1] - bare / r2], j);
+            }
+            for (d, s) in d.iter_mut().zip(sums) {
+                *d += s;
+            }
+            *w = virial;
+        });
 }
 
 #[cfg(test)]

@@ -61,6 +61,7 @@
 mod accuracy;
 mod bspline;
 mod cartesian;
+mod damped;
 mod estimate;
 mod gather;
 mod influence;
@@ -76,6 +77,7 @@ pub use accuracy::{
 };
 pub use bspline::ORDERS;
 pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
+pub(crate) use damped::ErfcTable;
 pub use estimate::{for_multipoles, for_multipoles_with_skin, mesh_cost, Carried, MeshEstimate};
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;

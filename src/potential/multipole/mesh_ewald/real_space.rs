@@ -13,6 +13,7 @@
 use super::cartesian::{
     add_source, pair_force, radial_derivatives, Tables, DERIVATIVES, SOURCES, UP_TO,
 };
+use super::damped::ErfcTable;
 use crate::potential::multipole::ewald_terms::radial_functions;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -119,14 +120,15 @@ impl CellList {
     ) {
         self.build(wrapped, box_lengths);
         let tables = Tables::get();
+        let erfc = ErfcTable::get();
         let sources = UP_TO[source_order];
         // `count` reaches one order above the sources: enough for the pair forces too.
         let needed = UP_TO[tables.order(count - 1) + source_order];
         let half = box_lengths / 2.0;
         let cutoff_squared = cutoff * cutoff;
-        // Charges without the virial: the potential and field only, by a
-        // kernel of B_0 and B_1 (the same sums as the general path).
-        let charges_only = source_order == 0 && count == UP_TO[1] && !virial;
+        // Charges: the potential, field and field gradient by a kernel of
+        // B_0, B_1 and B_2 (the sums of the general path, unrolled).
+        let charges_only = source_order == 0 && count <= UP_TO[2];
         let this = &*self;
         derivatives
             .par_iter_mut()
@@ -162,7 +164,12 @@ impl CellList {
                                 }
                                 let cj = &coefficients[j];
                                 if charges_only {
-                                    add_charge(cj[0], &r, distance_squared.sqrt(), alpha, d);
+                                    let b = erfc.radial(alpha, distance_squared);
+                                    add_charge(cj[0], &r, &b, count, d);
+                                    if virial {
+                                        let f = r * (coefficients[i][0] * cj[0] * b[1]);
+                                        *w += r * f.transpose() * 0.5;
+                                    }
                                     continue;
                                 }
                                 radial_derivatives(
@@ -202,13 +209,23 @@ fn minimum_image(
     r
 }
 
-/// Adds a charge `q`'s potential and its gradient at offset `r` (length
-/// `distance`) to `d`: `q (B_0, -r B_1)`, the sums of [`add_source`] for a
-/// charge, unrolled.
-fn add_charge(q: f64, r: &Vector3<f64>, distance: f64, alpha: f64, d: &mut [f64; DERIVATIVES]) {
-    let b = radial_functions::<2>(alpha, distance);
+/// Adds a charge `q`'s potential and its first `count` (at most 10)
+/// derivatives at offset `r` to `d` from the radial functions `b` at
+/// `|r|`: `q (B_0, -r B_1, r r^T B_2 - I B_1)`, the sums of [`add_source`]
+/// for a charge, unrolled.
+fn add_charge(q: f64, r: &Vector3<f64>, b: &[f64; 3], count: usize, d: &mut [f64; DERIVATIVES]) {
     d[0] += q * b[0];
     for a in 0..3 {
         d[1 + a] += q * -(r[a] * b[1]);
+    }
+    if count > UP_TO[1] {
+        let mut k = UP_TO[1];
+        for a in 0..3 {
+            for c in a..3 {
+                let delta = if a == c { b[1] } else { 0.0 };
+                d[k] += q * (r[a] * r[c] * b[2] - delta);
+                k += 1;
+            }
+        }
     }
 }
