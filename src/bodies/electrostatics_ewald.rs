@@ -41,7 +41,7 @@ use crate::checks::{num, InputError};
 use crate::potential::multipole::mesh_ewald::Sources;
 use crate::potential::multipole::mesh_ewald::{
     for_multipoles_with_skin, for_waves, mesh_cost, Carried, ErfcTable, MeshEstimate, MeshEwald,
-    MeshParameters, WaveEwald, DERIVATIVES,
+    MeshParameters, WaveEwald, CHARGE_PAIR_COST, DERIVATIVES,
 };
 use crate::potential::multipole::{
     radial_functions, AutoChoice, EwaldParameters, PotentialError, SumMethod, Surface,
@@ -104,33 +104,37 @@ impl BodyEwald {
         (box_lengths, skin): (Vector3<f64>, f64),
     ) -> Result<Self, InputError> {
         let (accuracy, n) = (options.accuracy, site_body.len());
-        let mesh = || for_multipoles_with_skin(accuracy, carried, n, &box_lengths, skin);
+        // The pairs' kernel: the unrolled one of charges, else add_pairs' general one.
+        let only_charges = !(carried.dipoles || carried.quadrupoles);
+        let pair = if only_charges { CHARGE_PAIR_COST } else { 1.0 };
+        let mesh = || for_multipoles_with_skin(accuracy, carried, n, &box_lengths, (skin, pair));
         let longest = (
             0.5 * box_lengths.min() - skin,
             "half the shortest box side less the skin",
         );
         let waves = || for_waves(accuracy, carried, n, &box_lengths, longest);
-        let (take_mesh, choice) =
-            match options.method {
-                SumMethod::Pme => (Some(mesh()?), None),
-                SumMethod::Direct => (None, None),
-                SumMethod::Auto => match (waves(), mesh()) {
-                    (Err(_), Err(e)) => return Err(e),
-                    (Err(_), Ok(m)) => (Some(m), None),
-                    (Ok((_, units)), m) => {
-                        let pme_seconds = m
-                            .as_ref()
-                            .map(|(p, _)| mesh_cost(p, n, &box_lengths) * PME_SECONDS_PER_UNIT)
-                            .map_err(Clone::clone);
-                        let choice = AutoChoice::compare(units * PME_SECONDS_PER_UNIT, pme_seconds);
-                        (m.ok().filter(|_| choice.takes_pme()), Some(choice))
-                    }
-                },
-                SumMethod::LatticeFft => return Err(InputError::new(
+        let (take_mesh, choice) = match options.method {
+            SumMethod::Pme => (Some(mesh()?), None),
+            SumMethod::Direct => (None, None),
+            SumMethod::Auto => match (waves(), mesh()) {
+                (Err(_), Err(e)) => return Err(e),
+                (Err(_), Ok(m)) => (Some(m), None),
+                (Ok((_, units)), m) => {
+                    let pme_seconds = m
+                        .as_ref()
+                        .map(|(p, _)| mesh_cost(p, n, &box_lengths, pair) * PME_SECONDS_PER_UNIT)
+                        .map_err(Clone::clone);
+                    let choice = AutoChoice::compare(units * PME_SECONDS_PER_UNIT, pme_seconds);
+                    (m.ok().filter(|_| choice.takes_pme()), Some(choice))
+                }
+            },
+            SumMethod::LatticeFft => {
+                return Err(InputError::new(
                     "method",
                     "the Ewald sum of moving bodies is summed by \"pme\", \"direct\" or \"auto\"",
-                )),
-            };
+                ))
+            }
+        };
         // The mesh or the wave vectors were chosen for the accuracy: their size is the accuracy's.
         let sized = |e: PotentialError| {
             InputError::new("accuracy", format!("{}: {}", num(accuracy), e.message))

@@ -78,7 +78,10 @@ pub use accuracy::{
 pub use bspline::ORDERS;
 pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
 pub(crate) use damped::ErfcTable;
-pub use estimate::{for_multipoles, for_multipoles_with_skin, mesh_cost, Carried, MeshEstimate};
+pub use estimate::{
+    for_multipoles, for_multipoles_with_skin, mesh_cost, Carried, MeshEstimate, CHARGE_PAIR_COST,
+    DIPOLE_PAIR_COST,
+};
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;
 pub use sites::{SiteResponse, Sources};
