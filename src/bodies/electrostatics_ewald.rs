@@ -40,15 +40,14 @@ use super::space::Space;
 use crate::checks::{num, InputError};
 use crate::potential::multipole::mesh_ewald::Sources;
 use crate::potential::multipole::mesh_ewald::{
-    for_multipoles_with_skin, for_waves, mesh_cost, Carried, ErfcTable, MeshEstimate, MeshEwald,
-    MeshParameters, WaveEwald, CHARGE_PAIR_COST, DERIVATIVES,
+    for_multipoles_with_skin, for_waves, mesh_cost, per_site, Carried, ErfcTable, MeshEstimate,
+    MeshEwald, MeshParameters, WaveEwald, CHARGE_PAIR_COST, DERIVATIVES,
 };
 use crate::potential::multipole::{
     radial_functions, AutoChoice, EwaldParameters, PotentialError, SumMethod, Surface,
     PME_SECONDS_PER_UNIT,
 };
 use nalgebra::{Matrix3, Vector3};
-use rayon::prelude::*;
 use std::ops::Range;
 
 /// The accuracy of a scene's Ewald sum of bodies that gives none (the
@@ -309,43 +308,38 @@ fn add_charge_pairs(
     } = exclusions;
     let (positions, charges) = (&sites.positions, &sites.charges);
     let cutoff2 = cutoff * cutoff;
-    derivatives
-        .par_iter_mut()
-        .zip(virials.par_iter_mut())
-        .enumerate()
-        .with_min_len(64)
-        .for_each(|(i, (d, w))| {
-            let q_i = charges[i];
-            let mut sums = [0.0; 4];
-            let mut virial = Matrix3::zeros();
-            let mut pair = |r: Vector3<f64>, b: [f64; 2], j: usize| {
-                let q_j = charges[j];
-                sums[0] += q_j * b[0];
-                let g = q_j * b[1];
-                for a in 0..3 {
-                    sums[1 + a] -= g * r[a];
-                }
-                virial += r * (r.transpose() * (0.5 * q_i * g));
-            };
-            for (j, r) in pairs.separations(i, positions) {
-                let r2 = r.norm_squared();
-                if r2 < cutoff2 {
-                    pair(r, table.radial::<2>(alpha, r2), j);
-                }
+    per_site(derivatives, virials, |i, d, w| {
+        let q_i = charges[i];
+        let mut sums = [0.0; 4];
+        let mut virial = Matrix3::zeros();
+        let mut pair = |r: Vector3<f64>, b: [f64; 2], j: usize| {
+            let q_j = charges[j];
+            sums[0] += q_j * b[0];
+            let g = q_j * b[1];
+            for a in 0..3 {
+                sums[1 + a] -= g * r[a];
             }
-            for j in bodies[site_body[i] as usize].clone().filter(|&j| j != i) {
-                let r = positions[i] - positions[j];
-                let r2 = r.norm_squared();
-                let damped = table.radial::<2>(alpha, r2);
-                let bare = 1.0 / r2.sqrt();
-                // -erf(alpha r) / r = erfc(alpha r) / r - 1 / r.
-                pair(r, [damped[0] - bare, damped[1] - bare / r2], j);
+            virial += r * (r.transpose() * (0.5 * q_i * g));
+        };
+        for (j, r) in pairs.separations(i, positions) {
+            let r2 = r.norm_squared();
+            if r2 < cutoff2 {
+                pair(r, table.radial::<2>(alpha, r2), j);
             }
-            for (d, s) in d.iter_mut().zip(sums) {
-                *d += s;
-            }
-            *w = virial;
-        });
+        }
+        for j in bodies[site_body[i] as usize].clone().filter(|&j| j != i) {
+            let r = positions[i] - positions[j];
+            let r2 = r.norm_squared();
+            let damped = table.radial::<2>(alpha, r2);
+            let bare = 1.0 / r2.sqrt();
+            // -erf(alpha r) / r = erfc(alpha r) / r - 1 / r.
+            pair(r, [damped[0] - bare, damped[1] - bare / r2], j);
+        }
+        for (d, s) in d.iter_mut().zip(sums) {
+            *d += s;
+        }
+        *w = virial;
+    });
 }
 
 #[cfg(test)]

@@ -84,6 +84,7 @@ pub use estimate::{
 };
 pub use mesh::MeshEwald;
 pub use parameters::MeshParameters;
+pub(crate) use real_space::per_site;
 pub use sites::{SiteResponse, Sources};
 pub use waves::{for_waves, WaveEwald, WAVE_COST};
 

@@ -141,65 +141,59 @@ impl CellList {
                 (c - REACH, 0.0)
             }
         };
-        derivatives
-            .par_iter_mut()
-            .zip(virials.par_iter_mut())
-            .enumerate()
-            .with_min_len(64)
-            .for_each(|(i, (d, w))| {
-                *w = Matrix3::zeros();
-                let c = this.cell_of[i];
-                let home = [
-                    c / (cells[1] * cells[2]),
-                    (c / cells[2]) % cells[1],
-                    c % cells[2],
-                ];
-                let mut t = [[0.0; 56]; 6];
-                for ox in 0..=2 * REACH {
-                    let (cx, sx) = neighbour(0, home[0], ox);
-                    for oy in 0..=2 * REACH {
-                        let (cy, sy) = neighbour(1, home[1], oy);
-                        for oz in 0..=2 * REACH {
-                            let (cz, sz) = neighbour(2, home[2], oz);
-                            // r = r_i - (r_j + shift): the image of j in that cell.
-                            let base = wrapped[i] - Vector3::new(sx, sy, sz);
-                            let cell = this.cell_index([cx, cy, cz]);
-                            let range = this.start[cell]..this.start[cell + 1];
-                            for (&j, position) in
-                                this.members[range.clone()].iter().zip(&this.sorted[range])
-                            {
-                                let r = base - position;
-                                let distance_squared = r.norm_squared();
-                                if distance_squared >= cutoff_squared || j == i {
-                                    continue;
-                                }
-                                let cj = &coefficients[j];
-                                if unrolled {
-                                    let b = erfc.radial(alpha, distance_squared);
-                                    add_charge_dipole(cj, &r, &b, count, d);
-                                    if virial {
-                                        let f = r * (coefficients[i][0] * cj[0] * b[1]);
-                                        *w += r * f.transpose() * 0.5;
-                                    }
-                                    continue;
-                                }
-                                radial_derivatives(
-                                    &r,
-                                    &radial_functions(alpha, distance_squared.sqrt()),
-                                    needed,
-                                    &mut t,
-                                );
-                                add_source(&t[0], cj, sources, count, d);
+        per_site(derivatives, virials, |i, d, w| {
+            *w = Matrix3::zeros();
+            let c = this.cell_of[i];
+            let home = [
+                c / (cells[1] * cells[2]),
+                (c / cells[2]) % cells[1],
+                c % cells[2],
+            ];
+            let mut t = [[0.0; 56]; 6];
+            for ox in 0..=2 * REACH {
+                let (cx, sx) = neighbour(0, home[0], ox);
+                for oy in 0..=2 * REACH {
+                    let (cy, sy) = neighbour(1, home[1], oy);
+                    for oz in 0..=2 * REACH {
+                        let (cz, sz) = neighbour(2, home[2], oz);
+                        // r = r_i - (r_j + shift): the image of j in that cell.
+                        let base = wrapped[i] - Vector3::new(sx, sy, sz);
+                        let cell = this.cell_index([cx, cy, cz]);
+                        let range = this.start[cell]..this.start[cell + 1];
+                        for (&j, position) in
+                            this.members[range.clone()].iter().zip(&this.sorted[range])
+                        {
+                            let r = base - position;
+                            let distance_squared = r.norm_squared();
+                            if distance_squared >= cutoff_squared || j == i {
+                                continue;
+                            }
+                            let cj = &coefficients[j];
+                            if unrolled {
+                                let b = erfc.radial(alpha, distance_squared);
+                                add_charge_dipole(cj, &r, &b, count, d);
                                 if virial {
-                                    let f =
-                                        pair_force(&t[0], &coefficients[i], sources, cj, sources);
+                                    let f = r * (coefficients[i][0] * cj[0] * b[1]);
                                     *w += r * f.transpose() * 0.5;
                                 }
+                                continue;
+                            }
+                            radial_derivatives(
+                                &r,
+                                &radial_functions(alpha, distance_squared.sqrt()),
+                                needed,
+                                &mut t,
+                            );
+                            add_source(&t[0], cj, sources, count, d);
+                            if virial {
+                                let f = pair_force(&t[0], &coefficients[i], sources, cj, sources);
+                                *w += r * f.transpose() * 0.5;
                             }
                         }
                     }
                 }
-            });
+            }
+        });
     }
 }
 
@@ -236,4 +230,20 @@ fn add_charge_dipole(
             }
         }
     }
+}
+
+/// Runs `f(i, derivatives[i], virials[i])` for every site, sites as rayon
+/// tasks (each site's sums are its own, so they do not depend on the number of
+/// threads).
+pub(crate) fn per_site(
+    derivatives: &mut [[f64; DERIVATIVES]],
+    virials: &mut [Matrix3<f64>],
+    f: impl Fn(usize, &mut [f64; DERIVATIVES], &mut Matrix3<f64>) + Sync + Send,
+) {
+    derivatives
+        .par_iter_mut()
+        .zip(virials.par_iter_mut())
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(i, (d, w))| f(i, d, w));
 }
