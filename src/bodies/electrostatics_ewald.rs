@@ -40,8 +40,8 @@ use super::space::Space;
 use crate::checks::{num, InputError};
 use crate::potential::multipole::mesh_ewald::Sources;
 use crate::potential::multipole::mesh_ewald::{
-    for_multipoles_with_skin, for_waves, mesh_cost, Carried, ForcedMesh, MeshEstimate, MeshEwald,
-    MeshParameters, WaveEwald, DERIVATIVES,
+    for_multipoles_with_skin, for_waves, mesh_cost, per_site, Carried, ErfcTable, ForcedMesh,
+    MeshEstimate, MeshEwald, MeshParameters, WaveEwald, CHARGE_PAIR_COST, DERIVATIVES,
 };
 use crate::potential::multipole::{
     radial_functions, AutoChoice, EwaldParameters, PotentialError, SumMethod, Surface,
@@ -106,34 +106,46 @@ impl BodyEwald {
     ) -> Result<Self, InputError> {
         let (accuracy, n) = (options.accuracy, site_body.len());
         options.method.check_forced(&options.forced)?;
-        let mesh =
-            || for_multipoles_with_skin(accuracy, carried, n, &box_lengths, skin, &options.forced);
+        // The pairs' kernel: the unrolled one of charges, else add_pairs' general one.
+        let only_charges = !(carried.dipoles || carried.quadrupoles);
+        let pair = if only_charges { CHARGE_PAIR_COST } else { 1.0 };
+        let mesh = || {
+            for_multipoles_with_skin(
+                accuracy,
+                carried,
+                n,
+                &box_lengths,
+                (skin, pair),
+                &options.forced,
+            )
+        };
         let longest = (
             0.5 * box_lengths.min() - skin,
             "half the shortest box side less the skin",
         );
         let waves = || for_waves(accuracy, carried, n, &box_lengths, longest);
-        let (take_mesh, choice) =
-            match options.method {
-                SumMethod::Pme => (Some(mesh()?), None),
-                SumMethod::Direct => (None, None),
-                SumMethod::Auto => match (waves(), mesh()) {
-                    (Err(_), Err(e)) => return Err(e),
-                    (Err(_), Ok(m)) => (Some(m), None),
-                    (Ok((_, units)), m) => {
-                        let pme_seconds = m
-                            .as_ref()
-                            .map(|(p, _)| mesh_cost(p, n, &box_lengths) * PME_SECONDS_PER_UNIT)
-                            .map_err(Clone::clone);
-                        let choice = AutoChoice::compare(units * PME_SECONDS_PER_UNIT, pme_seconds);
-                        (m.ok().filter(|_| choice.takes_pme()), Some(choice))
-                    }
-                },
-                SumMethod::LatticeFft => return Err(InputError::new(
+        let (take_mesh, choice) = match options.method {
+            SumMethod::Pme => (Some(mesh()?), None),
+            SumMethod::Direct => (None, None),
+            SumMethod::Auto => match (waves(), mesh()) {
+                (Err(_), Err(e)) => return Err(e),
+                (Err(_), Ok(m)) => (Some(m), None),
+                (Ok((_, units)), m) => {
+                    let pme_seconds = m
+                        .as_ref()
+                        .map(|(p, _)| mesh_cost(p, n, &box_lengths, pair) * PME_SECONDS_PER_UNIT)
+                        .map_err(Clone::clone);
+                    let choice = AutoChoice::compare(units * PME_SECONDS_PER_UNIT, pme_seconds);
+                    (m.ok().filter(|_| choice.takes_pme()), Some(choice))
+                }
+            },
+            SumMethod::LatticeFft => {
+                return Err(InputError::new(
                     "method",
                     "the Ewald sum of moving bodies is summed by \"pme\", \"direct\" or \"auto\"",
-                )),
-            };
+                ))
+            }
+        };
         // The mesh or the wave vectors were chosen for the accuracy: their size is the accuracy's.
         let sized = |e: PotentialError| {
             InputError::new("accuracy", format!("{}: {}", num(accuracy), e.message))
@@ -258,21 +270,88 @@ impl Electrostatics for BodyEwald {
             out.energy = f64::NAN;
             return;
         };
-        let kernel = |r: f64| radial_functions(alpha, r);
-        add_pairs(
-            sites,
-            pairs,
-            (real_cutoff, &kernel),
-            Some(Exclusions {
-                bodies: &self.bodies,
-                site_body: &self.site_body,
-                alpha,
-            }),
-            (derivatives, &mut self.virials),
-        );
+        let exclusions = Exclusions {
+            bodies: &self.bodies,
+            site_body: &self.site_body,
+            alpha,
+        };
+        let carried = sites.carried;
+        if carried.dipoles || carried.quadrupoles {
+            let kernel = |r: f64| radial_functions(alpha, r);
+            add_pairs(
+                sites,
+                pairs,
+                (real_cutoff, &kernel),
+                Some(exclusions),
+                (derivatives, &mut self.virials),
+            );
+        } else {
+            add_charge_pairs(
+                sites,
+                pairs,
+                real_cutoff,
+                exclusions,
+                (derivatives, &mut self.virials),
+            );
+        }
         out.fill(&sources, derivatives);
         out.virial = long_range + self.virials.iter().sum::<Matrix3<f64>>();
     }
+}
+
+/// [`add_pairs`] for sites that carry charges only, unrolled: each pair
+/// within `cutoff` adds `q_j (B_0, -r B_1)` to site `i`'s potential and
+/// field (`d[0..4]`; the higher derivatives, which no charge uses, keep
+/// the long-range part only) and `1/2 r (q_i q_j B_1 r)^T` to its virial,
+/// with the tabulated `erfc` ([`ErfcTable::radial`]); each body's
+/// own pairs subtract `erf(alpha r) / r`.
+fn add_charge_pairs(
+    sites: &SiteMultipoles,
+    pairs: &NeighbourList,
+    cutoff: f64,
+    exclusions: Exclusions<'_>,
+    (derivatives, virials): (&mut [[f64; DERIVATIVES]], &mut [Matrix3<f64>]),
+) {
+    let table = ErfcTable::get();
+    let Exclusions {
+        bodies,
+        site_body,
+        alpha,
+    } = exclusions;
+    let (positions, charges) = (&sites.positions, &sites.charges);
+    let cutoff2 = cutoff * cutoff;
+    per_site(derivatives, virials, |i, d, w| {
+        let q_i = charges[i];
+        let mut sums = [0.0; 4];
+        let mut virial = Matrix3::zeros();
+        let mut pair = |r: Vector3<f64>, b: [f64; 2], j: usize| {
+            let q_j = charges[j];
+            sums[0] += q_j * b[0];
+            let g = q_j * b[1];
+            for a in 0..3 {
+                sums[1 + a] -= g * r[a];
+            }
+            virial += r * (r.transpose() * (0.5 * q_i * g));
+        };
+        for (j, r) in pairs.separations(i, positions) {
+            let r2 = r.norm_squared();
+            if r2 < cutoff2 {
+                pair(r, table.radial::<2>(alpha, r2), j);
+            }
+        }
+        for j in bodies[site_body[i] as usize].clone().filter(|&j| j != i) {
+            let r = positions[i] - positions[j];
+            let r2 = r.norm_squared();
+            let damped = table.radial::<2>(alpha, r2);
+            let bare = 1.0 / r2.sqrt();
+            // -erf(alpha r) / r = erfc(alpha r) / r - 1 / r.
+            pair(r, [damped[0] - bare, damped[1] - bare / r2], j);
+        }
+        for (d, s) in d.iter_mut().zip(sums) {
+            *d += s;
+        }
+        *w = virial;
+    });
 }
 
 #[cfg(test)]

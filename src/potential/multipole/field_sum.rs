@@ -5,7 +5,7 @@ use super::auto_choice::{AutoChoice, DIRECT_SECONDS_PER_UNIT, PME_SECONDS_PER_UN
 use super::ewald::EwaldSum;
 use super::lattice_fft::LatticeFft;
 use super::lattice_grid;
-use super::mesh_ewald::{mesh_cost, ForcedMesh};
+use super::mesh_ewald::{mesh_cost, Carried, ForcedMesh};
 use super::mesh_sum::MeshSum;
 use super::pairs::{OpenPairs, PairTable};
 use super::row_quads::RowQuads;
@@ -136,7 +136,15 @@ impl FieldSum {
             let mesh = MeshSum::choose(sites.len(), &box_lengths, (accuracy, &free), kinds);
             let pme = mesh
                 .as_ref()
-                .map(|(p, _)| mesh_cost(p, sites.len(), &box_lengths) * PME_SECONDS_PER_UNIT)
+                .map(|(p, _)| {
+                    let pair = Carried {
+                        charges: false,
+                        dipoles: kinds.0,
+                        quadrupoles: kinds.1,
+                    }
+                    .pair_cost();
+                    mesh_cost(p, sites.len(), &box_lengths, pair) * PME_SECONDS_PER_UNIT
+                })
                 .map_err(Clone::clone);
             (
                 AutoChoice::compare(direct * DIRECT_SECONDS_PER_UNIT, pme),

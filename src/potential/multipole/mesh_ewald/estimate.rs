@@ -77,6 +77,20 @@ pub struct Carried {
 }
 
 impl Carried {
+    /// The cost of a real-space pair of the mesh sum's own kernel
+    /// relative to the general one (quadrupoles, or any virial): the
+    /// unrolled kernels of charges ([`CHARGE_PAIR_COST`]) and of charges
+    /// and dipoles ([`DIPOLE_PAIR_COST`]).
+    pub fn pair_cost(&self) -> f64 {
+        if self.quadrupoles {
+            1.0
+        } else if self.dipoles {
+            DIPOLE_PAIR_COST
+        } else {
+            CHARGE_PAIR_COST
+        }
+    }
+
     /// The pairs `(s, g)` of source order and field order (module doc).
     pub(crate) fn orders(&self) -> Vec<(i32, i32)> {
         let sources: Vec<i32> = [(self.charges, 0), (self.dipoles, 1), (self.quadrupoles, 2)]
@@ -170,28 +184,40 @@ pub(crate) fn mesh_estimate(
     largest
 }
 
-/// The cost of one evaluation, in real-space pairs: `N n (2 pi / 3) r_c^3`
-/// pairs, [`FFT_COST`] per mesh point and `log2` of the point count (the
-/// FFTs both ways and the influence function), and [`SPLINE_COST`] per site
-/// and `p^3` (spreading and gathering).
-pub(crate) fn cost(sites: f64, density: f64, rc: f64, grid: [usize; 3], order: usize) -> f64 {
+/// The cost of one evaluation, in real-space pairs of the general kernel:
+/// `N n (2 pi / 3) r_c^3` pairs at `pair` each (the kernel's cost,
+/// [`Carried::pair_cost`]), [`FFT_COST`] per mesh point and `log2` of the
+/// point count (the FFTs both ways and the influence function), and
+/// [`SPLINE_COST`] per site and `p^3` (spreading and gathering).
+pub(crate) fn cost(
+    (sites, density): (f64, f64),
+    rc: f64,
+    grid: [usize; 3],
+    order: usize,
+    pair: f64,
+) -> f64 {
     let points: f64 = grid.iter().map(|&k| k as f64).product();
-    sites * density * (2.0 * PI / 3.0) * rc.powi(3)
+    pair * sites * density * (2.0 * PI / 3.0) * rc.powi(3)
         + FFT_COST * points * points.log2()
         + SPLINE_COST * sites * (order as f64).powi(3)
 }
 
-/// `cost` of the sum of `sites` sites in `box_lengths` with `parameters`:
-/// what [`crate::potential::multipole`]'s automatic choice weighs against the
-/// direct sum.
-pub fn mesh_cost(parameters: &MeshParameters, sites: usize, box_lengths: &Vector3<f64>) -> f64 {
+/// `cost` of the sum of `sites` sites in `box_lengths` with `parameters`,
+/// a real-space pair costing `pair`: what the automatic choices weigh
+/// against the direct sum.
+pub fn mesh_cost(
+    parameters: &MeshParameters,
+    sites: usize,
+    box_lengths: &Vector3<f64>,
+    pair: f64,
+) -> f64 {
     let n = sites.max(1) as f64;
     cost(
-        n,
-        n / box_lengths.product(),
+        (n, n / box_lengths.product()),
         parameters.real_cutoff,
         parameters.grid,
         parameters.order,
+        pair,
     )
 }
 
@@ -202,9 +228,24 @@ pub fn mesh_cost(parameters: &MeshParameters, sites: usize, box_lengths: &Vector
 /// accuracy 1e-5: 4,096 jittered dipoles (26 choices: 0.0033 and 0.011) and
 /// 2,744 jittered charges (29 choices: 0.0033 and 0.0092). The model's
 /// former weights (0.1 and 0.1) priced the mesh 30 times too high, so the
-/// sum ran with twice the cutoff and twice the time it needed.
+/// sum ran with twice the cutoff and twice the time it needed. Checked
+/// again after the pair search and kernels changed (one thread, loaded
+/// machine, 2026-11-28): 1.27 ns per mesh-point unit and 4.1 to 4.5 ns per
+/// spline unit against 396 ns per pair of the general kernel.
 const FFT_COST: f64 = 0.0033;
 const SPLINE_COST: f64 = 0.01;
+
+/// The cost of a real-space pair of the unrolled charge kernels (the mesh
+/// sum's and the moving bodies') relative to the general kernel: 87 to 106
+/// ns per pair, search included, for 12,000 random charges at 97 per unit
+/// volume with `r_c` from 0.2 to 1 (the measurements of [`FFT_COST`]).
+pub const CHARGE_PAIR_COST: f64 = 0.25;
+
+/// The cost of a real-space pair of the mesh sum's unrolled kernel of
+/// charges and dipoles relative to the general kernel: 148 ns per pair,
+/// search included, for 10,000 random dipoles at density 0.8 with `r_c`
+/// from 1 to 2.5 (the measurements of [`FFT_COST`]).
+pub const DIPOLE_PAIR_COST: f64 = 0.37;
 
 /// The parameters for `sites` sites carrying `carried` in `box_lengths` at
 /// relative field accuracy `accuracy` (module doc), at spline order `order`
@@ -250,18 +291,20 @@ pub fn for_multipoles_forced(
         box_lengths,
         forced,
         (half_box, "half the shortest box side"),
+        carried.pair_cost(),
     )
 }
 
 /// [`for_multipoles_forced`] with a real-space cutoff of at most `skin`
 /// less than half the shortest box side (the reach of a neighbour list with
-/// that skin).
+/// that skin), and the real-space pairs summed by the caller at `pair` each
+/// (in the unit of [`mesh_cost`]).
 pub fn for_multipoles_with_skin(
     accuracy: f64,
     carried: Carried,
     sites: usize,
     box_lengths: &Vector3<f64>,
-    skin: f64,
+    (skin, pair): (f64, f64),
     forced: &ForcedMesh,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     let longest = 0.5 * box_lengths.min() - skin;
@@ -272,6 +315,7 @@ pub fn for_multipoles_with_skin(
         box_lengths,
         forced,
         (longest, "half the shortest box side less the skin"),
+        pair,
     )
 }
 
@@ -284,7 +328,8 @@ struct Missed {
     parameters: MeshParameters,
 }
 
-/// [`for_multipoles_forced`] with the real-space cutoff at most `longest` (named `what`).
+/// [`for_multipoles_forced`] with the real-space cutoff at most `longest`
+/// (named `what`) and a real-space pair costing `pair`.
 fn choose(
     accuracy: f64,
     carried: Carried,
@@ -292,6 +337,7 @@ fn choose(
     box_lengths: &Vector3<f64>,
     forced: &ForcedMesh,
     (half_box, what): (f64, &str),
+    pair: f64,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     check_accuracy(accuracy)?;
     let orders_tried = orders_to_try(forced.order)?;
@@ -378,7 +424,7 @@ fn choose(
                 }
                 continue;
             }
-            let c = cost(n_sites, density, rc, grid, p);
+            let c = cost((n_sites, density), rc, grid, p, pair);
             if best.as_ref().is_none_or(|(b, _, _)| c < *b) {
                 best = Some((c, parameters, estimate));
             }

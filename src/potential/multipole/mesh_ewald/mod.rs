@@ -61,6 +61,7 @@
 mod accuracy;
 mod bspline;
 mod cartesian;
+mod damped;
 mod estimate;
 mod gather;
 mod influence;
@@ -76,12 +77,14 @@ pub use accuracy::{
 };
 pub use bspline::ORDERS;
 pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
+pub(crate) use damped::ErfcTable;
 pub use estimate::{
     for_multipoles, for_multipoles_forced, for_multipoles_with_skin, mesh_cost, Carried,
-    MeshEstimate,
+    MeshEstimate, CHARGE_PAIR_COST, DIPOLE_PAIR_COST,
 };
 pub use mesh::MeshEwald;
 pub use parameters::{ForcedMesh, MeshParameters};
+pub(crate) use real_space::per_site;
 pub use sites::{SiteResponse, Sources};
 pub use waves::{for_waves, WaveEwald, WAVE_COST};
 

@@ -1,8 +1,10 @@
 //! The real-space part of the mesh Ewald sum: every pair closer than `r_c`
 //! (minimum image, `r_c <= L_a / 2`), found by a cell list rebuilt at each
-//! evaluation into buffers sized once; cells at least `r_c / 2` wide, so
-//! that the 125 cells searched around a site hold about 3.7 times the
-//! sphere's sites (27 cells `r_c` wide would hold 6.4 times). Each site sums its own partners
+//! evaluation into buffers sized once, the positions copied in cell order;
+//! cells at least `r_c / 2` wide, so that the 125 cells searched around a
+//! site hold about 3.7 times the sphere's sites (27 cells `r_c` wide would
+//! hold 6.4 times), each neighbour cell with the shift of its periodic
+//! image (no minimum-image test per pair). Each site sums its own partners
 //! (every pair is visited from both ends), so sites are independent rayon
 //! tasks and the sums do not depend on the number of threads.
 //!
@@ -13,6 +15,7 @@
 use super::cartesian::{
     add_source, pair_force, radial_derivatives, Tables, DERIVATIVES, SOURCES, UP_TO,
 };
+use super::damped::ErfcTable;
 use crate::potential::multipole::ewald_terms::radial_functions;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -24,12 +27,12 @@ const REACH: usize = 2;
 #[derive(Clone, Debug)]
 pub(crate) struct CellList {
     cells: [usize; 3],
-    /// The distinct neighbour offsets (`-REACH..=REACH` modulo the cell count) per axis.
-    offsets: [Vec<usize>; 3],
     /// First entry of each cell in `members` (`cells + 1` entries).
     start: Vec<usize>,
     /// Site indices, by cell, in increasing order within a cell.
     members: Vec<usize>,
+    /// The wrapped positions in the order of `members`.
+    sorted: Vec<Vector3<f64>>,
     cell_of: Vec<usize>,
 }
 
@@ -38,19 +41,11 @@ impl CellList {
     /// (`cutoff <= L_a / 2`, checked by the caller).
     pub fn new(sites: usize, box_lengths: &Vector3<f64>, cutoff: f64) -> Self {
         let cells = Self::cells(box_lengths, cutoff);
-        let offsets = std::array::from_fn(|a| {
-            let mut out: Vec<usize> = (0..=2 * REACH)
-                .map(|o| (o + cells[a] * REACH - REACH) % cells[a])
-                .collect();
-            out.sort_unstable();
-            out.dedup();
-            out
-        });
         CellList {
             cells,
-            offsets,
             start: vec![0; cells.iter().product::<usize>() + 1],
             members: vec![0; sites],
+            sorted: vec![Vector3::zeros(); sites],
             cell_of: vec![0; sites],
         }
     }
@@ -66,7 +61,7 @@ impl CellList {
             .iter()
             .map(|&c| c as f64)
             .product();
-        16.0 * sites + 8.0 * cells
+        40.0 * sites + 8.0 * cells
     }
 
     fn cell_index(&self, c: [usize; 3]) -> usize {
@@ -98,6 +93,9 @@ impl CellList {
             self.start[c] = self.start[c - 1];
         }
         self.start[0] = 0;
+        for (sorted, &i) in self.sorted.iter_mut().zip(&self.members) {
+            *sorted = wrapped[i];
+        }
     }
 
     /// Adds the real-space derivatives of every site to `derivatives`
@@ -119,96 +117,133 @@ impl CellList {
     ) {
         self.build(wrapped, box_lengths);
         let tables = Tables::get();
+        let erfc = ErfcTable::get();
         let sources = UP_TO[source_order];
         // `count` reaches one order above the sources: enough for the pair forces too.
         let needed = UP_TO[tables.order(count - 1) + source_order];
-        let half = box_lengths / 2.0;
         let cutoff_squared = cutoff * cutoff;
-        // Charges without the virial: the potential and field only, by a
-        // kernel of B_0 and B_1 (the same sums as the general path).
-        let charges_only = source_order == 0 && count == UP_TO[1] && !virial;
+        // Charges and dipoles: the potential, field and field gradient by a
+        // kernel of B_0 to B_3 (the sums of the general path, unrolled); the
+        // virial's pair force of dipoles by the general path.
+        let unrolled = count <= UP_TO[2] && (source_order == 0 || (source_order == 1 && !virial));
         let this = &*self;
-        derivatives
-            .par_iter_mut()
-            .zip(virials.par_iter_mut())
-            .enumerate()
-            .with_min_len(64)
-            .for_each(|(i, (d, w))| {
-                *w = Matrix3::zeros();
-                let cells = this.cells;
-                let c = this.cell_of[i];
-                let home = [
-                    c / (cells[1] * cells[2]),
-                    (c / cells[2]) % cells[1],
-                    c % cells[2],
-                ];
-                let mut t = [[0.0; 56]; 6];
-                for &ox in &this.offsets[0] {
-                    for &oy in &this.offsets[1] {
-                        for &oz in &this.offsets[2] {
-                            let o = [ox, oy, oz];
-                            let neighbour = this
-                                .cell_index(std::array::from_fn(|a| (home[a] + o[a]) % cells[a]));
-                            for &j in
-                                &this.members[this.start[neighbour]..this.start[neighbour + 1]]
-                            {
-                                if j == i {
-                                    continue;
-                                }
-                                let r = minimum_image(wrapped[i] - wrapped[j], box_lengths, &half);
-                                let distance_squared = r.norm_squared();
-                                if distance_squared >= cutoff_squared {
-                                    continue;
-                                }
-                                let cj = &coefficients[j];
-                                if charges_only {
-                                    add_charge(cj[0], &r, distance_squared.sqrt(), alpha, d);
-                                    continue;
-                                }
-                                radial_derivatives(
-                                    &r,
-                                    &radial_functions(alpha, distance_squared.sqrt()),
-                                    needed,
-                                    &mut t,
-                                );
-                                add_source(&t[0], cj, sources, count, d);
+        let cells = this.cells;
+        // The cell `h + o` of a home coordinate `h` and an offset `o` along
+        // axis `a`, and the shift of its image: every offset is a distinct
+        // image (at least 4 cells per axis), at most one within `r_c <= L_a / 2`.
+        let neighbour = |a: usize, h: usize, o: usize| -> (usize, f64) {
+            let c = h + o;
+            if c < REACH {
+                (c + cells[a] - REACH, -box_lengths[a])
+            } else if c - REACH >= cells[a] {
+                (c - REACH - cells[a], box_lengths[a])
+            } else {
+                (c - REACH, 0.0)
+            }
+        };
+        per_site(derivatives, virials, |i, d, w| {
+            *w = Matrix3::zeros();
+            let c = this.cell_of[i];
+            let home = [
+                c / (cells[1] * cells[2]),
+                (c / cells[2]) % cells[1],
+                c % cells[2],
+            ];
+            let mut t = [[0.0; 56]; 6];
+            for ox in 0..=2 * REACH {
+                let (cx, sx) = neighbour(0, home[0], ox);
+                for oy in 0..=2 * REACH {
+                    let (cy, sy) = neighbour(1, home[1], oy);
+                    for oz in 0..=2 * REACH {
+                        let (cz, sz) = neighbour(2, home[2], oz);
+                        // r = r_i - (r_j + shift): the image of j in that cell.
+                        let base = wrapped[i] - Vector3::new(sx, sy, sz);
+                        let cell = this.cell_index([cx, cy, cz]);
+                        let range = this.start[cell]..this.start[cell + 1];
+                        for (&j, position) in
+                            this.members[range.clone()].iter().zip(&this.sorted[range])
+                        {
+                            let r = base - position;
+                            let distance_squared = r.norm_squared();
+                            if distance_squared >= cutoff_squared || j == i {
+                                continue;
+                            }
+                            let cj = &coefficients[j];
+                            if unrolled {
+                                let b = erfc.radial(alpha, distance_squared);
+                                add_charge_dipole(cj, &r, &b, count, d);
                                 if virial {
-                                    let f =
-                                        pair_force(&t[0], &coefficients[i], sources, cj, sources);
+                                    let f = r * (coefficients[i][0] * cj[0] * b[1]);
                                     *w += r * f.transpose() * 0.5;
                                 }
+                                continue;
+                            }
+                            radial_derivatives(
+                                &r,
+                                &radial_functions(alpha, distance_squared.sqrt()),
+                                needed,
+                                &mut t,
+                            );
+                            add_source(&t[0], cj, sources, count, d);
+                            if virial {
+                                let f = pair_force(&t[0], &coefficients[i], sources, cj, sources);
+                                *w += r * f.transpose() * 0.5;
                             }
                         }
                     }
                 }
-            });
+            }
+        });
     }
 }
 
-/// The minimum image of the offset `r` of two wrapped sites (less than
-/// `L_a` apart along each axis), `half` holding `L_a / 2`.
-fn minimum_image(
-    mut r: Vector3<f64>,
-    box_lengths: &Vector3<f64>,
-    half: &Vector3<f64>,
-) -> Vector3<f64> {
+/// Adds the potential of a source with charge `q = c[0]` and dipole `mu =
+/// c[1..4]` and its first `count` (at most 10) derivatives at offset `r` to
+/// `d`, from the radial functions `b` at `|r|` (the sums of [`add_source`]
+/// for these sources, unrolled): `phi = q B_0 + (mu.r) B_1`, `d_a phi = -q
+/// r_a B_1 + mu_a B_1 - r_a (mu.r) B_2`, `d_ac phi = q (r_a r_c B_2 -
+/// delta_ac B_1) + (mu.r) r_a r_c B_3 - (mu_a r_c + mu_c r_a + delta_ac
+/// mu.r) B_2`.
+fn add_charge_dipole(
+    c: &[f64; SOURCES],
+    r: &Vector3<f64>,
+    b: &[f64; 4],
+    count: usize,
+    d: &mut [f64; DERIVATIVES],
+) {
+    let q = c[0];
+    let mu = [c[1], c[2], c[3]];
+    let mu_r = mu[0] * r[0] + mu[1] * r[1] + mu[2] * r[2];
+    d[0] += q * b[0] + mu_r * b[1];
     for a in 0..3 {
-        if r[a] > half[a] {
-            r[a] -= box_lengths[a];
-        } else if r[a] < -half[a] {
-            r[a] += box_lengths[a];
+        d[1 + a] += (mu[a] - q * r[a]) * b[1] - r[a] * mu_r * b[2];
+    }
+    if count > UP_TO[1] {
+        let mut k = UP_TO[1];
+        for a in 0..3 {
+            for e in a..3 {
+                let rr = r[a] * r[e];
+                let delta = if a == e { 1.0 } else { 0.0 };
+                d[k] += q * (rr * b[2] - delta * b[1]) + mu_r * rr * b[3]
+                    - (mu[a] * r[e] + mu[e] * r[a] + delta * mu_r) * b[2];
+                k += 1;
+            }
         }
     }
-    r
 }
 
-/// Adds a charge `q`'s potential and its gradient at offset `r` (length
-/// `distance`) to `d`: `q (B_0, -r B_1)`, the sums of [`add_source`] for a
-/// charge, unrolled.
-fn add_charge(q: f64, r: &Vector3<f64>, distance: f64, alpha: f64, d: &mut [f64; DERIVATIVES]) {
-    let b = radial_functions::<2>(alpha, distance);
-    d[0] += q * b[0];
-    for a in 0..3 {
-        d[1 + a] += q * -(r[a] * b[1]);
-    }
+/// Runs `f(i, derivatives[i], virials[i])` for every site, sites as rayon
+/// tasks (each site's sums are its own, so they do not depend on the number of
+/// threads).
+pub(crate) fn per_site(
+    derivatives: &mut [[f64; DERIVATIVES]],
+    virials: &mut [Matrix3<f64>],
+    f: impl Fn(usize, &mut [f64; DERIVATIVES], &mut Matrix3<f64>) + Sync + Send,
+) {
+    derivatives
+        .par_iter_mut()
+        .zip(virials.par_iter_mut())
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(i, (d, w))| f(i, d, w));
 }
