@@ -80,37 +80,23 @@ impl PairPass {
             positions,
             charged: &self.charged,
         };
-        let force_shifted = terms.lennard_jones.map(|(t, _)| t.force_shifted());
-        let truncation = terms.electrostatics.map(|e| e.1);
+        let blocks = &mut self.blocks;
         use ElectrostaticTruncation as E;
-        match (force_shifted, truncation) {
-            (None, None) => {}
-            (None, Some(E::Plain)) => inputs.sum::<NoLennardJones, Plain>(&mut self.blocks),
-            (None, Some(E::ShiftedForce)) => {
-                inputs.sum::<NoLennardJones, ShiftedForce>(&mut self.blocks)
+        match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
+            None => inputs.with_lennard_jones::<NoCharges>(blocks),
+            Some((E::Plain, true)) => inputs.with_lennard_jones::<Plain<true>>(blocks),
+            Some((E::Plain, false)) => inputs.with_lennard_jones::<Plain<false>>(blocks),
+            Some((E::ShiftedForce, true)) => {
+                inputs.with_lennard_jones::<ShiftedForce<true>>(blocks)
             }
-            (Some(false), None) => {
-                inputs.sum::<LennardJones<'_, false>, NoCharges>(&mut self.blocks)
-            }
-            (Some(false), Some(E::Plain)) => {
-                inputs.sum::<LennardJones<'_, false>, Plain>(&mut self.blocks)
-            }
-            (Some(false), Some(E::ShiftedForce)) => {
-                inputs.sum::<LennardJones<'_, false>, ShiftedForce>(&mut self.blocks)
-            }
-            (Some(true), None) => inputs.sum::<LennardJones<'_, true>, NoCharges>(&mut self.blocks),
-            (Some(true), Some(E::Plain)) => {
-                inputs.sum::<LennardJones<'_, true>, Plain>(&mut self.blocks)
-            }
-            (Some(true), Some(E::ShiftedForce)) => {
-                inputs.sum::<LennardJones<'_, true>, ShiftedForce>(&mut self.blocks)
+            Some((E::ShiftedForce, false)) => {
+                inputs.with_lennard_jones::<ShiftedForce<false>>(blocks)
             }
         }
         let (first, rest) = self.blocks.split_at_mut(1);
         let total = &mut first[0];
         for block in rest.iter() {
             total.lennard_jones += block.lennard_jones;
-            total.electrostatic += block.electrostatic;
             total.virial += block.virial;
         }
         if !rest.is_empty() {
@@ -134,6 +120,14 @@ impl PairPass {
                         }
                     });
             }
+        }
+        if let Some((_, _, m)) = terms.electrostatics {
+            // Half of each site's charge in its potential and dipole in its field.
+            total.electrostatic = (0..n)
+                .map(|i| {
+                    0.5 * (m.charges[i] * total.potential[i] - m.dipoles[i].dot(&total.field[i]))
+                })
+                .sum();
         }
         total
     }
@@ -183,6 +177,16 @@ struct Inputs<'a> {
 }
 
 impl<'a> Inputs<'a> {
+    /// The pass with the charge kernel `C` and the Lennard-Jones kernel of the terms.
+    fn with_lennard_jones<C: ChargeKernel>(&self, blocks: &mut [PairSums]) {
+        match self.terms.lennard_jones.map(|(t, _)| t.force_shifted()) {
+            None if C::ON => self.sum::<NoLennardJones, C>(blocks),
+            None => {}
+            Some(false) => self.sum::<LennardJones<'_, false>, C>(blocks),
+            Some(true) => self.sum::<LennardJones<'_, true>, C>(blocks),
+        }
+    }
+
     /// The pass with the kernels `L` and `C`, one range of sites per block.
     fn sum<L: PairKernel<'a>, C: ChargeKernel>(&self, blocks: &mut [PairSums]) {
         let n = self.positions.len();
@@ -233,7 +237,7 @@ impl<'a> Inputs<'a> {
             None => (C::new(0.0), None),
         };
         let coulomb_cutoff2 = coulomb.cutoff2();
-        let (mut lj_energy, mut coulomb_energy) = (0.0, 0.0);
+        let mut lj_energy = 0.0;
         // The virial's components, row by row (nalgebra's outer product
         // costs several times these nine products).
         let mut virial = [0.0; 9];
@@ -262,11 +266,12 @@ impl<'a> Inputs<'a> {
                     if self.charged[j] {
                         let s = charged(m, j);
                         let pair = coulomb.pair(&r, r2, t, &s);
-                        coulomb_energy += t.charge * pair.potential - t.dipole.dot(&pair.field);
-                        potential_i += pair.potential;
                         field_i += pair.field;
-                        out.potential[j] += pair.source_potential;
                         out.field[j] += pair.source_field;
+                        if C::CHARGES {
+                            potential_i += pair.potential;
+                            out.potential[j] += pair.source_potential;
+                        }
                         f += pair.force;
                     }
                 }
@@ -285,7 +290,6 @@ impl<'a> Inputs<'a> {
             }
         }
         out.lennard_jones = lj_energy;
-        out.electrostatic = coulomb_energy;
         out.virial = Matrix3::from_row_slice(&virial);
     }
 }
@@ -341,6 +345,9 @@ struct BothEnds {
 trait ChargeKernel: Sync {
     /// Whether the pass has the term.
     const ON: bool;
+    /// Whether some site carries a charge (if not, the potentials are
+    /// left zero: nothing reads them).
+    const CHARGES: bool;
     fn new(cutoff: f64) -> Self;
     fn cutoff2(&self) -> f64;
     /// The pair of a target at offset `r` (`r2 = |r|^2` within the cutoff)
@@ -358,6 +365,7 @@ struct NoCharges;
 
 impl ChargeKernel for NoCharges {
     const ON: bool = false;
+    const CHARGES: bool = false;
     fn new(_: f64) -> Self {
         NoCharges
     }
@@ -375,11 +383,12 @@ impl ChargeKernel for NoCharges {
     }
 }
 
-/// The bare pair (LAMMPS `lj/cut/dipole/cut`).
-struct Plain(f64);
+/// The bare pair (LAMMPS `lj/cut/dipole/cut`), with charges or dipoles only.
+struct Plain<const CHARGES: bool>(f64);
 
-impl ChargeKernel for Plain {
+impl<const CHARGES: bool> ChargeKernel for Plain<CHARGES> {
     const ON: bool = true;
+    const CHARGES: bool = CHARGES;
     fn new(cutoff: f64) -> Self {
         Plain(cutoff)
     }
@@ -395,6 +404,19 @@ impl ChargeKernel for Plain {
         source: &ChargeDipole,
     ) -> BothEnds {
         let b = radial(0.0, r2.sqrt());
+        let (mu_t, mu_s) = (&target.dipole, &source.dipole);
+        if !CHARGES {
+            // `charge_dipole_force` and the fields below with zero charges.
+            let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
+            return BothEnds {
+                potential: 0.0,
+                field: dipole_field(r, &b, mu_s),
+                force: r * (mu_t.dot(mu_s) * b[2] - t_r * s_r * b[3])
+                    + (mu_t * s_r + mu_s * t_r) * b[2],
+                source_potential: 0.0,
+                source_field: dipole_field(&-r, &b, mu_t),
+            };
+        }
         // The potential `q_s B_0 + (mu_s.r) B_1` and the field at offset `r` from a source.
         let fields = |r: &Vector3<f64>, s: &ChargeDipole| {
             (
@@ -414,11 +436,13 @@ impl ChargeKernel for Plain {
     }
 }
 
-/// The shifted-force pair (LAMMPS `lj/sf/dipole/sf`).
-struct ShiftedForce(f64);
+/// The shifted-force pair (LAMMPS `lj/sf/dipole/sf`), with charges or
+/// dipoles only.
+struct ShiftedForce<const CHARGES: bool>(f64);
 
-impl ChargeKernel for ShiftedForce {
+impl<const CHARGES: bool> ChargeKernel for ShiftedForce<CHARGES> {
     const ON: bool = true;
+    const CHARGES: bool = CHARGES;
     fn new(cutoff: f64) -> Self {
         ShiftedForce(cutoff)
     }
