@@ -60,10 +60,11 @@ pub struct LennardJonesOptions {
     pub mixing: Mixing,
 }
 
-/// One pair of site kinds: `4 eps sigma^12`, `4 eps sigma^6` and the
-/// truncation's constants.
+/// One pair of site kinds: its sigma, `4 eps sigma^12`, `4 eps sigma^6`
+/// and the truncation's constants.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct PairConstants {
+    sigma: f64,
     c12: f64,
     c6: f64,
     /// `u(r_c)` (shifted and force-shifted) or 0.
@@ -91,6 +92,7 @@ impl LennardJonesTerm {
                 let s6 = sigma.powi(6);
                 let (c12, c6) = (4.0 * eps * s6 * s6, 4.0 * eps * s6);
                 let plain = PairConstants {
+                    sigma,
                     c12,
                     c6,
                     shift: 0.0,
@@ -124,8 +126,9 @@ impl LennardJonesTerm {
     }
 
     /// The mixed sigma of kinds `a` and `b`.
+    #[inline]
     pub fn sigma(&self, a: usize, b: usize) -> f64 {
-        mix(self.options.mixing, &self.kinds[a], &self.kinds[b]).1
+        self.table[a * self.kinds.len() + b].sigma
     }
 
     /// The energy and `-(1/r) du/dr` (force = that times the separation) of
