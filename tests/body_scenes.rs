@@ -49,6 +49,7 @@ fn with_integrator(name: &str, integrator: Option<&str>, dt: f64, steps: i64) ->
         dt: Some(dt),
         steps: Some(steps),
         integrator: integrator.map(String::from),
+        ..Overrides::default()
     };
     load_text(&common::builtin_at_constant_energy(name), &overrides)
         .expect("valid")

@@ -350,6 +350,36 @@ fn an_unknown_integrator_option_is_refused_in_one_clean_line() {
     );
 }
 
+/// A built-in with a thermostat runs a scheme that takes none once
+/// `--no-thermostat` drops it; without it the scheme is refused, naming it.
+#[test]
+fn no_thermostat_lets_a_thermostatted_builtin_run_any_scheme() {
+    let dir = tempfile::tempdir().expect("dir");
+    let out_dir = dir.path().join("out");
+    let out = |extra: &[&str]| {
+        let mut args = vec!["run", "lewis_wahnstrom_otp", "--integrator", "richardson"];
+        args.extend_from_slice(&["--steps", "2", "--out", out_dir.to_str().expect("utf-8")]);
+        args.extend_from_slice(extra);
+        quatrot(&args)
+    };
+    let refused = out(&[]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(EXIT_ERROR), "{stderr}");
+    assert!(stderr.contains("richardson"), "{stderr}");
+    let ran = out(&["--no-thermostat"]);
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let summary = std::fs::read_to_string(out_dir.join("summary.json")).expect("summary");
+    let summary: serde_json::Value = serde_json::from_str(&summary).expect("json");
+    assert_eq!(summary["integrator"], "richardson");
+    assert_eq!(summary["last_step"], 2);
+    assert!(summary["definition"]["integrator"].is_object());
+    assert!(summary["definition"].get("thermostat").is_none());
+}
+
 /// The `summary.json` of `quatrot run dipole_in_field` with `args`,
 /// `RAYON_NUM_THREADS` set to `env` (or unset), its `[run]` table given
 /// `run_threads` as its `threads` (or none).

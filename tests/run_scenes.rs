@@ -228,6 +228,7 @@ fn energy_threshold_stops_a_run_with_too_large_a_step() {
         dt: Some(0.2),
         steps: Some(2000),
         integrator: Some("gear_a".to_string()),
+        ..Overrides::default()
     };
     let (mut raw, _) = load("dipole_in_field", &overrides).expect("valid");
     let mut record = raw.record.take().unwrap_or_default();

@@ -93,7 +93,7 @@ impl BodyType {
         };
         let (moments, axes) = principal_frame(&tensor)?;
         let to_body = axes.transpose();
-        let sites = spec
+        let sites: Vec<Site> = spec
             .sites
             .iter()
             .map(|s| Site {
@@ -103,6 +103,9 @@ impl BodyType {
                 ..s.clone()
             })
             .collect();
+        if moments[0] == 0.0 {
+            off_axis(&sites)?;
+        }
         let principal_axes = Quat::from_body_to_space_matrix(&axes, 1e-10)
             .ok_or_else(|| InputError::new("inertia", "principal axes not found"))?;
         Ok(BodyType {
@@ -157,6 +160,30 @@ fn site_inertia(sites: &[Site], centre: &Vector3<f64>) -> Matrix3<f64> {
             (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * s.mass
         })
         .sum()
+}
+
+/// A linear body's sites (body frame) must lie on its axis, body axis 1: a
+/// site farther off it than `sqrt(ZERO_MOMENT_TOLERANCE)` of the body's
+/// reach would, with mass, have given the axis a moment above the
+/// tolerance; a planar or bent body given a zero moment is refused (its
+/// torque about that axis would have no inertia to act on).
+fn off_axis(sites: &[Site]) -> Result<(), InputError> {
+    let reach = sites.iter().map(|s| s.position.norm()).fold(0.0, f64::max);
+    let allowed = ZERO_MOMENT_TOLERANCE.sqrt() * reach;
+    for (k, site) in sites.iter().enumerate() {
+        let off = site.position.y.hypot(site.position.z);
+        if off > allowed {
+            return Err(InputError::new(
+                "inertia",
+                format!(
+                    "has a zero principal moment (a linear body), but sites[{k}] lies {} off \
+                     its axis: a planar or bent body needs three nonzero moments",
+                    num(off)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The principal moments (ascending, tiny ones snapped to 0) and the axes
@@ -270,6 +297,18 @@ mod tests {
         assert!((body.moments[1] - 0.5).abs() < 1e-14 && (body.moments[2] - 0.5).abs() < 1e-14);
         assert_eq!(body.rotational_degrees(), 2);
         assert_eq!(body.conserved_spin(), None);
+        // Given a zero moment, sites on the axis (or at the centre) are
+        // accepted, rounding included: one site off by 1e-9 of the reach.
+        let given = |sites: Vec<Site>| BodyTypeSpec {
+            sites,
+            mass: Some(1.0),
+            inertia: Some(Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 1.0))),
+        };
+        assert!(BodyType::new(&given(vec![point([0.0; 3], 0.0)])).is_ok());
+        let on_axis = vec![point([-1.0, 0.0, 0.0], 0.0), point([2.0, 1e-9, 0.0], 0.0)];
+        assert!(BodyType::new(&given(on_axis)).is_ok());
+        let off_axis = vec![point([-1.0, 0.0, 0.0], 0.0), point([2.0, 0.0, 1e-5], 0.0)];
+        assert!(BodyType::new(&given(off_axis)).is_err());
     }
 
     /// A dipolar sphere keeps its spin about the dipole; a dipole off the
@@ -339,6 +378,22 @@ mod tests {
         assert_eq!(
             message(nan),
             "sites[0].lennard_jones.sigma: must be finite, got NaN"
+        );
+        // A bent molecule given a numerically zero moment (a typo, or a
+        // planar body's I3 - I1 - I2 taken for I1).
+        let planar = BodyTypeSpec {
+            sites: vec![
+                point([0.0, 0.0, 0.0], 0.0),
+                point([0.8, 0.6, 0.0], 0.0),
+                point([-0.8, 0.6, 0.0], 0.0),
+            ],
+            mass: Some(18.0),
+            inertia: Some(Matrix3::from_diagonal(&Vector3::new(1e-17, 1.2, 1.9))),
+        };
+        assert_eq!(
+            message(planar),
+            "inertia: has a zero principal moment (a linear body), but sites[1] lies 0.6 off \
+             its axis: a planar or bent body needs three nonzero moments"
         );
         let massless = BodyTypeSpec {
             sites: vec![point([0.0; 3], 0.0)],

@@ -38,6 +38,10 @@ pub(super) enum Command {
         /// gear_b, no_squish, dlm, richardson.
         #[arg(long)]
         integrator: Option<String>,
+        /// Drop the scene's thermostat: run at constant energy from its
+        /// start (gear_b and richardson take no thermostat).
+        #[arg(long)]
+        no_thermostat: bool,
         /// Continue from a checkpoint file written by an earlier run.
         #[arg(long)]
         restart: Option<PathBuf>,

@@ -66,6 +66,7 @@ where
             dt,
             steps,
             integrator,
+            no_thermostat,
             restart,
             threads,
         } => {
@@ -73,6 +74,7 @@ where
                 dt,
                 steps,
                 integrator,
+                no_thermostat,
             };
             match threads.map(thread_count).transpose() {
                 Ok(threads) => run(&scene, &overrides, out, restart, threads),

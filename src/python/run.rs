@@ -133,6 +133,9 @@ const POLL: Duration = Duration::from_millis(20);
 /// integrator : str, optional
 ///     Overrides the scene's integrator kind (`"gear_a"`, `"gear_b"`,
 ///     `"no_squish"`, `"dlm"`, `"richardson"`).
+/// no_thermostat : bool, default False
+///     Drops the scene's thermostat: the run keeps its energy from the
+///     scene's start (`"gear_b"` and `"richardson"` take no thermostat).
 /// restart : str or path, optional
 ///     A checkpoint file to continue from.
 /// threads : int, optional
@@ -180,7 +183,7 @@ const POLL: Duration = Duration::from_millis(20);
 ///
 /// ```
 #[pyfunction]
-#[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, restart=None, threads=None, progress=false, on_progress=None))]
+#[pyo3(signature = (scene, *, out_dir=None, dt=None, steps=None, integrator=None, no_thermostat=false, restart=None, threads=None, progress=false, on_progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -189,6 +192,7 @@ fn run<'py>(
     dt: Option<f64>,
     steps: Option<&Bound<'py, PyAny>>,
     integrator: Option<&Bound<'py, PyAny>>,
+    no_thermostat: bool,
     restart: Option<&Bound<'py, PyAny>>,
     threads: Option<&Bound<'py, PyAny>>,
     progress: bool,
@@ -211,6 +215,7 @@ fn run<'py>(
         integrator: integrator
             .map(|i| text_or(i, "integrator", field))
             .transpose()?,
+        no_thermostat,
     };
     let (raw, scene) = load_scene(scene, &overrides)?;
     let definition = raw.definition();

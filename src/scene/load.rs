@@ -17,6 +17,9 @@ pub struct Overrides {
     pub steps: Option<i64>,
     /// Replaces `[integrator]` by this integrator with its default options.
     pub integrator: Option<String>,
+    /// Drops `[thermostat]`: the run keeps its energy from the scene's start
+    /// (as the schemes that take no thermostat need).
+    pub no_thermostat: bool,
 }
 
 impl Overrides {
@@ -34,6 +37,9 @@ impl Overrides {
                 let e = e.below("integrator");
                 SceneError::field(e.path, e.message)
             })?;
+        }
+        if self.no_thermostat {
+            raw.thermostat = None;
         }
         Ok(())
     }

@@ -40,16 +40,17 @@ def site_parameters(model):
     return sites
 
 
-def openmm_water(site_positions, model, molecules, *, box=None, cutoff=None, tolerance=None,
-                 dispersion_correction=True):
-    """OpenMM's energies (kcal/mol: ``electrostatic`` in force group 0,
-    ``lennard_jones`` in group 1) and total site forces (kcal/mol/A) of
-    ``molecules`` rigid molecules, each one's own pairs excluded: all pairs
-    without a box; with a cubic ``box`` (A), PME at ``tolerance``
-    (``ewaldErrorTolerance``) and Lennard-Jones cut at ``cutoff`` (A), with
-    OpenMM's dispersion correction when asked."""
+def water_system(model, molecules, *, box=None, cutoff=None, tolerance=None, dispersion_correction=True,
+                 masses=None):
+    """An OpenMM ``System`` of ``molecules`` rigid-water molecules, each
+    one's own pairs excluded, charges in force group 0 and Lennard-Jones in
+    group 1: all pairs without a box; with a cubic ``box`` (A), PME at
+    ``tolerance`` (``ewaldErrorTolerance``) and Lennard-Jones cut at
+    ``cutoff`` (A), with OpenMM's dispersion correction when asked. With
+    ``masses`` (g/mol per site), the particles have them and each molecule
+    is kept rigid by three distance constraints (SETTLE); without, unit
+    masses and no constraints (single points)."""
     import openmm
-    from openmm import unit
 
     parameters = site_parameters(model)
     system = openmm.System()
@@ -71,8 +72,8 @@ def openmm_water(site_positions, model, molecules, *, box=None, cutoff=None, tol
     coulomb.setUseDispersionCorrection(False)
     lj.setUseDispersionCorrection(dispersion_correction and box is not None)
     for _ in range(molecules):
-        for charge, sigma, epsilon in parameters:
-            system.addParticle(1.0)
+        for k, (charge, sigma, epsilon) in enumerate(parameters):
+            system.addParticle(1.0 if masses is None else masses[k])
             coulomb.addParticle(charge, 0.1, 0.0)
             lj.addParticle(0.0, sigma / 10, epsilon * KJ_PER_KCAL)
     per = len(parameters)
@@ -81,6 +82,27 @@ def openmm_water(site_positions, model, molecules, *, box=None, cutoff=None, tol
             for j in range(i + 1, (m + 1) * per):
                 coulomb.addException(i, j, 0.0, 0.1, 0.0)
                 lj.addException(i, j, 0.0, 0.1, 0.0)
+    if masses is not None:
+        p = PUBLISHED[model]
+        if p["d_om"]:
+            raise ValueError(f"{model}: a massless site needs an OpenMM virtual site, not built here")
+        o_h, h_h = p["r"] / 10, 2 * p["r"] * np.sin(np.radians(p["angle"] / 2)) / 10
+        for m in range(molecules):
+            for (a, b), length in (((0, 1), o_h), ((0, 2), o_h), ((1, 2), h_h)):
+                system.addConstraint(per * m + a, per * m + b, length)
+    return system
+
+
+def openmm_water(site_positions, model, molecules, *, box=None, cutoff=None, tolerance=None,
+                 dispersion_correction=True):
+    """OpenMM's energies (kcal/mol: ``electrostatic``, ``lennard_jones``)
+    and total site forces (kcal/mol/A) of :func:`water_system`'s molecules
+    at ``site_positions`` (A), Reference platform (double precision)."""
+    import openmm
+    from openmm import unit
+
+    system = water_system(model, molecules, box=box, cutoff=cutoff, tolerance=tolerance,
+                          dispersion_correction=dispersion_correction)
     context = openmm.Context(
         system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference")
     )

@@ -50,6 +50,22 @@ def test_overrides_replace_the_scene_values():
     assert r["summary"]["integrator"] == "dlm"
 
 
+def test_no_thermostat_drops_the_scenes_thermostat():
+    """The Langevin lattice held at T runs gear_b (which takes no
+    thermostat) once the thermostat is dropped, and then keeps its energy
+    as the same scene written without a thermostat does, bit for bit."""
+    with pytest.raises(quatrot.SceneError, match="gear_b"):
+        quatrot.run("dipole_lattice_sc_langevin", steps=2, integrator="gear_b")
+    r = quatrot.run("dipole_lattice_sc_langevin", steps=20, integrator="gear_b", no_thermostat=True)
+    assert "thermostat" not in r["summary"]["definition"]
+    scene = tomllib.loads(quatrot.builtin_scenes()["dipole_lattice_sc_langevin"])
+    del scene["thermostat"]
+    plain = quatrot.run(scene, steps=20, integrator="gear_b")
+    for name, series in r["series"].items():
+        for column, values in series.items():
+            np.testing.assert_array_equal(values, plain["series"][name][column])
+
+
 def test_every_builtin_runs_from_python():
     for name in quatrot.builtin_scenes():
         r = quatrot.run(name, steps=3)

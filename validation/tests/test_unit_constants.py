@@ -94,6 +94,25 @@ def test_lammps_real_boltzmann_constant_is_not_the_si_one():
     assert relative == pytest.approx(1.2285e-6, rel=1e-3)
 
 
+def test_lammps_real_kinetic_energy_constant_is_rounded():
+    """LAMMPS's ``ke`` multiplies m v^2 / 2 (g/mol, A/fs) by ``mvv2e =
+    48.88821291^2``, the time unit sqrt(1e7 / 4184) fs rounded to 10
+    digits: 6.56e-11 above the exact 2390.05736... (1 kcal = 4184 J), so a
+    LAMMPS kinetic energy compared with another code's at 1e-10 differs by
+    the constant alone (found by validation/checks/water_trajectories.py,
+    whose rigid water agrees with LAMMPS to round-off once it is divided out)."""
+    lmp = lammps_real()
+    try:
+        ke, mvv2e = lmp.get_thermo("ke"), lmp.extract_global("mvv2e")
+    finally:
+        lmp.close()
+    exact = 1e7 / KCAL  # (g/mol) (A/fs)^2 in kcal/mol: 1e-3 kg * 1e10 m^2/s^2 / 4184 J
+    # Two atoms of mass 1 at 0.01 A/fs.
+    assert ke == pytest.approx(2 * 0.5 * 1.0 * 0.01**2 * mvv2e, rel=1e-15)
+    assert mvv2e == 48.88821291**2
+    assert (mvv2e - exact) / exact == pytest.approx(6.5613e-11, rel=1e-3)
+
+
 def openmm_coulomb_kcal_per_mol_angstrom() -> float:
     """OpenMM's ``NonbondedForce`` energy (Reference platform, no cutoff) of
     two unit charges 1 nm apart, in kcal/mol Angstrom."""

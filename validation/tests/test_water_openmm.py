@@ -32,6 +32,7 @@ import quatrot
 pytest.importorskip("openmm")
 
 from validation.shared.openmm_water import KJ_PER_KCAL, PUBLISHED, openmm_water, site_parameters  # noqa: E402
+from validation.shared.water_runs import quatrot_coulomb_constant  # noqa: E402
 from validation.tests.test_unit_constants import openmm_coulomb_kcal_per_mol_angstrom  # noqa: E402
 
 MOLECULES = 8
@@ -48,15 +49,6 @@ def cluster(seed=11):
     positions = grid * 3.1 + rng.uniform(-0.2, 0.2, (MOLECULES, 3))
     q = rng.normal(size=(MOLECULES, 4))
     return positions, q / np.linalg.norm(q, axis=1, keepdims=True)
-
-
-def quatrot_coulomb_constant():
-    """quatrot's energy of two unit charges 1 A apart, kcal/mol."""
-    ion = {"sites": [{"position": [0, 0, 0], "charge": 1.0}], "mass": 1.0, "inertia": np.eye(3).tolist()}
-    state = quatrot.bodies_evaluate(
-        [ion], [[0, 0, 0], [1, 0, 0]], [[1, 0, 0, 0]] * 2, electrostatic_cutoff=5.0, units="real"
-    )
-    return state["energies"]["electrostatic"]
 
 
 @pytest.mark.parametrize("model", sorted(PUBLISHED))

@@ -112,6 +112,7 @@ def run(
     dt: float | None = None,
     steps: int | None = None,
     integrator: str | None = None,
+    no_thermostat: bool = False,
     restart: _Path | None = None,
     threads: int | None = None,
     progress: bool = False,
