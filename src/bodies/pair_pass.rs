@@ -84,13 +84,13 @@ impl PairPass {
         use ElectrostaticTruncation as E;
         match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
             None => inputs.with_lennard_jones::<NoCharges>(blocks),
-            Some((E::Plain, true)) => inputs.with_lennard_jones::<Plain<true>>(blocks),
-            Some((E::Plain, false)) => inputs.with_lennard_jones::<Plain<false>>(blocks),
+            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Plain, true>>(blocks),
+            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Plain, false>>(blocks),
             Some((E::ShiftedForce, true)) => {
-                inputs.with_lennard_jones::<ShiftedForce<true>>(blocks)
+                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, true>>(blocks)
             }
             Some((E::ShiftedForce, false)) => {
-                inputs.with_lennard_jones::<ShiftedForce<false>>(blocks)
+                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, false>>(blocks)
             }
         }
         let (first, rest) = self.blocks.split_at_mut(1);
@@ -232,11 +232,11 @@ impl<'a> Inputs<'a> {
             .terms
             .lennard_jones
             .map_or((0.0, &[][..]), |(t, kind)| (t.cutoff() * t.cutoff(), kind));
-        let (coulomb, multipoles) = match self.terms.electrostatics {
-            Some((cutoff, _, m)) => (C::new(cutoff), Some(m)),
-            None => (C::new(0.0), None),
+        let (coulomb_cutoff, multipoles) = match self.terms.electrostatics {
+            Some((cutoff, _, m)) => (cutoff, Some(m)),
+            None => (0.0, None),
         };
-        let coulomb_cutoff2 = coulomb.cutoff2();
+        let (coulomb, coulomb_cutoff2) = (C::new(), coulomb_cutoff * coulomb_cutoff);
         let mut lj_energy = 0.0;
         // The virial's components, row by row (nalgebra's outer product
         // costs several times these nine products).
@@ -265,7 +265,7 @@ impl<'a> Inputs<'a> {
                 if let (true, Some(t), Some(m)) = (r2 < coulomb_cutoff2, &target, multipoles) {
                     if self.charged[j] {
                         let s = charged(m, j);
-                        let pair = coulomb.pair(&r, r2, t, &s);
+                        let pair = coulomb.pair(&r, r2, coulomb_cutoff, t, &s);
                         field_i += pair.field;
                         out.field[j] += pair.source_field;
                         if C::CHARGES {
@@ -342,37 +342,42 @@ struct BothEnds {
 }
 
 /// The charge-dipole pair of a pass.
-trait ChargeKernel: Sync {
+trait ChargeKernel: Sync + Sized {
     /// Whether the pass has the term.
     const ON: bool;
     /// Whether some site carries a charge (if not, the potentials are
     /// left zero: nothing reads them).
     const CHARGES: bool;
-    fn new(cutoff: f64) -> Self;
-    fn cutoff2(&self) -> f64;
-    /// The pair of a target at offset `r` (`r2 = |r|^2` within the cutoff)
+    fn new() -> Self;
+    /// The pair of a target at offset `r` (`r2 = |r|^2` within `cutoff`)
     /// from a source.
     fn pair(
         &self,
         r: &Vector3<f64>,
         r2: f64,
+        cutoff: f64,
         target: &ChargeDipole,
         source: &ChargeDipole,
     ) -> BothEnds;
 }
 
+/// No charges or dipoles.
 struct NoCharges;
 
 impl ChargeKernel for NoCharges {
     const ON: bool = false;
     const CHARGES: bool = false;
-    fn new(_: f64) -> Self {
+    fn new() -> Self {
         NoCharges
     }
-    fn cutoff2(&self) -> f64 {
-        0.0
-    }
-    fn pair(&self, _: &Vector3<f64>, _: f64, _: &ChargeDipole, _: &ChargeDipole) -> BothEnds {
+    fn pair(
+        &self,
+        _: &Vector3<f64>,
+        _: f64,
+        _: f64,
+        _: &ChargeDipole,
+        _: &ChargeDipole,
+    ) -> BothEnds {
         BothEnds {
             potential: 0.0,
             field: Vector3::zeros(),
@@ -383,81 +388,64 @@ impl ChargeKernel for NoCharges {
     }
 }
 
-/// The bare pair (LAMMPS `lj/cut/dipole/cut`), with charges or dipoles only.
-struct Plain<const CHARGES: bool>(f64);
-
-impl<const CHARGES: bool> ChargeKernel for Plain<CHARGES> {
-    const ON: bool = true;
-    const CHARGES: bool = CHARGES;
-    fn new(cutoff: f64) -> Self {
-        Plain(cutoff)
-    }
-    fn cutoff2(&self) -> f64 {
-        self.0 * self.0
-    }
-    #[inline(always)]
-    fn pair(
+/// The radial factors of a truncation at one distance, and what a pair
+/// takes from them.
+trait Factors {
+    fn new(r2: f64, cutoff: f64) -> Self;
+    /// The potential and field at offset `r` from a source.
+    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>);
+    /// The force on a target at offset `r` from a source.
+    fn force(
         &self,
         r: &Vector3<f64>,
         r2: f64,
         target: &ChargeDipole,
         source: &ChargeDipole,
-    ) -> BothEnds {
-        let b = radial(0.0, r2.sqrt());
-        let (mu_t, mu_s) = (&target.dipole, &source.dipole);
-        if !CHARGES {
-            // `charge_dipole_force` and the fields below with zero charges.
-            let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
-            return BothEnds {
-                potential: 0.0,
-                field: dipole_field(r, &b, mu_s),
-                force: r * (mu_t.dot(mu_s) * b[2] - t_r * s_r * b[3])
-                    + (mu_t * s_r + mu_s * t_r) * b[2],
-                source_potential: 0.0,
-                source_field: dipole_field(&-r, &b, mu_t),
-            };
-        }
-        // The potential `q_s B_0 + (mu_s.r) B_1` and the field at offset `r` from a source.
-        let fields = |r: &Vector3<f64>, s: &ChargeDipole| {
-            (
-                s.charge * b[0] + s.dipole.dot(r) * b[1],
-                r * (s.charge * b[1]) + dipole_field(r, &b, &s.dipole),
-            )
-        };
-        let ((potential, field), (source_potential, source_field)) =
-            (fields(r, source), fields(&-r, target));
-        BothEnds {
-            potential,
-            field,
-            force: charge_dipole_force(r, &b, target, source),
-            source_potential,
-            source_field,
-        }
+    ) -> Vector3<f64>;
+    /// [`Factors::fields`]' field of a source without charge.
+    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
+        self.fields(r, source).1
+    }
+    /// [`Factors::force`] of sites without charges.
+    fn dipole_force(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        self.force(r, r2, target, source)
     }
 }
 
-/// The shifted-force pair (LAMMPS `lj/sf/dipole/sf`), with charges or
-/// dipoles only.
-struct ShiftedForce<const CHARGES: bool>(f64);
+/// A truncation's pair, with charges or of dipoles only.
+struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn() -> F>);
 
-impl<const CHARGES: bool> ChargeKernel for ShiftedForce<CHARGES> {
+impl<F: Factors, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
     const ON: bool = true;
     const CHARGES: bool = CHARGES;
-    fn new(cutoff: f64) -> Self {
-        ShiftedForce(cutoff)
-    }
-    fn cutoff2(&self) -> f64 {
-        self.0 * self.0
+    fn new() -> Self {
+        Truncated(std::marker::PhantomData)
     }
     #[inline(always)]
     fn pair(
         &self,
         r: &Vector3<f64>,
         r2: f64,
+        cutoff: f64,
         target: &ChargeDipole,
         source: &ChargeDipole,
     ) -> BothEnds {
-        let factors = ShiftedForceFactors::new(r2, self.0);
+        let factors = F::new(r2, cutoff);
+        if !CHARGES {
+            return BothEnds {
+                potential: 0.0,
+                field: factors.dipole_field(r, source),
+                force: factors.dipole_force(r, r2, target, source),
+                source_potential: 0.0,
+                source_field: factors.dipole_field(&-r, target),
+            };
+        }
         let ((potential, field), (source_potential, source_field)) =
             (factors.fields(r, source), factors.fields(&-r, target));
         BothEnds {
@@ -467,5 +455,73 @@ impl<const CHARGES: bool> ChargeKernel for ShiftedForce<CHARGES> {
             source_potential,
             source_field,
         }
+    }
+}
+
+/// The bare pair (LAMMPS `lj/cut/dipole/cut`): the radial functions of
+/// `1/r`.
+struct Plain([f64; 5]);
+
+impl Factors for Plain {
+    #[inline(always)]
+    fn new(r2: f64, _: f64) -> Self {
+        Plain(radial(0.0, r2.sqrt()))
+    }
+    #[inline(always)]
+    fn fields(&self, r: &Vector3<f64>, s: &ChargeDipole) -> (f64, Vector3<f64>) {
+        let b = &self.0;
+        (
+            s.charge * b[0] + s.dipole.dot(r) * b[1],
+            r * (s.charge * b[1]) + dipole_field(r, b, &s.dipole),
+        )
+    }
+    #[inline(always)]
+    fn force(
+        &self,
+        r: &Vector3<f64>,
+        _: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        charge_dipole_force(r, &self.0, target, source)
+    }
+    #[inline(always)]
+    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
+        dipole_field(r, &self.0, &source.dipole)
+    }
+    /// `charge_dipole_force` with zero charges.
+    #[inline(always)]
+    fn dipole_force(
+        &self,
+        r: &Vector3<f64>,
+        _: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        let (b, mu_t, mu_s) = (&self.0, &target.dipole, &source.dipole);
+        let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
+        r * (mu_t.dot(mu_s) * b[2] - t_r * s_r * b[3]) + (mu_t * s_r + mu_s * t_r) * b[2]
+    }
+}
+
+/// The shifted-force pair (LAMMPS `lj/sf/dipole/sf`).
+impl Factors for ShiftedForceFactors {
+    #[inline(always)]
+    fn new(r2: f64, cutoff: f64) -> Self {
+        ShiftedForceFactors::new(r2, cutoff)
+    }
+    #[inline(always)]
+    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>) {
+        ShiftedForceFactors::fields(self, r, source)
+    }
+    #[inline(always)]
+    fn force(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        ShiftedForceFactors::force(self, r, r2, target, source)
     }
 }
