@@ -19,8 +19,12 @@
 //! exact gradients of these energies (the tests check them by central
 //! differences); the radial derivative `-d(s_l / r^(l+1))/dr = (l + 1) (1 -
 //! x^(l+2)) / r^(l+2)` is LAMMPS's `afac = 1 - x^4` for `l = 2`.
+//!
+//! Both truncations reach the pair pass through `Factors`: the radial
+//! factors at one distance, `Plain`'s bare `B_l` and
+//! `ShiftedForceFactors`.
 
-use crate::potential::multipole::ChargeDipole;
+use crate::potential::multipole::{charge_dipole_force, dipole_field, radial, ChargeDipole};
 use nalgebra::Vector3;
 
 /// How a cutoff sum of charges and dipoles is truncated.
@@ -50,6 +54,82 @@ struct PairResponse {
     pub force: Vector3<f64>,
 }
 
+/// The radial factors of a truncation at one distance, and what a pair
+/// takes from them.
+pub(super) trait Factors {
+    fn new(r2: f64, cutoff: f64) -> Self;
+    /// The potential and field at offset `r` from a source.
+    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>);
+    /// The force on a target at offset `r` from a source.
+    fn force(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64>;
+    /// [`Factors::fields`]' field of a source without charge.
+    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
+        self.fields(r, source).1
+    }
+    /// [`Factors::force`] of sites without charges.
+    fn dipole_force(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        self.force(r, r2, target, source)
+    }
+}
+
+/// The bare pair (LAMMPS `lj/cut/dipole/cut`): the radial functions of
+/// `1/r`.
+pub(super) struct Plain([f64; 5]);
+
+impl Factors for Plain {
+    #[inline(always)]
+    fn new(r2: f64, _: f64) -> Self {
+        Plain(radial(0.0, r2.sqrt()))
+    }
+    #[inline(always)]
+    fn fields(&self, r: &Vector3<f64>, s: &ChargeDipole) -> (f64, Vector3<f64>) {
+        let b = &self.0;
+        (
+            s.charge * b[0] + s.dipole.dot(r) * b[1],
+            r * (s.charge * b[1]) + dipole_field(r, b, &s.dipole),
+        )
+    }
+    #[inline(always)]
+    fn force(
+        &self,
+        r: &Vector3<f64>,
+        _: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        charge_dipole_force(r, &self.0, target, source)
+    }
+    #[inline(always)]
+    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
+        dipole_field(r, &self.0, &source.dipole)
+    }
+    /// `charge_dipole_force` with zero charges.
+    #[inline(always)]
+    fn dipole_force(
+        &self,
+        r: &Vector3<f64>,
+        _: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        let (b, mu_t, mu_s) = (&self.0, &target.dipole, &source.dipole);
+        let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
+        r * (mu_t.dot(mu_s) * b[2] - t_r * s_r * b[3]) + (mu_t * s_r + mu_s * t_r) * b[2]
+    }
+}
+
 /// The shifted-force radial factors (module doc) at `r^2 < r_c^2`:
 /// `s_l(x)` and the powers of `1/r` they multiply.
 #[derive(Clone, Copy, Debug)]
@@ -61,10 +141,10 @@ pub(super) struct ShiftedForceFactors {
     s: [f64; 3],
 }
 
-impl ShiftedForceFactors {
+impl Factors for ShiftedForceFactors {
     /// The factors at squared distance `r2` for the cutoff `cutoff`.
-    #[inline]
-    pub(super) fn new(r2: f64, cutoff: f64) -> Self {
+    #[inline(always)]
+    fn new(r2: f64, cutoff: f64) -> Self {
         let r = r2.sqrt();
         let inv_r = 1.0 / r;
         let (inv_r3, x) = (inv_r / r2, r / cutoff);
@@ -83,8 +163,8 @@ impl ShiftedForceFactors {
     }
 
     /// The potential and field `(phi, E)` at offset `r` from a source.
-    #[inline]
-    pub(super) fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>) {
+    #[inline(always)]
+    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>) {
         let [s0, s1, s2] = self.s;
         let (q_s, mu_s) = (source.charge, &source.dipole);
         let s_r = mu_s.dot(r);
@@ -96,8 +176,8 @@ impl ShiftedForceFactors {
 
     /// The force on a target at offset `r` (`|r|^2` the factors' `r2`)
     /// from a source.
-    #[inline]
-    pub(super) fn force(
+    #[inline(always)]
+    fn force(
         &self,
         r: &Vector3<f64>,
         r2: f64,

@@ -10,10 +10,10 @@
 //! number of threads (and, with one thread, no block is added at all).
 
 use super::electrostatics::{SiteMultipoles, SiteResponse};
-use super::electrostatics_shifted::{ElectrostaticTruncation, ShiftedForceFactors};
+use super::electrostatics_shifted::{ElectrostaticTruncation, Factors, Plain, ShiftedForceFactors};
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
-use crate::potential::multipole::{charge_dipole_force, dipole_field, radial, ChargeDipole};
+use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
@@ -388,36 +388,6 @@ impl ChargeKernel for NoCharges {
     }
 }
 
-/// The radial factors of a truncation at one distance, and what a pair
-/// takes from them.
-trait Factors {
-    fn new(r2: f64, cutoff: f64) -> Self;
-    /// The potential and field at offset `r` from a source.
-    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>);
-    /// The force on a target at offset `r` from a source.
-    fn force(
-        &self,
-        r: &Vector3<f64>,
-        r2: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> Vector3<f64>;
-    /// [`Factors::fields`]' field of a source without charge.
-    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
-        self.fields(r, source).1
-    }
-    /// [`Factors::force`] of sites without charges.
-    fn dipole_force(
-        &self,
-        r: &Vector3<f64>,
-        r2: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> Vector3<f64> {
-        self.force(r, r2, target, source)
-    }
-}
-
 /// A truncation's pair, with charges or of dipoles only.
 struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn() -> F>);
 
@@ -458,70 +428,126 @@ impl<F: Factors, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
     }
 }
 
-/// The bare pair (LAMMPS `lj/cut/dipole/cut`): the radial functions of
-/// `1/r`.
-struct Plain([f64; 5]);
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bodies::lennard_jones::{LennardJonesOptions, Mixing, Truncation};
+    use crate::bodies::site::LennardJones as Parameters;
+    use crate::bodies::space::Space;
+    use crate::potential::multipole::mesh_ewald::Carried;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
-impl Factors for Plain {
-    #[inline(always)]
-    fn new(r2: f64, _: f64) -> Self {
-        Plain(radial(0.0, r2.sqrt()))
-    }
-    #[inline(always)]
-    fn fields(&self, r: &Vector3<f64>, s: &ChargeDipole) -> (f64, Vector3<f64>) {
-        let b = &self.0;
-        (
-            s.charge * b[0] + s.dipole.dot(r) * b[1],
-            r * (s.charge * b[1]) + dipole_field(r, b, &s.dipole),
-        )
-    }
-    #[inline(always)]
-    fn force(
-        &self,
-        r: &Vector3<f64>,
-        _: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> Vector3<f64> {
-        charge_dipole_force(r, &self.0, target, source)
-    }
-    #[inline(always)]
-    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
-        dipole_field(r, &self.0, &source.dipole)
-    }
-    /// `charge_dipole_force` with zero charges.
-    #[inline(always)]
-    fn dipole_force(
-        &self,
-        r: &Vector3<f64>,
-        _: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> Vector3<f64> {
-        let (b, mu_t, mu_s) = (&self.0, &target.dipole, &source.dipole);
-        let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
-        r * (mu_t.dot(mu_s) * b[2] - t_r * s_r * b[3]) + (mu_t * s_r + mu_s * t_r) * b[2]
-    }
-}
+    /// Energies of a direct double loop agree with the pass to this
+    /// relative round-off (sums of ~1e4 terms in another order).
+    const ROUND_OFF: f64 = 1e-12;
 
-/// The shifted-force pair (LAMMPS `lj/sf/dipole/sf`).
-impl Factors for ShiftedForceFactors {
-    #[inline(always)]
-    fn new(r2: f64, cutoff: f64) -> Self {
-        ShiftedForceFactors::new(r2, cutoff)
+    /// 500 dipolar Lennard-Jones sites, one per body, on a jittered cubic
+    /// lattice in a periodic box at density 0.8: positions, multipoles
+    /// (charged or not), the term and its kinds.
+    fn fluid(charges: bool) -> (SiteMultipoles, LennardJonesTerm, Vec<Option<u32>>, Space) {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let (side, spacing) = (8, (1.0f64 / 0.8).cbrt());
+        let space = Space::Periodic(Vector3::repeat(side as f64 * spacing));
+        let mut sites = SiteMultipoles {
+            carried: Carried {
+                charges,
+                dipoles: true,
+                quadrupoles: false,
+            },
+            ..SiteMultipoles::default()
+        };
+        for k in 0..side * side * side {
+            let cell = Vector3::new(k % side, (k / side) % side, k / (side * side));
+            let jitter = Vector3::from_fn(|_, _| 0.2 * (rng.random::<f64>() - 0.5));
+            sites
+                .positions
+                .push(cell.map(|c| c as f64 * spacing) + jitter);
+            let mu = Vector3::from_fn(|_, _| rng.random::<f64>() - 0.5);
+            sites.dipoles.push(mu.normalize());
+            let q = if charges { 0.5 - (k % 2) as f64 } else { 0.0 };
+            sites.charges.push(q);
+        }
+        let options = LennardJonesOptions {
+            cutoff: 2.5,
+            truncation: Truncation::Shifted,
+            mixing: Mixing::LorentzBerthelot,
+        };
+        let parameters = vec![Parameters {
+            epsilon: 1.0,
+            sigma: 1.0,
+        }];
+        let term = LennardJonesTerm::new(options, parameters).unwrap();
+        let kinds = vec![Some(0); sites.positions.len()];
+        (sites, term, kinds, space)
     }
-    #[inline(always)]
-    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>) {
-        ShiftedForceFactors::fields(self, r, source)
-    }
-    #[inline(always)]
-    fn force(
-        &self,
-        r: &Vector3<f64>,
-        r2: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> Vector3<f64> {
-        ShiftedForceFactors::force(self, r, r2, target, source)
+
+    /// With 1, 2 and 3 threads the pass gives the same bits twice, the
+    /// forces of each count agree with one thread's to round-off and add
+    /// up to zero (Newton's third law), and the energies are those of a
+    /// direct loop over all pairs (written out here: the bare dipole-dipole
+    /// energy `(mu_i.mu_j - 3 (mu_i.r^)(mu_j.r^)) / r^3`, Coulomb's `q_i q_j
+    /// / r`, and `q_i` in the potential `mu_j.r / r^3` of `mu_j` plus `mu_i`
+    /// in the field `q_j r / r^3` of `q_j`, `r = x_i - x_j`).
+    #[test]
+    fn threads_reproduce_their_bits_and_the_direct_sums() {
+        for charges in [false, true] {
+            let (sites, term, kinds, space) = fluid(charges);
+            let n = sites.positions.len();
+            let mut list = NeighbourList::new(2.5, 0.3).unwrap().half_only();
+            list.build(&sites.positions, &(0..n as u32).collect::<Vec<_>>(), &space);
+            let terms = PairTerms {
+                lennard_jones: Some((&term, &kinds)),
+                electrostatics: Some((2.5, ElectrostaticTruncation::Plain, &sites)),
+            };
+            let (mut lj, mut coulomb) = (0.0, 0.0);
+            for i in 0..n {
+                for j in i + 1..n {
+                    let r = space.minimum_image(sites.positions[i] - sites.positions[j]);
+                    let d = r.norm();
+                    if d >= 2.5 {
+                        continue;
+                    }
+                    lj += term.pair(0, 0, d * d).0;
+                    let (mu_i, mu_j) = (sites.dipoles[i], sites.dipoles[j]);
+                    let (q_i, q_j) = (sites.charges[i], sites.charges[j]);
+                    coulomb += (mu_i.dot(&mu_j) - 3.0 * mu_i.dot(&r) * mu_j.dot(&r) / (d * d))
+                        / d.powi(3)
+                        + q_i * q_j / d
+                        + (q_i * mu_j.dot(&r) - q_j * mu_i.dot(&r)) / d.powi(3);
+                }
+            }
+            let one = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    PairPass::default()
+                        .run(&terms, &list, &sites.positions)
+                        .clone()
+                })
+            };
+            let single = one(1);
+            for threads in [1, 2, 3] {
+                let sums = one(threads);
+                assert_eq!(sums, one(threads), "{threads} threads, charges {charges}");
+                assert!(
+                    (sums.lennard_jones - lj).abs() < ROUND_OFF * lj.abs(),
+                    "{threads}"
+                );
+                assert!(
+                    (sums.electrostatic - coulomb).abs() < ROUND_OFF * coulomb.abs(),
+                    "{threads}: {} {coulomb}",
+                    sums.electrostatic
+                );
+                let scale = single.force.iter().map(|f| f.norm()).fold(0.0, f64::max);
+                let total: Vector3<f64> = sums.force.iter().sum();
+                assert!(total.norm() < 1e-10 * scale, "{threads}: {total}");
+                for (f, g) in sums.force.iter().zip(&single.force) {
+                    assert!((f - g).norm() < ROUND_OFF * scale, "{threads}");
+                }
+            }
+        }
     }
 }
