@@ -52,7 +52,11 @@ impl BodySystem {
     }
 
     /// `T_rot = 2 (K_rot - K_spins) / N_rot` (`None` without degrees of
-    /// freedom), `K_spins` the kinetic energy of the conserved spins.
+    /// freedom), `K_spins` the kinetic energy of the conserved spins. Read
+    /// at the end of a kick-based step, under Langevin it is low by
+    /// `(dt^2/4) <n_k^2> / I_k` per axis (`crate::thermostats::Langevin`:
+    /// 1.2 % for SPC/E water at 2 fs; benchmarks/RESULTS.md, issue 41, for
+    /// the other thermostats).
     pub fn rotational_temperature(&self) -> Option<f64> {
         let degrees = self.rotational_degrees();
         let spins: Vec<_> = self.types.iter().map(|t| t.conserved_spin()).collect();

@@ -34,7 +34,15 @@
 //! measured like the NVE drift). Properties: the distribution of the
 //! orientations has a bias of order `dt^2` (that of the splitting); for a
 //! free spherical top with the exact free flow the body angular velocity is
-//! sampled exactly (the A and B steps do not change it).
+//! sampled exactly (the A and B steps do not change it). Under torques the
+//! momenta a step ends on (after the last B, where `T_rot` is read) are
+//! not: on axis `k` their temperature is `T - (dt^2/4) <n_k^2> / I_k +
+//! O(dt^4)` (the last A and B steps move the O step's Maxwell momenta by
+//! `dt/2 n_k`; `<n_k^2>` the canonical mean square body torque), exactly
+//! `T (1 - (w0 dt/2)^2)` for a harmonic libration of frequency `w0`, whose
+//! orientations stay exact: a full-step reading 1.2 % low for SPC/E water
+//! at 2 fs (issue 41, benchmarks/RESULTS.md), not a bias of the sampled
+//! configurations.
 
 use super::noise::HeatNoise;
 use crate::checks::{non_negative, positive, InputError};
