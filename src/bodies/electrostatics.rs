@@ -15,18 +15,16 @@
 //! [`super::electrostatics_shifted`], the Ewald sums in
 //! [`super::electrostatics_ewald`].
 
-use super::electrostatics_shifted::{shifted_force_pair, ElectrostaticTruncation, PairResponse};
+use super::electrostatics_shifted::ElectrostaticTruncation;
 use super::neighbours::NeighbourList;
+use super::pair_pass::{PairPass, PairTerms};
 use super::space::Space;
 use crate::checks::{positive, InputError};
 use crate::potential::multipole::mesh_ewald::{
     add_source, pair_force, radial_derivatives, Carried, MeshEstimate, MeshParameters, Sources,
     DERIVATIVES, UP_TO,
 };
-use crate::potential::multipole::{
-    charge_dipole_force, dipole_field, radial, radial_functions, AutoChoice, ChargeDipole,
-    EwaldParameters,
-};
+use crate::potential::multipole::{radial_functions, AutoChoice, EwaldParameters};
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
@@ -83,6 +81,13 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// The cutoff and truncation of a sum of charges and dipoles over the
+    /// half neighbour list, which the evaluation of a body system then
+    /// makes in one pass with the Lennard-Jones term (none by default).
+    fn cutoff_pairs(&self) -> Option<(f64, ElectrostaticTruncation)> {
+        None
+    }
+
     /// Evaluates the sites' electrostatics into `out` (sized for the sites).
     fn evaluate(
         &mut self,
@@ -99,9 +104,14 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
 pub struct CutoffSum {
     cutoff: f64,
     truncation: ElectrostaticTruncation,
+    /// Whether sites carry quadrupoles (summed through the Cartesian
+    /// tensors of any order, over the full view of the neighbour list).
+    quadrupoles: bool,
     /// Each site's potential derivatives and half pair virials (sites with quadrupoles).
     derivatives: Vec<[f64; DERIVATIVES]>,
     virials: Vec<Matrix3<f64>>,
+    /// The pair pass's buffers (sites without quadrupoles).
+    pass: PairPass,
 }
 
 impl CutoffSum {
@@ -122,21 +132,12 @@ impl CutoffSum {
         Ok(CutoffSum {
             cutoff: positive(cutoff).map_err(|e| e.at("cutoff"))?,
             truncation,
+            quadrupoles: carried.quadrupoles,
             derivatives: Vec::new(),
             virials: Vec::new(),
+            pass: PairPass::default(),
         })
     }
-}
-
-/// One site's share of a pair loop: its energy (half of each pair's), its
-/// virial (half of each pair's), and its own sums.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct SiteShare {
-    pub energy: f64,
-    pub virial: Matrix3<f64>,
-    pub potential: f64,
-    pub field: Vector3<f64>,
-    pub force: Vector3<f64>,
 }
 
 /// The pairs within bodies of an Ewald sum: the sites of each body, the
@@ -216,6 +217,10 @@ impl Electrostatics for CutoffSum {
         self.cutoff
     }
 
+    fn cutoff_pairs(&self) -> Option<(f64, ElectrostaticTruncation)> {
+        (!self.quadrupoles).then_some((self.cutoff, self.truncation))
+    }
+
     fn evaluate(
         &mut self,
         sites: &SiteMultipoles,
@@ -224,8 +229,8 @@ impl Electrostatics for CutoffSum {
         out: &mut SiteResponse,
     ) {
         let n = sites.positions.len();
-        if sites.carried.quadrupoles {
-            // The Cartesian tensors of any order (the charge-dipole loop below is LAMMPS's).
+        if self.quadrupoles {
+            // The Cartesian tensors of any order (the pair pass's charge-dipole kernels are LAMMPS's).
             self.derivatives.clear();
             self.derivatives.resize(n, [0.0; DERIVATIVES]);
             self.virials.resize(n, Matrix3::zeros());
@@ -241,65 +246,10 @@ impl Electrostatics for CutoffSum {
             out.virial = self.virials.iter().sum();
             return;
         }
-        let cutoff2 = self.cutoff * self.cutoff;
-        let charged = |i: usize| ChargeDipole {
-            charge: sites.charges[i],
-            dipole: sites.dipoles[i],
+        let terms = PairTerms {
+            lennard_jones: None,
+            electrostatics: Some((self.cutoff, self.truncation, sites)),
         };
-        let shares: Vec<SiteShare> = (0..sites.positions.len())
-            .into_par_iter()
-            .map(|i| {
-                let target = charged(i);
-                let mut share = SiteShare::default();
-                if target == ChargeDipole::default() {
-                    return share;
-                }
-                for (j, r) in pairs.separations(i, &sites.positions) {
-                    let source = charged(j);
-                    if r.norm_squared() >= cutoff2 || source == ChargeDipole::default() {
-                        continue;
-                    }
-                    let pair = match self.truncation {
-                        ElectrostaticTruncation::Plain => plain_pair(&r, &target, &source),
-                        ElectrostaticTruncation::ShiftedForce => {
-                            shifted_force_pair(&r, self.cutoff, &target, &source)
-                        }
-                    };
-                    share.potential += pair.potential;
-                    share.field += pair.field;
-                    share.force += pair.force;
-                    share.virial += r * pair.force.transpose() * 0.5;
-                }
-                share.energy =
-                    0.5 * (target.charge * share.potential - target.dipole.dot(&share.field));
-                share
-            })
-            .collect();
-        gather(&shares, out);
-    }
-}
-
-/// The bare pair of a target at offset `r` from a source (LAMMPS
-/// `lj/cut/dipole/cut`).
-#[inline]
-fn plain_pair(r: &Vector3<f64>, target: &ChargeDipole, source: &ChargeDipole) -> PairResponse {
-    let b = radial(0.0, r.norm());
-    PairResponse {
-        potential: source.charge * b[0] + source.dipole.dot(r) * b[1],
-        field: r * (source.charge * b[1]) + dipole_field(r, &b, &source.dipole),
-        force: charge_dipole_force(r, &b, target, source),
-    }
-}
-
-/// The response of the per-site shares (sums in site order: the same bits
-/// for any number of threads).
-pub(super) fn gather(shares: &[SiteShare], out: &mut SiteResponse) {
-    out.energy = shares.iter().map(|s| s.energy).sum();
-    out.virial = shares.iter().map(|s| s.virial).sum();
-    for (i, s) in shares.iter().enumerate() {
-        out.potential[i] = s.potential;
-        out.field[i] = s.field;
-        out.quadrupole_conjugate[i] = Matrix3::zeros();
-        out.force[i] = s.force;
+        self.pass.run(&terms, pairs, &sites.positions).fill(out);
     }
 }

@@ -19,8 +19,12 @@
 //! exact gradients of these energies (the tests check them by central
 //! differences); the radial derivative `-d(s_l / r^(l+1))/dr = (l + 1) (1 -
 //! x^(l+2)) / r^(l+2)` is LAMMPS's `afac = 1 - x^4` for `l = 2`.
+//!
+//! Both truncations reach the pair pass through `Factors`: the radial
+//! factors at one distance, `Plain`'s bare `B_l` and
+//! `ShiftedForceFactors`.
 
-use crate::potential::multipole::ChargeDipole;
+use crate::potential::multipole::{charge_dipole_force, dipole_field, radial, ChargeDipole};
 use nalgebra::Vector3;
 
 /// How a cutoff sum of charges and dipoles is truncated.
@@ -42,47 +46,177 @@ crate::checks::named_choices!(ElectrostaticTruncation {
 
 /// A target's share of one pair: the potential `dU/dq_t`, the field `E =
 /// -dU/dmu_t` and the force `-dU/dr_t`.
+#[cfg(test)]
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct PairResponse {
+struct PairResponse {
     pub potential: f64,
     pub field: Vector3<f64>,
     pub force: Vector3<f64>,
 }
 
+/// The radial factors of a truncation at one distance, and what a pair
+/// takes from them.
+pub(super) trait Factors {
+    fn new(r2: f64, cutoff: f64) -> Self;
+    /// The potential and field at offset `r` from a source.
+    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>);
+    /// The force on a target at offset `r` from a source.
+    fn force(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64>;
+    /// [`Factors::fields`]' field of a source without charge.
+    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
+        self.fields(r, source).1
+    }
+    /// [`Factors::force`] of sites without charges.
+    fn dipole_force(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        self.force(r, r2, target, source)
+    }
+}
+
+/// The bare pair (LAMMPS `lj/cut/dipole/cut`): the radial functions of
+/// `1/r`.
+pub(super) struct Plain([f64; 5]);
+
+impl Factors for Plain {
+    #[inline(always)]
+    fn new(r2: f64, _: f64) -> Self {
+        Plain(radial(0.0, r2.sqrt()))
+    }
+    #[inline(always)]
+    fn fields(&self, r: &Vector3<f64>, s: &ChargeDipole) -> (f64, Vector3<f64>) {
+        let b = &self.0;
+        (
+            s.charge * b[0] + s.dipole.dot(r) * b[1],
+            r * (s.charge * b[1]) + dipole_field(r, b, &s.dipole),
+        )
+    }
+    #[inline(always)]
+    fn force(
+        &self,
+        r: &Vector3<f64>,
+        _: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        charge_dipole_force(r, &self.0, target, source)
+    }
+    #[inline(always)]
+    fn dipole_field(&self, r: &Vector3<f64>, source: &ChargeDipole) -> Vector3<f64> {
+        dipole_field(r, &self.0, &source.dipole)
+    }
+    /// `charge_dipole_force` with zero charges.
+    #[inline(always)]
+    fn dipole_force(
+        &self,
+        r: &Vector3<f64>,
+        _: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        let (b, mu_t, mu_s) = (&self.0, &target.dipole, &source.dipole);
+        let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
+        r * (mu_t.dot(mu_s) * b[2] - t_r * s_r * b[3]) + (mu_t * s_r + mu_s * t_r) * b[2]
+    }
+}
+
+/// The shifted-force radial factors (module doc) at `r^2 < r_c^2`:
+/// `s_l(x)` and the powers of `1/r` they multiply.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ShiftedForceFactors {
+    inv_r: f64,
+    inv_r3: f64,
+    inv_r5: f64,
+    x2: f64,
+    s: [f64; 3],
+}
+
+impl Factors for ShiftedForceFactors {
+    /// The factors at squared distance `r2` for the cutoff `cutoff`.
+    #[inline(always)]
+    fn new(r2: f64, cutoff: f64) -> Self {
+        let r = r2.sqrt();
+        let inv_r = 1.0 / r;
+        let (inv_r3, x) = (inv_r / r2, r / cutoff);
+        let (x2, x3) = (x * x, x * x * x);
+        ShiftedForceFactors {
+            inv_r,
+            inv_r3,
+            inv_r5: inv_r3 / r2,
+            x2,
+            s: [
+                (1.0 - x) * (1.0 - x),
+                1.0 - 3.0 * x2 + 2.0 * x3,
+                1.0 - 4.0 * x3 + 3.0 * x3 * x,
+            ],
+        }
+    }
+
+    /// The potential and field `(phi, E)` at offset `r` from a source.
+    #[inline(always)]
+    fn fields(&self, r: &Vector3<f64>, source: &ChargeDipole) -> (f64, Vector3<f64>) {
+        let [s0, s1, s2] = self.s;
+        let (q_s, mu_s) = (source.charge, &source.dipole);
+        let s_r = mu_s.dot(r);
+        (
+            q_s * s0 * self.inv_r + s1 * s_r * self.inv_r3,
+            r * (q_s * s1 * self.inv_r3 + 3.0 * s2 * s_r * self.inv_r5) - mu_s * (s2 * self.inv_r3),
+        )
+    }
+
+    /// The force on a target at offset `r` (`|r|^2` the factors' `r2`)
+    /// from a source.
+    #[inline(always)]
+    fn force(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> Vector3<f64> {
+        let ([_, s1, s2], x2) = (self.s, self.x2);
+        let (inv_r3, inv_r5) = (self.inv_r3, self.inv_r5);
+        let (q_t, q_s) = (target.charge, source.charge);
+        let (mu_t, mu_s) = (&target.dipole, &source.dipole);
+        let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
+        let a = mu_s * q_t - mu_t * q_s;
+        // The force's component along r, over r.
+        let radial = q_t * q_s * (1.0 - x2) * inv_r3
+            + 3.0 * a.dot(r) * (1.0 - x2) * inv_r5
+            + 3.0
+                * inv_r5
+                * ((1.0 - x2 * x2) * (mu_t.dot(mu_s) - 3.0 * t_r * s_r / r2)
+                    - 2.0 * s2 * t_r * s_r / r2);
+        r * radial - a * (s1 * inv_r3) + (mu_t * s_r + mu_s * t_r) * (3.0 * s2 * inv_r5)
+    }
+}
+
 /// The shifted-force pair (module doc) of a target at offset `r = r_t -
 /// r_s` (`|r| < cutoff`) from a source.
-#[inline]
-pub(super) fn shifted_force_pair(
+#[cfg(test)]
+fn shifted_force_pair(
     r: &Vector3<f64>,
     cutoff: f64,
     target: &ChargeDipole,
     source: &ChargeDipole,
 ) -> PairResponse {
     let r2 = r.norm_squared();
-    let inv_r = 1.0 / r2.sqrt();
-    let (inv_r3, x) = (inv_r / r2, r2.sqrt() / cutoff);
-    let inv_r5 = inv_r3 / r2;
-    let (x2, x3) = (x * x, x * x * x);
-    let (s0, s1, s2) = (
-        (1.0 - x) * (1.0 - x),
-        1.0 - 3.0 * x2 + 2.0 * x3,
-        1.0 - 4.0 * x3 + 3.0 * x3 * x,
-    );
-    let (q_t, q_s) = (target.charge, source.charge);
-    let (mu_t, mu_s) = (&target.dipole, &source.dipole);
-    let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
-    let a = mu_s * q_t - mu_t * q_s;
-    // The force's component along r, over r.
-    let radial = q_t * q_s * (1.0 - x2) * inv_r3
-        + 3.0 * a.dot(r) * (1.0 - x2) * inv_r5
-        + 3.0
-            * inv_r5
-            * ((1.0 - x2 * x2) * (mu_t.dot(mu_s) - 3.0 * t_r * s_r / r2)
-                - 2.0 * s2 * t_r * s_r / r2);
+    let factors = ShiftedForceFactors::new(r2, cutoff);
+    let (potential, field) = factors.fields(r, source);
     PairResponse {
-        potential: q_s * s0 * inv_r + s1 * s_r * inv_r3,
-        field: r * (q_s * s1 * inv_r3 + 3.0 * s2 * s_r * inv_r5) - mu_s * (s2 * inv_r3),
-        force: r * radial - a * (s1 * inv_r3) + (mu_t * s_r + mu_s * t_r) * (3.0 * s2 * inv_r5),
+        potential,
+        field,
+        force: factors.force(r, r2, target, source),
     }
 }
 

@@ -11,6 +11,7 @@
 //! pressure `P = (2 K_trans + tr W) / (3 V) + P_tail`.
 
 use super::electrostatics::SiteResponse;
+use super::pair_pass::PairTerms;
 use super::system::BodySystem;
 use nalgebra::{Matrix3, Vector3};
 
@@ -63,28 +64,36 @@ impl BodySystem {
         let n = self.sites();
         out.site_force.clear();
         out.site_force.resize(n, Vector3::zeros());
-        let mut virial = Matrix3::zeros();
         (out.lennard_jones, out.lennard_jones_tail, out.pressure_tail) = (0.0, 0.0, 0.0);
-        if let Some(term) = &self.lennard_jones {
-            let sums = &mut self.scratch.lennard_jones;
-            let positions = &self.scratch.multipoles.positions;
-            term.evaluate(positions, &self.lj_kind, &self.neighbours, sums);
-            out.lennard_jones = sums.energy;
-            virial += sums.virial;
-            add(&mut out.site_force, &sums.force);
-            if let Some(volume) = self.space.volume() {
-                (out.lennard_jones_tail, out.pressure_tail) = term.tail(&self.lj_counts, volume);
-            }
-        }
         out.electrostatic = 0.0;
         if self.electrostatics.is_some() {
             self.space_multipoles();
         }
-        if let Some(method) = &mut self.electrostatics {
-            let response = &mut self.scratch.response;
-            if response.potential.len() != n {
-                *response = SiteResponse::zeros(n);
-            }
+        // Lennard-Jones and a cutoff sum of charges and dipoles: one pass.
+        let cutoff_sum = self.electrostatics.as_ref().and_then(|e| e.cutoff_pairs());
+        let terms = PairTerms {
+            lennard_jones: self.lennard_jones.as_ref().map(|t| (t, &self.lj_kind[..])),
+            electrostatics: cutoff_sum.map(|(c, t)| (c, t, &self.scratch.multipoles)),
+        };
+        let response = &mut self.scratch.response;
+        if self.electrostatics.is_some() && response.potential.len() != n {
+            *response = SiteResponse::zeros(n);
+        }
+        let sums =
+            self.scratch
+                .pairs
+                .run(&terms, &self.neighbours, &self.scratch.multipoles.positions);
+        let mut virial = sums.virial;
+        out.lennard_jones = sums.lennard_jones;
+        out.site_force.copy_from_slice(&sums.force);
+        if cutoff_sum.is_some() {
+            sums.fill(response);
+            out.electrostatic = response.energy;
+        }
+        if let (Some(term), Some(volume)) = (&self.lennard_jones, self.space.volume()) {
+            (out.lennard_jones_tail, out.pressure_tail) = term.tail(&self.lj_counts, volume);
+        }
+        if let (Some(method), None) = (&mut self.electrostatics, cutoff_sum) {
             method.evaluate(
                 &self.scratch.multipoles,
                 &self.space,

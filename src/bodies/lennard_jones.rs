@@ -12,11 +12,8 @@
 //! `x = sigma / r_c` (all site pairs counted, those within a body too, as
 //! LAMMPS does).
 
-use super::neighbours::NeighbourList;
 use super::site::LennardJones;
 use crate::checks::{named_choices, positive, InputError};
-use nalgebra::{Matrix3, Vector3};
-use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// How the potential is cut at the cutoff.
@@ -63,10 +60,11 @@ pub struct LennardJonesOptions {
     pub mixing: Mixing,
 }
 
-/// One pair of site kinds: `4 eps sigma^12`, `4 eps sigma^6` and the
-/// truncation's constants.
+/// One pair of site kinds: its sigma, `4 eps sigma^12`, `4 eps sigma^6`
+/// and the truncation's constants.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct PairConstants {
+    sigma: f64,
     c12: f64,
     c6: f64,
     /// `u(r_c)` (shifted and force-shifted) or 0.
@@ -94,6 +92,7 @@ impl LennardJonesTerm {
                 let s6 = sigma.powi(6);
                 let (c12, c6) = (4.0 * eps * s6 * s6, 4.0 * eps * s6);
                 let plain = PairConstants {
+                    sigma,
                     c12,
                     c6,
                     shift: 0.0,
@@ -127,21 +126,48 @@ impl LennardJonesTerm {
     }
 
     /// The mixed sigma of kinds `a` and `b`.
+    #[inline]
     pub fn sigma(&self, a: usize, b: usize) -> f64 {
-        mix(self.options.mixing, &self.kinds[a], &self.kinds[b]).1
+        self.table[a * self.kinds.len() + b].sigma
     }
 
     /// The energy and `-(1/r) du/dr` (force = that times the separation) of
     /// kinds `a`, `b` at squared distance `r2 < r_c^2`.
     #[inline]
     pub fn pair(&self, a: usize, b: usize, r2: f64) -> (f64, f64) {
-        let p = &self.table[a * self.kinds.len() + b];
-        let (u, du) = p.energy_and_slope(r2);
-        if p.slope == 0.0 {
-            return (u - p.shift, -du / r2.sqrt());
+        match self.options.truncation {
+            Truncation::ForceShifted => self.pair_of::<true>(a, b, r2),
+            Truncation::Plain | Truncation::Shifted => self.pair_of::<false>(a, b, r2),
         }
-        let (r, rc) = (r2.sqrt(), self.options.cutoff);
-        (u - p.shift - (r - rc) * p.slope, -(du - p.slope) / r)
+    }
+
+    /// [`LennardJonesTerm::pair`] for a truncation known to be
+    /// force-shifted or not: no square root but for the force shift.
+    #[inline]
+    pub(super) fn pair_of<const FORCE_SHIFTED: bool>(
+        &self,
+        a: usize,
+        b: usize,
+        r2: f64,
+    ) -> (f64, f64) {
+        let p = &self.table[a * self.kinds.len() + b];
+        let inv_r2 = 1.0 / r2;
+        let inv_r6 = inv_r2 * inv_r2 * inv_r2;
+        let u = inv_r6 * (p.c12 * inv_r6 - p.c6) - p.shift;
+        let f_over_r = inv_r6 * (12.0 * p.c12 * inv_r6 - 6.0 * p.c6) * inv_r2;
+        if !FORCE_SHIFTED {
+            return (u, f_over_r);
+        }
+        let r = r2.sqrt();
+        (
+            u - (r - self.options.cutoff) * p.slope,
+            f_over_r + p.slope / r,
+        )
+    }
+
+    /// Whether the truncation is force-shifted.
+    pub(super) fn force_shifted(&self) -> bool {
+        self.options.truncation == Truncation::ForceShifted
     }
 
     /// The tail corrections `(E_tail, P_tail)` of the plain truncation for
@@ -163,56 +189,6 @@ impl LennardJonesTerm {
             }
         }
         (energy, pressure)
-    }
-}
-
-/// What a pair loop of the term gives.
-#[derive(Clone, Debug, Default)]
-pub struct PairSums {
-    /// The energy.
-    pub energy: f64,
-    /// The atomic virial `sum_pairs r_ij f_ij^T`.
-    pub virial: Matrix3<f64>,
-    /// The force on each site.
-    pub force: Vec<Vector3<f64>>,
-}
-
-impl LennardJonesTerm {
-    /// The sums over the listed pairs of sites within the cutoff, `kind[i]`
-    /// the parameters' index of site `i` (`None` for a site without
-    /// Lennard-Jones), into `out`. Per-site sums in site order: the same
-    /// bits for any number of threads.
-    pub fn evaluate(
-        &self,
-        positions: &[Vector3<f64>],
-        kind: &[Option<u32>],
-        pairs: &NeighbourList,
-        out: &mut PairSums,
-    ) {
-        let cutoff2 = self.options.cutoff * self.options.cutoff;
-        let shares: Vec<(f64, Matrix3<f64>, Vector3<f64>)> = (0..positions.len())
-            .into_par_iter()
-            .map(|i| {
-                let (mut energy, mut virial, mut force) = (0.0, Matrix3::zeros(), Vector3::zeros());
-                let Some(a) = kind[i] else {
-                    return (energy, virial, force);
-                };
-                for (j, r) in pairs.separations(i, positions) {
-                    let Some(b) = kind[j] else { continue };
-                    let r2 = r.norm_squared();
-                    if r2 < cutoff2 {
-                        let (u, f_over_r) = self.pair(a as usize, b as usize, r2);
-                        energy += 0.5 * u;
-                        force += r * f_over_r;
-                        virial += r * r.transpose() * (0.5 * f_over_r);
-                    }
-                }
-                (energy, virial, force)
-            })
-            .collect();
-        out.energy = shares.iter().map(|s| s.0).sum();
-        out.virial = shares.iter().map(|s| s.1).sum();
-        out.force = shares.iter().map(|s| s.2).collect();
     }
 }
 

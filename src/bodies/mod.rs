@@ -11,6 +11,8 @@
 //!   [`electrostatics_ewald`]: the site-pair terms (the electrostatic
 //!   methods behind one trait: a cutoff sum, plain or shifted-force, the
 //!   particle-mesh Ewald sum).
+//! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles in
+//!   one pass over the half neighbour list.
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -35,6 +37,7 @@ pub mod integrators;
 pub mod lennard_jones;
 pub mod neighbours;
 pub mod overlap;
+mod pair_pass;
 pub mod quantity;
 pub mod site;
 pub mod space;

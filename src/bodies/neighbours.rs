@@ -5,10 +5,11 @@
 //!
 //! Cost and memory O(N): cells at least `cutoff + skin` wide (wider in open
 //! space when the sites' bounding box would need more than
-//! [`CELLS_PER_SITE`] cells per site), each site compared with the sites of
-//! its 27 neighbouring cells. The list is full (each pair listed from both
-//! ends), so per-site sums need no shared writes: the results are the same
-//! bit for bit for any number of threads.
+//! [`CELLS_PER_SITE`] cells per site), each site compared with the
+//! higher-numbered sites of its 27 neighbouring cells. The list is a half
+//! list (each pair once, under its lower site, for sums that use Newton's
+//! third law); a full view (each pair under both sites, for per-site sums
+//! without shared writes) is derived from it when asked for at construction.
 
 use super::checkpoint::{bad, take_values, whole};
 use super::space::Space;
@@ -20,15 +21,31 @@ use rayon::prelude::*;
 
 /// Open space: at most this many cells per site (plus 27).
 pub const CELLS_PER_SITE: usize = 8;
+/// `1.5 * 2^52`: `(t + ROUNDING) - ROUNDING` is `t` rounded to a whole
+/// number (halves to even) for `|t| < 2^51`.
+const ROUNDING: f64 = 6_755_399_441_055_744.0;
 /// Sites per parallel task of a build.
 const SITES_PER_TASK: usize = 512;
 
-/// A full Verlet list of the sites.
+/// A Verlet list of the sites: the half list, and the full view if kept.
 #[derive(Clone, Debug)]
 pub struct NeighbourList {
     cutoff: f64,
     skin: f64,
-    /// Site `i`'s partners are `partner[start[i]..start[i + 1]]`.
+    /// Each pair once, under its lower site.
+    half: Pairs,
+    /// Each pair under both sites (`None` for a list made [`NeighbourList::half_only`]).
+    full: Option<Pairs>,
+    /// The space of the last build.
+    space: Space,
+    /// Site positions at the last build.
+    reference: Vec<Vector3<f64>>,
+    builds: u64,
+}
+
+/// Pairs stored by site: site `i`'s partners are `partner[start[i]..start[i + 1]]`.
+#[derive(Clone, Debug, Default)]
+struct Pairs {
     start: Vec<usize>,
     partner: Vec<u32>,
     /// For each pair, the box lengths between its separation and that
@@ -36,11 +53,6 @@ pub struct NeighbourList {
     /// the minimum image until the list goes stale). Sites are never more
     /// than a body's size outside the box, so the counts fit.
     image: Vec<[i8; 3]>,
-    /// The space of the last build.
-    space: Space,
-    /// Site positions at the last build.
-    reference: Vec<Vector3<f64>>,
-    builds: u64,
 }
 
 /// A grid of cells over the sites.
@@ -54,18 +66,25 @@ struct Cells {
 }
 
 impl NeighbourList {
-    /// An empty list for pairs within `cutoff` (> 0) with a skin (>= 0).
+    /// An empty list for pairs within `cutoff` (> 0) with a skin (>= 0),
+    /// keeping the full view.
     pub fn new(cutoff: f64, skin: f64) -> Result<Self, InputError> {
         Ok(NeighbourList {
             cutoff: positive(cutoff).map_err(|e| e.at("cutoff"))?,
             skin: non_negative(skin).map_err(|e| e.at("skin"))?,
-            start: Vec::new(),
-            partner: Vec::new(),
-            image: Vec::new(),
+            half: Pairs::default(),
+            full: Some(Pairs::default()),
             space: Space::Open,
             reference: Vec::new(),
             builds: 0,
         })
+    }
+
+    /// The list without its full view (half the memory and no
+    /// transposition per build), for users of [`NeighbourList::half_pairs`] only.
+    pub fn half_only(mut self) -> Self {
+        self.full = None;
+        self
     }
 
     /// `cutoff + skin`: the reach of the list.
@@ -78,33 +97,46 @@ impl NeighbourList {
         self.builds
     }
 
-    /// The partners of site `i`.
-    #[inline]
-    pub fn partners(&self, i: usize) -> &[u32] {
-        &self.partner[self.start[i]..self.start[i + 1]]
+    /// The number of pairs of the half list.
+    pub fn pairs(&self) -> usize {
+        self.half.partner.len()
     }
 
     /// The partners `j` of site `i` with the separations `x_i - x_j` of
     /// `positions` (those of the sites the list was built for, moved since)
     /// in the image of the build: the minimum image, the same bits as
     /// [`Space::minimum_image`], for every pair within the cutoff, without
-    /// its divisions and roundings.
+    /// its divisions and roundings. Every partner of `i` in the full view
+    /// (none for a list made [`NeighbourList::half_only`]).
     #[inline]
     pub fn separations<'a>(
         &'a self,
         i: usize,
         positions: &'a [Vector3<f64>],
     ) -> impl Iterator<Item = (usize, Vector3<f64>)> + 'a {
-        let range = self.start[i]..self.start[i + 1];
-        let (x, space) = (positions[i], self.space);
-        self.partner[range.clone()]
-            .iter()
-            .zip(&self.image[range])
-            .map(move |(&j, counts)| {
-                let j = j as usize;
-                let counts = Vector3::from_fn(|k, _| f64::from(counts[k]));
-                (j, x - positions[j] - space.shift(&counts))
-            })
+        let full = self.full.as_ref().filter(|f| f.start.len() > i + 1);
+        let pairs = full.unwrap_or(&self.half);
+        let range = full.map_or(0..0, |f| f.start[i]..f.start[i + 1]);
+        pairs.separations(i, range, positions, self.space)
+    }
+
+    /// [`NeighbourList::separations`] of the half list: the partners `j`
+    /// listed under site `i` (each pair once over all sites).
+    #[inline]
+    pub fn half_pairs<'a>(
+        &'a self,
+        i: usize,
+        positions: &'a [Vector3<f64>],
+    ) -> impl Iterator<Item = (usize, Vector3<f64>)> + 'a {
+        let range = self.half.start[i]..self.half.start[i + 1];
+        self.half.separations(i, range, positions, self.space)
+    }
+
+    /// Where site `i`'s pairs start in the half list (`i` up to the number
+    /// of sites): the pairs of sites `a..b` are `half_start(b) -
+    /// half_start(a)`.
+    pub fn half_start(&self, i: usize) -> usize {
+        self.half.start[i]
     }
 
     /// Whether the list must be rebuilt for `sites` in `space`: never
@@ -114,7 +146,7 @@ impl NeighbourList {
     pub fn is_stale(&self, sites: &[Vector3<f64>], space: &Space) -> bool {
         let limit = (0.5 * self.skin).powi(2);
         self.reference.len() != sites.len()
-            || self.start.is_empty()
+            || self.half.start.is_empty()
             || self.space != *space
             || sites
                 .par_iter()
@@ -128,6 +160,16 @@ impl NeighbourList {
         let reach = self.reach();
         let cells = Cells::new(sites, space, reach);
         let reach2 = reach * reach;
+        // Image counts by a product and a rounding of two additions: for a
+        // pair within reach (less than half a box length from an image) they
+        // are those of `Space::image_counts`, whose divisions and library
+        // rounding cost most of a build.
+        let inverse = match space {
+            Space::Periodic(l) => l.map(|x| 1.0 / x),
+            Space::Open => Vector3::zeros(),
+        };
+        let image_counts =
+            |d: &Vector3<f64>| d.component_mul(&inverse).map(|t| (t + ROUNDING) - ROUNDING);
         type Task = (Vec<usize>, Vec<u32>, Vec<[i8; 3]>);
         let tasks: Vec<Task> = (0..sites.len().div_ceil(SITES_PER_TASK))
             .into_par_iter()
@@ -137,14 +179,16 @@ impl NeighbourList {
                 let (mut partners, mut images) = (Vec::new(), Vec::new());
                 for i in range {
                     let before = partners.len();
-                    for c in cells.neighbours(cells.cell_of[i]) {
+                    let (x, own) = (sites[i], body[i]);
+                    let (near, count) = cells.neighbours(cells.cell_of[i]);
+                    for &c in &near[..count] {
                         for &j in cells.sites(c) {
                             let ju = j as usize;
-                            if ju == i || body[ju] == body[i] {
+                            if ju <= i || body[ju] == own {
                                 continue;
                             }
-                            let d = sites[i] - sites[ju];
-                            let image = space.image_counts(d);
+                            let d = x - sites[ju];
+                            let image = image_counts(&d);
                             if (d - space.shift(&image)).norm_squared() < reach2 {
                                 partners.push(j);
                                 images.push([0, 1, 2].map(|k| image[k] as i8));
@@ -156,21 +200,92 @@ impl NeighbourList {
                 (counts, partners, images)
             })
             .collect();
-        self.start.clear();
-        self.start.push(0);
-        self.partner.clear();
-        self.image.clear();
+        let half = &mut self.half;
+        half.start.clear();
+        half.start.push(0);
+        half.partner.clear();
+        half.image.clear();
         for (counts, partners, images) in tasks {
             for c in counts {
-                self.start.push(self.start.last().copied().unwrap_or(0) + c);
+                half.start.push(half.start.last().copied().unwrap_or(0) + c);
             }
-            self.partner.extend_from_slice(&partners);
-            self.image.extend_from_slice(&images);
+            half.partner.extend_from_slice(&partners);
+            half.image.extend_from_slice(&images);
+        }
+        if let Some(full) = &mut self.full {
+            full.fill_from(&self.half);
         }
         self.space = *space;
         self.reference.clear();
         self.reference.extend_from_slice(sites);
         self.builds += 1;
+    }
+}
+
+impl Pairs {
+    /// The partners of site `i` at `range` with their separations (see
+    /// [`NeighbourList::separations`]).
+    #[inline]
+    fn separations<'a>(
+        &'a self,
+        i: usize,
+        range: std::ops::Range<usize>,
+        positions: &'a [Vector3<f64>],
+        space: Space,
+    ) -> impl Iterator<Item = (usize, Vector3<f64>)> + 'a {
+        let x = positions[i];
+        self.partner[range.clone()]
+            .iter()
+            .zip(&self.image[range])
+            .map(move |(&j, counts)| {
+                let j = j as usize;
+                let counts = Vector3::from_fn(|k, _| f64::from(counts[k]));
+                (j, x - positions[j] - space.shift(&counts))
+            })
+    }
+
+    /// The full view of a half list: each site's partners below it (in
+    /// ascending order, their image counts negated), then those above.
+    fn fill_from(&mut self, half: &Pairs) {
+        let n = half.start.len() - 1;
+        self.start.clear();
+        self.start.resize(n + 1, 0);
+        for i in 0..n {
+            self.start[i + 1] += half.start[i + 1] - half.start[i];
+            for &j in &half.partner[half.start[i]..half.start[i + 1]] {
+                self.start[j as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            self.start[i + 1] += self.start[i];
+        }
+        let total = self.start[n];
+        self.partner.clear();
+        self.partner.resize(total, 0);
+        self.image.clear();
+        self.image.resize(total, [0; 3]);
+        let mut fill = self.start[..n].to_vec();
+        for i in 0..n {
+            for p in half.start[i]..half.start[i + 1] {
+                let j = half.partner[p] as usize;
+                self.partner[fill[j]] = i as u32;
+                self.image[fill[j]] = half.image[p].map(|c| -c);
+                fill[j] += 1;
+            }
+            // Site `i`'s own (higher) partners follow all the lower ones,
+            // which came from sites before it.
+            let own = half.start[i + 1] - half.start[i];
+            let at = self.start[i + 1] - own;
+            self.partner[at..at + own]
+                .copy_from_slice(&half.partner[half.start[i]..half.start[i + 1]]);
+            self.image[at..at + own].copy_from_slice(&half.image[half.start[i]..half.start[i + 1]]);
+        }
+    }
+
+    fn clear(&mut self) {
+        self.start.clear();
+        self.partner.clear();
+        self.image.clear();
     }
 }
 
@@ -211,9 +326,10 @@ impl NeighbourList {
         let mut reference = vec![Vector3::zeros(); sites as usize];
         let rest = take_values(rest, &mut reference, "the neighbour list's site positions")?;
         if sites == 0 {
-            self.start.clear();
-            self.partner.clear();
-            self.image.clear();
+            self.half.clear();
+            if let Some(full) = &mut self.full {
+                full.clear();
+            }
             self.reference.clear();
         } else {
             self.build(&reference, body, space);
@@ -285,11 +401,12 @@ impl Cells {
         &self.order[self.first[c]..self.first[c + 1]]
     }
 
-    /// The distinct cells next to `c` (itself included), ascending.
-    fn neighbours(&self, c: usize) -> Vec<usize> {
+    /// The distinct cells next to `c` (itself included), ascending: the
+    /// first `count` of the array.
+    fn neighbours(&self, c: usize) -> ([usize; 27], usize) {
         let [_, ny, nz] = self.counts;
         let own = [c / (ny * nz), (c / nz) % ny, c % nz];
-        let mut out = Vec::with_capacity(27);
+        let (mut out, mut count) = ([0; 27], 0);
         for dx in -1i64..=1 {
             for dy in -1i64..=1 {
                 for dz in -1i64..=1 {
@@ -307,14 +424,21 @@ impl Cells {
                         }
                     }
                     if inside {
-                        out.push((cell[0] * ny + cell[1]) * nz + cell[2]);
+                        out[count] = (cell[0] * ny + cell[1]) * nz + cell[2];
+                        count += 1;
                     }
                 }
             }
         }
-        out.sort_unstable();
-        out.dedup();
-        out
+        out[..count].sort_unstable();
+        let mut distinct = 0;
+        for k in 0..count {
+            if k == 0 || out[k] != out[distinct - 1] {
+                out[distinct] = out[k];
+                distinct += 1;
+            }
+        }
+        (out, distinct)
     }
 }
 
@@ -324,9 +448,10 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    /// The pairs of the list are exactly those a direct double loop finds
-    /// within the reach (different bodies only), periodic and open, for
-    /// boxes with 2, 3 and more cells per edge.
+    /// The pairs of the full view are exactly those a direct double loop
+    /// finds within the reach (different bodies only), periodic and open,
+    /// for boxes with 2, 3 and more cells per edge; the half list holds each
+    /// of them once, under its lower site.
     #[test]
     fn the_list_holds_exactly_the_pairs_within_reach() {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
@@ -339,17 +464,36 @@ mod tests {
             for space in [Space::Periodic(lengths), Space::Open] {
                 let mut list = NeighbourList::new(2.0, 0.5).unwrap();
                 list.build(&sites, &body, &space);
+                let mut half_pairs = Vec::new();
                 for i in 0..n {
-                    let mut found: Vec<u32> = list.partners(i).to_vec();
+                    let mut found: Vec<usize> = list.separations(i, &sites).map(|p| p.0).collect();
                     found.sort_unstable();
-                    let direct: Vec<u32> = (0..n as u32)
+                    let direct: Vec<usize> = (0..n)
                         .filter(|&j| {
-                            body[j as usize] != body[i]
-                                && space.minimum_image(sites[i] - sites[j as usize]).norm() < 2.5
+                            body[j] != body[i]
+                                && space.minimum_image(sites[i] - sites[j]).norm() < 2.5
                         })
                         .collect();
                     assert_eq!(found, direct, "site {i} in {space:?}");
+                    half_pairs.extend(list.half_pairs(i, &sites).map(|(j, _)| (i, j)));
+                    assert_eq!(
+                        list.half_start(i + 1) - list.half_start(i),
+                        direct.iter().filter(|&&j| j > i).count()
+                    );
                 }
+                let mut each_once: Vec<(usize, usize)> = half_pairs
+                    .iter()
+                    .map(|&(i, j)| (i.min(j), i.max(j)))
+                    .collect();
+                each_once.sort_unstable();
+                each_once.dedup();
+                assert_eq!(each_once.len(), half_pairs.len(), "a pair listed twice");
+                assert_eq!(
+                    2 * list.pairs(),
+                    (0..n)
+                        .map(|i| list.separations(i, &sites).count())
+                        .sum::<usize>()
+                );
             }
         }
     }

@@ -46,21 +46,22 @@ impl BodySystem {
         if positions.len() != self.sites() {
             return None;
         }
+        // The smallest (r / sigma)^2, with r^2: one square root at the end.
         let mut worst: Option<(f64, usize, usize, f64, f64)> = None;
         for (i, kind) in self.lj_kind.iter().enumerate() {
             let Some(a) = kind else { continue };
-            for &j in self.neighbours.partners(i) {
-                let j = j as usize;
+            for (j, r) in self.neighbours.half_pairs(i, positions) {
                 let Some(b) = self.lj_kind[j] else { continue };
                 let sigma = term.sigma(*a as usize, b as usize);
-                let distance = self.space.minimum_image(positions[i] - positions[j]).norm();
-                let ratio = distance / sigma;
-                if ratio.is_finite() && worst.is_none_or(|(w, ..)| ratio < w) {
-                    worst = Some((ratio, i, j, distance, sigma));
+                let r2 = r.norm_squared();
+                let ratio2 = r2 / (sigma * sigma);
+                if ratio2.is_finite() && worst.is_none_or(|(w, ..)| ratio2 < w) {
+                    worst = Some((ratio2, i, j, r2, sigma));
                 }
             }
         }
-        let (_, i, j, distance, sigma) = worst?;
+        let (_, i, j, r2, sigma) = worst?;
+        let distance = r2.sqrt();
         let site = |s: usize| {
             let body = self.site_body[s];
             let first = self.site_body.partition_point(|&b| b < body);

@@ -5,8 +5,9 @@ use super::body_type::BodyType;
 use super::electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 use super::electrostatics_ewald::{BodyEwald, EwaldOptions};
 use super::electrostatics_shifted::ElectrostaticTruncation;
-use super::lennard_jones::{LennardJonesOptions, LennardJonesTerm, PairSums};
+use super::lennard_jones::{LennardJonesOptions, LennardJonesTerm};
 use super::neighbours::NeighbourList;
+use super::pair_pass::PairPass;
 use super::site::LennardJones;
 use super::space::Space;
 use crate::checks::{each, finite, non_negative, orientation, InputError};
@@ -86,7 +87,7 @@ pub struct BodySystem {
 pub(super) struct Scratch {
     pub multipoles: SiteMultipoles,
     pub response: SiteResponse,
-    pub lennard_jones: PairSums,
+    pub pairs: PairPass,
     /// Site offsets from their centres, space frame.
     pub offsets: Vec<Vector3<f64>>,
 }
@@ -149,6 +150,11 @@ impl BodySystem {
         .fold(0.0, f64::max);
         // Bodies without interacting sites still get a (never used) list.
         let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
+        // Only an electrostatic sum outside the pair pass reads the full view.
+        let neighbours = match &electrostatics {
+            Some(e) if e.cutoff_pairs().is_none() => neighbours,
+            _ => neighbours.half_only(),
+        };
         space.check(neighbours.reach())?;
         Ok(BodySystem {
             types,

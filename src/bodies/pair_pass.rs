@@ -1,0 +1,553 @@
+//! One pass over the half neighbour list for the short-range pair terms:
+//! Lennard-Jones and the cutoff sum of charges and dipoles together, each
+//! pair once, its force added to one site and subtracted from the other
+//! (Newton's third law). The truncations are dispatched once per pass, to a
+//! kernel monomorphised for them.
+//!
+//! Threads take contiguous ranges of sites with about equal numbers of
+//! pairs, each accumulating into its own block of per-site sums; the blocks
+//! are added in range order, so the results are the same bits for a given
+//! number of threads (and, with one thread, no block is added at all).
+
+use super::electrostatics::{SiteMultipoles, SiteResponse};
+use super::electrostatics_shifted::{ElectrostaticTruncation, Factors, Plain, ShiftedForceFactors};
+use super::lennard_jones::LennardJonesTerm;
+use super::neighbours::NeighbourList;
+use crate::potential::multipole::ChargeDipole;
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+/// The terms of a pass: Lennard-Jones with each site's parameters' index
+/// (`None` for a site without), and the cutoff sum of charges and dipoles
+/// with its cutoff and truncation.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PairTerms<'a> {
+    pub lennard_jones: Option<(&'a LennardJonesTerm, &'a [Option<u32>])>,
+    pub electrostatics: Option<(f64, ElectrostaticTruncation, &'a SiteMultipoles)>,
+}
+
+/// The sums of a pass (of one thread's range of sites, before they are
+/// added).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct PairSums {
+    /// The Lennard-Jones energy.
+    pub lennard_jones: f64,
+    /// The electrostatic energy.
+    pub electrostatic: f64,
+    /// The atomic virial `sum_pairs r_ij f_ij^T` of both terms.
+    pub virial: Matrix3<f64>,
+    /// The force on each site, both terms.
+    pub force: Vec<Vector3<f64>>,
+    /// The electrostatic potential and field at each site (empty without
+    /// electrostatics).
+    pub potential: Vec<f64>,
+    pub field: Vec<Vector3<f64>>,
+}
+
+/// The buffers of a pass, reused from one to the next.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct PairPass {
+    /// One block per thread; the first holds the total after a pass.
+    blocks: Vec<PairSums>,
+    /// Whether each site carries a charge or a dipole.
+    charged: Vec<bool>,
+}
+
+impl PairPass {
+    /// Sums `terms` over the pairs of `list` at site positions `positions`;
+    /// the totals are returned.
+    pub(super) fn run(
+        &mut self,
+        terms: &PairTerms<'_>,
+        list: &NeighbourList,
+        positions: &[Vector3<f64>],
+    ) -> &PairSums {
+        let n = positions.len();
+        let threads = rayon::current_num_threads().clamp(1, n.max(1));
+        self.blocks.resize_with(threads, PairSums::default);
+        let electrostatics = terms.electrostatics.is_some();
+        for block in &mut self.blocks {
+            block.reset(n, electrostatics);
+        }
+        self.charged.clear();
+        if let Some((_, _, m)) = terms.electrostatics {
+            let zero = ChargeDipole::default();
+            self.charged.extend((0..n).map(|i| charged(m, i) != zero));
+        }
+        let inputs = Inputs {
+            terms,
+            list,
+            positions,
+            charged: &self.charged,
+        };
+        let blocks = &mut self.blocks;
+        use ElectrostaticTruncation as E;
+        match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
+            None => inputs.with_lennard_jones::<NoCharges>(blocks),
+            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Plain, true>>(blocks),
+            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Plain, false>>(blocks),
+            Some((E::ShiftedForce, true)) => {
+                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, true>>(blocks)
+            }
+            Some((E::ShiftedForce, false)) => {
+                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, false>>(blocks)
+            }
+        }
+        let (first, rest) = self.blocks.split_at_mut(1);
+        let total = &mut first[0];
+        for block in rest.iter() {
+            total.lennard_jones += block.lennard_jones;
+            total.virial += block.virial;
+        }
+        if !rest.is_empty() {
+            total
+                .force
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(1024)
+                .for_each(|(s, f)| rest.iter().for_each(|b| *f += b.force[s]));
+            if electrostatics {
+                total
+                    .field
+                    .par_iter_mut()
+                    .zip(total.potential.par_iter_mut())
+                    .enumerate()
+                    .with_min_len(1024)
+                    .for_each(|(s, (e, p))| {
+                        for b in rest.iter() {
+                            *e += b.field[s];
+                            *p += b.potential[s];
+                        }
+                    });
+            }
+        }
+        if let Some((_, _, m)) = terms.electrostatics {
+            // Half of each site's charge in its potential and dipole in its field.
+            total.electrostatic = (0..n)
+                .map(|i| {
+                    0.5 * (m.charges[i] * total.potential[i] - m.dipoles[i].dot(&total.field[i]))
+                })
+                .sum();
+        }
+        total
+    }
+}
+
+impl PairSums {
+    /// The electrostatic response of the sums (their forces those of the
+    /// electrostatics only when the pass had no Lennard-Jones term).
+    pub(super) fn fill(&self, out: &mut SiteResponse) {
+        out.energy = self.electrostatic;
+        out.virial = self.virial;
+        out.potential.copy_from_slice(&self.potential);
+        out.field.copy_from_slice(&self.field);
+        out.force.copy_from_slice(&self.force);
+        out.quadrupole_conjugate.fill(Matrix3::zeros());
+    }
+
+    /// Zero sums for `n` sites (with the electrostatic ones or not).
+    fn reset(&mut self, n: usize, electrostatics: bool) {
+        (self.lennard_jones, self.electrostatic) = (0.0, 0.0);
+        self.virial = Matrix3::zeros();
+        self.force.clear();
+        self.force.resize(n, Vector3::zeros());
+        let m = if electrostatics { n } else { 0 };
+        self.potential.clear();
+        self.potential.resize(m, 0.0);
+        self.field.clear();
+        self.field.resize(m, Vector3::zeros());
+    }
+}
+
+/// Site `i`'s charge and dipole.
+#[inline]
+fn charged(m: &SiteMultipoles, i: usize) -> ChargeDipole {
+    ChargeDipole {
+        charge: m.charges[i],
+        dipole: m.dipoles[i],
+    }
+}
+
+/// What the kernels read.
+struct Inputs<'a> {
+    terms: &'a PairTerms<'a>,
+    list: &'a NeighbourList,
+    positions: &'a [Vector3<f64>],
+    charged: &'a [bool],
+}
+
+impl<'a> Inputs<'a> {
+    /// The pass with the charge kernel `C` and the Lennard-Jones kernel of the terms.
+    fn with_lennard_jones<C: ChargeKernel>(&self, blocks: &mut [PairSums]) {
+        match self.terms.lennard_jones.map(|(t, _)| t.force_shifted()) {
+            None if C::ON => self.sum::<NoLennardJones, C>(blocks),
+            None => {}
+            Some(false) => self.sum::<LennardJones<'_, false>, C>(blocks),
+            Some(true) => self.sum::<LennardJones<'_, true>, C>(blocks),
+        }
+    }
+
+    /// The pass with the kernels `L` and `C`, one range of sites per block.
+    fn sum<L: PairKernel<'a>, C: ChargeKernel>(&self, blocks: &mut [PairSums]) {
+        let n = self.positions.len();
+        let (threads, pairs) = (blocks.len(), self.list.pairs());
+        // The first site with at least `k pairs / threads` pairs before it.
+        let bound = |k: usize| {
+            let before = k * pairs / threads;
+            let (mut lo, mut hi) = (0, n);
+            while lo < hi {
+                let mid = (lo + hi) / 2;
+                if self.list.half_start(mid) < before {
+                    lo = mid + 1;
+                } else {
+                    hi = mid;
+                }
+            }
+            lo
+        };
+        let bounds: Vec<usize> = (0..=threads)
+            .map(|k| if k == threads { n } else { bound(k) })
+            .collect();
+        if threads == 1 {
+            self.range::<L, C>(0..n, &mut blocks[0]);
+        } else {
+            blocks
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(k, block)| self.range::<L, C>(bounds[k]..bounds[k + 1], block));
+        }
+    }
+
+    /// The pairs listed under the sites of `sites` into `out`.
+    #[inline(always)]
+    fn range<L: PairKernel<'a>, C: ChargeKernel>(
+        &self,
+        sites: std::ops::Range<usize>,
+        out: &mut PairSums,
+    ) {
+        let Some(lj) = L::new(self.terms.lennard_jones.map(|t| t.0)) else {
+            return;
+        };
+        let (lj_cutoff2, kind) = self
+            .terms
+            .lennard_jones
+            .map_or((0.0, &[][..]), |(t, kind)| (t.cutoff() * t.cutoff(), kind));
+        let (coulomb_cutoff, multipoles) = match self.terms.electrostatics {
+            Some((cutoff, _, m)) => (cutoff, Some(m)),
+            None => (0.0, None),
+        };
+        let (coulomb, coulomb_cutoff2) = (C::new(), coulomb_cutoff * coulomb_cutoff);
+        let mut lj_energy = 0.0;
+        // The virial's components, row by row (nalgebra's outer product
+        // costs several times these nine products).
+        let mut virial = [0.0; 9];
+        for i in sites {
+            let a = if L::ON { kind[i] } else { None };
+            let target = match multipoles {
+                Some(m) if C::ON && self.charged[i] => Some(charged(m, i)),
+                _ => None,
+            };
+            if a.is_none() && target.is_none() {
+                continue;
+            }
+            let (mut force_i, mut field_i, mut potential_i) =
+                (Vector3::zeros(), Vector3::zeros(), 0.0);
+            for (j, r) in self.list.half_pairs(i, self.positions) {
+                let r2 = r.norm_squared();
+                let mut f = Vector3::zeros();
+                if let (true, Some(a), Some(b)) =
+                    (r2 < lj_cutoff2, a, kind.get(j).copied().flatten())
+                {
+                    let (u, f_over_r) = lj.pair(a as usize, b as usize, r2);
+                    lj_energy += u;
+                    f = r * f_over_r;
+                }
+                if let (true, Some(t), Some(m)) = (r2 < coulomb_cutoff2, &target, multipoles) {
+                    if self.charged[j] {
+                        let s = charged(m, j);
+                        let pair = coulomb.pair(&r, r2, coulomb_cutoff, t, &s);
+                        field_i += pair.field;
+                        out.field[j] += pair.source_field;
+                        if C::CHARGES {
+                            potential_i += pair.potential;
+                            out.potential[j] += pair.source_potential;
+                        }
+                        f += pair.force;
+                    }
+                }
+                force_i += f;
+                out.force[j] -= f;
+                for a in 0..3 {
+                    for b in 0..3 {
+                        virial[3 * a + b] += r[a] * f[b];
+                    }
+                }
+            }
+            out.force[i] += force_i;
+            if target.is_some() {
+                out.potential[i] += potential_i;
+                out.field[i] += field_i;
+            }
+        }
+        out.lennard_jones = lj_energy;
+        out.virial = Matrix3::from_row_slice(&virial);
+    }
+}
+
+/// The Lennard-Jones pair of a pass.
+trait PairKernel<'a>: Sync + Sized {
+    /// Whether the pass has the term.
+    const ON: bool;
+    /// The kernel of `term` (`None` if the pass needs the term and has none).
+    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self>;
+    /// Energy and `-(1/r) du/dr` of kinds `a`, `b` at `r2` within the cutoff.
+    fn pair(&self, a: usize, b: usize, r2: f64) -> (f64, f64);
+}
+
+struct NoLennardJones;
+
+impl PairKernel<'_> for NoLennardJones {
+    const ON: bool = false;
+    fn new(_: Option<&LennardJonesTerm>) -> Option<Self> {
+        Some(NoLennardJones)
+    }
+    fn pair(&self, _: usize, _: usize, _: f64) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+}
+
+/// The term, force-shifted or not.
+struct LennardJones<'a, const FORCE_SHIFTED: bool>(&'a LennardJonesTerm);
+
+impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SHIFTED> {
+    const ON: bool = true;
+    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self> {
+        term.map(LennardJones)
+    }
+    #[inline(always)]
+    fn pair(&self, a: usize, b: usize, r2: f64) -> (f64, f64) {
+        self.0.pair_of::<FORCE_SHIFTED>(a, b, r2)
+    }
+}
+
+/// Both ends of a charge-dipole pair: the target's potential, field and
+/// force, and the source's potential and field (its force is minus the
+/// target's).
+struct BothEnds {
+    potential: f64,
+    field: Vector3<f64>,
+    force: Vector3<f64>,
+    source_potential: f64,
+    source_field: Vector3<f64>,
+}
+
+/// The charge-dipole pair of a pass.
+trait ChargeKernel: Sync + Sized {
+    /// Whether the pass has the term.
+    const ON: bool;
+    /// Whether some site carries a charge (if not, the potentials are
+    /// left zero: nothing reads them).
+    const CHARGES: bool;
+    fn new() -> Self;
+    /// The pair of a target at offset `r` (`r2 = |r|^2` within `cutoff`)
+    /// from a source.
+    fn pair(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        cutoff: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> BothEnds;
+}
+
+/// No charges or dipoles.
+struct NoCharges;
+
+impl ChargeKernel for NoCharges {
+    const ON: bool = false;
+    const CHARGES: bool = false;
+    fn new() -> Self {
+        NoCharges
+    }
+    fn pair(
+        &self,
+        _: &Vector3<f64>,
+        _: f64,
+        _: f64,
+        _: &ChargeDipole,
+        _: &ChargeDipole,
+    ) -> BothEnds {
+        BothEnds {
+            potential: 0.0,
+            field: Vector3::zeros(),
+            force: Vector3::zeros(),
+            source_potential: 0.0,
+            source_field: Vector3::zeros(),
+        }
+    }
+}
+
+/// A truncation's pair, with charges or of dipoles only.
+struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn() -> F>);
+
+impl<F: Factors, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
+    const ON: bool = true;
+    const CHARGES: bool = CHARGES;
+    fn new() -> Self {
+        Truncated(std::marker::PhantomData)
+    }
+    #[inline(always)]
+    fn pair(
+        &self,
+        r: &Vector3<f64>,
+        r2: f64,
+        cutoff: f64,
+        target: &ChargeDipole,
+        source: &ChargeDipole,
+    ) -> BothEnds {
+        let factors = F::new(r2, cutoff);
+        if !CHARGES {
+            return BothEnds {
+                potential: 0.0,
+                field: factors.dipole_field(r, source),
+                force: factors.dipole_force(r, r2, target, source),
+                source_potential: 0.0,
+                source_field: factors.dipole_field(&-r, target),
+            };
+        }
+        let ((potential, field), (source_potential, source_field)) =
+            (factors.fields(r, source), factors.fields(&-r, target));
+        BothEnds {
+            potential,
+            field,
+            force: factors.force(r, r2, target, source),
+            source_potential,
+            source_field,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bodies::lennard_jones::{LennardJonesOptions, Mixing, Truncation};
+    use crate::bodies::site::LennardJones as Parameters;
+    use crate::bodies::space::Space;
+    use crate::potential::multipole::mesh_ewald::Carried;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Energies of a direct double loop agree with the pass to this
+    /// relative round-off (sums of ~1e4 terms in another order).
+    const ROUND_OFF: f64 = 1e-12;
+
+    /// 500 dipolar Lennard-Jones sites, one per body, on a jittered cubic
+    /// lattice in a periodic box at density 0.8: positions, multipoles
+    /// (charged or not), the term and its kinds.
+    fn fluid(charges: bool) -> (SiteMultipoles, LennardJonesTerm, Vec<Option<u32>>, Space) {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let (side, spacing) = (8, (1.0f64 / 0.8).cbrt());
+        let space = Space::Periodic(Vector3::repeat(side as f64 * spacing));
+        let mut sites = SiteMultipoles {
+            carried: Carried {
+                charges,
+                dipoles: true,
+                quadrupoles: false,
+            },
+            ..SiteMultipoles::default()
+        };
+        for k in 0..side * side * side {
+            let cell = Vector3::new(k % side, (k / side) % side, k / (side * side));
+            let jitter = Vector3::from_fn(|_, _| 0.2 * (rng.random::<f64>() - 0.5));
+            sites
+                .positions
+                .push(cell.map(|c| c as f64 * spacing) + jitter);
+            let mu = Vector3::from_fn(|_, _| rng.random::<f64>() - 0.5);
+            sites.dipoles.push(mu.normalize());
+            let q = if charges { 0.5 - (k % 2) as f64 } else { 0.0 };
+            sites.charges.push(q);
+        }
+        let options = LennardJonesOptions {
+            cutoff: 2.5,
+            truncation: Truncation::Shifted,
+            mixing: Mixing::LorentzBerthelot,
+        };
+        let parameters = vec![Parameters {
+            epsilon: 1.0,
+            sigma: 1.0,
+        }];
+        let term = LennardJonesTerm::new(options, parameters).unwrap();
+        let kinds = vec![Some(0); sites.positions.len()];
+        (sites, term, kinds, space)
+    }
+
+    /// With 1, 2 and 3 threads the pass gives the same bits twice, the
+    /// forces of each count agree with one thread's to round-off and add
+    /// up to zero (Newton's third law), and the energies are those of a
+    /// direct loop over all pairs (written out here: the bare dipole-dipole
+    /// energy `(mu_i.mu_j - 3 (mu_i.r^)(mu_j.r^)) / r^3`, Coulomb's `q_i q_j
+    /// / r`, and `q_i` in the potential `mu_j.r / r^3` of `mu_j` plus `mu_i`
+    /// in the field `q_j r / r^3` of `q_j`, `r = x_i - x_j`).
+    #[test]
+    fn threads_reproduce_their_bits_and_the_direct_sums() {
+        for charges in [false, true] {
+            let (sites, term, kinds, space) = fluid(charges);
+            let n = sites.positions.len();
+            let mut list = NeighbourList::new(2.5, 0.3).unwrap().half_only();
+            list.build(&sites.positions, &(0..n as u32).collect::<Vec<_>>(), &space);
+            let terms = PairTerms {
+                lennard_jones: Some((&term, &kinds)),
+                electrostatics: Some((2.5, ElectrostaticTruncation::Plain, &sites)),
+            };
+            let (mut lj, mut coulomb) = (0.0, 0.0);
+            for i in 0..n {
+                for j in i + 1..n {
+                    let r = space.minimum_image(sites.positions[i] - sites.positions[j]);
+                    let d = r.norm();
+                    if d >= 2.5 {
+                        continue;
+                    }
+                    lj += term.pair(0, 0, d * d).0;
+                    let (mu_i, mu_j) = (sites.dipoles[i], sites.dipoles[j]);
+                    let (q_i, q_j) = (sites.charges[i], sites.charges[j]);
+                    coulomb += (mu_i.dot(&mu_j) - 3.0 * mu_i.dot(&r) * mu_j.dot(&r) / (d * d))
+                        / d.powi(3)
+                        + q_i * q_j / d
+                        + (q_i * mu_j.dot(&r) - q_j * mu_i.dot(&r)) / d.powi(3);
+                }
+            }
+            let one = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    PairPass::default()
+                        .run(&terms, &list, &sites.positions)
+                        .clone()
+                })
+            };
+            let single = one(1);
+            for threads in [1, 2, 3] {
+                let sums = one(threads);
+                assert_eq!(sums, one(threads), "{threads} threads, charges {charges}");
+                assert!(
+                    (sums.lennard_jones - lj).abs() < ROUND_OFF * lj.abs(),
+                    "{threads}"
+                );
+                assert!(
+                    (sums.electrostatic - coulomb).abs() < ROUND_OFF * coulomb.abs(),
+                    "{threads}: {} {coulomb}",
+                    sums.electrostatic
+                );
+                let scale = single.force.iter().map(|f| f.norm()).fold(0.0, f64::max);
+                let total: Vector3<f64> = sums.force.iter().sum();
+                assert!(total.norm() < 1e-10 * scale, "{threads}: {total}");
+                for (f, g) in sums.force.iter().zip(&single.force) {
+                    assert!((f - g).norm() < ROUND_OFF * scale, "{threads}");
+                }
+            }
+        }
+    }
+}
