@@ -238,13 +238,13 @@ const SPLINE_COST: f64 = 0.01;
 /// The cost of a real-space pair of the unrolled charge kernels (the mesh
 /// sum's and the moving bodies') relative to the general kernel: 87 to 106
 /// ns per pair, search included, for 12,000 random charges at 97 per unit
-/// volume with `r_c` from 0.2 to 1 (the measurements of [`FFT_COST`]).
+/// volume with `r_c` from 0.2 to 1 (the measurements of `FFT_COST`).
 pub const CHARGE_PAIR_COST: f64 = 0.25;
 
 /// The cost of a real-space pair of the mesh sum's unrolled kernel of
 /// charges and dipoles relative to the general kernel: 148 ns per pair,
 /// search included, for 10,000 random dipoles at density 0.8 with `r_c`
-/// from 1 to 2.5 (the measurements of [`FFT_COST`]).
+/// from 1 to 2.5 (the measurements of `FFT_COST`).
 pub const DIPOLE_PAIR_COST: f64 = 0.37;
 
 /// The parameters for `sites` sites carrying `carried` in `box_lengths` at
