@@ -4,12 +4,12 @@
 use super::auto_choice::{AutoChoice, DIRECT_SECONDS_PER_UNIT, PME_SECONDS_PER_UNIT};
 use super::ewald::EwaldSum;
 use super::lattice_fft::LatticeFft;
-use super::lattice_grid;
-use super::mesh_ewald::{mesh_cost, Carried, ForcedMesh};
+use super::lattice_grid::{self, LatticeGrid};
+use super::mesh_ewald::{mesh_cost, Carried, ForcedMesh, MeshEstimate, MeshParameters};
 use super::mesh_sum::MeshSum;
 use super::pairs::{OpenPairs, PairTable};
 use super::row_quads::RowQuads;
-use super::sum_method::SumMethod;
+use super::sum_method::{SumMethod, SumPath};
 use super::{Accuracy, Boundary, EwaldParameters, PeriodicSum, PotentialError, SumKind, Surface};
 use nalgebra::Vector3;
 
@@ -59,16 +59,8 @@ impl FieldSum {
             return Ok((Self::open(sites, method)?, None));
         };
         if method == SumMethod::Pme {
-            let PeriodicSum::Ewald { accuracy, surface } = sum else {
-                return Err(PotentialError::new(
-                    "method",
-                    "the mesh Ewald sum needs sum = \"ewald\", got sum = \"cutoff\"",
-                ));
-            };
-            if !sites.is_empty() {
-                let chosen = MeshSum::choose(sites.len(), &box_lengths, (accuracy, forced), kinds)?;
-                let mesh = MeshSum::new(sites, box_lengths, (accuracy, surface), chosen, kinds)?;
-                return Ok((FieldSum::Mesh(Box::new(mesh)), None));
+            if let Some(mesh) = Self::pme(sites, (box_lengths, sum), forced, kinds)? {
+                return Ok((mesh, None));
             }
         }
         if sites.is_empty() {
@@ -119,6 +111,27 @@ impl FieldSum {
             }
             _ => Ok((pair_sum((box_lengths, chosen.reach))?, None)),
         }
+    }
+
+    /// The mesh Ewald sum `method = "pme"` asks for (none without sites).
+    fn pme(
+        sites: &[Vector3<f64>],
+        (box_lengths, sum): (Vector3<f64>, PeriodicSum),
+        forced: &ForcedMesh,
+        kinds: (bool, bool),
+    ) -> Result<Option<FieldSum>, PotentialError> {
+        let PeriodicSum::Ewald { accuracy, surface } = sum else {
+            return Err(PotentialError::new(
+                "method",
+                "the mesh Ewald sum needs sum = \"ewald\", got sum = \"cutoff\"",
+            ));
+        };
+        if sites.is_empty() {
+            return Ok(None);
+        }
+        let chosen = MeshSum::choose(sites.len(), &box_lengths, (accuracy, forced), kinds)?;
+        let mesh = MeshSum::new(sites, box_lengths, (accuracy, surface), chosen, kinds)?;
+        Ok(Some(FieldSum::Mesh(Box::new(mesh))))
     }
 
     /// The direct Ewald sum of `sites` with `parameters`, or, when `auto`
@@ -176,5 +189,61 @@ impl FieldSum {
             ));
         }
         Ok(FieldSum::Open(OpenPairs::new(sites)?))
+    }
+
+    /// Interacting pairs of the pair list, each once (module's
+    /// `MultipolePotential::pair_count`).
+    pub(super) fn pair_count(&self) -> usize {
+        match self {
+            FieldSum::Open(pairs) => pairs.len(),
+            FieldSum::Pairs { pairs, .. } => pairs.len(),
+            FieldSum::Ewald(ewald) => ewald.real_pairs(),
+            FieldSum::LatticeFft(_) | FieldSum::Mesh(_) => 0,
+        }
+    }
+
+    /// Distinct pair geometries stored (the truncated periodic pair list's).
+    pub(super) fn geometry_count(&self) -> usize {
+        match self {
+            FieldSum::Pairs { pairs, .. } => pairs.geometry.len(),
+            _ => 0,
+        }
+    }
+
+    /// The way the pair fields are summed.
+    pub(super) fn path(&self) -> SumPath {
+        match self {
+            FieldSum::Pairs { .. } => SumPath::CutoffPairs,
+            FieldSum::Open(_) => SumPath::OpenPairs,
+            FieldSum::Ewald(_) => SumPath::EwaldDirect,
+            FieldSum::LatticeFft(fft) if fft.parameters().is_some() => SumPath::EwaldLatticeFft,
+            FieldSum::LatticeFft(_) => SumPath::CutoffLatticeFft,
+            FieldSum::Mesh(_) => SumPath::EwaldPme,
+        }
+    }
+
+    /// The FFT lattice sum's lattice.
+    pub(super) fn lattice(&self) -> Option<&LatticeGrid> {
+        match self {
+            FieldSum::LatticeFft(fft) => Some(fft.grid()),
+            _ => None,
+        }
+    }
+
+    /// The Ewald parameters of the direct or FFT lattice Ewald sum.
+    pub(super) fn ewald_parameters(&self) -> Option<EwaldParameters> {
+        match self {
+            FieldSum::Ewald(ewald) => Some(ewald.parameters()),
+            FieldSum::LatticeFft(fft) => fft.parameters(),
+            FieldSum::Pairs { .. } | FieldSum::Open(_) | FieldSum::Mesh(_) => None,
+        }
+    }
+
+    /// The mesh Ewald sum's parameters and estimated errors.
+    pub(super) fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
+        match self {
+            FieldSum::Mesh(mesh) => Some(mesh.parameters()),
+            _ => None,
+        }
     }
 }

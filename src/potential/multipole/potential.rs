@@ -160,52 +160,30 @@ impl MultipolePotential {
     /// real-space pairs of a direct Ewald sum; 0 for an FFT lattice sum and
     /// the mesh Ewald sum).
     pub fn pair_count(&self) -> usize {
-        match &self.sum {
-            FieldSum::Open(pairs) => pairs.len(),
-            FieldSum::Pairs { pairs, .. } => pairs.len(),
-            FieldSum::Ewald(ewald) => ewald.real_pairs(),
-            FieldSum::LatticeFft(_) | FieldSum::Mesh(_) => 0,
-        }
+        self.sum.pair_count()
     }
 
     /// Number of distinct pair geometries stored (shared by equal offsets;
     /// 0 unless the pair list of a truncated periodic sum is used: open
     /// clusters compute theirs row by row).
     pub fn geometry_count(&self) -> usize {
-        match &self.sum {
-            FieldSum::Pairs { pairs, .. } => pairs.geometry.len(),
-            _ => 0,
-        }
+        self.sum.geometry_count()
     }
 
     /// The way the pair fields are summed.
     pub fn sum_path(&self) -> SumPath {
-        match &self.sum {
-            FieldSum::Pairs { .. } => SumPath::CutoffPairs,
-            FieldSum::Open(_) => SumPath::OpenPairs,
-            FieldSum::Ewald(_) => SumPath::EwaldDirect,
-            FieldSum::LatticeFft(fft) if fft.parameters().is_some() => SumPath::EwaldLatticeFft,
-            FieldSum::LatticeFft(_) => SumPath::CutoffLatticeFft,
-            FieldSum::Mesh(_) => SumPath::EwaldPme,
-        }
+        self.sum.path()
     }
 
     /// The lattice of the box the FFT lattice sum runs on (`None` for the other sums).
     pub fn lattice(&self) -> Option<&LatticeGrid> {
-        match &self.sum {
-            FieldSum::LatticeFft(fft) => Some(fft.grid()),
-            _ => None,
-        }
+        self.sum.lattice()
     }
 
     /// The Ewald parameters chosen for the requested accuracy (`None`
     /// without an Ewald sum).
     pub fn ewald_parameters(&self) -> Option<EwaldParameters> {
-        match &self.sum {
-            FieldSum::Ewald(ewald) => Some(ewald.parameters()),
-            FieldSum::LatticeFft(fft) => fft.parameters(),
-            FieldSum::Pairs { .. } | FieldSum::Open(_) | FieldSum::Mesh(_) => None,
-        }
+        self.sum.ewald_parameters()
     }
 
     /// What `method = "auto"` compared when it chose between the direct
@@ -218,10 +196,7 @@ impl MultipolePotential {
     /// The mesh Ewald parameters chosen for the requested accuracy and
     /// their estimated errors (`None` without the mesh Ewald sum).
     pub fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
-        match &self.sum {
-            FieldSum::Mesh(mesh) => Some(mesh.parameters()),
-            _ => None,
-        }
+        self.sum.mesh_parameters()
     }
 
     /// One evaluation: returns the energy and, when asked, adds the eq 14

@@ -98,6 +98,61 @@ impl CellList {
         }
     }
 
+    /// Calls `pair(j, r, r^2)` for every site `j != i` closer than
+    /// `sqrt(cutoff_squared)` to site `i`, `r = r_i - r_j` at the image of
+    /// `j` in reach (the cells of the last build).
+    fn for_each_partner(
+        &self,
+        i: usize,
+        wrapped: &[Vector3<f64>],
+        box_lengths: &Vector3<f64>,
+        cutoff_squared: f64,
+        mut pair: impl FnMut(usize, Vector3<f64>, f64),
+    ) {
+        let cells = self.cells;
+        // The cell `h + o` of a home coordinate `h` and an offset `o` along
+        // axis `a`, and the shift of its image: every offset is a distinct
+        // image (at least 4 cells per axis), at most one within `r_c <= L_a / 2`.
+        let neighbour = |a: usize, h: usize, o: usize| -> (usize, f64) {
+            let c = h + o;
+            if c < REACH {
+                (c + cells[a] - REACH, -box_lengths[a])
+            } else if c - REACH >= cells[a] {
+                (c - REACH - cells[a], box_lengths[a])
+            } else {
+                (c - REACH, 0.0)
+            }
+        };
+        let c = self.cell_of[i];
+        let home = [
+            c / (cells[1] * cells[2]),
+            (c / cells[2]) % cells[1],
+            c % cells[2],
+        ];
+        for ox in 0..=2 * REACH {
+            let (cx, sx) = neighbour(0, home[0], ox);
+            for oy in 0..=2 * REACH {
+                let (cy, sy) = neighbour(1, home[1], oy);
+                for oz in 0..=2 * REACH {
+                    let (cz, sz) = neighbour(2, home[2], oz);
+                    // r = r_i - (r_j + shift): the image of j in that cell.
+                    let base = wrapped[i] - Vector3::new(sx, sy, sz);
+                    let cell = self.cell_index([cx, cy, cz]);
+                    let range = self.start[cell]..self.start[cell + 1];
+                    for (&j, position) in
+                        self.members[range.clone()].iter().zip(&self.sorted[range])
+                    {
+                        let r = base - position;
+                        let distance_squared = r.norm_squared();
+                        if distance_squared < cutoff_squared && j != i {
+                            pair(j, r, distance_squared);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Adds the real-space derivatives of every site to `derivatives`
     /// (`count` of them), from the sources' coefficients `coefficients` (of
     /// order at most `source_order`); with `virial`, sets each site's half
@@ -121,78 +176,43 @@ impl CellList {
         let sources = UP_TO[source_order];
         // `count` reaches one order above the sources: enough for the pair forces too.
         let needed = UP_TO[tables.order(count - 1) + source_order];
-        let cutoff_squared = cutoff * cutoff;
         // Charges and dipoles: the potential, field and field gradient by a
         // kernel of B_0 to B_3 (the sums of the general path, unrolled); the
         // virial's pair force of dipoles by the general path.
         let unrolled = count <= UP_TO[2] && (source_order == 0 || (source_order == 1 && !virial));
         let this = &*self;
-        let cells = this.cells;
-        // The cell `h + o` of a home coordinate `h` and an offset `o` along
-        // axis `a`, and the shift of its image: every offset is a distinct
-        // image (at least 4 cells per axis), at most one within `r_c <= L_a / 2`.
-        let neighbour = |a: usize, h: usize, o: usize| -> (usize, f64) {
-            let c = h + o;
-            if c < REACH {
-                (c + cells[a] - REACH, -box_lengths[a])
-            } else if c - REACH >= cells[a] {
-                (c - REACH - cells[a], box_lengths[a])
-            } else {
-                (c - REACH, 0.0)
-            }
-        };
         per_site(derivatives, virials, |i, d, w| {
             *w = Matrix3::zeros();
-            let c = this.cell_of[i];
-            let home = [
-                c / (cells[1] * cells[2]),
-                (c / cells[2]) % cells[1],
-                c % cells[2],
-            ];
             let mut t = [[0.0; 56]; 6];
-            for ox in 0..=2 * REACH {
-                let (cx, sx) = neighbour(0, home[0], ox);
-                for oy in 0..=2 * REACH {
-                    let (cy, sy) = neighbour(1, home[1], oy);
-                    for oz in 0..=2 * REACH {
-                        let (cz, sz) = neighbour(2, home[2], oz);
-                        // r = r_i - (r_j + shift): the image of j in that cell.
-                        let base = wrapped[i] - Vector3::new(sx, sy, sz);
-                        let cell = this.cell_index([cx, cy, cz]);
-                        let range = this.start[cell]..this.start[cell + 1];
-                        for (&j, position) in
-                            this.members[range.clone()].iter().zip(&this.sorted[range])
-                        {
-                            let r = base - position;
-                            let distance_squared = r.norm_squared();
-                            if distance_squared >= cutoff_squared || j == i {
-                                continue;
-                            }
-                            let cj = &coefficients[j];
-                            if unrolled {
-                                let b = erfc.radial(alpha, distance_squared);
-                                add_charge_dipole(cj, &r, &b, count, d);
-                                if virial {
-                                    let f = r * (coefficients[i][0] * cj[0] * b[1]);
-                                    *w += r * f.transpose() * 0.5;
-                                }
-                                continue;
-                            }
-                            radial_derivatives(
-                                &r,
-                                &radial_functions(alpha, distance_squared.sqrt()),
-                                needed,
-                                &mut t,
-                            );
-                            add_source(&t[0], cj, sources, count, d);
-                            if virial {
-                                let f = pair_force(&t[0], &coefficients[i], sources, cj, sources);
-                                *w += r * f.transpose() * 0.5;
-                            }
+            this.for_each_partner(
+                i,
+                wrapped,
+                box_lengths,
+                cutoff * cutoff,
+                |j, r, distance_squared| {
+                    let cj = &coefficients[j];
+                    if unrolled {
+                        let b = erfc.radial(alpha, distance_squared);
+                        add_charge_dipole(cj, &r, &b, count, d);
+                        if virial {
+                            let f = r * (coefficients[i][0] * cj[0] * b[1]);
+                            *w += r * f.transpose() * 0.5;
                         }
+                        return;
                     }
-                }
-            }
+                    radial_derivatives(
+                        &r,
+                        &radial_functions(alpha, distance_squared.sqrt()),
+                        needed,
+                        &mut t,
+                    );
+                    add_source(&t[0], cj, sources, count, d);
+                    if virial {
+                        let f = pair_force(&t[0], &coefficients[i], sources, cj, sources);
+                        *w += r * f.transpose() * 0.5;
+                    }
+                },
+            );
         });
     }
 }
