@@ -41,8 +41,6 @@ pub struct MeshEwald {
     derivatives: Vec<[f64; DERIVATIVES]>,
     /// The reciprocal-space part of `derivatives` (the virial's multipole terms).
     reciprocal: Vec<[f64; DERIVATIVES]>,
-    /// Each site's half of its real-space pairs' virials.
-    site_virials: Vec<Matrix3<f64>>,
     /// Each half-spectrum line's share of the reciprocal virial (upper triangle).
     line_virials: Vec<[f64; 6]>,
     /// Whether evaluations compute the virial ([`Self::with_virial`]).
@@ -74,7 +72,6 @@ impl MeshEwald {
             + sites as f64
                 * (SiteWeights::bytes_per_site()
                     + 24.0
-                    + 72.0
                     + 8.0 * (2 * SOURCES + 2 * DERIVATIVES) as f64)
             + CellList::bytes(sites as f64, &box_lengths, parameters.real_cutoff);
         crate::memory::check("grid", bytes).map_err(|e| {
@@ -102,7 +99,6 @@ impl MeshEwald {
             scaled: vec![[0.0; SOURCES]; sites],
             derivatives: vec![[0.0; DERIVATIVES]; sites],
             reciprocal: vec![[0.0; DERIVATIVES]; sites],
-            site_virials: vec![Matrix3::zeros(); sites],
             line_virials: vec![[0.0; 6]; grid[1] * (grid[2] / 2 + 1)],
             virial: false,
             terms: SiteTerms::new(parameters.alpha, surface, box_lengths),
@@ -147,18 +143,16 @@ impl MeshEwald {
         let (source_order, count) = self.prepare(sources, response.potential.len())?;
         let box_lengths = self.box_lengths;
         let alpha = self.parameters.alpha;
-        self.cells.add_derivatives(
+        let real = self.cells.add_derivatives(
             &self.wrapped,
             &box_lengths,
             alpha,
             self.parameters.real_cutoff,
             &self.coefficients,
-            source_order,
-            count,
+            (source_order, count),
             &mut self.derivatives,
-            (&mut self.site_virials, self.virial),
+            self.virial,
         );
-        let real: Matrix3<f64> = self.site_virials.iter().sum();
         let long_range = self.long_range(sources, source_order, count);
         response.fill(sources, &self.derivatives);
         response.virial = if self.virial {

@@ -45,9 +45,12 @@
 //! quadrupoles: the sites may move between calls) and fills a
 //! [`SiteResponse`] (energy; potential, fields and force of every site);
 //! every buffer sized by the sites or the mesh is built once (an
-//! evaluation allocates only the FFTs' line scratch). The real-space part, the spreading (one task per
-//! mesh plane) and the gathering are rayon loops whose sums do not depend
-//! on the number of threads.
+//! evaluation allocates only the FFTs' line scratch; the real-space part's
+//! per-thread blocks at the first evaluation with a thread count). The
+//! spreading (one task per mesh plane) and the gathering are rayon loops
+//! whose sums do not depend on the number of threads; the real-space pairs,
+//! each visited once, go to one block per thread added in a fixed order:
+//! the same bits for a given thread count.
 //!
 //! **Parameters** from a requested accuracy: [`for_charges`] (Kolafa &
 //! Perram; Deserno & Holm) and [`for_multipoles`] (an aliasing estimate of

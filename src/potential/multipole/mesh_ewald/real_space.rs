@@ -1,12 +1,19 @@
 //! The real-space part of the mesh Ewald sum: every pair closer than `r_c`
 //! (minimum image, `r_c <= L_a / 2`), found by a cell list rebuilt at each
-//! evaluation into buffers sized once, the positions copied in cell order;
-//! cells at least `r_c / 2` wide, so that the 125 cells searched around a
-//! site hold about 3.7 times the sphere's sites (27 cells `r_c` wide would
-//! hold 6.4 times), each neighbour cell with the shift of its periodic
-//! image (no minimum-image test per pair). Each site sums its own partners
-//! (every pair is visited from both ends), so sites are independent rayon
-//! tasks and the sums do not depend on the number of threads.
+//! evaluation into buffers sized once, the positions and coefficients copied
+//! in cell order; cells at least `r_c / 2` wide, so that the 125 cells
+//! around a site hold about 3.7 times the sphere's sites (27 cells `r_c`
+//! wide would hold 6.4 times), each neighbour cell with the shift of its
+//! periodic image (no minimum-image test per pair).
+//!
+//! Each pair is visited once (Newton's third law): a cell is paired with
+//! itself and with the 62 cells of the half stencil (offsets
+//! lexicographically after its own), and the pair's kernel adds to both
+//! sites, the source's sign flipped for the second (`d^N g(-r) = (-1)^|N|
+//! d^N g(r)`). Threads take contiguous ranges of cells with about equal
+//! numbers of sites, each summing into its own block; the blocks are added
+//! in range order, so the sums are the same bits for a given number of
+//! threads.
 //!
 //! A source `j` contributes `d^A phi(r_i) = sum_E c_E (-1)^|E| d^(A + E)
 //! g(r_i - r_j)` with `g = erfc(alpha r) / r` (the Ewald real-space kernel
@@ -23,6 +30,31 @@ use rayon::prelude::*;
 /// Cells searched on each side of a site's own, along each axis.
 const REACH: usize = 2;
 
+/// Cells along an axis of the stencil.
+const WIDTH: usize = 2 * REACH + 1;
+
+/// The offsets (each `0..WIDTH`, `REACH` being the home cell's) of the half
+/// stencil: those lexicographically after the home cell's.
+const HALF_STENCIL: [[usize; 3]; (WIDTH * WIDTH * WIDTH - 1) / 2] = {
+    let mut offsets = [[0; 3]; (WIDTH * WIDTH * WIDTH - 1) / 2];
+    let home = (WIDTH * WIDTH * WIDTH - 1) / 2;
+    let mut k = 0;
+    while k < offsets.len() {
+        let o = home + 1 + k;
+        offsets[k] = [o / (WIDTH * WIDTH), (o / WIDTH) % WIDTH, o % WIDTH];
+        k += 1;
+    }
+    offsets
+};
+
+/// One thread's sums: the derivatives of each site (in cell order) and the
+/// virial `sum r_ij f_ij^T` of its pairs.
+#[derive(Clone, Debug, Default)]
+struct Block {
+    derivatives: Vec<[f64; DERIVATIVES]>,
+    virial: Matrix3<f64>,
+}
+
 /// The cell list of one box (cells at least `r_c / REACH` wide).
 #[derive(Clone, Debug)]
 pub(crate) struct CellList {
@@ -33,7 +65,11 @@ pub(crate) struct CellList {
     members: Vec<usize>,
     /// The wrapped positions in the order of `members`.
     sorted: Vec<Vector3<f64>>,
+    /// The sources' coefficients in the order of `members`.
+    sorted_coefficients: Vec<[f64; SOURCES]>,
     cell_of: Vec<usize>,
+    /// One block per thread (sized at the first evaluation with that count).
+    blocks: Vec<Block>,
 }
 
 impl CellList {
@@ -46,7 +82,9 @@ impl CellList {
             start: vec![0; cells.iter().product::<usize>() + 1],
             members: vec![0; sites],
             sorted: vec![Vector3::zeros(); sites],
+            sorted_coefficients: vec![[0.0; SOURCES]; sites],
             cell_of: vec![0; sites],
+            blocks: Vec::new(),
         }
     }
 
@@ -55,21 +93,28 @@ impl CellList {
         std::array::from_fn(|a| ((box_lengths[a] * REACH as f64 / cutoff).floor() as usize).max(1))
     }
 
-    /// Bytes held for `sites` sites in `box_lengths` with `cutoff`.
+    /// Bytes held for `sites` sites in `box_lengths` with `cutoff`, the
+    /// blocks of the current number of threads included.
     pub fn bytes(sites: f64, box_lengths: &Vector3<f64>, cutoff: f64) -> f64 {
         let cells: f64 = Self::cells(box_lengths, cutoff)
             .iter()
             .map(|&c| c as f64)
             .product();
-        40.0 * sites + 8.0 * cells
+        let threads = rayon::current_num_threads() as f64;
+        (40.0 + 8.0 * SOURCES as f64 + threads * 8.0 * DERIVATIVES as f64) * sites + 8.0 * cells
     }
 
     fn cell_index(&self, c: [usize; 3]) -> usize {
         (c[0] * self.cells[1] + c[1]) * self.cells[2] + c[2]
     }
 
-    /// Sorts the wrapped positions (in `[0, L)`) into cells.
-    fn build(&mut self, wrapped: &[Vector3<f64>], box_lengths: &Vector3<f64>) {
+    /// Sorts the wrapped positions (in `[0, L)`) and the coefficients into cells.
+    fn build(
+        &mut self,
+        wrapped: &[Vector3<f64>],
+        box_lengths: &Vector3<f64>,
+        coefficients: &[[f64; SOURCES]],
+    ) {
         let cells = self.cells;
         for (i, r) in wrapped.iter().enumerate() {
             let c = std::array::from_fn(|a| {
@@ -93,23 +138,34 @@ impl CellList {
             self.start[c] = self.start[c - 1];
         }
         self.start[0] = 0;
-        for (sorted, &i) in self.sorted.iter_mut().zip(&self.members) {
-            *sorted = wrapped[i];
+        for (s, &i) in self.members.iter().enumerate() {
+            self.sorted[s] = wrapped[i];
+            self.sorted_coefficients[s] = coefficients[i];
         }
     }
 
-    /// Calls `pair(j, r, r^2)` for every site `j != i` closer than
-    /// `sqrt(cutoff_squared)` to site `i`, `r = r_i - r_j` at the image of
-    /// `j` in reach (the cells of the last build).
-    fn for_each_partner(
+    /// Calls `pair(a, b, r, r^2)` once for every pair of sites (`a`, `b`
+    /// their places in cell order) closer than `sqrt(cutoff_squared)` with
+    /// `a` in cell `c`, `r = r_a - r_b` at the image of `b` in reach: the
+    /// pairs within `c`, and those with the cells of the half stencil.
+    fn for_each_pair_from(
         &self,
-        i: usize,
-        wrapped: &[Vector3<f64>],
+        c: usize,
         box_lengths: &Vector3<f64>,
         cutoff_squared: f64,
-        mut pair: impl FnMut(usize, Vector3<f64>, f64),
+        mut pair: impl FnMut(usize, usize, Vector3<f64>, f64),
     ) {
         let cells = self.cells;
+        let own = self.start[c]..self.start[c + 1];
+        for a in own.clone() {
+            for b in a + 1..own.end {
+                let r = self.sorted[a] - self.sorted[b];
+                let distance_squared = r.norm_squared();
+                if distance_squared < cutoff_squared {
+                    pair(a, b, r, distance_squared);
+                }
+            }
+        }
         // The cell `h + o` of a home coordinate `h` and an offset `o` along
         // axis `a`, and the shift of its image: every offset is a distinct
         // image (at least 4 cells per axis), at most one within `r_c <= L_a / 2`.
@@ -123,40 +179,93 @@ impl CellList {
                 (c - REACH, 0.0)
             }
         };
-        let c = self.cell_of[i];
         let home = [
             c / (cells[1] * cells[2]),
             (c / cells[2]) % cells[1],
             c % cells[2],
         ];
-        for ox in 0..=2 * REACH {
+        for [ox, oy, oz] in HALF_STENCIL {
             let (cx, sx) = neighbour(0, home[0], ox);
-            for oy in 0..=2 * REACH {
-                let (cy, sy) = neighbour(1, home[1], oy);
-                for oz in 0..=2 * REACH {
-                    let (cz, sz) = neighbour(2, home[2], oz);
-                    // r = r_i - (r_j + shift): the image of j in that cell.
-                    let base = wrapped[i] - Vector3::new(sx, sy, sz);
-                    let cell = self.cell_index([cx, cy, cz]);
-                    let range = self.start[cell]..self.start[cell + 1];
-                    for (&j, position) in
-                        self.members[range.clone()].iter().zip(&self.sorted[range])
-                    {
-                        let r = base - position;
-                        let distance_squared = r.norm_squared();
-                        if distance_squared < cutoff_squared && j != i {
-                            pair(j, r, distance_squared);
-                        }
+            let (cy, sy) = neighbour(1, home[1], oy);
+            let (cz, sz) = neighbour(2, home[2], oz);
+            let cell = self.cell_index([cx, cy, cz]);
+            let range = self.start[cell]..self.start[cell + 1];
+            if range.is_empty() {
+                continue;
+            }
+            // r = r_a - (r_b + shift): the image of b in that cell.
+            let shift = Vector3::new(sx, sy, sz);
+            for a in own.clone() {
+                let base = self.sorted[a] - shift;
+                for (b, position) in self.sorted[range.clone()].iter().enumerate() {
+                    let r = base - position;
+                    let distance_squared = r.norm_squared();
+                    if distance_squared < cutoff_squared {
+                        pair(a, range.start + b, r, distance_squared);
                     }
                 }
             }
         }
     }
 
+    /// Sums the pairs into one block per thread (module doc), each thread's
+    /// kernel made by `kernel()`: `kernel(c_a, c_b, r, r^2, d_a, d_b, w)`
+    /// adds the pair's share to the derivatives `d_a` of site `a` and `d_b`
+    /// of `b` (coefficients `c_a`, `c_b`, `r = r_a - r_b`) and its `r f^T`
+    /// to `w`.
+    fn sum_pairs<K>(
+        &mut self,
+        box_lengths: &Vector3<f64>,
+        cutoff: f64,
+        kernel: impl Fn() -> K + Sync,
+    ) where
+        K: FnMut(&[f64; SOURCES], &[f64; SOURCES], &Vector3<f64>, f64, Pair<'_>),
+    {
+        let sites = self.members.len();
+        let cells = self.start.len() - 1;
+        let threads = rayon::current_num_threads().clamp(1, cells);
+        let mut blocks = std::mem::take(&mut self.blocks);
+        blocks.resize_with(threads, Block::default);
+        let start = &self.start;
+        // The first cell of range k: the first with at least k sites / threads before it.
+        let bound = |k: usize| {
+            start
+                .partition_point(|&s| s * threads < k * sites)
+                .min(cells)
+        };
+        let this = &*self;
+        blocks.par_iter_mut().enumerate().for_each(|(k, block)| {
+            block.derivatives.clear();
+            block.derivatives.resize(sites, [0.0; DERIVATIVES]);
+            block.virial = Matrix3::zeros();
+            let mut kernel = kernel();
+            let (derivatives, virial) = (&mut block.derivatives, &mut block.virial);
+            let last = if k + 1 == threads {
+                cells
+            } else {
+                bound(k + 1)
+            };
+            for c in bound(k)..last {
+                this.for_each_pair_from(c, box_lengths, cutoff * cutoff, |a, b, r, r2| {
+                    // a != b; a half-stencil cell may come before the home cell.
+                    let (low, high) = derivatives.split_at_mut(a.max(b));
+                    let (d_a, d_b) = if a < b {
+                        (&mut low[a], &mut high[0])
+                    } else {
+                        (&mut high[0], &mut low[b])
+                    };
+                    let (c_a, c_b) = (&this.sorted_coefficients[a], &this.sorted_coefficients[b]);
+                    kernel(c_a, c_b, &r, r2, (d_a, d_b, &mut *virial));
+                });
+            }
+        });
+        self.blocks = blocks;
+    }
+
     /// Adds the real-space derivatives of every site to `derivatives`
     /// (`count` of them), from the sources' coefficients `coefficients` (of
-    /// order at most `source_order`); with `virial`, sets each site's half
-    /// of its pairs' virials `1/2 sum_j r_ij f_ij^T` in `virials`.
+    /// order at most `source_order`); returns the pairs' virial `sum r_ij
+    /// f_ij^T` with `virial` (else zero).
     #[allow(clippy::too_many_arguments)]
     pub fn add_derivatives(
         &mut self,
@@ -165,55 +274,88 @@ impl CellList {
         alpha: f64,
         cutoff: f64,
         coefficients: &[[f64; SOURCES]],
-        source_order: usize,
-        count: usize,
+        (source_order, count): (usize, usize),
         derivatives: &mut [[f64; DERIVATIVES]],
-        (virials, virial): (&mut [Matrix3<f64>], bool),
-    ) {
-        self.build(wrapped, box_lengths);
-        let tables = Tables::get();
-        let erfc = ErfcTable::get();
-        let sources = UP_TO[source_order];
-        // `count` reaches one order above the sources: enough for the pair forces too.
-        let needed = UP_TO[tables.order(count - 1) + source_order];
+        virial: bool,
+    ) -> Matrix3<f64> {
+        self.build(wrapped, box_lengths, coefficients);
         // Charges and dipoles: the potential, field and field gradient by a
         // kernel of B_0 to B_3 (the sums of the general path, unrolled); the
         // virial's pair force of dipoles by the general path.
         let unrolled = count <= UP_TO[2] && (source_order == 0 || (source_order == 1 && !virial));
-        let this = &*self;
-        per_site(derivatives, virials, |i, d, w| {
-            *w = Matrix3::zeros();
-            let mut t = [[0.0; 56]; 6];
-            this.for_each_partner(
-                i,
-                wrapped,
-                box_lengths,
-                cutoff * cutoff,
-                |j, r, distance_squared| {
-                    let cj = &coefficients[j];
-                    if unrolled {
-                        let b = erfc.radial(alpha, distance_squared);
-                        add_charge_dipole(cj, &r, &b, count, d);
-                        if virial {
-                            let f = r * (coefficients[i][0] * cj[0] * b[1]);
-                            *w += r * f.transpose() * 0.5;
-                        }
-                        return;
-                    }
-                    radial_derivatives(
-                        &r,
-                        &radial_functions(alpha, distance_squared.sqrt()),
-                        needed,
-                        &mut t,
-                    );
-                    add_source(&t[0], cj, sources, count, d);
+        if unrolled {
+            let erfc = ErfcTable::get();
+            self.sum_pairs(box_lengths, cutoff, || {
+                move |c_a: &[f64; SOURCES],
+                      c_b: &[f64; SOURCES],
+                      r: &Vector3<f64>,
+                      r2,
+                      (d_a, d_b, w): Pair<'_>| {
+                    let b = erfc.radial(alpha, r2);
+                    add_charge_dipole(c_b, r, &b, count, d_a);
+                    add_charge_dipole(c_a, &-r, &b, count, d_b);
                     if virial {
-                        let f = pair_force(&t[0], &coefficients[i], sources, cj, sources);
-                        *w += r * f.transpose() * 0.5;
+                        let f = r * (c_a[0] * c_b[0] * b[1]);
+                        *w += r * f.transpose();
                     }
-                },
-            );
-        });
+                }
+            });
+        } else {
+            self.sum_pairs(box_lengths, cutoff, || {
+                general_kernel(alpha, (source_order, count), virial)
+            });
+        }
+        let mut total = Matrix3::zeros();
+        for block in &self.blocks {
+            for (s, &i) in self.members.iter().enumerate() {
+                for (d, b) in derivatives[i]
+                    .iter_mut()
+                    .zip(&block.derivatives[s])
+                    .take(count)
+                {
+                    *d += b;
+                }
+            }
+            total += block.virial;
+        }
+        total
+    }
+}
+
+/// The derivatives of both sites of a pair and the virial they add to.
+type Pair<'a> = (
+    &'a mut [f64; DERIVATIVES],
+    &'a mut [f64; DERIVATIVES],
+    &'a mut Matrix3<f64>,
+);
+
+/// The pair kernel of any sources (order at most `source_order`, `count`
+/// derivatives) by the derivative tensors of `erfc(alpha r) / r`: those at
+/// `-r` for the second site are `(-1)^|N|` times those at `r`.
+fn general_kernel(
+    alpha: f64,
+    (source_order, count): (usize, usize),
+    virial: bool,
+) -> impl FnMut(&[f64; SOURCES], &[f64; SOURCES], &Vector3<f64>, f64, Pair<'_>) {
+    let tables = Tables::get();
+    let sources = UP_TO[source_order];
+    // `count` reaches one order above the sources: enough for the pair forces too.
+    let needed = UP_TO[tables.order(count - 1) + source_order];
+    let signs: [f64; 56] =
+        std::array::from_fn(|n| if tables.order(n) % 2 == 1 { -1.0 } else { 1.0 });
+    let mut t = [[0.0; 56]; 6];
+    let mut flipped = [0.0; 56];
+    move |c_a, c_b, r, r2, (d_a, d_b, w)| {
+        radial_derivatives(r, &radial_functions(alpha, r2.sqrt()), needed, &mut t);
+        add_source(&t[0], c_b, sources, count, d_a);
+        for ((f, t), s) in flipped.iter_mut().zip(&t[0]).zip(&signs).take(needed) {
+            *f = t * s;
+        }
+        add_source(&flipped, c_a, sources, count, d_b);
+        if virial {
+            let f = pair_force(&t[0], c_a, sources, c_b, sources);
+            *w += r * f.transpose();
+        }
     }
 }
 
