@@ -89,7 +89,9 @@ fn mesh(accuracy: f64, alpha: Option<f64>, sites: usize, edge: f64) -> (MeshEwal
     let box_lengths = Vector3::repeat(edge);
     let (p, estimate) =
         for_multipoles(accuracy, carried, sites, &box_lengths, None, alpha).expect("parameters");
-    let mesh = MeshEwald::new(sites, box_lengths, p, Surface::Conducting).expect("mesh");
+    let mesh = MeshEwald::new(sites, box_lengths, p, Surface::Conducting)
+        .expect("mesh")
+        .without_field_gradient();
     let parameters = json!({
         "alpha": p.alpha, "real_cutoff": p.real_cutoff, "grid": p.grid, "order": p.order,
         "estimate_real": estimate.real, "estimate_mesh": estimate.mesh,

@@ -20,25 +20,39 @@ impl SiteWeights {
         count: usize,
         derivatives: &mut [[f64; D]],
     ) {
+        // One monomorphised loop per count (the multi-indices up to an order).
+        match count {
+            1 => self.gather_first::<D, 1>(phi, scale, derivatives),
+            4 => self.gather_first::<D, 4>(phi, scale, derivatives),
+            10 => self.gather_first::<D, 10>(phi, scale, derivatives),
+            _ => self.gather_first::<D, 20>(phi, scale, derivatives),
+        }
+    }
+
+    /// [`Self::gather`] of the first `N` multi-indices (`N` of
+    /// [`super::cartesian::UP_TO`], at most `D`).
+    fn gather_first<const D: usize, const N: usize>(
+        &self,
+        phi: &[f64],
+        scale: &Vector3<f64>,
+        derivatives: &mut [[f64; D]],
+    ) {
         let [kx, ky, kz] = self.grid;
         let p = self.order;
         let tables = Tables::get();
-        let factors: [f64; D] = std::array::from_fn(|a| {
-            let e = tables.exponents[a];
+        let exponents: [[usize; 3]; N] = std::array::from_fn(|a| tables.exponents[a]);
+        let factors: [f64; N] = std::array::from_fn(|a| {
+            let e = exponents[a];
             (0..3).map(|k| scale[k].powi(e[k] as i32)).product()
         });
-        // The z-derivatives the first `count` multi-indices need.
-        let z_orders = 1
-            + (0..count)
-                .map(|a| tables.exponents[a][2])
-                .max()
-                .unwrap_or(0);
+        // The z-derivatives the multi-indices need.
+        let z_orders = 1 + exponents.iter().map(|e| e[2]).max().unwrap_or(0);
         derivatives
             .par_iter_mut()
             .zip(&self.axes)
             .with_min_len(64)
             .for_each(|(d, [wx, wy, wz])| {
-                let mut sum = [0.0; D];
+                let mut sum = [0.0; N];
                 let zs = mesh_points(wz.base, kz, p);
                 for tx in 0..p {
                     let x = (wx.base + kx - tx) % kx;
@@ -53,14 +67,13 @@ impl SiteWeights {
                                 *out += wz.weight[n][tz] * value;
                             }
                         }
-                        for (a, out) in sum.iter_mut().enumerate().take(count) {
-                            let [ex, ey, ez] = tables.exponents[a];
-                            *out += wx.weight[ex][tx] * wy.weight[ey][ty] * by_z[ez];
+                        for (out, [ex, ey, ez]) in sum.iter_mut().zip(&exponents) {
+                            *out += wx.weight[*ex][tx] * wy.weight[*ey][ty] * by_z[*ez];
                         }
                     }
                 }
-                for a in 0..count {
-                    d[a] += sum[a] * factors[a];
+                for ((d, s), f) in d.iter_mut().zip(&sum).zip(&factors) {
+                    *d += s * f;
                 }
             });
     }

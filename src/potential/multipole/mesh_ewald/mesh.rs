@@ -45,6 +45,9 @@ pub struct MeshEwald {
     line_virials: Vec<[f64; 6]>,
     /// Whether evaluations compute the virial ([`Self::with_virial`]).
     virial: bool,
+    /// Whether evaluations of charges compute the field gradient
+    /// ([`Self::without_field_gradient`]).
+    gradient: bool,
     /// The self, background and surface terms.
     terms: SiteTerms,
 }
@@ -101,6 +104,7 @@ impl MeshEwald {
             reciprocal: vec![[0.0; DERIVATIVES]; sites],
             line_virials: vec![[0.0; 6]; grid[1] * (grid[2] / 2 + 1)],
             virial: false,
+            gradient: true,
             terms: SiteTerms::new(parameters.alpha, surface, box_lengths),
         })
     }
@@ -109,6 +113,17 @@ impl MeshEwald {
     /// [`SiteResponse::virial`]; it costs one pair force per real-space pair).
     pub fn with_virial(mut self) -> Self {
         self.virial = true;
+        self
+    }
+
+    /// The sum, its evaluations of charges alone leaving
+    /// [`SiteResponse::quadrupole_conjugate`] zero: the energy, potentials,
+    /// fields and forces of charges need no field gradient, and without it
+    /// the real-space kernel needs `B_0` and `B_1` only and the gathering 4
+    /// derivatives instead of 10. Sums with dipoles or quadrupoles are
+    /// unchanged (their forces need the gradient).
+    pub fn without_field_gradient(mut self) -> Self {
+        self.gradient = false;
         self
     }
 
@@ -186,12 +201,18 @@ impl MeshEwald {
         sources: &Sources<'_>,
         responses: usize,
     ) -> Result<(usize, usize), PotentialError> {
-        let prepared = self.terms.prepare(
+        let (source_order, count) = self.terms.prepare(
             sources,
             responses,
             (&mut self.wrapped, &mut self.coefficients),
             &mut self.derivatives,
         )?;
+        // Charges' forces need the field only.
+        let count = if self.gradient || source_order > 0 {
+            count
+        } else {
+            UP_TO[1]
+        };
         let tables = Tables::get();
         let scale = self.scale();
         for (scaled, c) in self.scaled.iter_mut().zip(&self.coefficients) {
@@ -200,7 +221,7 @@ impl MeshEwald {
                 c[e] * (0..3).map(|a| scale[a].powi(x[a] as i32)).product::<f64>()
             });
         }
-        Ok(prepared)
+        Ok((source_order, count))
     }
 
     /// `K_a / L_a`.
@@ -216,7 +237,7 @@ impl MeshEwald {
         source_order: usize,
         count: usize,
     ) -> Matrix3<f64> {
-        let derivative_order = (source_order + 1).max(2);
+        let derivative_order = Tables::get().order(count - 1);
         let scale = self.scale();
         let mut virial = self.reciprocal(sources, (source_order, derivative_order, count), &scale);
         virial += self.terms.add(

@@ -283,27 +283,20 @@ impl CellList {
         // kernel of B_0 to B_3 (the sums of the general path, unrolled); the
         // virial's pair force of dipoles by the general path.
         let unrolled = count <= UP_TO[2] && (source_order == 0 || (source_order == 1 && !virial));
-        if unrolled {
-            let erfc = ErfcTable::get();
-            self.sum_pairs(box_lengths, cutoff, || {
-                move |c_a: &[f64; SOURCES],
-                      c_b: &[f64; SOURCES],
-                      r: &Vector3<f64>,
-                      r2,
-                      (d_a, d_b, w): Pair<'_>| {
-                    let b = erfc.radial(alpha, r2);
-                    add_charge_dipole(c_b, r, &b, count, d_a);
-                    add_charge_dipole(c_a, &-r, &b, count, d_b);
-                    if virial {
-                        let f = r * (c_a[0] * c_b[0] * b[1]);
-                        *w += r * f.transpose();
-                    }
-                }
-            });
-        } else {
-            self.sum_pairs(box_lengths, cutoff, || {
+        match (unrolled, source_order, count > UP_TO[1]) {
+            (true, 0, false) => self.sum_pairs(box_lengths, cutoff, || {
+                charge_dipole_kernel::<2, false>(alpha, virial)
+            }),
+            (true, 0, true) => self.sum_pairs(box_lengths, cutoff, || {
+                charge_dipole_kernel::<4, false>(alpha, virial)
+            }),
+            // Dipoles: their forces need the field gradient (count 10).
+            (true, _, _) => self.sum_pairs(box_lengths, cutoff, || {
+                charge_dipole_kernel::<4, true>(alpha, virial)
+            }),
+            (false, _, _) => self.sum_pairs(box_lengths, cutoff, || {
                 general_kernel(alpha, (source_order, count), virial)
-            });
+            }),
         }
         let mut total = Matrix3::zeros();
         for block in &self.blocks {
@@ -328,6 +321,26 @@ type Pair<'a> = (
     &'a mut [f64; DERIVATIVES],
     &'a mut Matrix3<f64>,
 );
+
+/// The pair kernel of charges and (with `DIPOLES`) dipoles by
+/// [`add_charge_dipole`], the radial functions `B_0..B_(L-1)` (`L = 2`: the
+/// potential and field; 4: and the field gradient) from [`ErfcTable`]; the
+/// virial of charges only (the general kernel has that of dipoles).
+fn charge_dipole_kernel<const L: usize, const DIPOLES: bool>(
+    alpha: f64,
+    virial: bool,
+) -> impl FnMut(&[f64; SOURCES], &[f64; SOURCES], &Vector3<f64>, f64, Pair<'_>) {
+    let erfc = ErfcTable::get();
+    move |c_a, c_b, r, r2, (d_a, d_b, w)| {
+        let b = erfc.radial::<L>(alpha, r2);
+        add_charge_dipole::<L, DIPOLES>(c_b, r, &b, d_a);
+        add_charge_dipole::<L, DIPOLES>(c_a, &-r, &b, d_b);
+        if virial {
+            let f = r * (c_a[0] * c_b[0] * b[1]);
+            *w += r * f.transpose();
+        }
+    }
+}
 
 /// The pair kernel of any sources (order at most `source_order`, `count`
 /// derivatives) by the derivative tensors of `erfc(alpha r) / r`: those at
@@ -360,27 +373,39 @@ fn general_kernel(
 }
 
 /// Adds the potential of a source with charge `q = c[0]` and dipole `mu =
-/// c[1..4]` and its first `count` (at most 10) derivatives at offset `r` to
-/// `d`, from the radial functions `b` at `|r|` (the sums of [`add_source`]
+/// c[1..4]` (with `DIPOLES`, which needs `L = 4`) and its first 4 (`L =
+/// 2`) or 10 (`L = 4`) derivatives at offset `r` to `d`, from the radial
+/// functions `b` at `|r|` (the sums of [`add_source`]
 /// for these sources, unrolled): `phi = q B_0 + (mu.r) B_1`, `d_a phi = -q
 /// r_a B_1 + mu_a B_1 - r_a (mu.r) B_2`, `d_ac phi = q (r_a r_c B_2 -
 /// delta_ac B_1) + (mu.r) r_a r_c B_3 - (mu_a r_c + mu_c r_a + delta_ac
 /// mu.r) B_2`.
-fn add_charge_dipole(
+#[inline(always)]
+fn add_charge_dipole<const L: usize, const DIPOLES: bool>(
     c: &[f64; SOURCES],
     r: &Vector3<f64>,
-    b: &[f64; 4],
-    count: usize,
+    b: &[f64; L],
     d: &mut [f64; DERIVATIVES],
 ) {
     let q = c[0];
-    let mu = [c[1], c[2], c[3]];
+    let mu = if DIPOLES {
+        [c[1], c[2], c[3]]
+    } else {
+        [0.0; 3]
+    };
     let mu_r = mu[0] * r[0] + mu[1] * r[1] + mu[2] * r[2];
-    d[0] += q * b[0] + mu_r * b[1];
-    for a in 0..3 {
-        d[1 + a] += (mu[a] - q * r[a]) * b[1] - r[a] * mu_r * b[2];
+    if DIPOLES {
+        d[0] += q * b[0] + mu_r * b[1];
+        for a in 0..3 {
+            d[1 + a] += (mu[a] - q * r[a]) * b[1] - r[a] * mu_r * b[2];
+        }
+    } else {
+        d[0] += q * b[0];
+        for a in 0..3 {
+            d[1 + a] -= q * r[a] * b[1];
+        }
     }
-    if count > UP_TO[1] {
+    if L > 2 {
         let mut k = UP_TO[1];
         for a in 0..3 {
             for e in a..3 {

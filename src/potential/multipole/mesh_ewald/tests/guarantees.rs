@@ -117,3 +117,31 @@ fn evaluations_allocate_no_site_or_mesh_buffers() {
     );
     assert_eq!(peak(600), few);
 }
+
+/// Without the field gradient, a sum of charges gives the same energy,
+/// potentials, fields and forces to round-off (the real-space kernel and
+/// the gathering only skip the second derivatives) and a zero
+/// `quadrupole_conjugate`; a sum with dipoles keeps its gradient.
+#[test]
+fn charges_without_the_field_gradient_keep_their_forces() {
+    let box_lengths = Vector3::new(5.0, 4.6, 5.2);
+    let parameters = fine(&box_lengths, 3.5);
+    for dipoles in [false, true] {
+        let c = Configuration::random(11, 200, box_lengths, (true, dipoles, false));
+        let full = c.mesh(parameters, Surface::Conducting);
+        let mut sum = MeshEwald::new(200, box_lengths, parameters, Surface::Conducting)
+            .unwrap()
+            .without_field_gradient();
+        let mut out = SiteResponse::zeros(200);
+        sum.evaluate(&c.sources(), &mut out).unwrap();
+        let scale = full.force.iter().map(|f| f.norm()).fold(0.0, f64::max);
+        assert!((out.energy - full.energy).abs() <= 1e-12 * full.energy.abs());
+        for i in 0..200 {
+            assert!((out.force[i] - full.force[i]).norm() <= 1e-12 * scale);
+            assert!((out.field[i] - full.field[i]).norm() <= 1e-12 * scale);
+            assert!((out.potential[i] - full.potential[i]).abs() <= 1e-12 * scale);
+        }
+        let gradient = out.quadrupole_conjugate.iter().any(|w| w.norm() > 0.0);
+        assert_eq!(gradient, dipoles, "dipoles {dipoles}");
+    }
+}
