@@ -15,7 +15,7 @@
 //! chooses (what a scene of charged bodies runs with; at 1e-4 also at
 //! forced splittings, to check the cost model's choice), the set-up, the
 //! median and best of repeated evaluations (energy, potentials, fields and
-//! forces of every site; repeats fill ~`SECONDS_PER_CASE`), in wall and in
+//! forces of every site, as OpenMM's: no field gradient; repeats fill ~`SECONDS_PER_CASE`), in wall and in
 //! process CPU time, and the RMS
 //! force error against the sum at accuracy 1e-9. Writes the configuration,
 //! the reference forces and the cases to `<QUATROT_BENCH_RAW or

@@ -5,7 +5,7 @@
 
 use super::bspline::MAX_DERIVATIVE;
 use super::cartesian::Tables;
-use super::spread::{mesh_points, SiteWeights};
+use super::spread::{back, mesh_points, SiteWeights};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -55,9 +55,9 @@ impl SiteWeights {
                 let mut sum = [0.0; N];
                 let zs = mesh_points(wz.base, kz, p);
                 for tx in 0..p {
-                    let x = (wx.base + kx - tx) % kx;
+                    let x = back(wx.base, tx, kx);
                     for ty in 0..p {
-                        let y = (wy.base + ky - ty) % ky;
+                        let y = back(wy.base, ty, ky);
                         let row = &phi[(x * ky + y) * kz..(x * ky + y + 1) * kz];
                         // Contract z first: by_z[n] = sum_tz wz^(n) phi.
                         let mut by_z = [0.0; MAX_DERIVATIVE + 1];

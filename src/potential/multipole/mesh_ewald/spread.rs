@@ -101,7 +101,7 @@ impl SiteWeights {
                         let c = &scaled[i];
                         let zs = mesh_points(wz.base, kz, p);
                         for ty in 0..p {
-                            let y = (wy.base + ky - ty) % ky;
+                            let y = back(wy.base, ty, ky);
                             // sum_E c_E wx^(E_x) wy^(E_y), per z-derivative order.
                             let mut by_z = [0.0; 3];
                             for (e, c) in c.iter().enumerate().take(sources) {
@@ -130,11 +130,16 @@ impl SiteWeights {
 
 /// The mesh points `base - t` (modulo `points`) of a stencil, `t < order`.
 pub(super) fn mesh_points(base: usize, points: usize, order: usize) -> [usize; 8] {
-    std::array::from_fn(|t| {
-        if t < order {
-            (base + points - t) % points
-        } else {
-            0
-        }
-    })
+    std::array::from_fn(|t| if t < order { back(base, t, points) } else { 0 })
+}
+
+/// `base - t` modulo `points` for `base < points` and `t <= points`,
+/// without an integer division.
+#[inline]
+pub(super) fn back(base: usize, t: usize, points: usize) -> usize {
+    if base >= t {
+        base - t
+    } else {
+        base + points - t
+    }
 }
