@@ -99,18 +99,6 @@ fn mesh(accuracy: f64, alpha: Option<f64>, sites: usize, edge: f64) -> (MeshEwal
     (mesh, parameters)
 }
 
-/// The process's CPU time (all threads) in seconds: less sensitive than
-/// the wall time to the other jobs of a shared machine.
-fn cpu_seconds() -> f64 {
-    let mut t = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: clock_gettime only writes the timespec it is given.
-    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut t) };
-    t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
-}
-
 fn rms(v: &[Vector3<f64>]) -> f64 {
     (v.iter().map(|x| x.norm_squared()).sum::<f64>() / v.len() as f64).sqrt()
 }
@@ -158,10 +146,10 @@ fn main() {
             while times.len() < MIN_REPEATS
                 || (budget.elapsed().as_secs_f64() < SECONDS_PER_CASE && times.len() < 2000)
             {
-                let (t, cpu) = (Instant::now(), cpu_seconds());
+                let (t, cpu) = (Instant::now(), harness::cpu_seconds());
                 sum.evaluate(&sources, &mut response).expect("evaluation");
                 times.push(t.elapsed().as_secs_f64());
-                cpu_times.push(cpu_seconds() - cpu);
+                cpu_times.push(harness::cpu_seconds() - cpu);
             }
             times.sort_by(f64::total_cmp);
             cpu_times.sort_by(f64::total_cmp);

@@ -1,5 +1,5 @@
 //! What the benches that write raw results share: the quick flag, one
-//! thread, and where the results go (read by `python -m validation.bench`'s
+//! thread, the process's CPU time, and where the results go (read by `python -m validation.bench`'s
 //! modules).
 
 use serde_json::{json, Value};
@@ -30,4 +30,16 @@ pub fn write(name: &str, mut out: Value, started: Instant) {
     out["seconds"] = json!(started.elapsed().as_secs_f64());
     std::fs::write(dir.join(name), out.to_string()).expect("write the raw results");
     eprintln!("wrote {}", dir.join(name).display());
+}
+
+/// The process's CPU time (all threads) in seconds: less sensitive than
+/// the wall time to the other jobs of a shared machine.
+pub fn cpu_seconds() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes the timespec it is given.
+    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut t) };
+    t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
 }
