@@ -72,6 +72,7 @@ mod mesh;
 mod parameters;
 mod real_space;
 mod search;
+mod site_terms;
 mod sites;
 mod spread;
 mod waves;

@@ -23,7 +23,7 @@
 
 use super::cartesian::{Tables, DERIVATIVES, SOURCES, UP_TO};
 use super::estimate::Carried;
-use super::mesh::{multipole_virial, SiteTerms};
+use super::site_terms::{multipole_virial, SiteTerms};
 use super::sites::Sources;
 use crate::checks::num;
 use crate::potential::multipole::ewald::{phase, phases, wave_vectors, WaveVector};
