@@ -12,7 +12,8 @@
 //!   methods behind one trait: a cutoff sum, plain or shifted-force, the
 //!   particle-mesh Ewald sum).
 //! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles in
-//!   one pass over the half neighbour list.
+//!   one pass over the half neighbour list, four pairs at a time
+//!   (`lanes`).
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -34,6 +35,7 @@ pub mod electrostatics_shifted;
 pub mod evaluate;
 pub mod generate;
 pub mod integrators;
+mod lanes;
 pub mod lennard_jones;
 pub mod neighbours;
 pub mod overlap;

@@ -132,6 +132,21 @@ impl NeighbourList {
         self.half.separations(i, range, positions, self.space)
     }
 
+    /// The partners listed under site `i` in the half list and their image
+    /// counts (the lane kernels' form of [`NeighbourList::half_pairs`]: the
+    /// separation of partner `j` with counts `c` is `x_i - x_j - shift(c)`
+    /// in the space of the build, [`NeighbourList::space`]).
+    #[inline]
+    pub(crate) fn half_run(&self, i: usize) -> (&[u32], &[[i8; 3]]) {
+        let range = self.half.start[i]..self.half.start[i + 1];
+        (&self.half.partner[range.clone()], &self.half.image[range])
+    }
+
+    /// The space of the last build.
+    pub fn space(&self) -> &Space {
+        &self.space
+    }
+
     /// Where site `i`'s pairs start in the half list (`i` up to the number
     /// of sites): the pairs of sites `a..b` are `half_start(b) -
     /// half_start(a)`.

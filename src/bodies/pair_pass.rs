@@ -10,9 +10,15 @@
 //! number of threads (and, with one thread, no block is added at all).
 
 use super::electrostatics::{SiteMultipoles, SiteResponse};
-use super::electrostatics_shifted::{ElectrostaticTruncation, Factors, Plain, ShiftedForceFactors};
+use super::electrostatics_shifted::{
+    ChargeDipoles, ElectrostaticTruncation, Factors, Plain, ShiftedForceFactors,
+};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::Avx;
+use super::lanes::{Lanes, F4, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
+use super::space::Space;
 use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -51,6 +57,9 @@ pub(super) struct PairPass {
     blocks: Vec<PairSums>,
     /// Whether each site carries a charge or a dipole.
     charged: Vec<bool>,
+    /// Each site's Lennard-Jones kind ([`NO_KIND`] without, or without the term).
+    kind: Vec<u32>,
+    shifts: Vec<Shifts>,
 }
 
 impl PairPass {
@@ -74,23 +83,41 @@ impl PairPass {
             let zero = ChargeDipole::default();
             self.charged.extend((0..n).map(|i| charged(m, i) != zero));
         }
+        self.kind.clear();
+        if let Some((_, kinds)) = terms.lennard_jones {
+            self.kind.extend(kinds.iter().map(|k| k.unwrap_or(NO_KIND)));
+        } else {
+            self.kind.resize(n, NO_KIND);
+        }
+        let lengths = match list.space() {
+            Space::Periodic(l) => *l,
+            Space::Open => Vector3::zeros(),
+        };
+        self.shifts.resize(3, [0.0; 256]);
+        for (k, shifts) in self.shifts.iter_mut().enumerate() {
+            for (c, shift) in shifts.iter_mut().enumerate() {
+                *shift = lengths[k] * f64::from(c as u8 as i8);
+            }
+        }
         let inputs = Inputs {
             terms,
             list,
             positions,
             charged: &self.charged,
+            kind: &self.kind,
+            shifts: &self.shifts,
         };
         let blocks = &mut self.blocks;
         use ElectrostaticTruncation as E;
         match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
             None => inputs.with_lennard_jones::<NoCharges>(blocks),
-            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Plain, true>>(blocks),
-            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Plain, false>>(blocks),
+            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Bare, true>>(blocks),
+            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Bare, false>>(blocks),
             Some((E::ShiftedForce, true)) => {
-                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, true>>(blocks)
+                inputs.with_lennard_jones::<Truncated<ShiftedForce, true>>(blocks)
             }
             Some((E::ShiftedForce, false)) => {
-                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, false>>(blocks)
+                inputs.with_lennard_jones::<Truncated<ShiftedForce, false>>(blocks)
             }
         }
         let (first, rest) = self.blocks.split_at_mut(1);
@@ -174,7 +201,18 @@ struct Inputs<'a> {
     list: &'a NeighbourList,
     positions: &'a [Vector3<f64>],
     charged: &'a [bool],
+    /// Each site's Lennard-Jones kind, [`NO_KIND`] for none.
+    kind: &'a [u32],
+    /// Along each axis.
+    shifts: &'a [Shifts],
 }
+
+/// A site without Lennard-Jones.
+const NO_KIND: u32 = u32::MAX;
+
+/// The shifts `c L_k` of the image counts `c` along one axis `k`, at index
+/// `c as u8` (the same bits as [`Space::shift`]).
+type Shifts = [f64; 256];
 
 impl<'a> Inputs<'a> {
     /// The pass with the charge kernel `C` and the Lennard-Jones kernel of the terms.
@@ -218,9 +256,37 @@ impl<'a> Inputs<'a> {
         }
     }
 
-    /// The pairs listed under the sites of `sites` into `out`.
-    #[inline(always)]
+    /// [`Inputs::lanes`] in AVX registers where the CPU has AVX2, else in
+    /// arrays (the same bits: the lanes round as the scalar operations do).
     fn range<L: PairKernel<'a>, C: ChargeKernel>(
+        &self,
+        sites: std::ops::Range<usize>,
+        out: &mut PairSums,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked just above.
+            unsafe { self.lanes_avx2::<L, C>(sites, out) };
+            return;
+        }
+        self.lanes::<F4, L, C>(sites, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn lanes_avx2<L: PairKernel<'a>, C: ChargeKernel>(
+        &self,
+        sites: std::ops::Range<usize>,
+        out: &mut PairSums,
+    ) {
+        self.lanes::<Avx, L, C>(sites, out);
+    }
+
+    /// The pairs listed under the sites of `sites` into `out`, four at a
+    /// time: each site's force, field and potential, the energy and the
+    /// virial summed in four lanes, added up at the end.
+    #[inline(always)]
+    fn lanes<T: Lanes, L: PairKernel<'a>, C: ChargeKernel>(
         &self,
         sites: std::ops::Range<usize>,
         out: &mut PairSums,
@@ -228,80 +294,109 @@ impl<'a> Inputs<'a> {
         let Some(lj) = L::new(self.terms.lennard_jones.map(|t| t.0)) else {
             return;
         };
-        let (lj_cutoff2, kind) = self
-            .terms
-            .lennard_jones
-            .map_or((0.0, &[][..]), |(t, kind)| (t.cutoff() * t.cutoff(), kind));
+        let lj_cutoff = self.terms.lennard_jones.map_or(0.0, |(t, _)| t.cutoff());
         let (coulomb_cutoff, multipoles) = match self.terms.electrostatics {
             Some((cutoff, _, m)) => (cutoff, Some(m)),
             None => (0.0, None),
         };
-        let (coulomb, coulomb_cutoff2) = (C::new(), coulomb_cutoff * coulomb_cutoff);
-        let mut lj_energy = 0.0;
-        // The virial's components, row by row (nalgebra's outer product
-        // costs several times these nine products).
-        let mut virial = [0.0; 9];
+        let coulomb = C::new();
+        let (lj_cutoff2, coulomb_cutoff2) = (
+            T::splat(lj_cutoff * lj_cutoff),
+            T::splat(coulomb_cutoff * coulomb_cutoff),
+        );
+        let (kind, shifts) = (self.kind, self.shifts);
+        // Which lanes a chunk of `n` pairs uses, at `n - 1`.
+        let listed: [T; LANES] = std::array::from_fn(|n| T::mask(std::array::from_fn(|l| l <= n)));
+        let mut lj_energy = T::default();
+        // The virial's components, row by row.
+        let mut virial = [T::default(); 9];
         for i in sites {
-            let a = if L::ON { kind[i] } else { None };
+            let a = kind[i];
             let target = match multipoles {
-                Some(m) if C::ON && self.charged[i] => Some(charged(m, i)),
+                Some(m) if C::ON && self.charged[i] => Some(ChargeDipoles::splat(&charged(m, i))),
                 _ => None,
             };
-            if a.is_none() && target.is_none() {
+            if (!L::ON || a == NO_KIND) && target.is_none() {
                 continue;
             }
+            let x = V4::<T>::splat(&self.positions[i]);
             let (mut force_i, mut field_i, mut potential_i) =
-                (Vector3::zeros(), Vector3::zeros(), 0.0);
-            for (j, r) in self.list.half_pairs(i, self.positions) {
-                let r2 = r.norm_squared();
-                let mut f = Vector3::zeros();
-                if let (true, Some(a), Some(b)) =
-                    (r2 < lj_cutoff2, a, kind.get(j).copied().flatten())
-                {
-                    let (u, f_over_r) = lj.pair(a as usize, b as usize, r2);
-                    lj_energy += u;
-                    f = r * f_over_r;
+                (V4::<T>::default(), V4::<T>::default(), T::default());
+            let (partners, images) = self.list.half_run(i);
+            for (js, counts) in partners.chunks(LANES).zip(images.chunks(LANES)) {
+                // Unused lanes repeat the last pair, their results dropped.
+                let (n, listed) = (js.len(), listed[js.len() - 1]);
+                let js: [usize; LANES] = std::array::from_fn(|l| js[l.min(n - 1)] as usize);
+                let counts: [[u8; 3]; LANES] =
+                    std::array::from_fn(|l| counts[l.min(n - 1)].map(|c| c as u8));
+                let p = V4::<T>::gather(js.map(|j| &self.positions[j]));
+                let shift = V4 {
+                    x: T::from_array(counts.map(|c| shifts[0][c[0] as usize])),
+                    y: T::from_array(counts.map(|c| shifts[1][c[1] as usize])),
+                    z: T::from_array(counts.map(|c| shifts[2][c[2] as usize])),
+                };
+                let r = x - p - shift;
+                let r2 = r.dot(&r);
+                let mut f = V4::<T>::default();
+                if L::ON && a != NO_KIND {
+                    let b = js.map(|j| kind[j]);
+                    let within = r2.lt(lj_cutoff2).keep(listed);
+                    let within = within.keep(T::mask(b.map(|b| b != NO_KIND)));
+                    let b = b.map(|b| if b == NO_KIND { 0 } else { b as usize });
+                    let (u, f_over_r) = lj.pair(a as usize, b, r2);
+                    lj_energy += u.keep(within);
+                    f = r * f_over_r.keep(within);
                 }
-                if let (true, Some(t), Some(m)) = (r2 < coulomb_cutoff2, &target, multipoles) {
-                    if self.charged[j] {
-                        let s = charged(m, j);
-                        let pair = coulomb.pair(&r, r2, coulomb_cutoff, t, &s);
-                        field_i += pair.field;
-                        out.field[j] += pair.source_field;
-                        if C::CHARGES {
-                            potential_i += pair.potential;
-                            out.potential[j] += pair.source_potential;
+                if let (Some(t), Some(m)) = (&target, multipoles) {
+                    let source = ChargeDipoles::gather(js.map(|j| charged(m, j)));
+                    let within = r2.lt(coulomb_cutoff2).keep(listed);
+                    let within = within.keep(T::mask(js.map(|j| self.charged[j])));
+                    let pair = coulomb.pair(&r, r2, coulomb_cutoff, t, &source);
+                    field_i += pair.field.keep(within);
+                    f += pair.force.keep(within);
+                    if C::CHARGES {
+                        potential_i += pair.potential.keep(within);
+                        let source_potential = pair.source_potential.keep(within).to_array();
+                        for l in 0..n {
+                            out.potential[js[l]] += source_potential[l];
                         }
-                        f += pair.force;
+                    }
+                    let source_field = pair.source_field.keep(within).to_vectors();
+                    for l in 0..n {
+                        out.field[js[l]] += source_field[l];
                     }
                 }
                 force_i += f;
-                out.force[j] -= f;
+                let forces = f.to_vectors();
+                for l in 0..n {
+                    out.force[js[l]] -= forces[l];
+                }
+                let (rs, fs) = ([r.x, r.y, r.z], [f.x, f.y, f.z]);
                 for a in 0..3 {
                     for b in 0..3 {
-                        virial[3 * a + b] += r[a] * f[b];
+                        virial[3 * a + b] += rs[a] * fs[b];
                     }
                 }
             }
-            out.force[i] += force_i;
+            out.force[i] += force_i.total();
             if target.is_some() {
-                out.potential[i] += potential_i;
-                out.field[i] += field_i;
+                out.potential[i] += potential_i.total();
+                out.field[i] += field_i.total();
             }
         }
-        out.lennard_jones = lj_energy;
-        out.virial = Matrix3::from_row_slice(&virial);
+        out.lennard_jones = lj_energy.total();
+        out.virial = Matrix3::from_fn(|a, b| virial[3 * a + b].total());
     }
 }
 
-/// The Lennard-Jones pair of a pass.
+/// The Lennard-Jones pairs of a pass.
 trait PairKernel<'a>: Sync + Sized {
     /// Whether the pass has the term.
     const ON: bool;
     /// The kernel of `term` (`None` if the pass needs the term and has none).
     fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self>;
-    /// Energy and `-(1/r) du/dr` of kinds `a`, `b` at `r2` within the cutoff.
-    fn pair(&self, a: usize, b: usize, r2: f64) -> (f64, f64);
+    /// Energies and `-(1/r) du/dr` of kind `a` with kinds `b` at `r2`.
+    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T);
 }
 
 struct NoLennardJones;
@@ -311,8 +406,8 @@ impl PairKernel<'_> for NoLennardJones {
     fn new(_: Option<&LennardJonesTerm>) -> Option<Self> {
         Some(NoLennardJones)
     }
-    fn pair(&self, _: usize, _: usize, _: f64) -> (f64, f64) {
-        (0.0, 0.0)
+    fn pair<T: Lanes>(&self, _: usize, _: [usize; LANES], _: T) -> (T, T) {
+        (T::default(), T::default())
     }
 }
 
@@ -325,23 +420,23 @@ impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SH
         term.map(LennardJones)
     }
     #[inline(always)]
-    fn pair(&self, a: usize, b: usize, r2: f64) -> (f64, f64) {
-        self.0.pair_of::<FORCE_SHIFTED>(a, b, r2)
+    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T) {
+        self.0.pair_lanes::<T, FORCE_SHIFTED>(a, b, r2)
     }
 }
 
-/// Both ends of a charge-dipole pair: the target's potential, field and
-/// force, and the source's potential and field (its force is minus the
-/// target's).
-struct BothEnds {
-    potential: f64,
-    field: Vector3<f64>,
-    force: Vector3<f64>,
-    source_potential: f64,
-    source_field: Vector3<f64>,
+/// Both ends of four charge-dipole pairs: the targets' potentials, fields
+/// and forces, and the sources' potentials and fields (their forces are
+/// minus the targets').
+struct BothEnds<T> {
+    potential: T,
+    field: V4<T>,
+    force: V4<T>,
+    source_potential: T,
+    source_field: V4<T>,
 }
 
-/// The charge-dipole pair of a pass.
+/// The charge-dipole pairs of a pass.
 trait ChargeKernel: Sync + Sized {
     /// Whether the pass has the term.
     const ON: bool;
@@ -349,16 +444,15 @@ trait ChargeKernel: Sync + Sized {
     /// left zero: nothing reads them).
     const CHARGES: bool;
     fn new() -> Self;
-    /// The pair of a target at offset `r` (`r2 = |r|^2` within `cutoff`)
-    /// from a source.
-    fn pair(
+    /// The pairs of targets at offsets `r` (`r2 = |r|^2`) from sources.
+    fn pair<T: Lanes>(
         &self,
-        r: &Vector3<f64>,
-        r2: f64,
+        r: &V4<T>,
+        r2: T,
         cutoff: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> BothEnds;
+        target: &ChargeDipoles<T>,
+        source: &ChargeDipoles<T>,
+    ) -> BothEnds<T>;
 }
 
 /// No charges or dipoles.
@@ -370,54 +464,73 @@ impl ChargeKernel for NoCharges {
     fn new() -> Self {
         NoCharges
     }
-    fn pair(
+    fn pair<T: Lanes>(
         &self,
-        _: &Vector3<f64>,
+        _: &V4<T>,
+        _: T,
         _: f64,
-        _: f64,
-        _: &ChargeDipole,
-        _: &ChargeDipole,
-    ) -> BothEnds {
+        _: &ChargeDipoles<T>,
+        _: &ChargeDipoles<T>,
+    ) -> BothEnds<T> {
         BothEnds {
-            potential: 0.0,
-            field: Vector3::zeros(),
-            force: Vector3::zeros(),
-            source_potential: 0.0,
-            source_field: Vector3::zeros(),
+            potential: T::default(),
+            field: V4::default(),
+            force: V4::default(),
+            source_potential: T::default(),
+            source_field: V4::default(),
         }
     }
 }
 
-/// A truncation's pair, with charges or of dipoles only.
+/// A truncation: its radial factors in any lanes.
+trait Truncation: Sync {
+    type Factors<T: Lanes>: Factors<T>;
+}
+
+/// The plain truncation (the bare pair terms).
+struct Bare;
+
+impl Truncation for Bare {
+    type Factors<T: Lanes> = Plain<T>;
+}
+
+/// The shifted-force truncation.
+struct ShiftedForce;
+
+impl Truncation for ShiftedForce {
+    type Factors<T: Lanes> = ShiftedForceFactors<T>;
+}
+
+/// A truncation's pairs, with charges or of dipoles only.
 struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn() -> F>);
 
-impl<F: Factors, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
+impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
     const ON: bool = true;
     const CHARGES: bool = CHARGES;
     fn new() -> Self {
         Truncated(std::marker::PhantomData)
     }
     #[inline(always)]
-    fn pair(
+    fn pair<T: Lanes>(
         &self,
-        r: &Vector3<f64>,
-        r2: f64,
+        r: &V4<T>,
+        r2: T,
         cutoff: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> BothEnds {
-        let factors = F::new(r2, cutoff);
+        target: &ChargeDipoles<T>,
+        source: &ChargeDipoles<T>,
+    ) -> BothEnds<T> {
+        let factors = F::Factors::<T>::new(r2, cutoff);
         if !CHARGES {
             return BothEnds {
-                potential: 0.0,
+                potential: T::default(),
                 field: factors.dipole_field(r, source),
                 force: factors.dipole_force(r, r2, target, source),
-                source_potential: 0.0,
-                source_field: factors.dipole_field(&-r, target),
+                source_potential: T::default(),
+                source_field: factors.dipole_field(&-*r, target),
             };
         }
         let ((potential, field), (source_potential, source_field)) =
-            (factors.fields(r, source), factors.fields(&-r, target));
+            (factors.fields(r, source), factors.fields(&-*r, target));
         BothEnds {
             potential,
             field,
