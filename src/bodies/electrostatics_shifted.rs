@@ -24,7 +24,7 @@
 //! a time (the lanes of `super::lanes`): the radial factors at one
 //! distance, `Plain`'s bare `B_l` and `ShiftedForceFactors`.
 
-use super::lanes::{Lanes, LANES, V4};
+use super::lanes::{Lanes, V4};
 use crate::potential::multipole::ChargeDipole;
 #[cfg(test)]
 use nalgebra::Vector3;
@@ -60,15 +60,6 @@ impl<T: Lanes> ChargeDipoles<T> {
         ChargeDipoles {
             charge: T::splat(site.charge),
             dipole: V4::splat(&site.dipole),
-        }
-    }
-
-    /// Those of four sites.
-    #[inline(always)]
-    pub fn gather(sites: [ChargeDipole; LANES]) -> Self {
-        ChargeDipoles {
-            charge: T::from_array(sites.map(|s| s.charge)),
-            dipole: V4::gather(std::array::from_fn(|l| &sites[l].dipole)),
         }
     }
 }

@@ -6,7 +6,8 @@
 //! * [`site`], [`body_type`]: a site's parameters; a body type's mass,
 //!   principal moments and sites in the principal frame.
 //! * [`space`]: open space or a periodic orthorhombic box.
-//! * [`neighbours`]: cell and Verlet lists with a skin.
+//! * [`neighbours`]: cell and Verlet lists with a skin (the cell grid
+//!   and its scan in `cells`).
 //! * [`lennard_jones`], [`electrostatics`], [`electrostatics_shifted`],
 //!   [`electrostatics_ewald`]: the site-pair terms (the electrostatic
 //!   methods behind one trait: a cutoff sum, plain or shifted-force, the
@@ -28,6 +29,7 @@
 //!   [`BodyIntegrator`], the choice a scene makes (NO_SQUISH so far).
 
 pub mod body_type;
+mod cells;
 mod checkpoint;
 pub mod electrostatics;
 pub mod electrostatics_ewald;

@@ -105,6 +105,8 @@ impl PairPass {
             positions,
             charged: &self.charged,
             kind: &self.kind,
+            one_kind: self.kind.iter().all(|&k| k == self.kind[0] && k != NO_KIND),
+            all_charged: self.charged.iter().all(|&c| c),
             shifts: &self.shifts,
         };
         let blocks = &mut self.blocks;
@@ -203,6 +205,10 @@ struct Inputs<'a> {
     charged: &'a [bool],
     /// Each site's Lennard-Jones kind, [`NO_KIND`] for none.
     kind: &'a [u32],
+    /// Whether every site has the same Lennard-Jones kind (then the lanes
+    /// take no kinds) and whether every site is charged.
+    one_kind: bool,
+    all_charged: bool,
     /// Along each axis.
     shifts: &'a [Shifts],
 }
@@ -330,27 +336,45 @@ impl<'a> Inputs<'a> {
                 let counts: [[u8; 3]; LANES] =
                     std::array::from_fn(|l| counts[l.min(n - 1)].map(|c| c as u8));
                 let p = V4::<T>::gather(js.map(|j| &self.positions[j]));
-                let shift = V4 {
-                    x: T::from_array(counts.map(|c| shifts[0][c[0] as usize])),
-                    y: T::from_array(counts.map(|c| shifts[1][c[1] as usize])),
-                    z: T::from_array(counts.map(|c| shifts[2][c[2] as usize])),
+                // Most pairs are their own minimum image: no shift.
+                let r = if counts.iter().all(|c| *c == [0; 3]) {
+                    x - p
+                } else {
+                    x - p
+                        - V4 {
+                            x: T::from_array(counts.map(|c| shifts[0][c[0] as usize])),
+                            y: T::from_array(counts.map(|c| shifts[1][c[1] as usize])),
+                            z: T::from_array(counts.map(|c| shifts[2][c[2] as usize])),
+                        }
                 };
-                let r = x - p - shift;
                 let r2 = r.dot(&r);
                 let mut f = V4::<T>::default();
                 if L::ON && a != NO_KIND {
-                    let b = js.map(|j| kind[j]);
-                    let within = r2.lt(lj_cutoff2).keep(listed);
-                    let within = within.keep(T::mask(b.map(|b| b != NO_KIND)));
-                    let b = b.map(|b| if b == NO_KIND { 0 } else { b as usize });
+                    let mut within = r2.lt(lj_cutoff2).keep(listed);
+                    // With one kind, every site's is `a`.
+                    let mut b = [a as usize; LANES];
+                    if !self.one_kind {
+                        let kinds = js.map(|j| kind[j]);
+                        within = within.keep(T::mask(kinds.map(|b| b != NO_KIND)));
+                        b = kinds.map(|b| if b == NO_KIND { 0 } else { b as usize });
+                    }
                     let (u, f_over_r) = lj.pair(a as usize, b, r2);
                     lj_energy += u.keep(within);
                     f = r * f_over_r.keep(within);
                 }
                 if let (Some(t), Some(m)) = (&target, multipoles) {
-                    let source = ChargeDipoles::gather(js.map(|j| charged(m, j)));
-                    let within = r2.lt(coulomb_cutoff2).keep(listed);
-                    let within = within.keep(T::mask(js.map(|j| self.charged[j])));
+                    let dipoles = V4::gather(js.map(|j| &m.dipoles[j]));
+                    let source = ChargeDipoles {
+                        charge: match C::CHARGES {
+                            true => T::from_array(js.map(|j| m.charges[j])),
+                            false => T::default(),
+                        },
+                        dipole: dipoles,
+                    };
+                    let mut within = r2.lt(coulomb_cutoff2).keep(listed);
+                    if !self.all_charged {
+                        within = within.keep(T::mask(js.map(|j| self.charged[j])));
+                    }
                     let pair = coulomb.pair(&r, r2, coulomb_cutoff, t, &source);
                     field_i += pair.field.keep(within);
                     f += pair.force.keep(within);
