@@ -145,11 +145,13 @@ impl Cells {
         (out, count)
     }
 
-    /// Calls `found(j, counts)` for every site `j` within `reach2 = reach^2`
-    /// of site `i` (at `x`) that `wanted(j)` accepts, `counts` the box
-    /// lengths between `x_i - x_j` and that separation's minimum image.
+    /// Calls `found(j, counts)` for every site `j > i` within `reach2 =
+    /// reach^2` of site `i` (at `x`) that `wanted(j)` accepts, `counts` the
+    /// box lengths between `x_i - x_j` and that separation's minimum image.
+    /// A cell's sites are in ascending order: those above `i` are the end
+    /// of its run.
     #[inline(always)]
-    pub fn scan(
+    pub fn scan_above(
         &self,
         (i, x): (usize, &Vector3<f64>),
         reach2: f64,
@@ -163,7 +165,8 @@ impl Cells {
         for &(c, shift) in &near[..count] {
             // `w` seen from the cell's image: `x_i - x_j - L shift` is `p - w_j`.
             let p = w - Vector3::from_fn(|k, _| f64::from(shift[k]) * self.lengths[k]);
-            let mut start = self.first[c];
+            let run = &self.site[self.first[c]..self.first[c + 1]];
+            let mut start = self.first[c] + run.partition_point(|&j| j as usize <= i);
             while start < self.first[c + 1] {
                 let end = (start + RUN).min(self.first[c + 1]);
                 let (xs, ys, zs) = (

@@ -234,8 +234,8 @@ fn scan_sites(
     let (mut partners, mut images) = (Vec::new(), Vec::new());
     for i in range {
         let (before, own) = (partners.len(), body[i]);
-        let wanted = |j: usize| j > i && body[j] != own;
-        cells.scan((i, &sites[i]), reach2, wanted, |j, image| {
+        let wanted = |j: usize| body[j] != own;
+        cells.scan_above((i, &sites[i]), reach2, wanted, |j, image| {
             partners.push(j);
             images.push(image);
         });
