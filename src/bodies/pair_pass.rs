@@ -619,6 +619,72 @@ mod tests {
         (sites, term, kinds, space)
     }
 
+    /// Every output of the kernels of four pairs, lane by lane.
+    fn kernel_outputs<T: Lanes, K: ChargeKernel>(
+        term: &LennardJonesTerm,
+        r: &[Vector3<f64>; LANES],
+        target: &ChargeDipole,
+        sources: &[ChargeDipole; LANES],
+    ) -> Vec<[f64; LANES]> {
+        let r = V4::<T>::gather(std::array::from_fn(|l| &r[l]));
+        let r2 = r.dot(&r);
+        let source = ChargeDipoles {
+            charge: T::from_array(sources.map(|s| s.charge)),
+            dipole: V4::gather(std::array::from_fn(|l| &sources[l].dipole)),
+        };
+        let pair = K::new().pair(&r, r2, 2.5, &ChargeDipoles::splat(target), &source);
+        let (u, f_over_r) = term.pair_lanes::<T, false>(0, [0; LANES], r2);
+        let (u_fs, f_fs) = term.pair_lanes::<T, true>(0, [0; LANES], r2);
+        let mut out = vec![u, f_over_r, u_fs, f_fs, pair.potential, pair.source_potential];
+        for v in [pair.field, pair.force, pair.source_field] {
+            out.extend([v.x, v.y, v.z]);
+        }
+        out.into_iter().map(T::to_array).collect()
+    }
+
+    /// The kernels give the same bits in AVX registers as in arrays (the
+    /// pass takes either, by the CPU), for every truncation with and
+    /// without charges, and the Lennard-Jones lanes are the scalar pair's
+    /// bits.
+    #[test]
+    fn avx_and_array_lanes_give_the_same_bits() {
+        let (sites, term, _, _) = fluid(true);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..50 {
+            let r: [Vector3<f64>; LANES] =
+                std::array::from_fn(|_| Vector3::from_fn(|_, _| 4.0 * rng.random::<f64>() - 2.0));
+            let sources: [ChargeDipole; LANES] =
+                std::array::from_fn(|_| charged(&sites, rng.random_range(0..sites.charges.len())));
+            let target = charged(&sites, 0);
+            let array = kernel_outputs::<F4, Truncated<Bare, true>>(&term, &r, &target, &sources);
+            for l in 0..LANES {
+                let (u, f_over_r) = term.pair(0, 0, r[l].norm_squared());
+                assert_eq!((array[0][l], array[1][l]), (u, f_over_r), "lane {l}");
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                let bits = |o: Vec<[f64; LANES]>| -> Vec<[u64; LANES]> {
+                    o.into_iter().map(|x| x.map(f64::to_bits)).collect()
+                };
+                macro_rules! same {
+                    ($($kernel:ty),*) => {$(
+                        assert_eq!(
+                            bits(kernel_outputs::<F4, $kernel>(&term, &r, &target, &sources)),
+                            bits(kernel_outputs::<Avx, $kernel>(&term, &r, &target, &sources)),
+                            stringify!($kernel)
+                        );
+                    )*};
+                }
+                same!(
+                    Truncated<Bare, true>,
+                    Truncated<Bare, false>,
+                    Truncated<ShiftedForce, true>,
+                    Truncated<ShiftedForce, false>
+                );
+            }
+        }
+    }
+
     /// With 1, 2 and 3 threads the pass gives the same bits twice, the
     /// forces of each count agree with one thread's to round-off and add
     /// up to zero (Newton's third law), and the energies are those of a
