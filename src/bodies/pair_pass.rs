@@ -635,7 +635,14 @@ mod tests {
         let pair = K::new().pair(&r, r2, 2.5, &ChargeDipoles::splat(target), &source);
         let (u, f_over_r) = term.pair_lanes::<T, false>(0, [0; LANES], r2);
         let (u_fs, f_fs) = term.pair_lanes::<T, true>(0, [0; LANES], r2);
-        let mut out = vec![u, f_over_r, u_fs, f_fs, pair.potential, pair.source_potential];
+        let mut out = vec![
+            u,
+            f_over_r,
+            u_fs,
+            f_fs,
+            pair.potential,
+            pair.source_potential,
+        ];
         for v in [pair.field, pair.force, pair.source_field] {
             out.extend([v.x, v.y, v.z]);
         }
