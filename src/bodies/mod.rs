@@ -14,7 +14,7 @@
 //!   particle-mesh Ewald sum).
 //! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles in
 //!   one pass over the half neighbour list, four pairs at a time
-//!   (`lanes`).
+//!   (`lanes`), its kernels in `pair_kernels`.
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -41,6 +41,7 @@ mod lanes;
 pub mod lennard_jones;
 pub mod neighbours;
 pub mod overlap;
+mod pair_kernels;
 mod pair_pass;
 pub mod quantity;
 pub mod site;

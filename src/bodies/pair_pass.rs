@@ -10,14 +10,16 @@
 //! number of threads (and, with one thread, no block is added at all).
 
 use super::electrostatics::{SiteMultipoles, SiteResponse};
-use super::electrostatics_shifted::{
-    ChargeDipoles, ElectrostaticTruncation, Factors, Plain, ShiftedForceFactors,
-};
+use super::electrostatics_shifted::{ChargeDipoles, ElectrostaticTruncation};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::{Lanes, F4, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
+use super::pair_kernels::{
+    Bare, ChargeKernel, LennardJones, NoCharges, NoLennardJones, PairKernel, ShiftedForce,
+    Truncated,
+};
 use super::space::Space;
 use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
@@ -78,27 +80,7 @@ impl PairPass {
         for block in &mut self.blocks {
             block.reset(n, electrostatics);
         }
-        self.charged.clear();
-        if let Some((_, _, m)) = terms.electrostatics {
-            let zero = ChargeDipole::default();
-            self.charged.extend((0..n).map(|i| charged(m, i) != zero));
-        }
-        self.kind.clear();
-        if let Some((_, kinds)) = terms.lennard_jones {
-            self.kind.extend(kinds.iter().map(|k| k.unwrap_or(NO_KIND)));
-        } else {
-            self.kind.resize(n, NO_KIND);
-        }
-        let lengths = match list.space() {
-            Space::Periodic(l) => *l,
-            Space::Open => Vector3::zeros(),
-        };
-        self.shifts.resize(3, [0.0; 256]);
-        for (k, shifts) in self.shifts.iter_mut().enumerate() {
-            for (c, shift) in shifts.iter_mut().enumerate() {
-                *shift = lengths[k] * f64::from(c as u8 as i8);
-            }
-        }
+        self.site_tables(terms, list, n);
         let inputs = Inputs {
             terms,
             list,
@@ -159,6 +141,34 @@ impl PairPass {
                 .sum();
         }
         total
+    }
+}
+
+impl PairPass {
+    /// The pass's per-site and per-image tables for `n` sites: whether each
+    /// is charged, its Lennard-Jones kind, the image shifts of `list`'s space.
+    fn site_tables(&mut self, terms: &PairTerms<'_>, list: &NeighbourList, n: usize) {
+        self.charged.clear();
+        if let Some((_, _, m)) = terms.electrostatics {
+            let zero = ChargeDipole::default();
+            self.charged.extend((0..n).map(|i| charged(m, i) != zero));
+        }
+        self.kind.clear();
+        if let Some((_, kinds)) = terms.lennard_jones {
+            self.kind.extend(kinds.iter().map(|k| k.unwrap_or(NO_KIND)));
+        } else {
+            self.kind.resize(n, NO_KIND);
+        }
+        let lengths = match list.space() {
+            Space::Periodic(l) => *l,
+            Space::Open => Vector3::zeros(),
+        };
+        self.shifts.resize(3, [0.0; 256]);
+        for (k, shifts) in self.shifts.iter_mut().enumerate() {
+            for (c, shift) in shifts.iter_mut().enumerate() {
+                *shift = lengths[k] * f64::from(c as u8 as i8);
+            }
+        }
     }
 }
 
@@ -310,7 +320,7 @@ impl<'a> Inputs<'a> {
             T::splat(lj_cutoff * lj_cutoff),
             T::splat(coulomb_cutoff * coulomb_cutoff),
         );
-        let (kind, shifts) = (self.kind, self.shifts);
+        let kind = self.kind;
         // Which lanes a chunk of `n` pairs uses, at `n - 1`.
         let listed: [T; LANES] = std::array::from_fn(|n| T::mask(std::array::from_fn(|l| l <= n)));
         let mut lj_energy = T::default();
@@ -335,60 +345,20 @@ impl<'a> Inputs<'a> {
                 let js: [usize; LANES] = std::array::from_fn(|l| js[l.min(n - 1)] as usize);
                 let counts: [[u8; 3]; LANES] =
                     std::array::from_fn(|l| counts[l.min(n - 1)].map(|c| c as u8));
-                let p = V4::<T>::gather(js.map(|j| &self.positions[j]));
-                // Most pairs are their own minimum image: no shift.
-                let r = if counts.iter().all(|c| *c == [0; 3]) {
-                    x - p
-                } else {
-                    x - p
-                        - V4 {
-                            x: T::from_array(counts.map(|c| shifts[0][c[0] as usize])),
-                            y: T::from_array(counts.map(|c| shifts[1][c[1] as usize])),
-                            z: T::from_array(counts.map(|c| shifts[2][c[2] as usize])),
-                        }
-                };
+                let r = self.separations(&x, &js, &counts);
                 let r2 = r.dot(&r);
                 let mut f = V4::<T>::default();
                 if L::ON && a != NO_KIND {
-                    let mut within = r2.lt(lj_cutoff2).keep(listed);
-                    // With one kind, every site's is `a`.
-                    let mut b = [a as usize; LANES];
-                    if !self.one_kind {
-                        let kinds = js.map(|j| kind[j]);
-                        within = within.keep(T::mask(kinds.map(|b| b != NO_KIND)));
-                        b = kinds.map(|b| if b == NO_KIND { 0 } else { b as usize });
-                    }
-                    let (u, f_over_r) = lj.pair(a as usize, b, r2);
-                    lj_energy += u.keep(within);
-                    f = r * f_over_r.keep(within);
+                    let within = r2.lt(lj_cutoff2).keep(listed);
+                    let (u, f_over_r) = self.lennard_jones_pairs(&lj, (a, &js), r2, within);
+                    lj_energy += u;
+                    f = r * f_over_r;
                 }
                 if let (Some(t), Some(m)) = (&target, multipoles) {
-                    let dipoles = V4::gather(js.map(|j| &m.dipoles[j]));
-                    let source = ChargeDipoles {
-                        charge: match C::CHARGES {
-                            true => T::from_array(js.map(|j| m.charges[j])),
-                            false => T::default(),
-                        },
-                        dipole: dipoles,
-                    };
-                    let mut within = r2.lt(coulomb_cutoff2).keep(listed);
-                    if !self.all_charged {
-                        within = within.keep(T::mask(js.map(|j| self.charged[j])));
-                    }
-                    let pair = coulomb.pair(&r, r2, coulomb_cutoff, t, &source);
-                    field_i += pair.field.keep(within);
-                    f += pair.force.keep(within);
-                    if C::CHARGES {
-                        potential_i += pair.potential.keep(within);
-                        let source_potential = pair.source_potential.keep(within).to_array();
-                        for l in 0..n {
-                            out.potential[js[l]] += source_potential[l];
-                        }
-                    }
-                    let source_field = pair.source_field.keep(within).to_vectors();
-                    for l in 0..n {
-                        out.field[js[l]] += source_field[l];
-                    }
+                    let within = r2.lt(coulomb_cutoff2).keep(listed);
+                    let sums = (&mut field_i, &mut potential_i);
+                    let chunk = (&r, r2, within, &js[..n]);
+                    f += self.charge_pairs(&coulomb, coulomb_cutoff, chunk, (t, m), sums, out);
                 }
                 force_i += f;
                 let forces = f.to_vectors();
@@ -411,157 +381,91 @@ impl<'a> Inputs<'a> {
         out.lennard_jones = lj_energy.total();
         out.virial = Matrix3::from_fn(|a, b| virial[3 * a + b].total());
     }
-}
 
-/// The Lennard-Jones pairs of a pass.
-trait PairKernel<'a>: Sync + Sized {
-    /// Whether the pass has the term.
-    const ON: bool;
-    /// The kernel of `term` (`None` if the pass needs the term and has none).
-    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self>;
-    /// Energies and `-(1/r) du/dr` of kind `a` with kinds `b` at `r2`.
-    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T);
-}
-
-struct NoLennardJones;
-
-impl PairKernel<'_> for NoLennardJones {
-    const ON: bool = false;
-    fn new(_: Option<&LennardJonesTerm>) -> Option<Self> {
-        Some(NoLennardJones)
-    }
-    fn pair<T: Lanes>(&self, _: usize, _: [usize; LANES], _: T) -> (T, T) {
-        (T::default(), T::default())
-    }
-}
-
-/// The term, force-shifted or not.
-struct LennardJones<'a, const FORCE_SHIFTED: bool>(&'a LennardJonesTerm);
-
-impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SHIFTED> {
-    const ON: bool = true;
-    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self> {
-        term.map(LennardJones)
-    }
+    /// The Lennard-Jones energies and `-(1/r) du/dr` of site kind `a` with
+    /// the partners `js` at `r2`, zero outside the lanes `within` of the
+    /// cutoff and for partners without Lennard-Jones.
     #[inline(always)]
-    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T) {
-        self.0.pair_lanes::<T, FORCE_SHIFTED>(a, b, r2)
-    }
-}
-
-/// Both ends of four charge-dipole pairs: the targets' potentials, fields
-/// and forces, and the sources' potentials and fields (their forces are
-/// minus the targets').
-struct BothEnds<T> {
-    potential: T,
-    field: V4<T>,
-    force: V4<T>,
-    source_potential: T,
-    source_field: V4<T>,
-}
-
-/// The charge-dipole pairs of a pass.
-trait ChargeKernel: Sync + Sized {
-    /// Whether the pass has the term.
-    const ON: bool;
-    /// Whether some site carries a charge (if not, the potentials are
-    /// left zero: nothing reads them).
-    const CHARGES: bool;
-    fn new() -> Self;
-    /// The pairs of targets at offsets `r` (`r2 = |r|^2`) from sources.
-    fn pair<T: Lanes>(
+    fn lennard_jones_pairs<T: Lanes, L: PairKernel<'a>>(
         &self,
-        r: &V4<T>,
+        lj: &L,
+        (a, js): (u32, &[usize; LANES]),
         r2: T,
-        cutoff: f64,
-        target: &ChargeDipoles<T>,
-        source: &ChargeDipoles<T>,
-    ) -> BothEnds<T>;
-}
-
-/// No charges or dipoles.
-struct NoCharges;
-
-impl ChargeKernel for NoCharges {
-    const ON: bool = false;
-    const CHARGES: bool = false;
-    fn new() -> Self {
-        NoCharges
-    }
-    fn pair<T: Lanes>(
-        &self,
-        _: &V4<T>,
-        _: T,
-        _: f64,
-        _: &ChargeDipoles<T>,
-        _: &ChargeDipoles<T>,
-    ) -> BothEnds<T> {
-        BothEnds {
-            potential: T::default(),
-            field: V4::default(),
-            force: V4::default(),
-            source_potential: T::default(),
-            source_field: V4::default(),
+        mut within: T,
+    ) -> (T, T) {
+        // With one kind, every site's is `a`.
+        let mut b = [a as usize; LANES];
+        if !self.one_kind {
+            let kinds = js.map(|j| self.kind[j]);
+            within = within.keep(T::mask(kinds.map(|b| b != NO_KIND)));
+            b = kinds.map(|b| if b == NO_KIND { 0 } else { b as usize });
         }
+        let (u, f_over_r) = lj.pair(a as usize, b, r2);
+        (u.keep(within), f_over_r.keep(within))
     }
-}
 
-/// A truncation: its radial factors in any lanes.
-trait Truncation: Sync {
-    type Factors<T: Lanes>: Factors<T>;
-}
-
-/// The plain truncation (the bare pair terms).
-struct Bare;
-
-impl Truncation for Bare {
-    type Factors<T: Lanes> = Plain<T>;
-}
-
-/// The shifted-force truncation.
-struct ShiftedForce;
-
-impl Truncation for ShiftedForce {
-    type Factors<T: Lanes> = ShiftedForceFactors<T>;
-}
-
-/// A truncation's pairs, with charges or of dipoles only.
-struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn() -> F>);
-
-impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
-    const ON: bool = true;
-    const CHARGES: bool = CHARGES;
-    fn new() -> Self {
-        Truncated(std::marker::PhantomData)
-    }
+    /// The separations `x_i - x_j - shift` of the lanes' partners `js`
+    /// with image counts `counts` (most pairs are their own minimum image:
+    /// no shift).
     #[inline(always)]
-    fn pair<T: Lanes>(
+    fn separations<T: Lanes>(
         &self,
-        r: &V4<T>,
-        r2: T,
+        x: &V4<T>,
+        js: &[usize; LANES],
+        counts: &[[u8; 3]; LANES],
+    ) -> V4<T> {
+        let p = V4::<T>::gather(js.map(|j| &self.positions[j]));
+        if counts.iter().all(|c| *c == [0; 3]) {
+            return *x - p;
+        }
+        let shifts = self.shifts;
+        *x - p
+            - V4 {
+                x: T::from_array(counts.map(|c| shifts[0][c[0] as usize])),
+                y: T::from_array(counts.map(|c| shifts[1][c[1] as usize])),
+                z: T::from_array(counts.map(|c| shifts[2][c[2] as usize])),
+            }
+    }
+
+    /// The charge-dipole pairs of target `t` with the partners `js` (the
+    /// first lanes) at separations `r` within the lanes `within` of the
+    /// cutoff: the target's field and potential added to `sums`, the
+    /// partners' to `out`; the forces on the target returned.
+    #[inline(always)]
+    fn charge_pairs<T: Lanes, C: ChargeKernel>(
+        &self,
+        coulomb: &C,
         cutoff: f64,
-        target: &ChargeDipoles<T>,
-        source: &ChargeDipoles<T>,
-    ) -> BothEnds<T> {
-        let factors = F::Factors::<T>::new(r2, cutoff);
-        if !CHARGES {
-            return BothEnds {
-                potential: T::default(),
-                field: factors.dipole_field(r, source),
-                force: factors.dipole_force(r, r2, target, source),
-                source_potential: T::default(),
-                source_field: factors.dipole_field(&-*r, target),
-            };
+        (r, r2, mut within, js): (&V4<T>, T, T, &[usize]),
+        (t, m): (&ChargeDipoles<T>, &SiteMultipoles),
+        (field_i, potential_i): (&mut V4<T>, &mut T),
+        out: &mut PairSums,
+    ) -> V4<T> {
+        let lanes: [usize; LANES] = std::array::from_fn(|l| js[l.min(js.len() - 1)]);
+        let source = ChargeDipoles {
+            charge: match C::CHARGES {
+                true => T::from_array(lanes.map(|j| m.charges[j])),
+                false => T::default(),
+            },
+            dipole: V4::gather(lanes.map(|j| &m.dipoles[j])),
+        };
+        if !self.all_charged {
+            within = within.keep(T::mask(lanes.map(|j| self.charged[j])));
         }
-        let ((potential, field), (source_potential, source_field)) =
-            (factors.fields(r, source), factors.fields(&-*r, target));
-        BothEnds {
-            potential,
-            field,
-            force: factors.force(r, r2, target, source),
-            source_potential,
-            source_field,
+        let pair = coulomb.pair(r, r2, cutoff, t, &source);
+        *field_i += pair.field.keep(within);
+        if C::CHARGES {
+            *potential_i += pair.potential.keep(within);
+            let source_potential = pair.source_potential.keep(within).to_array();
+            for (l, &j) in js.iter().enumerate() {
+                out.potential[j] += source_potential[l];
+            }
         }
+        let source_field = pair.source_field.keep(within).to_vectors();
+        for (l, &j) in js.iter().enumerate() {
+            out.field[j] += source_field[l];
+        }
+        pair.force.keep(within)
     }
 }
 
