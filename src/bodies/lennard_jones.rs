@@ -12,6 +12,7 @@
 //! `x = sigma / r_c` (all site pairs counted, those within a body too, as
 //! LAMMPS does).
 
+use super::lanes::{Lanes, LANES};
 use super::site::LennardJones;
 use crate::checks::{named_choices, positive, InputError};
 use std::f64::consts::PI;
@@ -162,6 +163,39 @@ impl LennardJonesTerm {
         (
             u - (r - self.options.cutoff) * p.slope,
             f_over_r + p.slope / r,
+        )
+    }
+
+    /// [`LennardJonesTerm::pair_of`] of four pairs: kind `a` with kinds
+    /// `b` at squared distances `r2` (lanes beyond the cutoff hold values
+    /// to be dropped).
+    #[inline(always)]
+    pub(super) fn pair_lanes<T: Lanes, const FORCE_SHIFTED: bool>(
+        &self,
+        a: usize,
+        b: [usize; LANES],
+        r2: T,
+    ) -> (T, T) {
+        let row = &self.table[a * self.kinds.len()..(a + 1) * self.kinds.len()];
+        let lanes = |f: fn(&PairConstants) -> f64| {
+            if row.len() == 1 {
+                T::splat(f(&row[0]))
+            } else {
+                T::from_array(b.map(|b| f(&row[b])))
+            }
+        };
+        let (c12, c6, shift) = (lanes(|p| p.c12), lanes(|p| p.c6), lanes(|p| p.shift));
+        let inv_r2 = T::splat(1.0) / r2;
+        let inv_r6 = inv_r2 * inv_r2 * inv_r2;
+        let u = inv_r6 * (c12 * inv_r6 - c6) - shift;
+        let f_over_r = inv_r6 * (c12 * 12.0 * inv_r6 - c6 * 6.0) * inv_r2;
+        if !FORCE_SHIFTED {
+            return (u, f_over_r);
+        }
+        let (r, slope) = (r2.sqrt(), lanes(|p| p.slope));
+        (
+            u - (r - T::splat(self.options.cutoff)) * slope,
+            f_over_r + slope / r,
         )
     }
 

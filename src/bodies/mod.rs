@@ -6,13 +6,15 @@
 //! * [`site`], [`body_type`]: a site's parameters; a body type's mass,
 //!   principal moments and sites in the principal frame.
 //! * [`space`]: open space or a periodic orthorhombic box.
-//! * [`neighbours`]: cell and Verlet lists with a skin.
+//! * [`neighbours`]: cell and Verlet lists with a skin (the cell grid
+//!   and its scan in `cells`).
 //! * [`lennard_jones`], [`electrostatics`], [`electrostatics_shifted`],
 //!   [`electrostatics_ewald`]: the site-pair terms (the electrostatic
 //!   methods behind one trait: a cutoff sum, plain or shifted-force, the
 //!   particle-mesh Ewald sum).
 //! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles in
-//!   one pass over the half neighbour list.
+//!   one pass over the half neighbour list, four pairs at a time
+//!   (`lanes`), its kernels in `pair_kernels`.
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -27,6 +29,7 @@
 //!   [`BodyIntegrator`], the choice a scene makes (NO_SQUISH so far).
 
 pub mod body_type;
+mod cells;
 mod checkpoint;
 pub mod electrostatics;
 pub mod electrostatics_ewald;
@@ -34,9 +37,11 @@ pub mod electrostatics_shifted;
 pub mod evaluate;
 pub mod generate;
 pub mod integrators;
+mod lanes;
 pub mod lennard_jones;
 pub mod neighbours;
 pub mod overlap;
+mod pair_kernels;
 mod pair_pass;
 pub mod quantity;
 pub mod site;

@@ -11,6 +11,8 @@
 //! third law); a full view (each pair under both sites, for per-site sums
 //! without shared writes) is derived from it when asked for at construction.
 
+use super::cells::Cells;
+pub use super::cells::CELLS_PER_SITE;
 use super::checkpoint::{bad, take_values, whole};
 use super::space::Space;
 use crate::checks::{non_negative, positive, InputError};
@@ -19,11 +21,6 @@ use crate::integrators::IntegratorError;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-/// Open space: at most this many cells per site (plus 27).
-pub const CELLS_PER_SITE: usize = 8;
-/// `1.5 * 2^52`: `(t + ROUNDING) - ROUNDING` is `t` rounded to a whole
-/// number (halves to even) for `|t| < 2^51`.
-const ROUNDING: f64 = 6_755_399_441_055_744.0;
 /// Sites per parallel task of a build.
 const SITES_PER_TASK: usize = 512;
 
@@ -53,16 +50,6 @@ struct Pairs {
     /// the minimum image until the list goes stale). Sites are never more
     /// than a body's size outside the box, so the counts fit.
     image: Vec<[i8; 3]>,
-}
-
-/// A grid of cells over the sites.
-struct Cells {
-    counts: [usize; 3],
-    /// Sites of cell `c` are `order[first[c]..first[c + 1]]`.
-    first: Vec<usize>,
-    order: Vec<u32>,
-    cell_of: Vec<usize>,
-    periodic: bool,
 }
 
 impl NeighbourList {
@@ -132,6 +119,21 @@ impl NeighbourList {
         self.half.separations(i, range, positions, self.space)
     }
 
+    /// The partners listed under site `i` in the half list and their image
+    /// counts (the lane kernels' form of [`NeighbourList::half_pairs`]: the
+    /// separation of partner `j` with counts `c` is `x_i - x_j - shift(c)`
+    /// in the space of the build, [`NeighbourList::space`]).
+    #[inline]
+    pub(crate) fn half_run(&self, i: usize) -> (&[u32], &[[i8; 3]]) {
+        let range = self.half.start[i]..self.half.start[i + 1];
+        (&self.half.partner[range.clone()], &self.half.image[range])
+    }
+
+    /// The space of the last build.
+    pub fn space(&self) -> &Space {
+        &self.space
+    }
+
     /// Where site `i`'s pairs start in the half list (`i` up to the number
     /// of sites): the pairs of sites `a..b` are `half_start(b) -
     /// half_start(a)`.
@@ -160,44 +162,11 @@ impl NeighbourList {
         let reach = self.reach();
         let cells = Cells::new(sites, space, reach);
         let reach2 = reach * reach;
-        // Image counts by a product and a rounding of two additions: for a
-        // pair within reach (less than half a box length from an image) they
-        // are those of `Space::image_counts`, whose divisions and library
-        // rounding cost most of a build.
-        let inverse = match space {
-            Space::Periodic(l) => l.map(|x| 1.0 / x),
-            Space::Open => Vector3::zeros(),
-        };
-        let image_counts =
-            |d: &Vector3<f64>| d.component_mul(&inverse).map(|t| (t + ROUNDING) - ROUNDING);
-        type Task = (Vec<usize>, Vec<u32>, Vec<[i8; 3]>);
         let tasks: Vec<Task> = (0..sites.len().div_ceil(SITES_PER_TASK))
             .into_par_iter()
             .map(|task| {
                 let range = task * SITES_PER_TASK..((task + 1) * SITES_PER_TASK).min(sites.len());
-                let mut counts = Vec::with_capacity(range.len());
-                let (mut partners, mut images) = (Vec::new(), Vec::new());
-                for i in range {
-                    let before = partners.len();
-                    let (x, own) = (sites[i], body[i]);
-                    let (near, count) = cells.neighbours(cells.cell_of[i]);
-                    for &c in &near[..count] {
-                        for &j in cells.sites(c) {
-                            let ju = j as usize;
-                            if ju <= i || body[ju] == own {
-                                continue;
-                            }
-                            let d = x - sites[ju];
-                            let image = image_counts(&d);
-                            if (d - space.shift(&image)).norm_squared() < reach2 {
-                                partners.push(j);
-                                images.push([0, 1, 2].map(|k| image[k] as i8));
-                            }
-                        }
-                    }
-                    counts.push(partners.len() - before);
-                }
-                (counts, partners, images)
+                build_task(&cells, (sites, body), range, reach2)
             })
             .collect();
         let half = &mut self.half;
@@ -220,6 +189,59 @@ impl NeighbourList {
         self.reference.extend_from_slice(sites);
         self.builds += 1;
     }
+}
+
+/// The pairs of a range of sites: each site's count, the partners, their
+/// image counts.
+type Task = (Vec<usize>, Vec<u32>, Vec<[i8; 3]>);
+
+/// The pairs of the sites `range` with the higher sites of other bodies
+/// within `sqrt(reach2)`, compiled for AVX2 where the CPU has it (the same
+/// pairs in the same order: only the distances' loop is vectorised).
+fn build_task(
+    cells: &Cells,
+    sites: (&[Vector3<f64>], &[u32]),
+    range: std::ops::Range<usize>,
+    reach2: f64,
+) -> Task {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        return unsafe { build_task_avx2(cells, sites, range, reach2) };
+    }
+    scan_sites(cells, sites, range, reach2)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn build_task_avx2(
+    cells: &Cells,
+    sites: (&[Vector3<f64>], &[u32]),
+    range: std::ops::Range<usize>,
+    reach2: f64,
+) -> Task {
+    scan_sites(cells, sites, range, reach2)
+}
+
+#[inline(always)]
+fn scan_sites(
+    cells: &Cells,
+    (sites, body): (&[Vector3<f64>], &[u32]),
+    range: std::ops::Range<usize>,
+    reach2: f64,
+) -> Task {
+    let mut counts = Vec::with_capacity(range.len());
+    let (mut partners, mut images) = (Vec::new(), Vec::new());
+    for i in range {
+        let (before, own) = (partners.len(), body[i]);
+        let wanted = |j: usize| body[j] != own;
+        cells.scan_above((i, &sites[i]), reach2, wanted, |j, image| {
+            partners.push(j);
+            images.push(image);
+        });
+        counts.push(partners.len() - before);
+    }
+    (counts, partners, images)
 }
 
 impl Pairs {
@@ -336,109 +358,6 @@ impl NeighbourList {
         }
         self.builds = builds;
         Ok(rest)
-    }
-}
-
-impl Cells {
-    fn new(sites: &[Vector3<f64>], space: &Space, reach: f64) -> Cells {
-        let (origin, width, counts, periodic) = match space {
-            Space::Periodic(l) => {
-                let counts = [0, 1, 2].map(|k| ((l[k] / reach).floor() as usize).max(1));
-                let width = Vector3::from_fn(|k, _| l[k] / counts[k] as f64);
-                (Vector3::zeros(), width, counts, true)
-            }
-            Space::Open => {
-                let (lo, hi) = sites.iter().fold(
-                    (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN)),
-                    |(lo, hi), x| (lo.inf(x), hi.sup(x)),
-                );
-                let extent = (hi - lo).sup(&Vector3::zeros());
-                let limit = 27 + CELLS_PER_SITE * sites.len();
-                let mut size = reach;
-                let count = |size: f64| [0, 1, 2].map(|k| (extent[k] / size) as usize + 1);
-                while count(size).iter().product::<usize>() > limit {
-                    size *= 1.5;
-                }
-                (lo, Vector3::repeat(size), count(size), false)
-            }
-        };
-        let index = |x: &Vector3<f64>| {
-            let mut c = [0; 3];
-            for k in 0..3 {
-                let mut u = (x[k] - origin[k]) / width[k];
-                if periodic {
-                    u = u.rem_euclid(counts[k] as f64);
-                }
-                c[k] = (u.max(0.0) as usize).min(counts[k] - 1);
-            }
-            (c[0] * counts[1] + c[1]) * counts[2] + c[2]
-        };
-        let cell_of: Vec<usize> = sites.iter().map(index).collect();
-        let total = counts.iter().product::<usize>();
-        let mut first = vec![0; total + 1];
-        for &c in &cell_of {
-            first[c + 1] += 1;
-        }
-        for c in 0..total {
-            first[c + 1] += first[c];
-        }
-        let mut fill = first.clone();
-        let mut order = vec![0; sites.len()];
-        for (i, &c) in cell_of.iter().enumerate() {
-            order[fill[c]] = i as u32;
-            fill[c] += 1;
-        }
-        Cells {
-            counts,
-            first,
-            order,
-            cell_of,
-            periodic,
-        }
-    }
-
-    fn sites(&self, c: usize) -> &[u32] {
-        &self.order[self.first[c]..self.first[c + 1]]
-    }
-
-    /// The distinct cells next to `c` (itself included), ascending: the
-    /// first `count` of the array.
-    fn neighbours(&self, c: usize) -> ([usize; 27], usize) {
-        let [_, ny, nz] = self.counts;
-        let own = [c / (ny * nz), (c / nz) % ny, c % nz];
-        let (mut out, mut count) = ([0; 27], 0);
-        for dx in -1i64..=1 {
-            for dy in -1i64..=1 {
-                for dz in -1i64..=1 {
-                    let mut cell = [0usize; 3];
-                    let mut inside = true;
-                    for (k, d) in [dx, dy, dz].into_iter().enumerate() {
-                        let n = self.counts[k] as i64;
-                        let u = own[k] as i64 + d;
-                        if self.periodic {
-                            cell[k] = u.rem_euclid(n) as usize;
-                        } else if (0..n).contains(&u) {
-                            cell[k] = u as usize;
-                        } else {
-                            inside = false;
-                        }
-                    }
-                    if inside {
-                        out[count] = (cell[0] * ny + cell[1]) * nz + cell[2];
-                        count += 1;
-                    }
-                }
-            }
-        }
-        out[..count].sort_unstable();
-        let mut distinct = 0;
-        for k in 0..count {
-            if k == 0 || out[k] != out[distinct - 1] {
-                out[distinct] = out[k];
-                distinct += 1;
-            }
-        }
-        (out, distinct)
     }
 }
 
@@ -563,6 +482,6 @@ mod tests {
             .map(|k| Vector3::new(1e6 * k as f64, 0.0, 0.0))
             .collect();
         let cells = Cells::new(&sites, &Space::Open, 1.0);
-        assert!(cells.first.len() - 1 <= 27 + CELLS_PER_SITE * 10);
+        assert!(cells.cells() <= 27 + CELLS_PER_SITE * 10);
     }
 }

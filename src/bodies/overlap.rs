@@ -46,21 +46,25 @@ impl BodySystem {
         if positions.len() != self.sites() {
             return None;
         }
-        // The smallest (r / sigma)^2, with r^2: one square root at the end.
-        let mut worst: Option<(f64, usize, usize, f64, f64)> = None;
+        // The smallest (r / sigma)^2 as (r^2, sigma^2), compared without
+        // divisions; one square root at the end.
+        let mut worst: Option<(f64, f64, usize, usize, f64)> = None;
         for (i, kind) in self.lj_kind.iter().enumerate() {
             let Some(a) = kind else { continue };
             for (j, r) in self.neighbours.half_pairs(i, positions) {
                 let Some(b) = self.lj_kind[j] else { continue };
                 let sigma = term.sigma(*a as usize, b as usize);
-                let r2 = r.norm_squared();
-                let ratio2 = r2 / (sigma * sigma);
-                if ratio2.is_finite() && worst.is_none_or(|(w, ..)| ratio2 < w) {
-                    worst = Some((ratio2, i, j, r2, sigma));
+                let (r2, sigma2) = (r.norm_squared(), sigma * sigma);
+                let closer = match worst {
+                    None => true,
+                    Some((w_r2, w_sigma2, ..)) => r2 * w_sigma2 < w_r2 * sigma2,
+                };
+                if closer && r2.is_finite() {
+                    worst = Some((r2, sigma2, i, j, sigma));
                 }
             }
         }
-        let (_, i, j, r2, sigma) = worst?;
+        let (r2, _, i, j, sigma) = worst?;
         let distance = r2.sqrt();
         let site = |s: usize| {
             let body = self.site_body[s];

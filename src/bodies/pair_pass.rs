@@ -10,9 +10,17 @@
 //! number of threads (and, with one thread, no block is added at all).
 
 use super::electrostatics::{SiteMultipoles, SiteResponse};
-use super::electrostatics_shifted::{ElectrostaticTruncation, Factors, Plain, ShiftedForceFactors};
+use super::electrostatics_shifted::{ChargeDipoles, ElectrostaticTruncation};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::Avx;
+use super::lanes::{Lanes, F4, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
+use super::pair_kernels::{
+    Bare, ChargeKernel, LennardJones, NoCharges, NoLennardJones, PairKernel, ShiftedForce,
+    Truncated,
+};
+use super::space::Space;
 use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -51,6 +59,9 @@ pub(super) struct PairPass {
     blocks: Vec<PairSums>,
     /// Whether each site carries a charge or a dipole.
     charged: Vec<bool>,
+    /// Each site's Lennard-Jones kind ([`NO_KIND`] without, or without the term).
+    kind: Vec<u32>,
+    shifts: Vec<Shifts>,
 }
 
 impl PairPass {
@@ -69,28 +80,28 @@ impl PairPass {
         for block in &mut self.blocks {
             block.reset(n, electrostatics);
         }
-        self.charged.clear();
-        if let Some((_, _, m)) = terms.electrostatics {
-            let zero = ChargeDipole::default();
-            self.charged.extend((0..n).map(|i| charged(m, i) != zero));
-        }
+        self.site_tables(terms, list, n);
         let inputs = Inputs {
             terms,
             list,
             positions,
             charged: &self.charged,
+            kind: &self.kind,
+            one_kind: self.kind.iter().all(|&k| k == self.kind[0] && k != NO_KIND),
+            all_charged: self.charged.iter().all(|&c| c),
+            shifts: &self.shifts,
         };
         let blocks = &mut self.blocks;
         use ElectrostaticTruncation as E;
         match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
             None => inputs.with_lennard_jones::<NoCharges>(blocks),
-            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Plain, true>>(blocks),
-            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Plain, false>>(blocks),
+            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Bare, true>>(blocks),
+            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Bare, false>>(blocks),
             Some((E::ShiftedForce, true)) => {
-                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, true>>(blocks)
+                inputs.with_lennard_jones::<Truncated<ShiftedForce, true>>(blocks)
             }
             Some((E::ShiftedForce, false)) => {
-                inputs.with_lennard_jones::<Truncated<ShiftedForceFactors, false>>(blocks)
+                inputs.with_lennard_jones::<Truncated<ShiftedForce, false>>(blocks)
             }
         }
         let (first, rest) = self.blocks.split_at_mut(1);
@@ -130,6 +141,34 @@ impl PairPass {
                 .sum();
         }
         total
+    }
+}
+
+impl PairPass {
+    /// The pass's per-site and per-image tables for `n` sites: whether each
+    /// is charged, its Lennard-Jones kind, the image shifts of `list`'s space.
+    fn site_tables(&mut self, terms: &PairTerms<'_>, list: &NeighbourList, n: usize) {
+        self.charged.clear();
+        if let Some((_, _, m)) = terms.electrostatics {
+            let zero = ChargeDipole::default();
+            self.charged.extend((0..n).map(|i| charged(m, i) != zero));
+        }
+        self.kind.clear();
+        if let Some((_, kinds)) = terms.lennard_jones {
+            self.kind.extend(kinds.iter().map(|k| k.unwrap_or(NO_KIND)));
+        } else {
+            self.kind.resize(n, NO_KIND);
+        }
+        let lengths = match list.space() {
+            Space::Periodic(l) => *l,
+            Space::Open => Vector3::zeros(),
+        };
+        self.shifts.resize(3, [0.0; 256]);
+        for (k, shifts) in self.shifts.iter_mut().enumerate() {
+            for (c, shift) in shifts.iter_mut().enumerate() {
+                *shift = lengths[k] * f64::from(c as u8 as i8);
+            }
+        }
     }
 }
 
@@ -174,7 +213,22 @@ struct Inputs<'a> {
     list: &'a NeighbourList,
     positions: &'a [Vector3<f64>],
     charged: &'a [bool],
+    /// Each site's Lennard-Jones kind, [`NO_KIND`] for none.
+    kind: &'a [u32],
+    /// Whether every site has the same Lennard-Jones kind (then the lanes
+    /// take no kinds) and whether every site is charged.
+    one_kind: bool,
+    all_charged: bool,
+    /// Along each axis.
+    shifts: &'a [Shifts],
 }
+
+/// A site without Lennard-Jones.
+const NO_KIND: u32 = u32::MAX;
+
+/// The shifts `c L_k` of the image counts `c` along one axis `k`, at index
+/// `c as u8` (the same bits as [`Space::shift`]).
+type Shifts = [f64; 256];
 
 impl<'a> Inputs<'a> {
     /// The pass with the charge kernel `C` and the Lennard-Jones kernel of the terms.
@@ -218,9 +272,37 @@ impl<'a> Inputs<'a> {
         }
     }
 
-    /// The pairs listed under the sites of `sites` into `out`.
-    #[inline(always)]
+    /// [`Inputs::lanes`] in AVX registers where the CPU has AVX2, else in
+    /// arrays (the same bits: the lanes round as the scalar operations do).
     fn range<L: PairKernel<'a>, C: ChargeKernel>(
+        &self,
+        sites: std::ops::Range<usize>,
+        out: &mut PairSums,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked just above.
+            unsafe { self.lanes_avx2::<L, C>(sites, out) };
+            return;
+        }
+        self.lanes::<F4, L, C>(sites, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn lanes_avx2<L: PairKernel<'a>, C: ChargeKernel>(
+        &self,
+        sites: std::ops::Range<usize>,
+        out: &mut PairSums,
+    ) {
+        self.lanes::<Avx, L, C>(sites, out);
+    }
+
+    /// The pairs listed under the sites of `sites` into `out`, four at a
+    /// time: each site's force, field and potential, the energy and the
+    /// virial summed in four lanes, added up at the end.
+    #[inline(always)]
+    fn lanes<T: Lanes, L: PairKernel<'a>, C: ChargeKernel>(
         &self,
         sites: std::ops::Range<usize>,
         out: &mut PairSums,
@@ -228,203 +310,162 @@ impl<'a> Inputs<'a> {
         let Some(lj) = L::new(self.terms.lennard_jones.map(|t| t.0)) else {
             return;
         };
-        let (lj_cutoff2, kind) = self
-            .terms
-            .lennard_jones
-            .map_or((0.0, &[][..]), |(t, kind)| (t.cutoff() * t.cutoff(), kind));
+        let lj_cutoff = self.terms.lennard_jones.map_or(0.0, |(t, _)| t.cutoff());
         let (coulomb_cutoff, multipoles) = match self.terms.electrostatics {
             Some((cutoff, _, m)) => (cutoff, Some(m)),
             None => (0.0, None),
         };
-        let (coulomb, coulomb_cutoff2) = (C::new(), coulomb_cutoff * coulomb_cutoff);
-        let mut lj_energy = 0.0;
-        // The virial's components, row by row (nalgebra's outer product
-        // costs several times these nine products).
-        let mut virial = [0.0; 9];
+        let coulomb = C::new();
+        let (lj_cutoff2, coulomb_cutoff2) = (
+            T::splat(lj_cutoff * lj_cutoff),
+            T::splat(coulomb_cutoff * coulomb_cutoff),
+        );
+        let kind = self.kind;
+        // Which lanes a chunk of `n` pairs uses, at `n - 1`.
+        let listed: [T; LANES] = std::array::from_fn(|n| T::mask(std::array::from_fn(|l| l <= n)));
+        let mut lj_energy = T::default();
+        // The virial's components, row by row.
+        let mut virial = [T::default(); 9];
         for i in sites {
-            let a = if L::ON { kind[i] } else { None };
+            let a = kind[i];
             let target = match multipoles {
-                Some(m) if C::ON && self.charged[i] => Some(charged(m, i)),
+                Some(m) if C::ON && self.charged[i] => Some(ChargeDipoles::splat(&charged(m, i))),
                 _ => None,
             };
-            if a.is_none() && target.is_none() {
+            if (!L::ON || a == NO_KIND) && target.is_none() {
                 continue;
             }
+            let x = V4::<T>::splat(&self.positions[i]);
             let (mut force_i, mut field_i, mut potential_i) =
-                (Vector3::zeros(), Vector3::zeros(), 0.0);
-            for (j, r) in self.list.half_pairs(i, self.positions) {
-                let r2 = r.norm_squared();
-                let mut f = Vector3::zeros();
-                if let (true, Some(a), Some(b)) =
-                    (r2 < lj_cutoff2, a, kind.get(j).copied().flatten())
-                {
-                    let (u, f_over_r) = lj.pair(a as usize, b as usize, r2);
+                (V4::<T>::default(), V4::<T>::default(), T::default());
+            let (partners, images) = self.list.half_run(i);
+            for (js, counts) in partners.chunks(LANES).zip(images.chunks(LANES)) {
+                // Unused lanes repeat the last pair, their results dropped.
+                let (n, listed) = (js.len(), listed[js.len() - 1]);
+                let js: [usize; LANES] = std::array::from_fn(|l| js[l.min(n - 1)] as usize);
+                let counts: [[u8; 3]; LANES] =
+                    std::array::from_fn(|l| counts[l.min(n - 1)].map(|c| c as u8));
+                let r = self.separations(&x, &js, &counts);
+                let r2 = r.dot(&r);
+                let mut f = V4::<T>::default();
+                if L::ON && a != NO_KIND {
+                    let within = r2.lt(lj_cutoff2).keep(listed);
+                    let (u, f_over_r) = self.lennard_jones_pairs(&lj, (a, &js), r2, within);
                     lj_energy += u;
                     f = r * f_over_r;
                 }
-                if let (true, Some(t), Some(m)) = (r2 < coulomb_cutoff2, &target, multipoles) {
-                    if self.charged[j] {
-                        let s = charged(m, j);
-                        let pair = coulomb.pair(&r, r2, coulomb_cutoff, t, &s);
-                        field_i += pair.field;
-                        out.field[j] += pair.source_field;
-                        if C::CHARGES {
-                            potential_i += pair.potential;
-                            out.potential[j] += pair.source_potential;
-                        }
-                        f += pair.force;
-                    }
+                if let (Some(t), Some(m)) = (&target, multipoles) {
+                    let within = r2.lt(coulomb_cutoff2).keep(listed);
+                    let sums = (&mut field_i, &mut potential_i);
+                    let chunk = (&r, r2, within, &js[..n]);
+                    f += self.charge_pairs(&coulomb, coulomb_cutoff, chunk, (t, m), sums, out);
                 }
                 force_i += f;
-                out.force[j] -= f;
+                let forces = f.to_vectors();
+                for l in 0..n {
+                    out.force[js[l]] -= forces[l];
+                }
+                let (rs, fs) = ([r.x, r.y, r.z], [f.x, f.y, f.z]);
                 for a in 0..3 {
                     for b in 0..3 {
-                        virial[3 * a + b] += r[a] * f[b];
+                        virial[3 * a + b] += rs[a] * fs[b];
                     }
                 }
             }
-            out.force[i] += force_i;
+            out.force[i] += force_i.total();
             if target.is_some() {
-                out.potential[i] += potential_i;
-                out.field[i] += field_i;
+                out.potential[i] += potential_i.total();
+                out.field[i] += field_i.total();
             }
         }
-        out.lennard_jones = lj_energy;
-        out.virial = Matrix3::from_row_slice(&virial);
+        out.lennard_jones = lj_energy.total();
+        out.virial = Matrix3::from_fn(|a, b| virial[3 * a + b].total());
     }
-}
 
-/// The Lennard-Jones pair of a pass.
-trait PairKernel<'a>: Sync + Sized {
-    /// Whether the pass has the term.
-    const ON: bool;
-    /// The kernel of `term` (`None` if the pass needs the term and has none).
-    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self>;
-    /// Energy and `-(1/r) du/dr` of kinds `a`, `b` at `r2` within the cutoff.
-    fn pair(&self, a: usize, b: usize, r2: f64) -> (f64, f64);
-}
-
-struct NoLennardJones;
-
-impl PairKernel<'_> for NoLennardJones {
-    const ON: bool = false;
-    fn new(_: Option<&LennardJonesTerm>) -> Option<Self> {
-        Some(NoLennardJones)
-    }
-    fn pair(&self, _: usize, _: usize, _: f64) -> (f64, f64) {
-        (0.0, 0.0)
-    }
-}
-
-/// The term, force-shifted or not.
-struct LennardJones<'a, const FORCE_SHIFTED: bool>(&'a LennardJonesTerm);
-
-impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SHIFTED> {
-    const ON: bool = true;
-    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self> {
-        term.map(LennardJones)
-    }
+    /// The Lennard-Jones energies and `-(1/r) du/dr` of site kind `a` with
+    /// the partners `js` at `r2`, zero outside the lanes `within` of the
+    /// cutoff and for partners without Lennard-Jones.
     #[inline(always)]
-    fn pair(&self, a: usize, b: usize, r2: f64) -> (f64, f64) {
-        self.0.pair_of::<FORCE_SHIFTED>(a, b, r2)
-    }
-}
-
-/// Both ends of a charge-dipole pair: the target's potential, field and
-/// force, and the source's potential and field (its force is minus the
-/// target's).
-struct BothEnds {
-    potential: f64,
-    field: Vector3<f64>,
-    force: Vector3<f64>,
-    source_potential: f64,
-    source_field: Vector3<f64>,
-}
-
-/// The charge-dipole pair of a pass.
-trait ChargeKernel: Sync + Sized {
-    /// Whether the pass has the term.
-    const ON: bool;
-    /// Whether some site carries a charge (if not, the potentials are
-    /// left zero: nothing reads them).
-    const CHARGES: bool;
-    fn new() -> Self;
-    /// The pair of a target at offset `r` (`r2 = |r|^2` within `cutoff`)
-    /// from a source.
-    fn pair(
+    fn lennard_jones_pairs<T: Lanes, L: PairKernel<'a>>(
         &self,
-        r: &Vector3<f64>,
-        r2: f64,
-        cutoff: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> BothEnds;
-}
-
-/// No charges or dipoles.
-struct NoCharges;
-
-impl ChargeKernel for NoCharges {
-    const ON: bool = false;
-    const CHARGES: bool = false;
-    fn new() -> Self {
-        NoCharges
-    }
-    fn pair(
-        &self,
-        _: &Vector3<f64>,
-        _: f64,
-        _: f64,
-        _: &ChargeDipole,
-        _: &ChargeDipole,
-    ) -> BothEnds {
-        BothEnds {
-            potential: 0.0,
-            field: Vector3::zeros(),
-            force: Vector3::zeros(),
-            source_potential: 0.0,
-            source_field: Vector3::zeros(),
+        lj: &L,
+        (a, js): (u32, &[usize; LANES]),
+        r2: T,
+        mut within: T,
+    ) -> (T, T) {
+        // With one kind, every site's is `a`.
+        let mut b = [a as usize; LANES];
+        if !self.one_kind {
+            let kinds = js.map(|j| self.kind[j]);
+            within = within.keep(T::mask(kinds.map(|b| b != NO_KIND)));
+            b = kinds.map(|b| if b == NO_KIND { 0 } else { b as usize });
         }
+        let (u, f_over_r) = lj.pair(a as usize, b, r2);
+        (u.keep(within), f_over_r.keep(within))
     }
-}
 
-/// A truncation's pair, with charges or of dipoles only.
-struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn() -> F>);
-
-impl<F: Factors, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
-    const ON: bool = true;
-    const CHARGES: bool = CHARGES;
-    fn new() -> Self {
-        Truncated(std::marker::PhantomData)
-    }
+    /// The separations `x_i - x_j - shift` of the lanes' partners `js`
+    /// with image counts `counts` (most pairs are their own minimum image:
+    /// no shift).
     #[inline(always)]
-    fn pair(
+    fn separations<T: Lanes>(
         &self,
-        r: &Vector3<f64>,
-        r2: f64,
+        x: &V4<T>,
+        js: &[usize; LANES],
+        counts: &[[u8; 3]; LANES],
+    ) -> V4<T> {
+        let p = V4::<T>::gather(js.map(|j| &self.positions[j]));
+        if counts.iter().all(|c| *c == [0; 3]) {
+            return *x - p;
+        }
+        let shifts = self.shifts;
+        *x - p
+            - V4 {
+                x: T::from_array(counts.map(|c| shifts[0][c[0] as usize])),
+                y: T::from_array(counts.map(|c| shifts[1][c[1] as usize])),
+                z: T::from_array(counts.map(|c| shifts[2][c[2] as usize])),
+            }
+    }
+
+    /// The charge-dipole pairs of target `t` with the partners `js` (the
+    /// first lanes) at separations `r` within the lanes `within` of the
+    /// cutoff: the target's field and potential added to `sums`, the
+    /// partners' to `out`; the forces on the target returned.
+    #[inline(always)]
+    fn charge_pairs<T: Lanes, C: ChargeKernel>(
+        &self,
+        coulomb: &C,
         cutoff: f64,
-        target: &ChargeDipole,
-        source: &ChargeDipole,
-    ) -> BothEnds {
-        let factors = F::new(r2, cutoff);
-        if !CHARGES {
-            return BothEnds {
-                potential: 0.0,
-                field: factors.dipole_field(r, source),
-                force: factors.dipole_force(r, r2, target, source),
-                source_potential: 0.0,
-                source_field: factors.dipole_field(&-r, target),
-            };
+        (r, r2, mut within, js): (&V4<T>, T, T, &[usize]),
+        (t, m): (&ChargeDipoles<T>, &SiteMultipoles),
+        (field_i, potential_i): (&mut V4<T>, &mut T),
+        out: &mut PairSums,
+    ) -> V4<T> {
+        let lanes: [usize; LANES] = std::array::from_fn(|l| js[l.min(js.len() - 1)]);
+        let source = ChargeDipoles {
+            charge: match C::CHARGES {
+                true => T::from_array(lanes.map(|j| m.charges[j])),
+                false => T::default(),
+            },
+            dipole: V4::gather(lanes.map(|j| &m.dipoles[j])),
+        };
+        if !self.all_charged {
+            within = within.keep(T::mask(lanes.map(|j| self.charged[j])));
         }
-        let ((potential, field), (source_potential, source_field)) =
-            (factors.fields(r, source), factors.fields(&-r, target));
-        BothEnds {
-            potential,
-            field,
-            force: factors.force(r, r2, target, source),
-            source_potential,
-            source_field,
+        let pair = coulomb.pair(r, r2, cutoff, t, &source);
+        *field_i += pair.field.keep(within);
+        if C::CHARGES {
+            *potential_i += pair.potential.keep(within);
+            let source_potential = pair.source_potential.keep(within).to_array();
+            for (l, &j) in js.iter().enumerate() {
+                out.potential[j] += source_potential[l];
+            }
         }
+        let source_field = pair.source_field.keep(within).to_vectors();
+        for (l, &j) in js.iter().enumerate() {
+            out.field[j] += source_field[l];
+        }
+        pair.force.keep(within)
     }
 }
 
@@ -480,6 +521,79 @@ mod tests {
         let term = LennardJonesTerm::new(options, parameters).unwrap();
         let kinds = vec![Some(0); sites.positions.len()];
         (sites, term, kinds, space)
+    }
+
+    /// Every output of the kernels of four pairs, lane by lane.
+    fn kernel_outputs<T: Lanes, K: ChargeKernel>(
+        term: &LennardJonesTerm,
+        r: &[Vector3<f64>; LANES],
+        target: &ChargeDipole,
+        sources: &[ChargeDipole; LANES],
+    ) -> Vec<[f64; LANES]> {
+        let r = V4::<T>::gather(std::array::from_fn(|l| &r[l]));
+        let r2 = r.dot(&r);
+        let source = ChargeDipoles {
+            charge: T::from_array(sources.map(|s| s.charge)),
+            dipole: V4::gather(std::array::from_fn(|l| &sources[l].dipole)),
+        };
+        let pair = K::new().pair(&r, r2, 2.5, &ChargeDipoles::splat(target), &source);
+        let (u, f_over_r) = term.pair_lanes::<T, false>(0, [0; LANES], r2);
+        let (u_fs, f_fs) = term.pair_lanes::<T, true>(0, [0; LANES], r2);
+        let mut out = vec![
+            u,
+            f_over_r,
+            u_fs,
+            f_fs,
+            pair.potential,
+            pair.source_potential,
+        ];
+        for v in [pair.field, pair.force, pair.source_field] {
+            out.extend([v.x, v.y, v.z]);
+        }
+        out.into_iter().map(T::to_array).collect()
+    }
+
+    /// The kernels give the same bits in AVX registers as in arrays (the
+    /// pass takes either, by the CPU), for every truncation with and
+    /// without charges, and the Lennard-Jones lanes are the scalar pair's
+    /// bits.
+    #[test]
+    fn avx_and_array_lanes_give_the_same_bits() {
+        let (sites, term, _, _) = fluid(true);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..50 {
+            let r: [Vector3<f64>; LANES] =
+                std::array::from_fn(|_| Vector3::from_fn(|_, _| 4.0 * rng.random::<f64>() - 2.0));
+            let sources: [ChargeDipole; LANES] =
+                std::array::from_fn(|_| charged(&sites, rng.random_range(0..sites.charges.len())));
+            let target = charged(&sites, 0);
+            let array = kernel_outputs::<F4, Truncated<Bare, true>>(&term, &r, &target, &sources);
+            for l in 0..LANES {
+                let (u, f_over_r) = term.pair(0, 0, r[l].norm_squared());
+                assert_eq!((array[0][l], array[1][l]), (u, f_over_r), "lane {l}");
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                let bits = |o: Vec<[f64; LANES]>| -> Vec<[u64; LANES]> {
+                    o.into_iter().map(|x| x.map(f64::to_bits)).collect()
+                };
+                macro_rules! same {
+                    ($($kernel:ty),*) => {$(
+                        assert_eq!(
+                            bits(kernel_outputs::<F4, $kernel>(&term, &r, &target, &sources)),
+                            bits(kernel_outputs::<Avx, $kernel>(&term, &r, &target, &sources)),
+                            stringify!($kernel)
+                        );
+                    )*};
+                }
+                same!(
+                    Truncated<Bare, true>,
+                    Truncated<Bare, false>,
+                    Truncated<ShiftedForce, true>,
+                    Truncated<ShiftedForce, false>
+                );
+            }
+        }
     }
 
     /// With 1, 2 and 3 threads the pass gives the same bits twice, the

@@ -96,34 +96,11 @@ pub(crate) fn dipole_field(r: &Vector3<f64>, b: &[f64; 5], mu: &Vector3<f64>) ->
 }
 
 /// A site's charge and dipole (zero when it has none), the sources and
-/// targets of [`charge_dipole_force`].
+/// targets of the pair pass of moving bodies.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct ChargeDipole {
     pub charge: f64,
     pub dipole: Vector3<f64>,
-}
-
-/// The force on a target at offset `r = r_t - r_s` from a source, both with
-/// a charge and a dipole, for the radial functions `b` of [`radial`]:
-/// `F = -grad U` of the pair energy
-/// `U = q_t q_s B_0 + (q_t mu_s - q_s mu_t).r B_1 + (mu_t.mu_s) B_1 - (mu_t.r)(mu_s.r) B_2`
-/// (the target's charge in the source's potential `q_s B_0 + (mu_s.r) B_1`,
-/// its dipole in the field of [`dipole_field`] and `q_s r B_1`), using
-/// `grad B_l = -r B_(l+1)`.
-#[inline]
-pub(crate) fn charge_dipole_force(
-    r: &Vector3<f64>,
-    b: &[f64; 5],
-    target: &ChargeDipole,
-    source: &ChargeDipole,
-) -> Vector3<f64> {
-    let (mu_t, mu_s) = (&target.dipole, &source.dipole);
-    let a = mu_s * target.charge - mu_t * source.charge;
-    let (t_r, s_r) = (mu_t.dot(r), mu_s.dot(r));
-    r * (target.charge * source.charge * b[1] + (a.dot(r) + mu_t.dot(mu_s)) * b[2]
-        - t_r * s_r * b[3])
-        - a * b[1]
-        + (mu_t * s_r + mu_s * t_r) * b[2]
 }
 
 /// `E_self / mu` of the self term.
@@ -149,42 +126,6 @@ pub(crate) fn surface_field_per_dipole(volume: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// [`charge_dipole_force`] is minus the central-difference gradient of
-    /// the pair energy in its doc, built from the potential and the field a
-    /// source makes at the target (bare and damped kernels; step 1e-5:
-    /// truncation ~1e-10).
-    #[test]
-    fn charge_dipole_force_is_the_gradient_of_the_pair_energy() {
-        let target = ChargeDipole {
-            charge: 0.7,
-            dipole: Vector3::new(0.3, -0.8, 0.5),
-        };
-        let source = ChargeDipole {
-            charge: -1.2,
-            dipole: Vector3::new(-0.6, 0.2, 0.9),
-        };
-        for alpha in [0.0, 0.8] {
-            let energy = |r: &Vector3<f64>| {
-                let b = radial(alpha, r.norm());
-                let potential = source.charge * b[0] + source.dipole.dot(r) * b[1];
-                let field = r * (source.charge * b[1]) + dipole_field(r, &b, &source.dipole);
-                target.charge * potential - target.dipole.dot(&field)
-            };
-            let r = Vector3::new(0.9, -0.4, 1.3);
-            let force = charge_dipole_force(&r, &radial(alpha, r.norm()), &target, &source);
-            let h = 1e-5;
-            for a in 0..3 {
-                let step = Vector3::from_fn(|i, _| if i == a { h } else { 0.0 });
-                let fd = -(energy(&(r + step)) - energy(&(r - step))) / (2.0 * h);
-                assert!(
-                    (force[a] - fd).abs() < 1e-8,
-                    "{alpha} {a}: {} {fd}",
-                    force[a]
-                );
-            }
-        }
-    }
 
     /// Central differences of `erfc(alpha r)/r` reproduce the gradient and
     /// Hessian forms `-r B_1` and `r r^T B_2 - I B_1` (step 1e-5: truncation

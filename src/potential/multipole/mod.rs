@@ -31,9 +31,7 @@ pub use boundary::{Boundary, BYTES_PER_PAIR, MAX_PAIRS};
 pub use error::PotentialError;
 pub use ewald::MAX_WAVE_VECTORS;
 pub use ewald_parameters::EwaldParameters;
-pub(crate) use ewald_terms::{
-    charge_dipole_force, dipole_field, radial, radial_functions, ChargeDipole,
-};
+pub(crate) use ewald_terms::{radial_functions, ChargeDipole};
 pub use external::ExternalFields;
 pub use lattice_fft::MAX_FFT_BYTES;
 pub use lattice_grid::{LatticeGrid, LATTICE_TOLERANCE};

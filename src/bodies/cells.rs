@@ -1,0 +1,195 @@
+//! The cell grid of a neighbour-list build: cells at least the list's
+//! reach wide, the sites sorted by cell with their positions wrapped into
+//! a periodic box stored by component (each cell's sites contiguous), and
+//! the scan of the 27 cells around a site for the sites within reach.
+//!
+//! In a periodic box a neighbouring cell across a face is the cell at the
+//! other end, shifted by a box length: the scan compares a site with the
+//! wrapped positions of that cell's sites and that shift, so no separation
+//! is rounded to its minimum image. With the box at least twice the reach
+//! wide ([`Space::check`]) at most one image of a pair is within reach,
+//! also where two or three cells across the box make neighbours repeat.
+
+use super::space::Space;
+use nalgebra::Vector3;
+
+/// Open space: at most this many cells per site (plus 27).
+pub const CELLS_PER_SITE: usize = 8;
+/// Sites of a cell compared at once (their squared distances on the stack).
+const RUN: usize = 64;
+
+/// A grid of cells over the sites.
+pub(super) struct Cells {
+    counts: [usize; 3],
+    /// Sites of cell `c` are the slots `first[c]..first[c + 1]`.
+    first: Vec<usize>,
+    /// Per slot: the site, and its wrapped position by component.
+    site: Vec<u32>,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    /// Per site: its cell, and the box lengths its wrapping took off.
+    cell_of: Vec<usize>,
+    wraps: Vec<[i32; 3]>,
+    /// The box lengths (zero in open space).
+    lengths: Vector3<f64>,
+    periodic: bool,
+}
+
+impl Cells {
+    /// The grid of `sites` in `space` for pairs within `reach`.
+    pub fn new(sites: &[Vector3<f64>], space: &Space, reach: f64) -> Cells {
+        let (origin, width, counts, lengths) = match space {
+            Space::Periodic(l) => {
+                let counts = [0, 1, 2].map(|k| ((l[k] / reach).floor() as usize).max(1));
+                let width = Vector3::from_fn(|k, _| l[k] / counts[k] as f64);
+                (Vector3::zeros(), width, counts, *l)
+            }
+            Space::Open => {
+                let (lo, hi) = sites.iter().fold(
+                    (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN)),
+                    |(lo, hi), x| (lo.inf(x), hi.sup(x)),
+                );
+                let extent = (hi - lo).sup(&Vector3::zeros());
+                let limit = 27 + CELLS_PER_SITE * sites.len();
+                let mut size = reach;
+                let count = |size: f64| [0, 1, 2].map(|k| (extent[k] / size) as usize + 1);
+                while count(size).iter().product::<usize>() > limit {
+                    size *= 1.5;
+                }
+                (lo, Vector3::repeat(size), count(size), Vector3::zeros())
+            }
+        };
+        let periodic = matches!(space, Space::Periodic(_));
+        let mut wrapped = Vec::with_capacity(sites.len());
+        let mut wraps = Vec::with_capacity(sites.len());
+        let mut cell_of = Vec::with_capacity(sites.len());
+        for x in sites {
+            let (mut w, mut a, mut c) = (*x, [0; 3], [0; 3]);
+            for k in 0..3 {
+                if periodic {
+                    let shift = (x[k] / lengths[k]).floor();
+                    w[k] = x[k] - shift * lengths[k];
+                    a[k] = shift as i32;
+                }
+                let u = (w[k] - origin[k]) / width[k];
+                c[k] = (u.max(0.0) as usize).min(counts[k] - 1);
+            }
+            wrapped.push(w);
+            wraps.push(a);
+            cell_of.push((c[0] * counts[1] + c[1]) * counts[2] + c[2]);
+        }
+        let total = counts.iter().product::<usize>();
+        let mut first = vec![0; total + 1];
+        for &c in &cell_of {
+            first[c + 1] += 1;
+        }
+        for c in 0..total {
+            first[c + 1] += first[c];
+        }
+        let mut fill = first.clone();
+        let mut site = vec![0; sites.len()];
+        for (i, &c) in cell_of.iter().enumerate() {
+            site[fill[c]] = i as u32;
+            fill[c] += 1;
+        }
+        let component = |k: usize| site.iter().map(|&i| wrapped[i as usize][k]).collect();
+        Cells {
+            counts,
+            x: component(0),
+            y: component(1),
+            z: component(2),
+            first,
+            site,
+            cell_of,
+            wraps,
+            lengths,
+            periodic,
+        }
+    }
+
+    /// The number of cells.
+    #[cfg(test)]
+    pub fn cells(&self) -> usize {
+        self.first.len() - 1
+    }
+
+    /// The cells next to cell `c` (itself included) with the box lengths
+    /// each is shifted by across the faces: the first `count` of the array.
+    fn neighbours(&self, c: usize) -> ([(usize, [i8; 3]); 27], usize) {
+        let [_, ny, nz] = self.counts;
+        let own = [c / (ny * nz), (c / nz) % ny, c % nz];
+        let (mut out, mut count) = ([(0, [0; 3]); 27], 0);
+        for d in 0..27 {
+            let step = [d / 9, (d / 3) % 3, d % 3].map(|s| s as i64 - 1);
+            let (mut cell, mut shift, mut inside) = ([0; 3], [0i8; 3], true);
+            for k in 0..3 {
+                let n = self.counts[k] as i64;
+                let u = own[k] as i64 + step[k];
+                if self.periodic {
+                    // `u` is within one cell of `0..n`.
+                    let wrap = i64::from(u >= n) - i64::from(u < 0);
+                    cell[k] = (u - wrap * n) as usize;
+                    shift[k] = wrap as i8;
+                } else if (0..n).contains(&u) {
+                    cell[k] = u as usize;
+                } else {
+                    inside = false;
+                }
+            }
+            if inside {
+                out[count] = ((cell[0] * ny + cell[1]) * nz + cell[2], shift);
+                count += 1;
+            }
+        }
+        (out, count)
+    }
+
+    /// Calls `found(j, counts)` for every site `j > i` within `reach2 =
+    /// reach^2` of site `i` (at `x`) that `wanted(j)` accepts, `counts` the
+    /// box lengths between `x_i - x_j` and that separation's minimum image.
+    /// A cell's sites are in ascending order: those above `i` are the end
+    /// of its run.
+    #[inline(always)]
+    pub fn scan_above(
+        &self,
+        (i, x): (usize, &Vector3<f64>),
+        reach2: f64,
+        wanted: impl Fn(usize) -> bool,
+        mut found: impl FnMut(u32, [i8; 3]),
+    ) {
+        let a = self.wraps[i];
+        let w = x - Vector3::from_fn(|k, _| f64::from(a[k]) * self.lengths[k]);
+        let (near, count) = self.neighbours(self.cell_of[i]);
+        let mut r2 = [0.0; RUN];
+        for &(c, shift) in &near[..count] {
+            // `w` seen from the cell's image: `x_i - x_j - L shift` is `p - w_j`.
+            let p = w - Vector3::from_fn(|k, _| f64::from(shift[k]) * self.lengths[k]);
+            let run = &self.site[self.first[c]..self.first[c + 1]];
+            let mut start = self.first[c] + run.partition_point(|&j| j as usize <= i);
+            while start < self.first[c + 1] {
+                let end = (start + RUN).min(self.first[c + 1]);
+                let (xs, ys, zs) = (
+                    &self.x[start..end],
+                    &self.y[start..end],
+                    &self.z[start..end],
+                );
+                for (k, d2) in r2[..end - start].iter_mut().enumerate() {
+                    let d = [p.x - xs[k], p.y - ys[k], p.z - zs[k]];
+                    *d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                }
+                for (k, &d2) in r2[..end - start].iter().enumerate() {
+                    let j = self.site[start + k];
+                    if d2 < reach2 && wanted(j as usize) {
+                        let b = self.wraps[j as usize];
+                        found(
+                            j,
+                            [0, 1, 2].map(|k| (i32::from(shift[k]) + a[k] - b[k]) as i8),
+                        );
+                    }
+                }
+                start = end;
+            }
+        }
+    }
+}

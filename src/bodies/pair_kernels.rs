@@ -1,0 +1,161 @@
+//! The kernels of the pair pass: Lennard-Jones (`LennardJones`, plain or
+//! shifted against force-shifted, or none) and the charge-dipole pairs of
+//! a truncation (`Truncated`, bare or shifted-force, with charges or of
+//! dipoles only, or none), each on four pairs in any [`Lanes`], chosen
+//! once per pass and monomorphised into its loop.
+
+use super::electrostatics_shifted::{ChargeDipoles, Factors, Plain, ShiftedForceFactors};
+use super::lanes::{Lanes, LANES, V4};
+use super::lennard_jones::LennardJonesTerm;
+
+/// The Lennard-Jones pairs of a pass.
+pub(super) trait PairKernel<'a>: Sync + Sized {
+    /// Whether the pass has the term.
+    const ON: bool;
+    /// The kernel of `term` (`None` if the pass needs the term and has none).
+    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self>;
+    /// Energies and `-(1/r) du/dr` of kind `a` with kinds `b` at `r2`.
+    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T);
+}
+
+pub(super) struct NoLennardJones;
+
+impl PairKernel<'_> for NoLennardJones {
+    const ON: bool = false;
+    fn new(_: Option<&LennardJonesTerm>) -> Option<Self> {
+        Some(NoLennardJones)
+    }
+    fn pair<T: Lanes>(&self, _: usize, _: [usize; LANES], _: T) -> (T, T) {
+        (T::default(), T::default())
+    }
+}
+
+/// The term, force-shifted or not.
+pub(super) struct LennardJones<'a, const FORCE_SHIFTED: bool>(&'a LennardJonesTerm);
+
+impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SHIFTED> {
+    const ON: bool = true;
+    fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self> {
+        term.map(LennardJones)
+    }
+    #[inline(always)]
+    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T) {
+        self.0.pair_lanes::<T, FORCE_SHIFTED>(a, b, r2)
+    }
+}
+
+/// Both ends of four charge-dipole pairs: the targets' potentials, fields
+/// and forces, and the sources' potentials and fields (their forces are
+/// minus the targets').
+pub(super) struct BothEnds<T> {
+    pub potential: T,
+    pub field: V4<T>,
+    pub force: V4<T>,
+    pub source_potential: T,
+    pub source_field: V4<T>,
+}
+
+/// The charge-dipole pairs of a pass.
+pub(super) trait ChargeKernel: Sync + Sized {
+    /// Whether the pass has the term.
+    const ON: bool;
+    /// Whether some site carries a charge (if not, the potentials are
+    /// left zero: nothing reads them).
+    const CHARGES: bool;
+    fn new() -> Self;
+    /// The pairs of targets at offsets `r` (`r2 = |r|^2`) from sources.
+    fn pair<T: Lanes>(
+        &self,
+        r: &V4<T>,
+        r2: T,
+        cutoff: f64,
+        target: &ChargeDipoles<T>,
+        source: &ChargeDipoles<T>,
+    ) -> BothEnds<T>;
+}
+
+/// No charges or dipoles.
+pub(super) struct NoCharges;
+
+impl ChargeKernel for NoCharges {
+    const ON: bool = false;
+    const CHARGES: bool = false;
+    fn new() -> Self {
+        NoCharges
+    }
+    fn pair<T: Lanes>(
+        &self,
+        _: &V4<T>,
+        _: T,
+        _: f64,
+        _: &ChargeDipoles<T>,
+        _: &ChargeDipoles<T>,
+    ) -> BothEnds<T> {
+        BothEnds {
+            potential: T::default(),
+            field: V4::default(),
+            force: V4::default(),
+            source_potential: T::default(),
+            source_field: V4::default(),
+        }
+    }
+}
+
+/// A truncation: its radial factors in any lanes.
+pub(super) trait Truncation: Sync {
+    type Factors<T: Lanes>: Factors<T>;
+}
+
+/// The plain truncation (the bare pair terms).
+pub(super) struct Bare;
+
+impl Truncation for Bare {
+    type Factors<T: Lanes> = Plain<T>;
+}
+
+/// The shifted-force truncation.
+pub(super) struct ShiftedForce;
+
+impl Truncation for ShiftedForce {
+    type Factors<T: Lanes> = ShiftedForceFactors<T>;
+}
+
+/// A truncation's pairs, with charges or of dipoles only.
+pub(super) struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn() -> F>);
+
+impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
+    const ON: bool = true;
+    const CHARGES: bool = CHARGES;
+    fn new() -> Self {
+        Truncated(std::marker::PhantomData)
+    }
+    #[inline(always)]
+    fn pair<T: Lanes>(
+        &self,
+        r: &V4<T>,
+        r2: T,
+        cutoff: f64,
+        target: &ChargeDipoles<T>,
+        source: &ChargeDipoles<T>,
+    ) -> BothEnds<T> {
+        let factors = F::Factors::<T>::new(r2, cutoff);
+        if !CHARGES {
+            return BothEnds {
+                potential: T::default(),
+                field: factors.dipole_field(r, source),
+                force: factors.dipole_force(r, r2, target, source),
+                source_potential: T::default(),
+                source_field: factors.dipole_field(&-*r, target),
+            };
+        }
+        let ((potential, field), (source_potential, source_field)) =
+            (factors.fields(r, source), factors.fields(&-*r, target));
+        BothEnds {
+            potential,
+            field,
+            force: factors.force(r, r2, target, source),
+            source_potential,
+            source_field,
+        }
+    }
+}
