@@ -59,8 +59,8 @@ at 2 fs) from its simple-cubic start, one thread; the first
 (``quatrot.block_average``: the plateau of the block error). The
 potential energy is the configurational one; the pressure is the
 molecular one (the centres' kinetic term and the molecular virial,
-checked against ``-dU/dV`` by finite differences in
-validation/tests/test_water_published.py)."""
+checked against ``-dU/dV`` by finite differences in the quick mode of
+validation/checks/water_published.py)."""
 
 from __future__ import annotations
 
