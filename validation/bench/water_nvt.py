@@ -2,7 +2,7 @@
 thermostatted water against published values, every thermostat for every
 model (the check ``water_published`` runs one thermostat per model at a
 length ``make validate`` can afford). Each run starts from the built-in's
-lattice with the model swapped in (validation/shared/water_published.py),
+lattice with the model swapped in (validation/shared/water_nvt_runs.py),
 discards ``--equilibration-ps`` (default 10: from the lattice TIP4P/2005's
 energy and pressure drift for 9 to 12 ps under Langevin 0.01/fs) and block
 averages the potential energy
@@ -24,7 +24,7 @@ import numpy as np
 
 import quatrot
 from validation.bench import results_md
-from validation.shared import water_published as wp
+from validation.shared import water_nvt_runs as wp
 
 BEGIN = "<!-- make bench: water_nvt section begin -->"
 END = "<!-- make bench: water_nvt section end -->"
@@ -94,7 +94,7 @@ def main(argv=None) -> int:
         f"- 512 molecules at 298 K and 0.997 g/cm^3 (the built-in `spce_water_512` with the model swapped in), "
         f"NO_SQUISH at 2 fs from the lattice; {args.equilibration_ps:g} ps discarded, the rest block averaged. "
         "Thermostats with a 100 fs time constant (Langevin friction 0.01/fs). Expected: "
-        f"{wp.SOURCE}, at this density (`validation/shared/water_published.py`); z = |measured - expected| / "
+        f"{wp.SOURCE}, at this density (`validation/shared/water_nvt_runs.py`); z = |measured - expected| / "
         f"(statistical and published errors in quadrature), {Z_MAX:g} allowed.",
         "",
         table(rows, args.length_ps, args.equilibration_ps),

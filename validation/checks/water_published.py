@@ -1,7 +1,7 @@
 """Thermostatted rigid water against published values (issue 41, item 4):
 the potential energy per molecule and the pressure of SPC/E, TIP3P and
 TIP4P/2005 at 298 K and 0.997 g/cm^3, NVT, against Vega & Abascal 2011's
-values carried to this density (validation/shared/water_published.py: the
+values carried to this density (validation/shared/water_nvt_runs.py: the
 sources, the conditions, the derivation of the expected pressure from the
 published density and compressibility, and the errors).
 
@@ -36,7 +36,7 @@ import math
 import numpy as np
 import quatrot
 
-from validation.shared import water_published as wp
+from validation.shared import water_nvt_runs as wp
 from validation.shared.check import Check, Context
 from validation.shared.openmm_water import site_parameters
 

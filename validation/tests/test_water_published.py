@@ -1,5 +1,5 @@
 """The values the check ``water_published`` expects
-(validation/shared/water_published.py), against closed forms worked by hand
+(validation/shared/water_nvt_runs.py), against closed forms worked by hand
 from the published table: at the model's own density the pressure is 1 bar
 and the energy ``R T - dh_vap``; away from it the pressure follows ``ln(rho /
 rho0) / kappa`` and the energy ``T alpha / kappa`` times the change of
@@ -9,7 +9,7 @@ import math
 
 import pytest
 
-from validation.shared import water_published as wp
+from validation.shared import water_nvt_runs as wp
 
 
 def test_at_the_model_s_own_density_the_pressure_is_one_bar_and_the_energy_rt_less_dh_vap():
