@@ -107,7 +107,7 @@ def test_the_4096_box_runs_a_few_steps_from_the_command_line_as_from_python(tmp_
     scene["run"].update(steps=3, threads=1)
     scene["record"]["series"][0]["every"] = 1
     series = quatrot.run(scene, out_dir=tmp_path / "python")["series"]["series"]
-    from_cli = np.genfromtxt(cli / "series.csv", delimiter=",", names=True)
+    from_cli = np.atleast_1d(np.genfromtxt(cli / "series.csv", delimiter=",", names=True))
     assert np.isfinite(series["potential_energy"]).all()
     assert series["potential_energy"][-1] < series["potential_energy"][0]
     assert from_cli["potential_energy"][0] == series["potential_energy"][0]
