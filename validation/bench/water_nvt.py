@@ -47,6 +47,10 @@ def row(model: str, thermostat: str, found: dict, equilibration_ps: float) -> di
             (len(found["time_ps"]) - 1) / 5}
 
 
+def verdict(z: float) -> str:
+    return f"{z:.2f}" if z <= Z_MAX else f"**{z:.2f}**"
+
+
 def table(rows: list[dict], length_ps: float, equilibration_ps: float) -> str:
     lines = ["| model | thermostat | run ps, averaged | U kcal/mol/molecule | expected | z | p atm | expected | z | "
              "T_trans K | T_rot K | CPU ms/step |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -56,8 +60,8 @@ def table(rows: list[dict], length_ps: float, equilibration_ps: float) -> str:
         lines.append(
             f"| {r['model']} | {r['thermostat']} | {length_ps:g}, {equilibration_ps:g}-{length_ps:g} | "
             f"{e['measured']:.3f} +- {e['statistical_error']:.3f} | {e['expected']:.3f} +- {e['published_error']:.3f} | "
-            f"{e['z']:.2f} | {p['measured']:.0f} +- {p['statistical_error']:.0f} | "
-            f"{p['expected']:.0f} +- {p['published_error']:.0f} | {p['z']:.2f} | "
+            f"{verdict(e['z'])} | {p['measured']:.0f} +- {p['statistical_error']:.0f} | "
+            f"{p['expected']:.0f} +- {p['published_error']:.0f} | {verdict(p['z'])} | "
             f"{m['T_trans'][0]:.1f} +- {m['T_trans'][1]:.1f} | {m['T_rot'][0]:.1f} +- {m['T_rot'][1]:.1f} | "
             f"{r['cpu_ms_per_step']:.1f} |")
     return "\n".join(lines)
