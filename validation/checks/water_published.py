@@ -18,8 +18,9 @@ validation.bench.water_nvt`` (benchmarks/RESULTS.md). There (25 ps each,
 session 24) TIP3P fails its energy for every thermostat (0.10 to 0.13
 kcal/mol low, z 4.5 to 5.8) and its pressure under Langevin and Bussi
 (~60 atm against 297, z 4.9; Nose-Hoover's 244 passes), a disagreement
-not yet explained (docs/guide/water.md), and TIP4P/2005's energy is
-marginal (z 2.8 to 3.6) while still relaxing.
+not yet explained (docs/guide/water.md); TIP4P/2005's energy is on the
+published value under Nose-Hoover (z 0.7, the pairing run here) but not
+under Langevin (z 3.6): 25 ps from the lattice are not enough for it.
 
 Quick mode (``make test``): a few hundred steps cannot show an average of
 the liquid (the lattice melts in 1 ps, the pressure settles in 2 ps and
