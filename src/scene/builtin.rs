@@ -31,6 +31,7 @@ pub const BUILTINS: &[Builtin] = &[
     builtin!("stockmayer_fluid"),
     builtin!("lewis_wahnstrom_otp"),
     builtin!("spce_water_512"),
+    builtin!("spce_water_4096"),
 ];
 
 /// The built-in scene called `name`, if any.
