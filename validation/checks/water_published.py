@@ -1,26 +1,21 @@
-"""Thermostatted rigid water against published values (issue 41, item 4):
-the potential energy per molecule and the pressure of SPC/E, TIP3P and
-TIP4P/2005 at 298 K and 0.997 g/cm^3, NVT, against Vega & Abascal 2011's
-values carried to this density (validation/shared/water_nvt_runs.py: the
-sources, the conditions, the derivation of the expected pressure from the
-published density and compressibility, and the errors).
+"""Thermostatted rigid water against published and peer values (issue 41,
+item 4): SPC/E, TIP3P and TIP4P/2005 in NVT at each model's liquid density
+at liquid-vapour coexistence at 300 K (NIST SAT-TMMC, same truncation as
+quatrot's): the pressure against NIST's saturation pressure, the potential
+energy per molecule against OpenMM's NVT at the same state and protocol
+(``fixtures/water_nvt_openmm.json``). validation/shared/water_nvt_runs.py
+gives the sources, the errors, and why the earlier references (Vega &
+Abascal 2011, restated from memory, carried to 0.997 g/cm^3) were dropped.
 
 Production (``make validate``): one thermostat per model, so that each of
 the three thermostats is exercised once within the report's budget (about
-8.5 CPU minutes, above the 6 to 8 planned: a shorter run does not
-equilibrate TIP4P/2005, see ``STEPS``): SPC/E with Langevin (friction 0.01/fs), TIP3P with Bussi,
+8.5 CPU minutes): SPC/E with Langevin (friction 0.01/fs), TIP3P with Bussi,
 TIP4P/2005 with Nose-Hoover (100 fs), ``STEPS`` steps of 2 fs from the
 lattice each, the first ``EQUILIBRATION_PS`` discarded. Each verdict is
 ``|measured - expected| / sigma`` with the block-average error and the
-published error in quadrature, at most ``Z_MAX``, and states its run
+reference's error in quadrature, at most ``Z_MAX``, and states its run
 length. Every thermostat for every model, longer: ``python -m
-validation.bench.water_nvt`` (benchmarks/RESULTS.md). There (25 ps each,
-session 24) TIP3P fails its energy for every thermostat (0.10 to 0.13
-kcal/mol low, z 4.5 to 5.8) and its pressure under Langevin and Bussi
-(~60 atm against 297, z 4.9; Nose-Hoover's 244 passes), a disagreement
-not yet explained (docs/guide/water.md); TIP4P/2005's energy is on the
-published value under Nose-Hoover (z 0.7, the pairing run here) but not
-under Langevin (z 3.6): 25 ps from the lattice are not enough for it.
+validation.bench.water_nvt`` (benchmarks/RESULTS.md).
 
 Quick mode (``make test``): a few hundred steps cannot show an average of
 the liquid (the lattice melts in 1 ps, the pressure settles in 2 ps and
@@ -29,7 +24,7 @@ pressure these verdicts read is the volume derivative of the energy the
 other water checks validate against OpenMM and LAMMPS, for each model on a
 jittered 343-molecule lattice: quatrot's configurational pressure less its
 tail equals the molecular virial of the oxygens' truncated Lennard-Jones
-(numpy, pairs written out here) plus ``-dU_el/dV`` of the electrostatic
+(numpy, pairs written out) plus ``-dU_el/dV`` of the electrostatic
 energy by central differences of a uniform scaling of the centres
 (orientations fixed: the molecular virial), and its tail equals the
 closed form ``(16/3) pi rho^2 eps sigma^3 [(2/3)(sigma/r_c)^9 -
@@ -44,7 +39,6 @@ import quatrot
 
 from validation.shared import water_nvt_runs as wp
 from validation.shared.check import Check, Context
-from validation.shared.openmm_water import site_parameters
 
 PRODUCTION = {"spce": "langevin", "tip3p": "bussi", "tip4p_2005": "nose_hoover"}
 # 22 ps of 2 fs, the first 8 discarded: from the lattice TIP4P/2005's
@@ -55,28 +49,33 @@ STEPS = 11000
 EQUILIBRATION_PS = 8.0
 Z_MAX = 3.0
 CUTOFF = 10.0
-ATM_PER_KCAL_MOL_A3 = 4184 / 6.02214076e23 * 1e30 / 101325
 STEP = 1e-4  # relative scaling of the box for the finite differences
 PRESSURE_TOLERANCE = 1e-7  # relative; measured 3e-9 to 5e-9 (PME at 1e-10, O(STEP^2))
 
 
 def verdicts(model: str, found: dict) -> list[Check]:
     measured = wp.averages(found, EQUILIBRATION_PS)
+    state = wp.NIST_COEXISTENCE[model]
     length = f"{found['time_ps'][-1]:g} ps, averaged over the last {measured['averaged_ps']:.1f}"
+    omm = wp.openmm_reference(model)
     checks = []
-    for column, unit in (("energy", "kcal/mol per molecule"), ("pressure", "atm")):
+    for column, unit, against, source in (
+        ("energy", "kcal/mol per molecule", "OpenMM's NVT at the same state and protocol",
+         {"OpenMM (fixture)": f"{omm['openmm']}, {omm['production_ps']:g} ps after {omm['equilibration_ps']:g}"}),
+        ("pressure", "atm", "NIST's saturation pressure at that density", {"published": state.url}),
+    ):
         z = wp.z_scores(model, measured)[column]
         checks.append(Check(
-            name=f"{model} NVT 298 K, {PRODUCTION[model]}: {'potential energy' if column == 'energy' else column} "
-                 "vs published",
-            proves=f"rigid {model} at 0.997 g/cm^3 and 298 K ({PRODUCTION[model]} thermostat) has the published "
-                   f"{column} carried to this density within the statistical and published errors "
+            name=f"{model} NVT at coexistence, {PRODUCTION[model]}: "
+                 f"{'potential energy vs OpenMM' if column == 'energy' else 'pressure vs NIST'}",
+            proves=f"rigid {model} at NIST's coexisting liquid density {state.rho} g/cm^3 and {state.temperature:g} K "
+                   f"({PRODUCTION[model]} thermostat) has {against} within the statistical and reference errors "
                    f"(|measured - expected| / sigma over {length})",
             tolerance=Z_MAX,
             measured=z["z"],
-            references={"published": wp.SOURCE},
+            references={**source, "quatrot": quatrot.__version__},
             details=f"measured {z['measured']:.3f} +- {z['statistical_error']:.3f}, expected {z['expected']:.3f} +- "
-                    f"{z['published_error']:.3f} {unit}; T_trans {measured['T_trans'][0]:.1f} +- "
+                    f"{z['reference_error']:.3f} {unit}; T_trans {measured['T_trans'][0]:.1f} +- "
                     f"{measured['T_trans'][1]:.1f} K, T_rot {measured['T_rot'][0]:.1f} +- {measured['T_rot'][1]:.1f} K; "
                     f"{length}; CPU {found['cpu_seconds']:.0f} s",
         ))
@@ -102,28 +101,6 @@ def evaluate(model, positions, orientations, box):
     )
 
 
-def oxygen_virial_pressure(model, centres, oxygens, box):
-    """The truncated O-O Lennard-Jones molecular virial pressure, ``sum
-    R_IJ . f_ij / (3 V)`` over pairs within the cutoff (atm)."""
-    _, sigma, epsilon = site_parameters(model)[0]
-    d = oxygens[:, None, :] - oxygens[None, :, :]
-    shift = box * np.round(d / box)
-    d -= shift
-    centre_d = centres[:, None, :] - centres[None, :, :] - shift
-    r2 = (d**2).sum(axis=-1)
-    inside = np.triu((r2 < CUTOFF**2) & (r2 > 0), 1)
-    s6 = (sigma**2 / r2[inside]) ** 3
-    over_r2 = 24 * epsilon * (2 * s6**2 - s6) / r2[inside]  # f = over_r2 * d
-    virial = np.sum(over_r2 * np.einsum("pi,pi->p", centre_d[inside], d[inside]))
-    return virial / (3 * box**3) * ATM_PER_KCAL_MOL_A3
-
-
-def textbook_tail_pressure(model, molecules, box):
-    _, sigma, epsilon = site_parameters(model)[0]
-    rho, x = molecules / box**3, sigma / CUTOFF
-    return 16 / 3 * math.pi * rho**2 * epsilon * sigma**3 * (2 / 3 * x**9 - x**3) * ATM_PER_KCAL_MOL_A3
-
-
 def pressure_checks(model, seed) -> list[Check]:
     centres, orientations, box = jittered_lattice(seed)
     state = evaluate(model, centres, orientations, box)
@@ -133,10 +110,10 @@ def pressure_checks(model, seed) -> list[Check]:
     volume_change = ((1 + STEP) ** 3 - (1 - STEP) ** 3) * box**3
     per_molecule = len(state["site_positions"]) // len(centres)
     oxygens = np.asarray(state["site_positions"])[::per_molecule]
-    expected = (oxygen_virial_pressure(model, centres, oxygens, box)
-                - (electrostatic[0] - electrostatic[1]) / volume_change * ATM_PER_KCAL_MOL_A3)
+    expected = (wp.oxygen_virial(model, centres, oxygens, box) / (3 * box**3) * wp.ATM_PER_KCAL_MOL_A3
+                - (electrostatic[0] - electrostatic[1]) / volume_change * wp.ATM_PER_KCAL_MOL_A3)
     without_tail = state["pressure"] - state["pressure_tail"]
-    tail = textbook_tail_pressure(model, len(centres), box)
+    tail = wp.textbook_tail_pressure(model, len(centres), box)
     refs = {"closed forms and numpy": "this module", "quatrot": quatrot.__version__}
     return [
         Check(
@@ -166,6 +143,8 @@ def run(ctx: Context) -> list[Check]:
     checks = []
     for model, thermostat in PRODUCTION.items():
         ctx.progress(f"{model} with {thermostat}: {STEPS} steps of 2 fs from the lattice")
-        found = wp.nvt_run(model, thermostat, STEPS, ctx.out_dir / f"water_published_{model}")
+        state = wp.NIST_COEXISTENCE[model]
+        found = wp.nvt_run(model, thermostat, STEPS, ctx.out_dir / f"water_published_{model}",
+                           temperature=state.temperature, density=state.rho)
         checks += verdicts(model, found)
     return checks

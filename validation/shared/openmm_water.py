@@ -47,9 +47,11 @@ def water_system(model, molecules, *, box=None, cutoff=None, tolerance=None, dis
     group 1: all pairs without a box; with a cubic ``box`` (A), PME at
     ``tolerance`` (``ewaldErrorTolerance``) and Lennard-Jones cut at
     ``cutoff`` (A), with OpenMM's dispersion correction when asked. With
-    ``masses`` (g/mol per site), the particles have them and each molecule
-    is kept rigid by three distance constraints (SETTLE); without, unit
-    masses and no constraints (single points)."""
+    ``masses`` (g/mol of O, H, H), the particles have them and each molecule
+    is kept rigid by three distance constraints (SETTLE); a four-site
+    model's M is then a massless virtual site, ``O + a (H1 - O) + a (H2 - O)``
+    with ``a = d_OM / (2 r_OH cos(angle / 2))`` (on the bisector, ``d_OM``
+    from O). Without, unit masses and no constraints (single points)."""
     import openmm
 
     parameters = site_parameters(model)
@@ -71,9 +73,10 @@ def water_system(model, molecules, *, box=None, cutoff=None, tolerance=None, dis
         system.addForce(force)
     coulomb.setUseDispersionCorrection(False)
     lj.setUseDispersionCorrection(dispersion_correction and box is not None)
+    site_masses = None if masses is None else list(masses) + [0.0] * (len(parameters) - len(masses))
     for _ in range(molecules):
         for k, (charge, sigma, epsilon) in enumerate(parameters):
-            system.addParticle(1.0 if masses is None else masses[k])
+            system.addParticle(1.0 if masses is None else site_masses[k])
             coulomb.addParticle(charge, 0.1, 0.0)
             lj.addParticle(0.0, sigma / 10, epsilon * KJ_PER_KCAL)
     per = len(parameters)
@@ -84,12 +87,15 @@ def water_system(model, molecules, *, box=None, cutoff=None, tolerance=None, dis
                 lj.addException(i, j, 0.0, 0.1, 0.0)
     if masses is not None:
         p = PUBLISHED[model]
-        if p["d_om"]:
-            raise ValueError(f"{model}: a massless site needs an OpenMM virtual site, not built here")
         o_h, h_h = p["r"] / 10, 2 * p["r"] * np.sin(np.radians(p["angle"] / 2)) / 10
+        along = p["d_om"] / (2 * p["r"] * np.cos(np.radians(p["angle"] / 2)))
         for m in range(molecules):
+            o = per * m
             for (a, b), length in (((0, 1), o_h), ((0, 2), o_h), ((1, 2), h_h)):
-                system.addConstraint(per * m + a, per * m + b, length)
+                system.addConstraint(o + a, o + b, length)
+            if p["d_om"]:
+                system.setVirtualSite(o + 3, openmm.ThreeParticleAverageSite(o, o + 1, o + 2, 1 - 2 * along,
+                                                                              along, along))
     return system
 
 

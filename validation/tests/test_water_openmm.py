@@ -252,3 +252,32 @@ def test_point_dipoles_are_in_debye():
     debye = 1e-21 / 299792458 / (1.602176634e-19 * 1e-10)
     mu = 2.0 * debye
     assert state["energies"]["electrostatic"] == pytest.approx(-2 * COULOMB * mu**2 / 3.0**3, rel=1e-14)
+
+
+def test_openmm_tip4p_2005_virtual_site_is_quatrot_s_m_site():
+    """The rigid OpenMM TIP4P/2005 of the NVT fixture (masses, SETTLE, M a
+    massless ``ThreeParticleAverageSite``): M placed by OpenMM from quatrot's
+    O, H, H is quatrot's M site, and the three constraints hold quatrot's
+    geometry, for the 8 molecules of :func:`cluster`."""
+    import openmm
+
+    from validation.shared.openmm_water import water_system
+    from validation.shared.water_runs import MASSES
+
+    positions, orientations = cluster()
+    sites = np.asarray(quatrot.bodies_evaluate(
+        [{"model": "tip4p_2005"}], positions, orientations, lj_cutoff=CUTOFF, electrostatic_cutoff=CUTOFF,
+        units="real")["site_positions"]).reshape(MOLECULES, 4, 3)
+    system = water_system("tip4p_2005", MOLECULES, masses=MASSES)
+    assert [system.getParticleMass(k)._value for k in range(4)] == [*MASSES, 0.0]
+    context = openmm.Context(system, openmm.VerletIntegrator(0.001), openmm.Platform.getPlatformByName("Reference"))
+    moved = sites.copy()
+    moved[:, 3] += 0.5  # M is not read from here: OpenMM places it
+    context.setPositions(moved.reshape(-1, 3) / 10)
+    context.computeVirtualSites()
+    placed = context.getState(getPositions=True).getPositions(asNumpy=True)._value.reshape(MOLECULES, 4, 3) * 10
+    assert np.abs(placed[:, 3] - sites[:, 3]).max() < 1e-12 * 10
+    for c in range(system.getNumConstraints()):
+        i, j, length = system.getConstraintParameters(c)
+        a, b = sites.reshape(-1, 3)[i], sites.reshape(-1, 3)[j]
+        assert np.linalg.norm(a - b) / 10 == pytest.approx(length._value, rel=1e-12)
