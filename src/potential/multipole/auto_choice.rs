@@ -31,9 +31,10 @@ pub const DIRECT_SECONDS_PER_UNIT: f64 = 1.6e-8;
 /// of the general kernel and its equivalents for the mesh and the splines)
 /// in one evaluation. Since 2026-11-29 the unit of the mesh sum's constants
 /// (`mesh_ewald::estimate`): each is its measured seconds
-/// (`examples/pme_costs.rs`, on the AMD EPYC) over this one, kept from the
-/// fit above (Xeon), so that a modelled cost is the EPYC's seconds while
-/// [`DIRECT_SECONDS_PER_UNIT`] is still the Xeon's.
+/// (`examples/pme_costs.rs`, 2026-11-29, a loaded 2-CPU Xeon) over this
+/// one, kept from the fit above, so that a modelled cost is that run's
+/// seconds while [`DIRECT_SECONDS_PER_UNIT`] is still the fit of
+/// 2026-11-28.
 pub const PME_SECONDS_PER_UNIT: f64 = 5.4e-7;
 
 /// What the automatic choice compared and why it took its path.

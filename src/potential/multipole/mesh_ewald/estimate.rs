@@ -219,9 +219,8 @@ pub fn mesh_cost(
 /// [`crate::potential::multipole::PME_SECONDS_PER_UNIT`] (540 ns): least-squares
 /// fits of `t = t_pair P + t_mesh M log2 M + t_spline N p^3 + t_site N`
 /// to the evaluation times of `examples/pme_costs.rs` (forced parameters,
-/// one thread, median process CPU time; 2026-11-29, the 2-CPU AMD EPYC of
-/// benchmarks/RESULTS.md at load 9 to 11), after the real space's reach-1
-/// cells. 12,000 random charges at 100.2 per unit volume (15 cases,
+/// one thread, median process CPU time; 2026-11-29, a 2-CPU Intel Xeon at
+/// load 9 to 11), after the real space's reach-1 cells. 12,000 random charges at 100.2 per unit volume (15 cases,
 /// residual 2.6 %): 67.9 ns per pair, 3.31 ns per mesh-point unit, 6.35 ns
 /// per spline unit, 1.92 us per site. 4,096 random dipoles at density 0.8
 /// (15 cases, residual 11 %, noisy under that load): 79.6 ns per pair,
