@@ -497,7 +497,7 @@ mod tests {
                     found.push((i.min(j), i.max(j), if i < j { r } else { -r }, r2));
                 });
             }
-            found.sort_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+            found.sort_by_key(|x| (x.0, x.1));
             let mut expected = Vec::new();
             for i in 0..sites {
                 for j in i + 1..sites {
