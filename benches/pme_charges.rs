@@ -126,7 +126,7 @@ fn main() {
         let accuracies: &[f64] = if quick {
             &[1e-4]
         } else {
-            &[1e-3, 1e-4, 1e-5, 1e-6]
+            &[3e-3, 1e-3, 5e-4, 2e-4, 1e-4, 1e-5, 1e-6]
         };
         // The cost model's choice, then (at 1e-4) forced splittings: a
         // longer cutoff and a coarser mesh than it takes.

@@ -28,7 +28,13 @@ use super::PotentialError;
 pub const DIRECT_SECONDS_PER_UNIT: f64 = 1.6e-8;
 
 /// Seconds per unit of the mesh Ewald sum's cost model (a real-space pair
-/// and its equivalents for the mesh and the splines) in one evaluation.
+/// of the general kernel and its equivalents for the mesh and the splines)
+/// in one evaluation. Since 2026-11-29 the unit of the mesh sum's constants
+/// (`mesh_ewald::estimate`): each is its measured seconds
+/// (`examples/pme_costs.rs`, 2026-11-29, a loaded 2-CPU Xeon) over this
+/// one, kept from the fit above, so that a modelled cost is that run's
+/// seconds while [`DIRECT_SECONDS_PER_UNIT`] is still the fit of
+/// 2026-11-28.
 pub const PME_SECONDS_PER_UNIT: f64 = 5.4e-7;
 
 /// What the automatic choice compared and why it took its path.

@@ -179,8 +179,9 @@ pub(crate) fn mesh_estimate(
 /// The cost of one evaluation, in real-space pairs of the general kernel:
 /// `N n (2 pi / 3) r_c^3` pairs at `pair` each (the kernel's cost,
 /// [`Carried::pair_cost`]), [`FFT_COST`] per mesh point and `log2` of the
-/// point count (the FFTs both ways and the influence function), and
-/// [`SPLINE_COST`] per site and `p^3` (spreading and gathering).
+/// point count (the FFTs both ways and the influence function),
+/// [`SPLINE_COST`] per site and `p^3` (spreading and gathering) and
+/// [`SITE_COST`] per site.
 pub(crate) fn cost(
     (sites, density): (f64, f64),
     rc: f64,
@@ -192,6 +193,7 @@ pub(crate) fn cost(
     pair * sites * density * (2.0 * PI / 3.0) * rc.powi(3)
         + FFT_COST * points * points.log2()
         + SPLINE_COST * sites * (order as f64).powi(3)
+        + SITE_COST * sites
 }
 
 /// `cost` of the sum of `sites` sites in `box_lengths` with `parameters`,
@@ -213,28 +215,35 @@ pub fn mesh_cost(
     )
 }
 
-/// The cost of a mesh point (times `log2` of the point count) relative to a
-/// real-space pair, and of a site's `p^3` spline weights: least-squares fits
-/// of measured evaluation times (one thread, 2026-11-28, the 2-core Xeon of
-/// benchmarks/RESULTS.md) over every splitting and order of a sweep at
-/// accuracy 1e-5: 4,096 jittered dipoles (26 choices: 0.0033 and 0.011) and
-/// 2,744 jittered charges (29 choices: 0.0033 and 0.0092). The model's
-/// former weights (0.1 and 0.1) priced the mesh 30 times too high, so the
-/// sum ran with twice the cutoff and twice the time it needed. Checked
-/// again after the pair search and kernels changed (one thread, loaded
-/// machine, 2026-11-28): 1.27 ns per mesh-point unit and 4.1 to 4.5 ns per
-/// spline unit against 396 ns per pair of the general kernel.
-const FFT_COST: f64 = 0.0033;
-const SPLINE_COST: f64 = 0.01;
+/// The model's constants are measured seconds over the unit
+/// [`crate::potential::multipole::PME_SECONDS_PER_UNIT`] (540 ns): least-squares
+/// fits of `t = t_pair P + t_mesh M log2 M + t_spline N p^3 + t_site N`
+/// to the evaluation times of `examples/pme_costs.rs` (forced parameters,
+/// one thread, median process CPU time; 2026-11-29, a 2-CPU Intel Xeon at
+/// load 9 to 11), after the real space's reach-1 cells. 12,000 random charges at 100.2 per unit volume (15 cases,
+/// residual 2.6 %): 67.9 ns per pair, 3.31 ns per mesh-point unit, 6.35 ns
+/// per spline unit, 1.92 us per site. 4,096 random dipoles at density 0.8
+/// (15 cases, residual 11 %, noisy under that load): 79.6 ns per pair,
+/// 9.9 and 10.3 ns per mesh and spline unit, 1.24 us per site. The mesh and
+/// spline constants are the charges' (the better determined fit).
+///
+/// The cost of a mesh point (times `log2` of the point count).
+const FFT_COST: f64 = 0.0061;
+/// The cost of a site's spline point (`p^3` of them per site).
+const SPLINE_COST: f64 = 0.0118;
+/// The cost of a site's work that no parameter changes (wrapping, the cell
+/// list, the self terms, the forces): not weighed by the choice of
+/// parameters, but by the automatic choice against the direct sum.
+const SITE_COST: f64 = 3.0;
 
 /// The cost of a real-space pair of the unrolled charge kernels (the mesh
-/// sum's and the moving bodies') relative to the general kernel: 87 to 106
-/// ns per pair, search included, for 12,000 random charges at 97 per unit
-/// volume with `r_c` from 0.2 to 1 (the measurements of `FFT_COST`).
-pub const CHARGE_PAIR_COST: f64 = 0.25;
+/// sum's and the moving bodies') relative to the general kernel: 67.9 ns
+/// per pair, search included (the fit above; 87 to 106 ns when each pair
+/// was visited from both ends).
+pub const CHARGE_PAIR_COST: f64 = 0.126;
 
 /// The cost of a real-space pair of the mesh sum's unrolled kernel of
-/// charges and dipoles relative to the general kernel: 148 ns per pair,
-/// search included, for 10,000 random dipoles at density 0.8 with `r_c`
-/// from 1 to 2.5 (the measurements of `FFT_COST`).
-pub const DIPOLE_PAIR_COST: f64 = 0.37;
+/// charges and dipoles relative to the general kernel: 79.6 ns per pair,
+/// search included (the fit above; 148 ns when each pair was visited from
+/// both ends).
+pub const DIPOLE_PAIR_COST: f64 = 0.147;

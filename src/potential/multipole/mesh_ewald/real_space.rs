@@ -1,19 +1,24 @@
 //! The real-space part of the mesh Ewald sum: every pair closer than `r_c`
 //! (minimum image, `r_c <= L_a / 2`), found by a cell list rebuilt at each
 //! evaluation into buffers sized once, the positions and coefficients copied
-//! in cell order; cells at least `r_c / 2` wide, so that the 125 cells
-//! around a site hold about 3.7 times the sphere's sites (27 cells `r_c`
-//! wide would hold 6.4 times), each neighbour cell with the shift of its
-//! periodic image (no minimum-image test per pair).
+//! in cell order, each neighbour cell with the shift of its periodic image
+//! (no minimum-image test per pair). Along each axis the cells are at least
+//! `r_c / R` wide and a site's neighbours are within `R` cells (the axis's
+//! reach): `R = 1` (27 cells, 6.4 times the sphere's volume) unless the
+//! sites are crowded ([`CROWDED`]) or the axis holds fewer than 3 cells
+//! `r_c` wide, then `R = 2` (125 cells of `r_c / 2`, 3.7 times the sphere):
+//! a stencil cell costs a loop's overhead however few sites it holds, a
+//! site in it a distance test, and at liquid densities with short cutoffs
+//! the cells `r_c / 2` wide are mostly empty.
 //!
 //! Each pair is visited once (Newton's third law): a cell is paired with
-//! itself and with the 62 cells of the half stencil (offsets
-//! lexicographically after its own), and the pair's kernel adds to both
-//! sites, the source's sign flipped for the second (`d^N g(-r) = (-1)^|N|
-//! d^N g(r)`). Threads take contiguous ranges of cells with about equal
-//! numbers of sites, each summing into its own block; the blocks are added
-//! in range order, so the sums are the same bits for a given number of
-//! threads.
+//! itself and with the cells of the half stencil (offsets lexicographically
+//! after its own: 13 at reach 1, 62 at reach 2), and the pair's kernel adds
+//! to both sites, the source's sign flipped for the second (`d^N g(-r) =
+//! (-1)^|N| d^N g(r)`). Threads take contiguous ranges of cells with about
+//! equal numbers of sites, each summing into its own block; the blocks are
+//! added in range order, so the sums are the same bits for a given number
+//! of threads.
 //!
 //! A source `j` contributes `d^A phi(r_i) = sum_E c_E (-1)^|E| d^(A + E)
 //! g(r_i - r_j)` with `g = erfc(alpha r) / r` (the Ewald real-space kernel
@@ -27,25 +32,46 @@ use crate::potential::multipole::ewald_terms::radial_functions;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
-/// Cells searched on each side of a site's own, along each axis.
-const REACH: usize = 2;
+/// Sites per cube of side `r_c / 2` above which every axis takes reach 2
+/// (module doc): per site, reach 1 costs `13 / (8 m)` stencil cells and `13 * 8 m`
+/// distance tests, reach 2 `62 / m` and `62 m` (`m` sites per cube), at
+/// ~8 ns per cell and ~1.5 ns per test (the cell search's profile,
+/// benchmarks/RESULTS.md), equal at `m` of about 3.
+const CROWDED: f64 = 3.0;
 
-/// Cells along an axis of the stencil.
-const WIDTH: usize = 2 * REACH + 1;
+/// The reach of each axis and the cells along it for `sites` sites in
+/// `box_lengths` with `cutoff` (module doc).
+fn layout(sites: f64, box_lengths: &Vector3<f64>, cutoff: f64) -> ([usize; 3], [usize; 3]) {
+    let crowded = sites / box_lengths.product() * (cutoff / 2.0).powi(3) > CROWDED;
+    let mut reach = [2; 3];
+    let mut cells = [1; 3];
+    for a in 0..3 {
+        let wide = (box_lengths[a] / cutoff).floor() as usize;
+        if !crowded && wide >= 3 {
+            (reach[a], cells[a]) = (1, wide);
+        } else {
+            cells[a] = ((box_lengths[a] * 2.0 / cutoff).floor() as usize).max(1);
+        }
+    }
+    (reach, cells)
+}
 
-/// The offsets (each `0..WIDTH`, `REACH` being the home cell's) of the half
-/// stencil: those lexicographically after the home cell's.
-const HALF_STENCIL: [[usize; 3]; (WIDTH * WIDTH * WIDTH - 1) / 2] = {
-    let mut offsets = [[0; 3]; (WIDTH * WIDTH * WIDTH - 1) / 2];
-    let home = (WIDTH * WIDTH * WIDTH - 1) / 2;
-    let mut k = 0;
-    while k < offsets.len() {
-        let o = home + 1 + k;
-        offsets[k] = [o / (WIDTH * WIDTH), (o / WIDTH) % WIDTH, o % WIDTH];
-        k += 1;
+/// The offsets (each from 0 to `2 reach[a]`, `reach` being the home cell's)
+/// of the half stencil: those lexicographically after the home cell's.
+fn half_stencil(reach: [usize; 3]) -> Vec<[usize; 3]> {
+    let width = reach.map(|r| 2 * r + 1);
+    let mut offsets = Vec::new();
+    for x in 0..width[0] {
+        for y in 0..width[1] {
+            for z in 0..width[2] {
+                if [x, y, z] > reach {
+                    offsets.push([x, y, z]);
+                }
+            }
+        }
     }
     offsets
-};
+}
 
 /// One thread's sums: the derivatives of each site (in cell order) and the
 /// virial `sum r_ij f_ij^T` of its pairs.
@@ -55,10 +81,14 @@ struct Block {
     virial: Matrix3<f64>,
 }
 
-/// The cell list of one box (cells at least `r_c / REACH` wide).
+/// The cell list of one box (cells at least `r_c / reach[a]` wide).
 #[derive(Clone, Debug)]
 pub(crate) struct CellList {
     cells: [usize; 3],
+    /// Cells searched on each side of a site's own, per axis.
+    reach: [usize; 3],
+    /// The offsets of [`half_stencil`].
+    stencil: Vec<[usize; 3]>,
     /// First entry of each cell in `members` (`cells + 1` entries).
     start: Vec<usize>,
     /// Site indices, by cell, in increasing order within a cell.
@@ -76,9 +106,11 @@ impl CellList {
     /// Buffers for `sites` sites in `box_lengths` with cutoff `cutoff`
     /// (`cutoff <= L_a / 2`, checked by the caller).
     pub fn new(sites: usize, box_lengths: &Vector3<f64>, cutoff: f64) -> Self {
-        let cells = Self::cells(box_lengths, cutoff);
+        let (reach, cells) = layout(sites as f64, box_lengths, cutoff);
         CellList {
             cells,
+            reach,
+            stencil: half_stencil(reach),
             start: vec![0; cells.iter().product::<usize>() + 1],
             members: vec![0; sites],
             sorted: vec![Vector3::zeros(); sites],
@@ -88,15 +120,11 @@ impl CellList {
         }
     }
 
-    /// Cells along each axis for `cutoff` in `box_lengths`.
-    pub fn cells(box_lengths: &Vector3<f64>, cutoff: f64) -> [usize; 3] {
-        std::array::from_fn(|a| ((box_lengths[a] * REACH as f64 / cutoff).floor() as usize).max(1))
-    }
-
     /// Bytes held for `sites` sites in `box_lengths` with `cutoff`, the
     /// blocks of the current number of threads included.
     pub fn bytes(sites: f64, box_lengths: &Vector3<f64>, cutoff: f64) -> f64 {
-        let cells: f64 = Self::cells(box_lengths, cutoff)
+        let cells: f64 = layout(sites, box_lengths, cutoff)
+            .1
             .iter()
             .map(|&c| c as f64)
             .product();
@@ -168,15 +196,17 @@ impl CellList {
         }
         // The cell `h + o` of a home coordinate `h` and an offset `o` along
         // axis `a`, and the shift of its image: every offset is a distinct
-        // image (at least 4 cells per axis), at most one within `r_c <= L_a / 2`.
+        // image (at least 3 cells per axis at reach 1, 4 at reach 2), at
+        // most one within `r_c <= L_a / 2`.
+        let reach = self.reach;
         let neighbour = |a: usize, h: usize, o: usize| -> (usize, f64) {
             let c = h + o;
-            if c < REACH {
-                (c + cells[a] - REACH, -box_lengths[a])
-            } else if c - REACH >= cells[a] {
-                (c - REACH - cells[a], box_lengths[a])
+            if c < reach[a] {
+                (c + cells[a] - reach[a], -box_lengths[a])
+            } else if c - reach[a] >= cells[a] {
+                (c - reach[a] - cells[a], box_lengths[a])
             } else {
-                (c - REACH, 0.0)
+                (c - reach[a], 0.0)
             }
         };
         let home = [
@@ -184,7 +214,7 @@ impl CellList {
             (c / cells[2]) % cells[1],
             c % cells[2],
         ];
-        for [ox, oy, oz] in HALF_STENCIL {
+        for &[ox, oy, oz] in &self.stencil {
             let (cx, sx) = neighbour(0, home[0], ox);
             let (cy, sy) = neighbour(1, home[1], oy);
             let (cz, sz) = neighbour(2, home[2], oz);
@@ -433,4 +463,59 @@ pub(crate) fn per_site(
         .enumerate()
         .with_min_len(64)
         .for_each(|(i, (d, w))| f(i, d, w));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha20Rng;
+
+    /// Every layout finds each pair within the cutoff exactly once, with the
+    /// minimum-image separation: sparse sites (reach 1 on every axis),
+    /// crowded ones (reach 2), and a box with an axis of 3 cells `r_c` wide
+    /// (reach 1) and one of 2 (reach 2 there), against all pairs by the
+    /// minimum image.
+    #[test]
+    fn every_layout_finds_each_pair_within_the_cutoff_once() {
+        for (box_lengths, sites, cutoff, reach) in [
+            (Vector3::new(5.0, 5.0, 5.0), 400, 1.0, [1, 1, 1]),
+            (Vector3::new(5.0, 5.0, 5.0), 4000, 1.0, [2, 2, 2]),
+            (Vector3::new(3.2, 2.5, 4.1), 60, 1.05, [1, 2, 1]),
+        ] {
+            let mut rng = ChaCha20Rng::seed_from_u64(3);
+            let wrapped: Vec<Vector3<f64>> = (0..sites)
+                .map(|_| Vector3::from_fn(|a, _| rng.random_range(0.0..box_lengths[a])))
+                .collect();
+            let mut cells = CellList::new(sites, &box_lengths, cutoff);
+            assert_eq!(cells.reach, reach, "{box_lengths:?} with {sites} sites");
+            cells.build(&wrapped, &box_lengths, &vec![[0.0; SOURCES]; sites]);
+            let mut found = Vec::new();
+            for c in 0..cells.start.len() - 1 {
+                cells.for_each_pair_from(c, &box_lengths, cutoff * cutoff, |a, b, r, r2| {
+                    let (i, j) = (cells.members[a], cells.members[b]);
+                    found.push((i.min(j), i.max(j), if i < j { r } else { -r }, r2));
+                });
+            }
+            found.sort_by_key(|x| (x.0, x.1));
+            let mut expected = Vec::new();
+            for i in 0..sites {
+                for j in i + 1..sites {
+                    let r = Vector3::from_fn(|a, _| {
+                        let d = wrapped[i][a] - wrapped[j][a];
+                        d - box_lengths[a] * (d / box_lengths[a]).round()
+                    });
+                    if r.norm_squared() < cutoff * cutoff {
+                        expected.push((i, j, r));
+                    }
+                }
+            }
+            assert_eq!(found.len(), expected.len(), "{box_lengths:?}");
+            for ((i, j, r, r2), (ei, ej, er)) in found.iter().zip(&expected) {
+                assert_eq!((i, j), (ei, ej));
+                assert!((r - er).norm() < 1e-12, "{i} {j}: {r:?} against {er:?}");
+                assert!((r2 - r.norm_squared()).abs() < 1e-12);
+            }
+        }
+    }
 }
