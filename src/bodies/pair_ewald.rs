@@ -33,23 +33,20 @@ impl ChargeKernel for EwaldCharges {
             table: ErfcTable::get(),
         }
     }
-    /// The pairs of module doc within `cutoff` (the lanes beyond it, which
-    /// the pass drops, left zero without reading the table; dipoles, which
-    /// the pass never gives this kernel, are not read).
+    /// The pairs of module doc (dipoles, which the pass never gives this
+    /// kernel, are not read).
     #[inline(always)]
     fn pair<T: Lanes>(
         &self,
         r: &V4<T>,
         r2: T,
-        cutoff: f64,
+        _: f64,
         target: &ChargeDipoles<T>,
         source: &ChargeDipoles<T>,
     ) -> BothEnds<T> {
-        let cutoff2 = cutoff * cutoff;
-        let b = r2.to_array().map(|r2| match r2 < cutoff2 {
-            true => self.table.radial::<2>(self.alpha, r2),
-            false => [0.0; 2],
-        });
+        let b = r2
+            .to_array()
+            .map(|r2| self.table.radial::<2>(self.alpha, r2));
         let (b0, b1) = (
             T::from_array(b.map(|b| b[0])),
             T::from_array(b.map(|b| b[1])),
@@ -76,9 +73,6 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    /// The cutoff of the kernel's tests.
-    const CUTOFF: f64 = 8.0;
-
     /// Every output of the kernel on four pairs, lane by lane.
     fn outputs<T: Lanes>(
         r: &[Vector3<f64>; LANES],
@@ -93,7 +87,7 @@ mod tests {
         let pair = EwaldCharges::new(0.3).pair(
             &r,
             r.dot(&r),
-            CUTOFF,
+            9.0,
             &charges(T::splat(q_t)),
             &charges(T::from_array(q_s)),
         );
@@ -105,8 +99,7 @@ mod tests {
     }
 
     /// Each lane is the pair of the module doc with the scalar table's
-    /// `B_0`, `B_1` within the cutoff, zero beyond, to the bit, in arrays
-    /// and in AVX registers (the pairs reach past the cutoff).
+    /// `B_0`, `B_1`, to the bit, in arrays and in AVX registers.
     #[test]
     fn lanes_are_the_scalar_pair() {
         let mut rng = ChaCha8Rng::seed_from_u64(9);
@@ -117,11 +110,7 @@ mod tests {
             let (q_t, q_s) = (0.8, std::array::from_fn(|_| rng.random_range(-1.0..1.0)));
             let array = outputs::<F4>(&r, q_t, q_s);
             for l in 0..LANES {
-                let r2 = r[l].norm_squared();
-                let [b0, b1] = match r2 < CUTOFF * CUTOFF {
-                    true => table.radial::<2>(0.3, r2),
-                    false => [0.0; 2],
-                };
+                let [b0, b1] = table.radial::<2>(0.3, r[l].norm_squared());
                 let field = r[l] * (q_s[l] * b1);
                 let force = r[l] * (q_t * (q_s[l] * b1));
                 let source_field = -r[l] * (q_t * b1);
