@@ -57,20 +57,6 @@ impl SiteMultipoles {
     }
 }
 
-/// The pairs of charges and dipoles a body system's pair pass sums with
-/// the Lennard-Jones term.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[allow(variant_size_differences)] // 16 bytes, read once per pass
-pub enum PairCharges {
-    /// A cutoff sum of charges and dipoles with this truncation.
-    Truncated(ElectrostaticTruncation),
-    /// The real space of an Ewald sum of charges, kernel `erfc(alpha r) / r`.
-    Ewald {
-        /// The splitting (1/length).
-        alpha: f64,
-    },
-}
-
 /// A method of electrostatics between sites of different bodies. It fills
 /// a [`SiteResponse`]: energy, the atomic virial `sum_pairs r_ij f_ij^T`
 /// (the strain derivative at fixed space-frame multipoles), and per site the
@@ -95,19 +81,12 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
         None
     }
 
-    /// The cutoff and kind of the pairs of charges and dipoles over the
-    /// half neighbour list which the evaluation of a body system makes in
-    /// one pass with the Lennard-Jones term, then adding
-    /// [`Electrostatics::add_beyond_pairs`] (none by default: the method's
-    /// [`Electrostatics::evaluate`] makes the whole sum).
-    fn pass_pairs(&self) -> Option<(f64, PairCharges)> {
+    /// The cutoff and truncation of a sum of charges and dipoles over the
+    /// half neighbour list, which the evaluation of a body system then
+    /// makes in one pass with the Lennard-Jones term (none by default).
+    fn cutoff_pairs(&self) -> Option<(f64, ElectrostaticTruncation)> {
         None
     }
-
-    /// Adds to `out`, which holds the sums of the pairs of
-    /// [`Electrostatics::pass_pairs`], the rest of the method's sum
-    /// (nothing by default).
-    fn add_beyond_pairs(&mut self, _sites: &SiteMultipoles, _out: &mut SiteResponse) {}
 
     /// Evaluates the sites' electrostatics into `out` (sized for the sites).
     fn evaluate(
@@ -238,8 +217,8 @@ impl Electrostatics for CutoffSum {
         self.cutoff
     }
 
-    fn pass_pairs(&self) -> Option<(f64, PairCharges)> {
-        (!self.quadrupoles).then_some((self.cutoff, PairCharges::Truncated(self.truncation)))
+    fn cutoff_pairs(&self) -> Option<(f64, ElectrostaticTruncation)> {
+        (!self.quadrupoles).then_some((self.cutoff, self.truncation))
     }
 
     fn evaluate(
@@ -269,7 +248,7 @@ impl Electrostatics for CutoffSum {
         }
         let terms = PairTerms {
             lennard_jones: None,
-            electrostatics: Some((self.cutoff, PairCharges::Truncated(self.truncation), sites)),
+            electrostatics: Some((self.cutoff, self.truncation, sites)),
         };
         self.pass.run(&terms, pairs, &sites.positions).fill(out);
     }

@@ -4,10 +4,7 @@
 //! quadrupoles at any sites.
 //!
 //! * **Real space**: the pairs of the bodies' neighbour lists (sites of
-//!   different bodies) closer than `r_c`, kernel `erfc(alpha r) / r`; for
-//!   sites carrying charges only, each pair once in the pair pass
-//!   (`super::pair_ewald`), which a body system runs with its Lennard-Jones
-//!   term ([`Electrostatics::pass_pairs`]).
+//!   different bodies) closer than `r_c`, kernel `erfc(alpha r) / r`.
 //! * **Reciprocal, self, background, surface**: the mesh sum's, over every
 //!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]), or the
 //!   same terms with the reciprocal part by structure factors
@@ -37,11 +34,8 @@
 //! models in real-space pairs ([`AutoChoice`]), the direct sum when PME
 //! cannot reach the accuracy.
 
-use super::electrostatics::{
-    add_pairs, Electrostatics, Exclusions, PairCharges, SiteMultipoles, SiteResponse,
-};
+use super::electrostatics::{add_pairs, Electrostatics, Exclusions, SiteMultipoles, SiteResponse};
 use super::neighbours::NeighbourList;
-use super::pair_pass::{PairPass, PairTerms};
 use super::space::Space;
 use crate::checks::{num, InputError};
 use crate::potential::multipole::mesh_ewald::Sources;
@@ -97,13 +91,6 @@ pub struct BodyEwald {
     site_body: Vec<u32>,
     /// Each site's half of its pairs' virials.
     virials: Vec<Matrix3<f64>>,
-    /// Whether the sites carry charges only (their real-space pairs then
-    /// in the pair pass).
-    charges_only: bool,
-    /// The pair pass's buffers (when [`BodyEwald::evaluate`] makes the pairs).
-    pass: PairPass,
-    /// The long-range and exclusion terms of a sum of charges.
-    beyond: SiteResponse,
 }
 
 impl BodyEwald {
@@ -169,11 +156,7 @@ impl BodyEwald {
                     .map_err(sized)?
                     .with_virial()
                     .with_whole_molecules();
-                Self::assemble(
-                    LongRange::Mesh(Box::new(mesh), estimate),
-                    site_body,
-                    carried,
-                )
+                Self::assemble(LongRange::Mesh(Box::new(mesh), estimate), site_body)
             }
             None => {
                 let (parameters, _) = waves()?;
@@ -181,19 +164,17 @@ impl BodyEwald {
                     .map_err(sized)?
                     .with_virial()
                     .with_whole_molecules();
-                Self::assemble(LongRange::Waves(Box::new(waves)), site_body, carried)
+                Self::assemble(LongRange::Waves(Box::new(waves)), site_body)
             }
         };
         Ok(BodyEwald { choice, ..sum })
     }
 
     /// The sum with given parameters (checked by
-    /// [`MeshEwald::new`], errors naming them) of sites carrying `carried`,
-    /// its estimate unknown (NaN).
+    /// [`MeshEwald::new`], errors naming them), its estimate unknown (NaN).
     pub fn with_parameters(
         parameters: MeshParameters,
         surface: Surface,
-        carried: Carried,
         site_body: &[u32],
         box_lengths: Vector3<f64>,
     ) -> Result<Self, InputError> {
@@ -208,12 +189,11 @@ impl BodyEwald {
                 estimate,
             ),
             site_body,
-            carried,
         ))
     }
 
-    /// The sum of `long_range` for the sites of `site_body` carrying `carried`.
-    fn assemble(long_range: LongRange, site_body: &[u32], carried: Carried) -> Self {
+    /// The sum of `long_range` for the sites of `site_body`.
+    fn assemble(long_range: LongRange, site_body: &[u32]) -> Self {
         let n = site_body.len();
         let mut bodies: Vec<Range<usize>> = Vec::new();
         for (s, &b) in site_body.iter().enumerate() {
@@ -228,9 +208,6 @@ impl BodyEwald {
             bodies,
             site_body: site_body.to_vec(),
             virials: vec![Matrix3::zeros(); n],
-            charges_only: !(carried.dipoles || carried.quadrupoles),
-            pass: PairPass::default(),
-            beyond: SiteResponse::zeros(0),
         }
     }
 }
@@ -279,16 +256,15 @@ impl Electrostatics for BodyEwald {
         self.long_range.splitting().1
     }
 
-    fn pass_pairs(&self) -> Option<(f64, PairCharges)> {
-        let (alpha, real_cutoff) = self.long_range.splitting();
-        self.charges_only
-            .then_some((real_cutoff, PairCharges::Ewald { alpha }))
-    }
-
-    /// The long-range terms and the exclusions of charges (module doc).
-    fn add_beyond_pairs(&mut self, sites: &SiteMultipoles, out: &mut SiteResponse) {
+    fn evaluate(
+        &mut self,
+        sites: &SiteMultipoles,
+        _space: &Space,
+        pairs: &NeighbourList,
+        out: &mut SiteResponse,
+    ) {
         let sources = sites.sources();
-        let alpha = self.long_range.splitting().0;
+        let (alpha, real_cutoff) = self.long_range.splitting();
         let Ok((derivatives, long_range)) = self.long_range.derivatives(&sources) else {
             // Only non-finite positions fail here: the run reports the blow-up.
             out.energy = f64::NAN;
@@ -299,69 +275,40 @@ impl Electrostatics for BodyEwald {
             site_body: &self.site_body,
             alpha,
         };
-        add_charge_exclusions(sites, exclusions, (derivatives, &mut self.virials));
-        let beyond = &mut self.beyond;
-        if beyond.potential.len() != derivatives.len() {
-            *beyond = SiteResponse::zeros(derivatives.len());
+        let carried = sites.carried;
+        if carried.dipoles || carried.quadrupoles {
+            let kernel = |r: f64| radial_functions(alpha, r);
+            add_pairs(
+                sites,
+                pairs,
+                (real_cutoff, &kernel),
+                Some(exclusions),
+                (derivatives, &mut self.virials),
+            );
+        } else {
+            add_charge_pairs(
+                sites,
+                pairs,
+                real_cutoff,
+                exclusions,
+                (derivatives, &mut self.virials),
+            );
         }
-        beyond.fill(&sources, derivatives);
-        out.energy += beyond.energy;
-        out.virial += long_range + self.virials.iter().sum::<Matrix3<f64>>();
-        for (s, f) in out.force.iter_mut().enumerate() {
-            *f += beyond.force[s];
-            out.potential[s] += beyond.potential[s];
-            out.field[s] += beyond.field[s];
-        }
-    }
-
-    fn evaluate(
-        &mut self,
-        sites: &SiteMultipoles,
-        _space: &Space,
-        pairs: &NeighbourList,
-        out: &mut SiteResponse,
-    ) {
-        if let Some((cutoff, charges)) = self.pass_pairs() {
-            let terms = PairTerms {
-                lennard_jones: None,
-                electrostatics: Some((cutoff, charges, sites)),
-            };
-            self.pass.run(&terms, pairs, &sites.positions).fill(out);
-            self.add_beyond_pairs(sites, out);
-            return;
-        }
-        let sources = sites.sources();
-        let (alpha, real_cutoff) = self.long_range.splitting();
-        let Ok((derivatives, long_range)) = self.long_range.derivatives(&sources) else {
-            out.energy = f64::NAN;
-            return;
-        };
-        let exclusions = Exclusions {
-            bodies: &self.bodies,
-            site_body: &self.site_body,
-            alpha,
-        };
-        let kernel = |r: f64| radial_functions(alpha, r);
-        add_pairs(
-            sites,
-            pairs,
-            (real_cutoff, &kernel),
-            Some(exclusions),
-            (derivatives, &mut self.virials),
-        );
         out.fill(&sources, derivatives);
         out.virial = long_range + self.virials.iter().sum::<Matrix3<f64>>();
     }
 }
 
-/// Each body's own pairs of charges, which the reciprocal sum holds:
-/// `-q_j erf(alpha r) / r` and its field, `erf = 1 - erfc` with the
-/// tabulated `erfc` ([`ErfcTable::radial`]), added to site `i`'s
-/// potential and field (`d[0..4]`; the higher derivatives, which no charge
-/// uses, keep the long-range part only), `1/2 r (q_i q_j B_1 r)^T` to its
-/// virial.
-fn add_charge_exclusions(
+/// [`add_pairs`] for sites that carry charges only, unrolled: each pair
+/// within `cutoff` adds `q_j (B_0, -r B_1)` to site `i`'s potential and
+/// field (`d[0..4]`; the higher derivatives, which no charge uses, keep
+/// the long-range part only) and `1/2 r (q_i q_j B_1 r)^T` to its virial,
+/// with the tabulated `erfc` ([`ErfcTable::radial`]); each body's
+/// own pairs subtract `erf(alpha r) / r`.
+fn add_charge_pairs(
     sites: &SiteMultipoles,
+    pairs: &NeighbourList,
+    cutoff: f64,
     exclusions: Exclusions<'_>,
     (derivatives, virials): (&mut [[f64; DERIVATIVES]], &mut [Matrix3<f64>]),
 ) {
@@ -372,24 +319,38 @@ fn add_charge_exclusions(
         alpha,
     } = exclusions;
     let (positions, charges) = (&sites.positions, &sites.charges);
+    let cutoff2 = cutoff * cutoff;
     per_site(derivatives, virials, |i, d, w| {
         let q_i = charges[i];
-        *w = Matrix3::zeros();
+        let mut sums = [0.0; 4];
+        let mut virial = Matrix3::zeros();
+        let mut pair = |r: Vector3<f64>, b: [f64; 2], j: usize| {
+            let q_j = charges[j];
+            sums[0] += q_j * b[0];
+            let g = q_j * b[1];
+            for a in 0..3 {
+                sums[1 + a] -= g * r[a];
+            }
+            virial += r * (r.transpose() * (0.5 * q_i * g));
+        };
+        for (j, r) in pairs.separations(i, positions) {
+            let r2 = r.norm_squared();
+            if r2 < cutoff2 {
+                pair(r, table.radial::<2>(alpha, r2), j);
+            }
+        }
         for j in bodies[site_body[i] as usize].clone().filter(|&j| j != i) {
             let r = positions[i] - positions[j];
             let r2 = r.norm_squared();
             let damped = table.radial::<2>(alpha, r2);
             let bare = 1.0 / r2.sqrt();
             // -erf(alpha r) / r = erfc(alpha r) / r - 1 / r.
-            let b = [damped[0] - bare, damped[1] - bare / r2];
-            let q_j = charges[j];
-            d[0] += q_j * b[0];
-            let g = q_j * b[1];
-            for a in 0..3 {
-                d[1 + a] -= g * r[a];
-            }
-            *w += r * (r.transpose() * (0.5 * q_i * g));
+            pair(r, [damped[0] - bare, damped[1] - bare / r2], j);
         }
+        for (d, s) in d.iter_mut().zip(sums) {
+            *d += s;
+        }
+        *w = virial;
     });
 }
 
@@ -407,11 +368,6 @@ mod tests {
     /// space for charges; quadrupoles' tails carry `(alpha r_c)^8` more and
     /// take `alpha r_c = 6.5`; the mesh finer still).
     const FINE: f64 = 1e-8;
-
-    /// Two ways of summing the same pairs agree to this relative round-off
-    /// (sums of ~1e4 terms in another order; the general path's `erfc` is
-    /// libm's, the pass's the table's, within 1e-14 of it).
-    const PATHS_AGREE: f64 = 1e-12;
 
     /// The energy bound of dipoles and quadrupoles against the rotors'
     /// direct sum (the mesh sum's `FINE`).
@@ -432,7 +388,7 @@ mod tests {
 
     /// Rigid three-site molecules (charges -0.8, 0.4, 0.4 at the origin and
     /// `(+-0.8, 0.6, 0)` of the body frame, optionally dipoles and
-    /// quadrupoles at every site, else zero ones), centres at least 2 apart, random
+    /// quadrupoles at every site), centres at least 2 apart, random
     /// orientations: the sites, the body of each site and each site's offset.
     fn molecules(
         seed: u64,
@@ -473,11 +429,9 @@ mod tests {
                 let d = rotation * offset;
                 sites.positions.push(c + d);
                 sites.charges.push(*q);
-                // Zero where not carried (`SiteMultipoles`' contract).
-                let on = if multipoles { 1.0 } else { 0.0 };
-                let mu = Vector3::new(0.3, -0.2, 0.1) * (k as f64 + 1.0) * on;
+                let mu = Vector3::new(0.3, -0.2, 0.1) * (k as f64 + 1.0);
                 sites.dipoles.push(rotation * mu);
-                let theta = Matrix3::new(0.4, 0.1, 0.0, 0.1, -0.1, 0.2, 0.0, 0.2, -0.3) * on;
+                let theta = Matrix3::new(0.4, 0.1, 0.0, 0.1, -0.1, 0.2, 0.0, 0.2, -0.3);
                 sites
                     .quadrupoles
                     .push(rotation * theta * rotation.transpose());
@@ -512,8 +466,7 @@ mod tests {
         let n = site_body.len();
         let (mut sum, cutoff) = match fixed {
             Fixed::Mesh(p) => (
-                BodyEwald::with_parameters(p, surface, sites.carried, site_body, box_lengths)
-                    .unwrap(),
+                BodyEwald::with_parameters(p, surface, site_body, box_lengths).unwrap(),
                 p.real_cutoff,
             ),
             Fixed::Waves(p) => {
@@ -521,7 +474,6 @@ mod tests {
                 let sum = BodyEwald::assemble(
                     LongRange::Waves(Box::new(waves.with_virial().with_whole_molecules())),
                     site_body,
-                    sites.carried,
                 );
                 (sum, p.real_cutoff)
             }
@@ -577,75 +529,6 @@ mod tests {
                 "energy {} vs {energy} ({de:e}), force {df:e}",
                 out.energy
             );
-        }
-    }
-
-    /// Charges only take the pair pass (each real-space pair once, in
-    /// lanes); the same sites declared as carrying dipoles too (all zero)
-    /// take the per-site path of every multipole (each pair from both
-    /// ends, `add_pairs`): energy, forces and virial agree to round-off,
-    /// and the pass gives the same bits twice on 1, 2 and 3 threads.
-    #[test]
-    fn the_pair_pass_of_charges_is_the_per_site_sum() {
-        let box_lengths = Vector3::new(9.0, 9.6, 8.7);
-        let (sites, site_body, _) = molecules(34, 27, box_lengths, false);
-        let parameters = MeshParameters {
-            grid: [20, 20, 20],
-            order: 6,
-            ..fine(&box_lengths, 4.0)
-        };
-        let general = SiteMultipoles {
-            carried: Carried {
-                dipoles: true,
-                ..sites.carried
-            },
-            ..sites.clone()
-        };
-        let fixed = Fixed::Mesh(parameters);
-        let reference = evaluate(
-            &general,
-            &site_body,
-            box_lengths,
-            fixed,
-            Surface::Conducting,
-        );
-        let scale = reference.force.iter().map(|f| f.norm()).fold(0.0, f64::max);
-        let on = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| evaluate(&sites, &site_body, box_lengths, fixed, Surface::Conducting))
-        };
-        for threads in [1, 2, 3] {
-            let out = on(threads);
-            let again = on(threads);
-            let bits = |o: &SiteResponse| {
-                let mut b = vec![o.energy.to_bits()];
-                b.extend(o.force.iter().flat_map(|f| f.iter().map(|x| x.to_bits())));
-                b.extend(o.virial.iter().map(|x| x.to_bits()));
-                b
-            };
-            assert_eq!(bits(&out), bits(&again), "{threads} threads");
-            let de = (out.energy - reference.energy).abs() / reference.energy.abs();
-            assert!(de < PATHS_AGREE, "{threads}: energy {de:e}");
-            for (f, g) in out.force.iter().zip(&reference.force) {
-                assert!(
-                    (f - g).norm() < PATHS_AGREE * scale,
-                    "{threads}: {f} vs {g}"
-                );
-            }
-            let dw = (out.virial - reference.virial).abs().max();
-            assert!(
-                dw < PATHS_AGREE * reference.virial.abs().max(),
-                "{threads}: virial {dw:e}"
-            );
-            for (p, q) in out.potential.iter().zip(&reference.potential) {
-                assert!(
-                    (p - q).abs() < PATHS_AGREE * reference.energy.abs(),
-                    "{threads}: {p} {q}"
-                );
-            }
         }
     }
 

@@ -69,11 +69,11 @@ impl BodySystem {
         if self.electrostatics.is_some() {
             self.space_multipoles();
         }
-        // Lennard-Jones and the method's pairs of charges and dipoles: one pass.
-        let pass_pairs = self.electrostatics.as_ref().and_then(|e| e.pass_pairs());
+        // Lennard-Jones and a cutoff sum of charges and dipoles: one pass.
+        let cutoff_sum = self.electrostatics.as_ref().and_then(|e| e.cutoff_pairs());
         let terms = PairTerms {
             lennard_jones: self.lennard_jones.as_ref().map(|t| (t, &self.lj_kind[..])),
-            electrostatics: pass_pairs.map(|(c, k)| (c, k, &self.scratch.multipoles)),
+            electrostatics: cutoff_sum.map(|(c, t)| (c, t, &self.scratch.multipoles)),
         };
         let response = &mut self.scratch.response;
         if self.electrostatics.is_some() && response.potential.len() != n {
@@ -86,27 +86,23 @@ impl BodySystem {
         let mut virial = sums.virial;
         out.lennard_jones = sums.lennard_jones;
         out.site_force.copy_from_slice(&sums.force);
+        if cutoff_sum.is_some() {
+            sums.fill(response);
+            out.electrostatic = response.energy;
+        }
         if let (Some(term), Some(volume)) = (&self.lennard_jones, self.space.volume()) {
             (out.lennard_jones_tail, out.pressure_tail) = term.tail(&self.lj_counts, volume);
         }
-        if let Some(method) = &mut self.electrostatics {
-            if pass_pairs.is_some() {
-                // The pass's sums (its forces and virial with Lennard-Jones'), then the rest.
-                sums.fill(response);
-                method.add_beyond_pairs(&self.scratch.multipoles, response);
-                virial = response.virial;
-                out.site_force.copy_from_slice(&response.force);
-            } else {
-                method.evaluate(
-                    &self.scratch.multipoles,
-                    &self.space,
-                    &self.neighbours,
-                    response,
-                );
-                virial += response.virial;
-                add(&mut out.site_force, &response.force);
-            }
+        if let (Some(method), None) = (&mut self.electrostatics, cutoff_sum) {
+            method.evaluate(
+                &self.scratch.multipoles,
+                &self.space,
+                &self.neighbours,
+                response,
+            );
             out.electrostatic = response.energy;
+            virial += response.virial;
+            add(&mut out.site_force, &response.force);
         }
         self.body_sums(out, virial);
     }

@@ -12,10 +12,9 @@
 //!   [`electrostatics_ewald`]: the site-pair terms (the electrostatic
 //!   methods behind one trait: a cutoff sum, plain or shifted-force, the
 //!   particle-mesh Ewald sum).
-//! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles (or
-//!   an Ewald sum's real-space charge pairs) in one pass over the half
-//!   neighbour list, four pairs at a time (`lanes`), its kernels in
-//!   `pair_kernels` and `pair_ewald`.
+//! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles in
+//!   one pass over the half neighbour list, four pairs at a time
+//!   (`lanes`), its kernels in `pair_kernels`.
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -42,7 +41,6 @@ mod lanes;
 pub mod lennard_jones;
 pub mod neighbours;
 pub mod overlap;
-mod pair_ewald;
 mod pair_kernels;
 mod pair_pass;
 pub mod quantity;
@@ -52,7 +50,7 @@ pub mod system;
 pub mod temperature;
 
 pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
-pub use electrostatics::{CutoffSum, Electrostatics, PairCharges, SiteMultipoles, SiteResponse};
+pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 pub use electrostatics_ewald::{BodyEwald, EwaldOptions, DEFAULT_ACCURACY};
 pub use electrostatics_shifted::ElectrostaticTruncation;
 pub use evaluate::Evaluation;

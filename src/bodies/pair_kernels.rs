@@ -1,8 +1,7 @@
 //! The kernels of the pair pass: Lennard-Jones (`LennardJones`, plain or
 //! shifted against force-shifted, or none) and the charge-dipole pairs of
 //! a truncation (`Truncated`, bare or shifted-force, with charges or of
-//! dipoles only, or none; the real space of an Ewald sum of charges is
-//! `super::pair_ewald`'s), each on four pairs in any [`Lanes`], chosen
+//! dipoles only, or none), each on four pairs in any [`Lanes`], chosen
 //! once per pass and monomorphised into its loop.
 
 use super::electrostatics_shifted::{ChargeDipoles, Factors, Plain, ShiftedForceFactors};
@@ -63,9 +62,7 @@ pub(super) trait ChargeKernel: Sync + Sized {
     /// Whether some site carries a charge (if not, the potentials are
     /// left zero: nothing reads them).
     const CHARGES: bool;
-    /// The kernel of a pass, `alpha` the splitting of an Ewald sum's real
-    /// space (`super::pair_ewald`; the truncations ignore it).
-    fn new(alpha: f64) -> Self;
+    fn new() -> Self;
     /// The pairs of targets at offsets `r` (`r2 = |r|^2`) from sources.
     fn pair<T: Lanes>(
         &self,
@@ -83,7 +80,7 @@ pub(super) struct NoCharges;
 impl ChargeKernel for NoCharges {
     const ON: bool = false;
     const CHARGES: bool = false;
-    fn new(_: f64) -> Self {
+    fn new() -> Self {
         NoCharges
     }
     fn pair<T: Lanes>(
@@ -129,7 +126,7 @@ pub(super) struct Truncated<F, const CHARGES: bool>(std::marker::PhantomData<fn(
 impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> {
     const ON: bool = true;
     const CHARGES: bool = CHARGES;
-    fn new(_: f64) -> Self {
+    fn new() -> Self {
         Truncated(std::marker::PhantomData)
     }
     #[inline(always)]

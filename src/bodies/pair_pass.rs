@@ -1,6 +1,6 @@
 //! One pass over the half neighbour list for the short-range pair terms:
-//! Lennard-Jones and the cutoff sum of charges and dipoles (or the real
-//! space of an Ewald sum of charges) together, each pair once, its force added to one site and subtracted from the other
+//! Lennard-Jones and the cutoff sum of charges and dipoles together, each
+//! pair once, its force added to one site and subtracted from the other
 //! (Newton's third law). The truncations are dispatched once per pass, to a
 //! kernel monomorphised for them.
 //!
@@ -9,14 +9,13 @@
 //! are added in range order, so the results are the same bits for a given
 //! number of threads (and, with one thread, no block is added at all).
 
-use super::electrostatics::{PairCharges, SiteMultipoles, SiteResponse};
+use super::electrostatics::{SiteMultipoles, SiteResponse};
 use super::electrostatics_shifted::{ChargeDipoles, ElectrostaticTruncation};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::{Lanes, F4, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
-use super::pair_ewald::EwaldCharges;
 use super::pair_kernels::{
     Bare, ChargeKernel, LennardJones, NoCharges, NoLennardJones, PairKernel, ShiftedForce,
     Truncated,
@@ -27,12 +26,12 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 /// The terms of a pass: Lennard-Jones with each site's parameters' index
-/// (`None` for a site without), and the sum of charges and dipoles with its
-/// cutoff and its pairs' kind (a truncation, or Ewald's real space).
+/// (`None` for a site without), and the cutoff sum of charges and dipoles
+/// with its cutoff and truncation.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PairTerms<'a> {
     pub lennard_jones: Option<(&'a LennardJonesTerm, &'a [Option<u32>])>,
-    pub electrostatics: Option<(f64, PairCharges, &'a SiteMultipoles)>,
+    pub electrostatics: Option<(f64, ElectrostaticTruncation, &'a SiteMultipoles)>,
 }
 
 /// The sums of a pass (of one thread's range of sites, before they are
@@ -94,20 +93,14 @@ impl PairPass {
         };
         let blocks = &mut self.blocks;
         use ElectrostaticTruncation as E;
-        use PairCharges::{Ewald, Truncated as Cut};
         match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
             None => inputs.with_lennard_jones::<NoCharges>(blocks),
-            Some((Ewald { .. }, _)) => inputs.with_lennard_jones::<EwaldCharges>(blocks),
-            Some((Cut(E::Plain), true)) => {
-                inputs.with_lennard_jones::<Truncated<Bare, true>>(blocks)
-            }
-            Some((Cut(E::Plain), false)) => {
-                inputs.with_lennard_jones::<Truncated<Bare, false>>(blocks)
-            }
-            Some((Cut(E::ShiftedForce), true)) => {
+            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Bare, true>>(blocks),
+            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Bare, false>>(blocks),
+            Some((E::ShiftedForce, true)) => {
                 inputs.with_lennard_jones::<Truncated<ShiftedForce, true>>(blocks)
             }
-            Some((Cut(E::ShiftedForce), false)) => {
+            Some((E::ShiftedForce, false)) => {
                 inputs.with_lennard_jones::<Truncated<ShiftedForce, false>>(blocks)
             }
         }
@@ -318,12 +311,11 @@ impl<'a> Inputs<'a> {
             return;
         };
         let lj_cutoff = self.terms.lennard_jones.map_or(0.0, |(t, _)| t.cutoff());
-        let (coulomb_cutoff, multipoles, alpha) = match self.terms.electrostatics {
-            Some((cutoff, PairCharges::Ewald { alpha }, m)) => (cutoff, Some(m), alpha),
-            Some((cutoff, _, m)) => (cutoff, Some(m), 0.0),
-            None => (0.0, None, 0.0),
+        let (coulomb_cutoff, multipoles) = match self.terms.electrostatics {
+            Some((cutoff, _, m)) => (cutoff, Some(m)),
+            None => (0.0, None),
         };
-        let coulomb = C::new(alpha);
+        let coulomb = C::new();
         let (lj_cutoff2, coulomb_cutoff2) = (
             T::splat(lj_cutoff * lj_cutoff),
             T::splat(coulomb_cutoff * coulomb_cutoff),
@@ -544,7 +536,7 @@ mod tests {
             charge: T::from_array(sources.map(|s| s.charge)),
             dipole: V4::gather(std::array::from_fn(|l| &sources[l].dipole)),
         };
-        let pair = K::new(0.0).pair(&r, r2, 2.5, &ChargeDipoles::splat(target), &source);
+        let pair = K::new().pair(&r, r2, 2.5, &ChargeDipoles::splat(target), &source);
         let (u, f_over_r) = term.pair_lanes::<T, false>(0, [0; LANES], r2);
         let (u_fs, f_fs) = term.pair_lanes::<T, true>(0, [0; LANES], r2);
         let mut out = vec![
@@ -620,11 +612,7 @@ mod tests {
             list.build(&sites.positions, &(0..n as u32).collect::<Vec<_>>(), &space);
             let terms = PairTerms {
                 lennard_jones: Some((&term, &kinds)),
-                electrostatics: Some((
-                    2.5,
-                    PairCharges::Truncated(ElectrostaticTruncation::Plain),
-                    &sites,
-                )),
+                electrostatics: Some((2.5, ElectrostaticTruncation::Plain, &sites)),
             };
             let (mut lj, mut coulomb) = (0.0, 0.0);
             for i in 0..n {

@@ -152,7 +152,7 @@ impl BodySystem {
         let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
         // Only an electrostatic sum outside the pair pass reads the full view.
         let neighbours = match &electrostatics {
-            Some(e) if e.pass_pairs().is_none() => neighbours,
+            Some(e) if e.cutoff_pairs().is_none() => neighbours,
             _ => neighbours.half_only(),
         };
         space.check(neighbours.reach())?;
