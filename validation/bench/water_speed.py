@@ -25,7 +25,8 @@ time step and the same measured force accuracy.
   round. ns/day = 86400e-6 dt_fs / (CPU seconds per step).
 
 ``--quick`` checks the pipeline on ``spce_water_512`` with a few steps,
-one round and the first rung of each ladder."""
+one round and the first rung of each ladder (its times are noise: two
+steps against four)."""
 
 from __future__ import annotations
 

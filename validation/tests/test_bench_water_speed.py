@@ -4,6 +4,7 @@ accuracies are measured, ns/day follows the formula, and the section lands
 between its markers."""
 
 import json
+import math
 
 import pytest
 
@@ -23,8 +24,11 @@ def test_quick_run_writes_its_section(tmp_path):
     assert water_speed.main(["--quick", "--out", str(tmp_path), "--cache", str(tmp_path / "cache")]) == 0
     result = json.loads((tmp_path / "results.json").read_text())["water_speed"]
     assert result["scene"] == "spce_water_512" and result["molecules"] == 512
+    # Two and four steps time the pipeline, not the codes: the differences
+    # are finite but may be noise of either sign.
+    assert len(result["timings"]) == len(water_speed.INTEGRATORS) + 2
     for name, timing in result["timings"].items():
-        assert timing["seconds_per_step"] > 0, name
+        assert math.isfinite(timing["seconds_per_step"]), name
     for code in ("quatrot", "OpenMM", "LAMMPS"):
         error = result["accuracy"]["codes"][code]["chosen"]["error"]
         assert 0 < error < 1e-2, (code, error)
