@@ -103,6 +103,7 @@ bench: develop
 	$(PY) -m validation.bench.longrun --out benchmarks
 	$(PY) -m validation.bench.equipartition --out benchmarks
 	$(PY) -m validation.bench.thermostats --out benchmarks
+	$(PY) -m validation.bench.water_speed --out benchmarks
 	$(MAKE) bench-threads
 
 # Issue 41's rigid-water verdicts: every integrator and peer method at dt 0.5

@@ -132,16 +132,9 @@ def quatrot_run(state: BoxState, integrator: str, dt: float, length_fs: float, s
     """The built-in's model from `state` at constant energy, one thread."""
     import gsd.hoomd
 
-    scene = builtin()
     n = len(state.centres)
-    scene["bodies"] = {"kind": "given", "box": [state.box] * 3, "list": [
-        {"position": c.tolist(), "orientation": q.tolist(), "velocity": v.tolist(), "angular_velocity": w.tolist()}
-        for c, q, v, w in zip(state.centres, state.orientations, state.velocities, state.omega_body)]}
-    for table in ("initial", "thermostat"):
-        scene.pop(table, None)
-    scene["integrator"] = {"kind": integrator}
     steps = round(length_fs / dt)
-    scene["run"] = {"dt": dt, "steps": steps, "threads": 1}
+    scene = given_scene(state, integrator, dt, steps)
     scene["record"] = {
         "series": [{"name": "series", "every": max(1, round(sample_fs / dt)),
                     "quantities": ["total_energy", "T_trans", "T_rot"]}],
@@ -166,19 +159,44 @@ def quatrot_run(state: BoxState, integrator: str, dt: float, length_fs: float, s
                   failed_at)
 
 
-def openmm_run(state: BoxState, dt: float, length_fs: float, sample_fs: float, frame_fs: float) -> dict:
-    """OpenMM 8 CPU platform, one thread, ``VerletIntegrator`` with SETTLE."""
+def given_scene(state: BoxState, integrator: str, dt: float, steps: int, accuracy: float = ACCURACY) -> dict:
+    """The built-in's model from `state` at constant energy, one thread,
+    PME at `accuracy`, nothing recorded."""
+    scene = builtin()
+    scene["bodies"] = {"kind": "given", "box": [state.box] * 3, "list": [
+        {"position": c.tolist(), "orientation": q.tolist(), "velocity": v.tolist(), "angular_velocity": w.tolist()}
+        for c, q, v, w in zip(state.centres, state.orientations, state.velocities, state.omega_body)]}
+    for table in ("initial", "thermostat", "record"):
+        scene.pop(table, None)
+    scene["body_interactions"]["electrostatics"]["accuracy"] = accuracy
+    scene["integrator"] = {"kind": integrator}
+    scene["run"] = {"dt": dt, "steps": steps, "threads": 1}
+    return scene
+
+
+def openmm_context(state: BoxState, dt: float, tolerance: float = ACCURACY):
+    """OpenMM 8 CPU platform, one thread, ``VerletIntegrator`` with SETTLE,
+    ``ewaldErrorTolerance`` `tolerance`, at `state`: (context, integrator)."""
     import openmm
-    from openmm import unit
 
     sites, velocities = sites_of(state)
-    n = len(sites)
-    system = water_system("spce", n, box=state.box, cutoff=CUTOFF, tolerance=ACCURACY, masses=MASSES)
+    system = water_system("spce", len(sites), box=state.box, cutoff=CUTOFF, tolerance=tolerance, masses=MASSES)
     integrator = openmm.VerletIntegrator(dt / 1000)
     platform = openmm.Platform.getPlatformByName("CPU")
     context = openmm.Context(system, integrator, platform, {"Threads": "1"})
     context.setPositions(sites.reshape(-1, 3) / 10)
     context.setVelocities(velocities.reshape(-1, 3) * 100)
+    return context, integrator
+
+
+def openmm_run(state: BoxState, dt: float, length_fs: float, sample_fs: float, frame_fs: float) -> dict:
+    """OpenMM 8 CPU platform, one thread, ``VerletIntegrator`` with SETTLE."""
+
+    import openmm  # noqa: F401
+    from openmm import unit
+
+    n = len(state.centres)
+    context, integrator = openmm_context(state, dt)
     every, frame_every = max(1, round(sample_fs / dt)), max(1, round(frame_fs / dt))
     times, totals, t_trans, t_rot, frames = [], [], [], [], []
     started = time.process_time()
@@ -207,12 +225,38 @@ def lammps_run(state: BoxState, dt: float, length_fs: float, sample_fs: float, f
     ``fix nve`` + ``fix rattle`` on the O-H bonds and the H-O-H angle
     (``"rattle"``). Charges scaled to quatrot's Coulomb constant; the
     molecules' own pairs excluded by ``special_bonds``."""
+    n, box = len(state.centres), state.box
+    started = time.process_time()
+    lmp = lammps_box(state, dt, constraint)
+    try:
+        every, frame_every = max(1, round(sample_fs / dt)), max(1, round(frame_fs / dt))
+        times, totals, t_trans, t_rot, frames = [], [], [], [], []
+        failed_at = None
+        for step in range(0, round(length_fs / dt) + 1, every):
+            lmp.command("run 0 post no" if step == 0 else f"run {every} pre no post no")
+            total = lmp.get_thermo("etotal")
+            if not math.isfinite(total):
+                failed_at = step * dt
+                break
+            order = np.argsort(lmp.numpy.extract_atom("id")[: 3 * n])
+            v = np.array(lmp.numpy.extract_atom("v")[: 3 * n][order])
+            tt, tr = temperatures(v.reshape(n, 3, 3))
+            times.append(step * dt), totals.append(total / n), t_trans.append(tt), t_rot.append(tr)
+            if step % frame_every == 0:
+                frames.append(unwrapped_positions(lmp, 3 * n, box).reshape(n, 3, 3)[:, 0])
+        return result(times, totals, t_trans, t_rot, frames, started, failed_at)
+    finally:
+        lmp.close()
+
+
+def lammps_box(state: BoxState, dt: float, constraint: str, accuracy: float = ACCURACY):
+    """The LAMMPS instance of :func:`lammps_run` at `state`, ``pppm`` at
+    `accuracy`, ready to run (the caller closes it)."""
     sites, velocities = sites_of(state)
     n = len(sites)
     (q_o, sigma, epsilon), (q_h, _, _), _ = site_parameters("spce")
     box = state.box
     lmp = _load_lammps().lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
-    started = time.process_time()
     try:
         for c in ["units real", "atom_style full", "atom_modify map array sort 0 0", "boundary p p p",
                   f"region box block 0 {box:.17g} 0 {box:.17g} 0 {box:.17g}",
@@ -237,26 +281,11 @@ def lammps_run(state: BoxState, dt: float, length_fs: float, sample_fs: float, f
                      ["fix integrate all nve", "fix constrain all rattle 1e-10 100 0 b 1 a 1"])
         for c in [f"pair_style lj/cut/coul/long {CUTOFF:.17g}", f"pair_coeff 1 1 {epsilon:.17g} {sigma:.17g}",
                   "pair_coeff 2 2 0.0 1.0", "pair_coeff 1 2 0.0 1.0", "pair_modify tail yes",
-                  f"kspace_style pppm {ACCURACY:.17g}", "neighbor 2.0 bin", "neigh_modify every 1 delay 0 check yes",
+                  f"kspace_style pppm {accuracy:.17g}", "neighbor 2.0 bin", "neigh_modify every 1 delay 0 check yes",
                   *integrate, "thermo_style custom step etotal", "thermo_modify norm no", f"timestep {dt:.17g}"]:
             lmp.command(c)
         lmp.numpy.extract_atom("v")[: 3 * n] = velocities.reshape(-1, 3)
-        every, frame_every = max(1, round(sample_fs / dt)), max(1, round(frame_fs / dt))
-        times, totals, t_trans, t_rot, frames = [], [], [], [], []
-        failed_at = None
-        for step in range(0, round(length_fs / dt) + 1, every):
-            lmp.command("run 0 post no" if step == 0 else f"run {every} pre no post no")
-            total = lmp.get_thermo("etotal")
-            if not math.isfinite(total):
-                failed_at = step * dt
-                break
-            order = np.argsort(lmp.numpy.extract_atom("id")[: 3 * n])
-            v = np.array(lmp.numpy.extract_atom("v")[: 3 * n][order])
-            tt, tr = temperatures(v.reshape(n, 3, 3))
-            times.append(step * dt), totals.append(total / n), t_trans.append(tt), t_rot.append(tr)
-            if step % frame_every == 0:
-                frames.append(unwrapped_positions(lmp, 3 * n, box).reshape(n, 3, 3)[:, 0])
-        return result(times, totals, t_trans, t_rot, frames, started, failed_at)
-    finally:
+        return lmp
+    except Exception:
         lmp.close()
-
+        raise
