@@ -14,7 +14,8 @@
 //!   particle-mesh Ewald sum).
 //! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles in
 //!   one pass over the half neighbour list, four pairs at a time
-//!   (`lanes`), its kernels in `pair_kernels`.
+//!   (`lanes`), its kernels in `pair_kernels`, each site's partners within
+//!   a cutoff gathered in `within`.
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
 //! * [`temperature`]: `T_trans` and `T_rot` with their degrees of freedom.
@@ -48,6 +49,7 @@ pub mod site;
 pub mod space;
 pub mod system;
 pub mod temperature;
+mod within;
 
 pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};

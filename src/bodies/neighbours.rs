@@ -161,12 +161,16 @@ impl NeighbourList {
     pub fn build(&mut self, sites: &[Vector3<f64>], body: &[u32], space: &Space) {
         let reach = self.reach();
         let cells = Cells::new(sites, space, reach);
-        let reach2 = reach * reach;
+        let scan = Scan {
+            cells: &cells,
+            sites,
+            body,
+            reach2: reach * reach,
+        };
         let tasks: Vec<Task> = (0..sites.len().div_ceil(SITES_PER_TASK))
             .into_par_iter()
             .map(|task| {
-                let range = task * SITES_PER_TASK..((task + 1) * SITES_PER_TASK).min(sites.len());
-                build_task(&cells, (sites, body), range, reach2)
+                scan.task(task * SITES_PER_TASK..((task + 1) * SITES_PER_TASK).min(sites.len()))
             })
             .collect();
         let half = &mut self.half;
@@ -195,53 +199,51 @@ impl NeighbourList {
 /// image counts.
 type Task = (Vec<usize>, Vec<u32>, Vec<[i8; 3]>);
 
-/// The pairs of the sites `range` with the higher sites of other bodies
-/// within `sqrt(reach2)`, compiled for AVX2 where the CPU has it (the same
-/// pairs in the same order: only the distances' loop is vectorised).
-fn build_task(
-    cells: &Cells,
-    sites: (&[Vector3<f64>], &[u32]),
-    range: std::ops::Range<usize>,
+/// A build's scan: the cells of the sites, their positions and bodies,
+/// and the square of the list's reach.
+struct Scan<'a> {
+    cells: &'a Cells,
+    sites: &'a [Vector3<f64>],
+    body: &'a [u32],
     reach2: f64,
-) -> Task {
+}
+
+impl Scan<'_> {
+    /// The pairs of the sites `range` with the higher sites of other bodies
+    /// within `sqrt(reach2)`, compiled for AVX2 where the CPU has it (the
+    /// same pairs in the same order: only the distances' loop is vectorised).
+    fn task(&self, range: std::ops::Range<usize>) -> Task {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked just above.
+            return unsafe { self.task_avx2(range) };
+        }
+        self.sites_of(range)
+    }
+
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { build_task_avx2(cells, sites, range, reach2) };
+    #[target_feature(enable = "avx2")]
+    fn task_avx2(&self, range: std::ops::Range<usize>) -> Task {
+        self.sites_of(range)
     }
-    scan_sites(cells, sites, range, reach2)
-}
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn build_task_avx2(
-    cells: &Cells,
-    sites: (&[Vector3<f64>], &[u32]),
-    range: std::ops::Range<usize>,
-    reach2: f64,
-) -> Task {
-    scan_sites(cells, sites, range, reach2)
-}
-
-#[inline(always)]
-fn scan_sites(
-    cells: &Cells,
-    (sites, body): (&[Vector3<f64>], &[u32]),
-    range: std::ops::Range<usize>,
-    reach2: f64,
-) -> Task {
-    let mut counts = Vec::with_capacity(range.len());
-    let (mut partners, mut images) = (Vec::new(), Vec::new());
-    for i in range {
-        let (before, own) = (partners.len(), body[i]);
-        let wanted = |j: usize| body[j] != own;
-        cells.scan_above((i, &sites[i]), reach2, wanted, |j, image| {
-            partners.push(j);
-            images.push(image);
-        });
-        counts.push(partners.len() - before);
+    #[inline(always)]
+    fn sites_of(&self, range: std::ops::Range<usize>) -> Task {
+        let (sites, body) = (self.sites, self.body);
+        let mut counts = Vec::with_capacity(range.len());
+        let (mut partners, mut images) = (Vec::new(), Vec::new());
+        for i in range {
+            let (before, own) = (partners.len(), body[i]);
+            let wanted = |j: usize| body[j] != own;
+            self.cells
+                .scan_above((i, &sites[i]), self.reach2, wanted, |j, image| {
+                    partners.push(j);
+                    images.push(image);
+                });
+            counts.push(partners.len() - before);
+        }
+        (counts, partners, images)
     }
-    (counts, partners, images)
 }
 
 impl Pairs {

@@ -46,7 +46,8 @@ impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SH
 
 /// Both ends of four charge-dipole pairs: the targets' potentials, fields
 /// and forces, and the sources' potentials and fields (their forces are
-/// minus the targets').
+/// minus the targets'), zero by default.
+#[derive(Default)]
 pub(super) struct BothEnds<T> {
     pub potential: T,
     pub field: V4<T>,
@@ -63,15 +64,18 @@ pub(super) trait ChargeKernel: Sync + Sized {
     /// left zero: nothing reads them).
     const CHARGES: bool;
     fn new() -> Self;
-    /// The pairs of targets at offsets `r` (`r2 = |r|^2`) from sources.
+    /// The pairs of targets at offsets `r` (`r2 = |r|^2`) from sources
+    /// (none by default: zero).
     fn pair<T: Lanes>(
         &self,
-        r: &V4<T>,
-        r2: T,
-        cutoff: f64,
-        target: &ChargeDipoles<T>,
-        source: &ChargeDipoles<T>,
-    ) -> BothEnds<T>;
+        _r: &V4<T>,
+        _r2: T,
+        _cutoff: f64,
+        _target: &ChargeDipoles<T>,
+        _source: &ChargeDipoles<T>,
+    ) -> BothEnds<T> {
+        BothEnds::default()
+    }
 }
 
 /// No charges or dipoles.
@@ -82,22 +86,6 @@ impl ChargeKernel for NoCharges {
     const CHARGES: bool = false;
     fn new() -> Self {
         NoCharges
-    }
-    fn pair<T: Lanes>(
-        &self,
-        _: &V4<T>,
-        _: T,
-        _: f64,
-        _: &ChargeDipoles<T>,
-        _: &ChargeDipoles<T>,
-    ) -> BothEnds<T> {
-        BothEnds {
-            potential: T::default(),
-            field: V4::default(),
-            force: V4::default(),
-            source_potential: T::default(),
-            source_field: V4::default(),
-        }
     }
 }
 
@@ -141,11 +129,10 @@ impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> 
         let factors = F::Factors::<T>::new(r2, cutoff);
         if !CHARGES {
             return BothEnds {
-                potential: T::default(),
                 field: factors.dipole_field(r, source),
                 force: factors.dipole_force(r, r2, target, source),
-                source_potential: T::default(),
                 source_field: factors.dipole_field(&-*r, target),
+                ..BothEnds::default()
             };
         }
         let ((potential, field), (source_potential, source_field)) =

@@ -2,7 +2,10 @@
 //! Lennard-Jones and the cutoff sum of charges and dipoles together, each
 //! pair once, its force added to one site and subtracted from the other
 //! (Newton's third law). The truncations are dispatched once per pass, to a
-//! kernel monomorphised for them.
+//! kernel monomorphised for them. Of each site's listed partners, those
+//! within a cutoff are first gathered with their separations in rows
+//! (`super::within`), so the kernels take four such pairs per row and no
+//! lanes go to the list's skin.
 //!
 //! Threads take contiguous ranges of sites with about equal numbers of
 //! pairs, each accumulating into its own block of per-site sums; the blocks
@@ -21,6 +24,7 @@ use super::pair_kernels::{
     Truncated,
 };
 use super::space::Space;
+use super::within::{Shifts, Within};
 use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -57,6 +61,8 @@ pub(super) struct PairSums {
 pub(super) struct PairPass {
     /// One block per thread; the first holds the total after a pass.
     blocks: Vec<PairSums>,
+    /// Each thread's partners within reach of the site it is at.
+    within: Vec<Within>,
     /// Whether each site carries a charge or a dipole.
     charged: Vec<bool>,
     /// Each site's Lennard-Jones kind ([`NO_KIND`] without, or without the term).
@@ -76,6 +82,7 @@ impl PairPass {
         let n = positions.len();
         let threads = rayon::current_num_threads().clamp(1, n.max(1));
         self.blocks.resize_with(threads, PairSums::default);
+        self.within.resize_with(threads, Within::default);
         let electrostatics = terms.electrostatics.is_some();
         for block in &mut self.blocks {
             block.reset(n, electrostatics);
@@ -91,7 +98,7 @@ impl PairPass {
             all_charged: self.charged.iter().all(|&c| c),
             shifts: &self.shifts,
         };
-        let blocks = &mut self.blocks;
+        let blocks = (&mut self.blocks[..], &mut self.within[..]);
         use ElectrostaticTruncation as E;
         match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
             None => inputs.with_lennard_jones::<NoCharges>(blocks),
@@ -226,13 +233,12 @@ struct Inputs<'a> {
 /// A site without Lennard-Jones.
 const NO_KIND: u32 = u32::MAX;
 
-/// The shifts `c L_k` of the image counts `c` along one axis `k`, at index
-/// `c as u8` (the same bits as [`Space::shift`]).
-type Shifts = [f64; 256];
+/// Each thread's block of sums and its scratch of partners within reach.
+type Blocks<'b> = (&'b mut [PairSums], &'b mut [Within]);
 
 impl<'a> Inputs<'a> {
     /// The pass with the charge kernel `C` and the Lennard-Jones kernel of the terms.
-    fn with_lennard_jones<C: ChargeKernel>(&self, blocks: &mut [PairSums]) {
+    fn with_lennard_jones<C: ChargeKernel>(&self, blocks: Blocks<'_>) {
         match self.terms.lennard_jones.map(|(t, _)| t.force_shifted()) {
             None if C::ON => self.sum::<NoLennardJones, C>(blocks),
             None => {}
@@ -242,7 +248,7 @@ impl<'a> Inputs<'a> {
     }
 
     /// The pass with the kernels `L` and `C`, one range of sites per block.
-    fn sum<L: PairKernel<'a>, C: ChargeKernel>(&self, blocks: &mut [PairSums]) {
+    fn sum<L: PairKernel<'a>, C: ChargeKernel>(&self, (blocks, within): Blocks<'_>) {
         let n = self.positions.len();
         let (threads, pairs) = (blocks.len(), self.list.pairs());
         // The first site with at least `k pairs / threads` pairs before it.
@@ -263,12 +269,13 @@ impl<'a> Inputs<'a> {
             .map(|k| if k == threads { n } else { bound(k) })
             .collect();
         if threads == 1 {
-            self.range::<L, C>(0..n, &mut blocks[0]);
+            self.range::<L, C>(0..n, (&mut blocks[0], &mut within[0]));
         } else {
             blocks
                 .par_iter_mut()
+                .zip(within.par_iter_mut())
                 .enumerate()
-                .for_each(|(k, block)| self.range::<L, C>(bounds[k]..bounds[k + 1], block));
+                .for_each(|(k, out)| self.range::<L, C>(bounds[k]..bounds[k + 1], out));
         }
     }
 
@@ -277,7 +284,7 @@ impl<'a> Inputs<'a> {
     fn range<L: PairKernel<'a>, C: ChargeKernel>(
         &self,
         sites: std::ops::Range<usize>,
-        out: &mut PairSums,
+        out: (&mut PairSums, &mut Within),
     ) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -293,19 +300,20 @@ impl<'a> Inputs<'a> {
     fn lanes_avx2<L: PairKernel<'a>, C: ChargeKernel>(
         &self,
         sites: std::ops::Range<usize>,
-        out: &mut PairSums,
+        out: (&mut PairSums, &mut Within),
     ) {
         self.lanes::<Avx, L, C>(sites, out);
     }
 
-    /// The pairs listed under the sites of `sites` into `out`, four at a
-    /// time: each site's force, field and potential, the energy and the
-    /// virial summed in four lanes, added up at the end.
+    /// The pairs listed under the sites of `sites` into `out`, those
+    /// within a cutoff four at a time (each site's kept in `near` first):
+    /// each site's force, field and potential, the energy and the virial
+    /// summed in four lanes, added up at the end.
     #[inline(always)]
     fn lanes<T: Lanes, L: PairKernel<'a>, C: ChargeKernel>(
         &self,
         sites: std::ops::Range<usize>,
-        out: &mut PairSums,
+        (out, near): (&mut PairSums, &mut Within),
     ) {
         let Some(lj) = L::new(self.terms.lennard_jones.map(|t| t.0)) else {
             return;
@@ -321,6 +329,8 @@ impl<'a> Inputs<'a> {
             T::splat(coulomb_cutoff * coulomb_cutoff),
         );
         let kind = self.kind;
+        // Pairs beyond both cutoffs (zero for a term the pass lacks) are not kept.
+        let reach2 = lj_cutoff.max(coulomb_cutoff).powi(2);
         // Which lanes a chunk of `n` pairs uses, at `n - 1`.
         let listed: [T; LANES] = std::array::from_fn(|n| T::mask(std::array::from_fn(|l| l <= n)));
         let mut lj_energy = T::default();
@@ -335,18 +345,15 @@ impl<'a> Inputs<'a> {
             if (!L::ON || a == NO_KIND) && target.is_none() {
                 continue;
             }
-            let x = V4::<T>::splat(&self.positions[i]);
             let (mut force_i, mut field_i, mut potential_i) =
                 (V4::<T>::default(), V4::<T>::default(), T::default());
-            let (partners, images) = self.list.half_run(i);
-            for (js, counts) in partners.chunks(LANES).zip(images.chunks(LANES)) {
+            let run = self.list.half_run(i);
+            near.collect(&self.positions[i], run, self.positions, self.shifts, reach2);
+            for start in (0..near.count).step_by(LANES) {
                 // Unused lanes repeat the last pair, their results dropped.
-                let (n, listed) = (js.len(), listed[js.len() - 1]);
-                let js: [usize; LANES] = std::array::from_fn(|l| js[l.min(n - 1)] as usize);
-                let counts: [[u8; 3]; LANES] =
-                    std::array::from_fn(|l| counts[l.min(n - 1)].map(|c| c as u8));
-                let r = self.separations(&x, &js, &counts);
-                let r2 = r.dot(&r);
+                let n = (near.count - start).min(LANES);
+                let listed = listed[n - 1];
+                let (js, r, r2) = near.row::<T>(start);
                 let mut f = V4::<T>::default();
                 if L::ON && a != NO_KIND {
                     let within = r2.lt(lj_cutoff2).keep(listed);
@@ -402,29 +409,6 @@ impl<'a> Inputs<'a> {
         }
         let (u, f_over_r) = lj.pair(a as usize, b, r2);
         (u.keep(within), f_over_r.keep(within))
-    }
-
-    /// The separations `x_i - x_j - shift` of the lanes' partners `js`
-    /// with image counts `counts` (most pairs are their own minimum image:
-    /// no shift).
-    #[inline(always)]
-    fn separations<T: Lanes>(
-        &self,
-        x: &V4<T>,
-        js: &[usize; LANES],
-        counts: &[[u8; 3]; LANES],
-    ) -> V4<T> {
-        let p = V4::<T>::gather(js.map(|j| &self.positions[j]));
-        if counts.iter().all(|c| *c == [0; 3]) {
-            return *x - p;
-        }
-        let shifts = self.shifts;
-        *x - p
-            - V4 {
-                x: T::from_array(counts.map(|c| shifts[0][c[0] as usize])),
-                y: T::from_array(counts.map(|c| shifts[1][c[1] as usize])),
-                z: T::from_array(counts.map(|c| shifts[2][c[2] as usize])),
-            }
     }
 
     /// The charge-dipole pairs of target `t` with the partners `js` (the
