@@ -58,6 +58,7 @@
 
 use super::gear::{GearValue, Nordsieck};
 use super::rigid_body::{q_ddot, General, PrincipalMoments, Spherical, TopKind};
+use super::rotor_chunks::ROTORS_PER_TASK;
 use super::setup_checks::{validate_setup, Moments};
 use super::torque::{evaluate_torques, torque_body};
 use super::{GoOn, IntegratorError, RotorState};
@@ -67,6 +68,7 @@ use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use crate::thermostat_hook::{ChainEquations, CoupledDegrees};
 use nalgebra::{SMatrix, Vector3};
+use rayon::prelude::*;
 
 /// RK4 substeps per Gear step in the start-up integration (module doc: the
 /// measured choice).
@@ -122,9 +124,14 @@ pub(crate) trait Rk4State: Clone {
     fn advanced(&self, rate: &Self, s: f64) -> Self;
 }
 
-/// `a + s b`, element by element.
-pub(crate) fn axpy<T: GearValue>(a: &[T], b: &[T], s: f64) -> Vec<T> {
-    a.iter().zip(b).map(|(a, b)| *a + *b * s).collect()
+/// `a + s b`, element by element (in parallel, [`ROTORS_PER_TASK`] elements
+/// a task: each element as on one thread).
+pub(crate) fn axpy<T: GearValue + Send + Sync>(a: &[T], b: &[T], s: f64) -> Vec<T> {
+    a.par_iter()
+        .zip(b)
+        .with_min_len(ROTORS_PER_TASK)
+        .map(|(a, b)| *a + *b * s)
+        .collect()
 }
 
 impl State {
@@ -201,11 +208,17 @@ impl<K: TopKind> Rk4<'_, K> {
     fn rate(&mut self, y: &State) -> State {
         let mut rate = State::zeros_like(y);
         evaluate_torques(self.potential, &y.q, &mut self.torque_space);
-        for i in 0..y.q.len() {
-            rate.q[i] = y.q[i].q_dot_from_omega_body(&y.omega_body[i]);
-            let n_b = torque_body(&y.q[i], &self.torque_space[i]);
-            rate.omega_body[i] = K::omega_dot_body(&self.moments[i], &y.omega_body[i], &n_b);
-        }
+        let (torque_space, moments) = (&self.torque_space, self.moments);
+        rate.q
+            .par_iter_mut()
+            .zip(&mut rate.omega_body)
+            .enumerate()
+            .with_min_len(ROTORS_PER_TASK)
+            .for_each(|(i, (q_dot, w_dot))| {
+                *q_dot = y.q[i].q_dot_from_omega_body(&y.omega_body[i]);
+                let n_b = torque_body(&y.q[i], &torque_space[i]);
+                *w_dot = K::omega_dot_body(&moments[i], &y.omega_body[i], &n_b);
+            });
         if let Some(StartChain { chain, coupled }) = self.chain {
             let friction = chain.friction(&y.p);
             for (i, (w_dot, w)) in rate.omega_body.iter_mut().zip(&y.omega_body).enumerate() {

@@ -19,6 +19,7 @@
 //! lattice worth a grid.
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 /// Coordinates within this fraction of the box edge of a grid point lie on it
 /// (round-off of the lattice construction; a displaced site is not on a lattice).
@@ -73,6 +74,51 @@ fn axis_grid(fractions: &[f64], most: usize) -> Option<(usize, Vec<usize>)> {
     Some((g, index))
 }
 
+/// The cell (in grid steps along each axis, dividing `steps`) with the
+/// least work per evaluation for the `sites` sites of grid indices `index`
+/// (see [`WORK_PER_SLOT`]).
+fn cheapest_cell(sites: usize, index: &[Vec<usize>; 3], steps: [usize; 3]) -> Option<[usize; 3]> {
+    let divisors = |g: usize| -> Vec<usize> {
+        (1..=MAX_STEPS_PER_CELL.min(g))
+            .filter(|k| g % k == 0)
+            .collect()
+    };
+    let mut candidates = Vec::new();
+    for &kx in &divisors(steps[0]) {
+        for &ky in &divisors(steps[1]) {
+            for &kz in &divisors(steps[2]) {
+                candidates.push([kx, ky, kz]);
+            }
+        }
+    }
+    // Each candidate cell priced on its own (a pass over the sites each),
+    // the cheapest then chosen in the order above: the same on any number
+    // of threads.
+    let priced: Vec<(usize, usize, [usize; 3])> = candidates
+        .into_par_iter()
+        .map(|k| {
+            let mut seen = vec![false; k.iter().product()];
+            for i in 0..sites {
+                seen[class(index, i, &k)] = true;
+            }
+            let basis = seen.iter().filter(|s| **s).count();
+            let cells: usize = (0..3).map(|a| steps[a] / k[a]).product();
+            (
+                WORK_PER_SLOT * basis * cells + cells * basis * basis,
+                basis,
+                k,
+            )
+        })
+        .collect();
+    let mut best: Option<(usize, usize, [usize; 3])> = None;
+    for (cost, basis, k) in priced {
+        if best.is_none_or(|(c, b, _)| (cost, basis) < (c, b)) {
+            best = Some((cost, basis, k));
+        }
+    }
+    best.map(|(_, _, k)| k)
+}
+
 /// The lattice the sites form in the box, if any (see the module doc).
 pub fn detect(sites: &[Vector3<f64>], box_lengths: &Vector3<f64>) -> Option<LatticeGrid> {
     let first = *sites.first()?;
@@ -97,30 +143,7 @@ pub fn detect(sites: &[Vector3<f64>], box_lengths: &Vector3<f64>) -> Option<Latt
     if steps.iter().product::<usize>() > MAX_EMPTY_FACTOR * sites.len() {
         return None;
     }
-    let divisors = |g: usize| -> Vec<usize> {
-        (1..=MAX_STEPS_PER_CELL.min(g))
-            .filter(|k| g % k == 0)
-            .collect()
-    };
-    let mut best: Option<(usize, usize, [usize; 3])> = None;
-    for &kx in &divisors(steps[0]) {
-        for &ky in &divisors(steps[1]) {
-            for &kz in &divisors(steps[2]) {
-                let k = [kx, ky, kz];
-                let mut seen = vec![false; kx * ky * kz];
-                for i in 0..sites.len() {
-                    seen[class(&index, i, &k)] = true;
-                }
-                let basis = seen.iter().filter(|s| **s).count();
-                let cells: usize = (0..3).map(|a| steps[a] / k[a]).product();
-                let cost = WORK_PER_SLOT * basis * cells + cells * basis * basis;
-                if best.is_none_or(|(c, b, _)| (cost, basis) < (c, b)) {
-                    best = Some((cost, basis, k));
-                }
-            }
-        }
-    }
-    let (_, _, k) = best?;
+    let k = cheapest_cell(sites.len(), &index, steps)?;
     let cells = [0, 1, 2].map(|a| steps[a] / k[a]);
     let step = Vector3::from_fn(|a, _| box_lengths[a] / steps[a] as f64);
     let mut basis_of_class = vec![usize::MAX; k.iter().product()];

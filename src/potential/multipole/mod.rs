@@ -14,6 +14,7 @@ mod ewald_terms;
 mod external;
 mod fft3;
 mod field_sum;
+mod image_grid;
 mod kernels;
 mod lattice_fft;
 mod lattice_grid;

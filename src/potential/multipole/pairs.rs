@@ -17,9 +17,12 @@
 //! simple-cubic lattice with cutoff 3.1), so the tables stay in the L1 cache.
 
 use super::boundary::{pair_memory, too_many_pairs, MAX_PAIRS};
+use super::image_grid::ImageGrid;
 use super::PotentialError;
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Sites closer than this (length unit, periodic images included) are
 /// refused as coincident.
@@ -81,99 +84,35 @@ pub(crate) struct PairTable {
     pub geometry: Vec<PairGeometry>,
 }
 
-/// One interacting image found for a row: partner, image shift `n`, offset.
-type Image = (u32, [i64; 3], Vector3<f64>);
+/// Rows per task of [`PairTable::build`]: a fixed count, so that the table
+/// (the order of its geometries included) is the same on any number of
+/// threads. A 64,000-rotor lattice with cutoff 3.1 has 125 tasks of about
+/// 60,000 pairs.
+const ROWS_PER_TASK: usize = 512;
 
-/// Sites wrapped into a periodic box and binned into cells at least `cutoff`
-/// wide (one cell along an axis shorter than the cutoff). The cells within
-/// `reach` of a site's own, unwrapped across the box faces (cell index `u`
-/// is cell `u mod cells` shifted by `floor(u / cells)` boxes), hold each
-/// image of each site at most once and every image inside the cutoff, so one
-/// scan serves large boxes (27 cells, O(N)) and small ones (an image loop).
-struct ImageGrid {
-    cells: [usize; 3],
-    reach: [i64; 3],
-    box_lengths: Vector3<f64>,
-    cutoff: f64,
-    /// Sites wrapped into `[0, L)`.
-    wrapped: Vec<Vector3<f64>>,
-    /// Cell of each site.
-    home: Vec<[usize; 3]>,
-    /// Site indices of each cell, ascending.
-    members: Vec<Vec<u32>>,
+/// The pairs of one task's rows, their offsets numbered by first appearance
+/// within the task.
+#[derive(Default)]
+struct RowsFound {
+    /// Pairs of each row scanned.
+    row_lengths: Vec<usize>,
+    partner: Vec<u32>,
+    /// Index into `offsets` of each pair.
+    local_index: Vec<u32>,
+    /// The distinct offsets (key and value of their first pair).
+    offsets: Vec<([u64; 3], Vector3<f64>)>,
+    /// Why the scan stopped early: a coincident pair (in the last row
+    /// scanned), or more pairs found by all tasks than the limits allow.
+    stop: Option<PotentialError>,
 }
 
-impl ImageGrid {
-    fn new(sites: &[Vector3<f64>], box_lengths: &Vector3<f64>, cutoff: f64) -> Self {
-        // At most N^(1/3) + 1 cells per axis: a tiny cutoff in a large box
-        // must not allocate many more cells than there are sites.
-        let most = (sites.len() as f64).cbrt().ceil() as usize + 1;
-        let cells = [0, 1, 2].map(|a| ((box_lengths[a] / cutoff).floor() as usize).clamp(1, most));
-        let reach = [0, 1, 2].map(|a| (cutoff * cells[a] as f64 / box_lengths[a]).ceil() as i64);
-        let wrapped: Vec<_> = sites
-            .iter()
-            .map(|s| s.zip_map(box_lengths, |x, l| x - l * (x / l).floor()))
-            .collect();
-        let home: Vec<_> = wrapped
-            .iter()
-            .map(|w| {
-                [0, 1, 2]
-                    .map(|a| ((w[a] / box_lengths[a] * cells[a] as f64) as usize).min(cells[a] - 1))
-            })
-            .collect();
-        let flat = |[x, y, z]: [usize; 3]| (x * cells[1] + y) * cells[2] + z;
-        let mut members = vec![Vec::new(); cells.iter().product()];
-        for (i, h) in home.iter().enumerate() {
-            members[flat(*h)].push(i as u32);
-        }
-        ImageGrid {
-            cells,
-            reach,
-            box_lengths: *box_lengths,
-            cutoff,
-            wrapped,
-            home,
-            members,
-        }
+/// The limits of a periodic table ([`MAX_PAIRS`] and the memory limit):
+/// the error for `count` pairs, if it exceeds them.
+fn over_limits(cutoff: f64, sites: usize, count: usize) -> Result<(), PotentialError> {
+    if count > MAX_PAIRS {
+        return Err(too_many_pairs(cutoff, sites, &format!("more than {count}")));
     }
-
-    /// The images `(j, n)` with `j > i`, or `j == i` and `n` lexicographically
-    /// positive, within the cutoff of site `i`, by ascending `j` (the images
-    /// of one partner in scan order).
-    fn row(&self, i: usize, out: &mut Vec<Image>) {
-        out.clear();
-        let [kx, ky, kz] = self.reach;
-        let cut2 = self.cutoff * self.cutoff;
-        for dx in -kx..=kx {
-            for dy in -ky..=ky {
-                for dz in -kz..=kz {
-                    let unwrapped = [(dx, 0), (dy, 1), (dz, 2)].map(|(d, a)| {
-                        let (u, c) = (self.home[i][a] as i64 + d, self.cells[a] as i64);
-                        (u.rem_euclid(c) as usize, u.div_euclid(c))
-                    });
-                    let cell = unwrapped.map(|(c, _)| c);
-                    let n = unwrapped.map(|(_, n)| n);
-                    let shift = Vector3::from_fn(|a, _| n[a] as f64 * self.box_lengths[a]);
-                    let from = self.wrapped[i] - shift;
-                    let positive_shift = n > [0; 3];
-                    let members = &self.members
-                        [(cell[0] * self.cells[1] + cell[1]) * self.cells[2] + cell[2]];
-                    // Members ascend: skip those before `i` at once.
-                    let after = members.partition_point(|&j| (j as usize) < i);
-                    for &j in &members[after..] {
-                        if j as usize == i && !positive_shift {
-                            continue;
-                        }
-                        let offset = self.wrapped[j as usize] - from;
-                        if offset.norm_squared() <= cut2 {
-                            out.push((j, n, offset));
-                        }
-                    }
-                }
-            }
-        }
-        out.sort_by_key(|&(j, _, _)| j);
-    }
+    pair_memory(cutoff, sites, count as f64)
 }
 
 impl PairTable {
@@ -182,6 +121,12 @@ impl PairTable {
     /// `Some((box_lengths, cutoff))` (periodic, see the module doc).
     /// Coincident sites (images included) and more than [`MAX_PAIRS`]
     /// periodic pairs are errors.
+    ///
+    /// The rows are scanned in parallel, [`ROWS_PER_TASK`] a task, and the
+    /// tasks' finds joined in row order, so the table and the first error
+    /// in row order are those of one scan from the first row to the last. A
+    /// scan that outgrows the limits stops all tasks (the pairs counted so
+    /// far, over all tasks, are the count its error quotes).
     pub fn build(
         sites: &[Vector3<f64>],
         images: Option<(Vector3<f64>, f64)>,
@@ -193,55 +138,132 @@ impl PairTable {
                 format!("at most {} rotors, got {n}", u32::MAX),
             ));
         }
-        let mut table = PairTable {
-            start: Vec::with_capacity(n + 1),
-            partner: Vec::new(),
-            geometry_index: Vec::new(),
-            geometry: Vec::new(),
-        };
-        let mut by_offset: HashMap<[u64; 3], u32> = HashMap::new();
         let grid = images.map(|(box_lengths, cutoff)| ImageGrid::new(sites, &box_lengths, cutoff));
-        let mut row = Vec::new();
-        for i in 0..n {
-            table.start.push(table.partner.len());
-            match &grid {
-                Some(grid) => {
-                    grid.row(i, &mut row);
-                    let count = table.len() + row.len();
-                    if count > MAX_PAIRS {
-                        return Err(too_many_pairs(
-                            grid.cutoff,
-                            n,
-                            &format!("more than {count}"),
-                        ));
-                    }
-                    pair_memory(grid.cutoff, n, count as f64)?;
-                }
-                None => {
-                    row.clear();
-                    row.extend((i + 1..n).map(|j| (j as u32, [0; 3], sites[j] - sites[i])));
-                }
-            }
-            for &(j, _, offset) in &row {
-                if offset.norm() <= COINCIDENT {
-                    return Err(coincident(i, j as usize, offset.norm()));
-                }
-                let next = table.geometry.len() as u32;
-                let index = *by_offset.entry(offset_key(&offset)).or_insert(next);
-                if index == next {
-                    table.geometry.push(PairGeometry::new(&offset));
-                }
-                table.partner.push(j);
-                table.geometry_index.push(index);
-            }
-        }
-        table.start.push(table.partner.len());
-        Ok(table)
+        let found_so_far = AtomicUsize::new(0);
+        let tasks: Vec<RowsFound> = (0..n.div_ceil(ROWS_PER_TASK))
+            .into_par_iter()
+            .map(|t| {
+                let rows = t * ROWS_PER_TASK..n.min((t + 1) * ROWS_PER_TASK);
+                scan_rows(sites, grid.as_ref(), rows, &found_so_far)
+            })
+            .collect();
+        Self::joined(tasks, grid.map(|g| g.cutoff), n)
     }
+
+    /// The table of the tasks' finds in row order: the limits checked row
+    /// by row and the offsets numbered by first appearance, as one scan
+    /// would.
+    fn joined(
+        tasks: Vec<RowsFound>,
+        cutoff: Option<f64>,
+        n: usize,
+    ) -> Result<Self, PotentialError> {
+        let mut start = Vec::with_capacity(n + 1);
+        let mut count = 0;
+        let mut geometry = Vec::new();
+        let mut by_offset: HashMap<[u64; 3], u32> = HashMap::new();
+        let mut global_index = Vec::with_capacity(tasks.len());
+        for task in &tasks {
+            for &length in &task.row_lengths {
+                start.push(count);
+                count += length;
+                if let Some(cutoff) = cutoff {
+                    over_limits(cutoff, n, count)?;
+                }
+            }
+            if let Some(e) = &task.stop {
+                return Err(e.clone());
+            }
+            let global: Vec<u32> = task
+                .offsets
+                .iter()
+                .map(|(key, offset)| {
+                    let next = geometry.len() as u32;
+                    let index = *by_offset.entry(*key).or_insert(next);
+                    if index == next {
+                        geometry.push(PairGeometry::new(offset));
+                    }
+                    index
+                })
+                .collect();
+            global_index.push(global);
+        }
+        start.push(count);
+        let mut partner = vec![0; count];
+        let mut geometry_index = vec![0; count];
+        let mut pieces = Vec::with_capacity(tasks.len());
+        let (mut partner_rest, mut index_rest) = (&mut partner[..], &mut geometry_index[..]);
+        for (task, global) in tasks.iter().zip(&global_index) {
+            let (p, p_rest) = partner_rest.split_at_mut(task.partner.len());
+            let (g, g_rest) = index_rest.split_at_mut(task.partner.len());
+            (partner_rest, index_rest) = (p_rest, g_rest);
+            pieces.push((p, g, task, global));
+        }
+        pieces.into_par_iter().for_each(|(p, g, task, global)| {
+            p.copy_from_slice(&task.partner);
+            for (g, &local) in g.iter_mut().zip(&task.local_index) {
+                *g = global[local as usize];
+            }
+        });
+        Ok(PairTable {
+            start,
+            partner,
+            geometry_index,
+            geometry,
+        })
+    }
+
     /// Number of interacting pairs.
     pub fn len(&self) -> usize {
         self.partner.len()
     }
+}
+
+/// Scans `rows` of the table (see [`PairTable::build`]); `found_so_far`
+/// counts the pairs of all tasks, so that a table over the limits stops
+/// every task soon.
+fn scan_rows(
+    sites: &[Vector3<f64>],
+    grid: Option<&ImageGrid>,
+    rows: std::ops::Range<usize>,
+    found_so_far: &AtomicUsize,
+) -> RowsFound {
+    let n = sites.len();
+    let mut found = RowsFound::default();
+    let mut by_offset: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut row = Vec::new();
+    for i in rows {
+        match grid {
+            Some(grid) => {
+                grid.row(i, &mut row);
+                let total = found_so_far.fetch_add(row.len(), Ordering::Relaxed) + row.len();
+                if let Err(e) = over_limits(grid.cutoff, n, total) {
+                    found.stop = Some(e);
+                    return found;
+                }
+            }
+            None => {
+                row.clear();
+                row.extend((i + 1..n).map(|j| (j as u32, [0; 3], sites[j] - sites[i])));
+            }
+        }
+        found.row_lengths.push(row.len());
+        for &(j, _, offset) in &row {
+            if offset.norm() <= COINCIDENT {
+                found.stop = Some(coincident(i, j as usize, offset.norm()));
+                return found;
+            }
+            let key = offset_key(&offset);
+            let next = found.offsets.len() as u32;
+            let index = *by_offset.entry(key).or_insert(next);
+            if index == next {
+                found.offsets.push((key, offset));
+            }
+            found.partner.push(j);
+            found.local_index.push(index);
+        }
+    }
+    found
 }
 
 /// Splits the rows `0..n` of a source whose row `i` starts at `start[i]`

@@ -126,21 +126,27 @@ fn directed_rows(pairs: &PairTable, tensor_index: &[u32]) -> Vec<Vec<DirectedRow
     let rotors = pairs.start.len() - 1;
     let resolution =
         OFFSET_KEY_RESOLUTION / pairs.geometry.iter().fold(0.0, |m: f64, g| m.max(g.inv_r));
+    // The key of each distinct offset, once (a pair's key is its offset's).
+    let keys: Vec<[i64; 3]> = pairs
+        .geometry
+        .iter()
+        .map(|geometry| {
+            let offset = geometry.unit / (geometry.inv_r * resolution);
+            offset.map(|x| x.round() as i64).into()
+        })
+        .collect();
     let mut rows: Vec<Vec<DirectedRow>> = vec![Vec::new(); rotors];
     for (i, row) in pairs.start.windows(2).enumerate() {
         for p in row[0]..row[1] {
             let j = pairs.partner[p] as usize;
             let g = pairs.geometry_index[p] as usize;
-            let geometry = &pairs.geometry[g];
-            let offset = geometry.unit / (geometry.inv_r * resolution);
-            let key: [i64; 3] = offset.map(|x| x.round() as i64).into();
+            let key = keys[g];
             rows[i].push((key, j as u32, tensor_index[g]));
             rows[j].push((key.map(|x| -x), i as u32, tensor_index[g]));
         }
     }
-    for row in &mut rows {
-        row.sort_unstable();
-    }
+    // Each row sorted on its own: the same rows on any number of threads.
+    rows.par_iter_mut().for_each(|row| row.sort_unstable());
     rows
 }
 
