@@ -37,6 +37,7 @@ import math
 import numpy as np
 import quatrot
 
+from validation.shared import water_box_runs as wb
 from validation.shared import water_nvt_runs as wp
 from validation.shared.check import Check, Context
 
@@ -48,7 +49,7 @@ PRODUCTION = {"spce": "langevin", "tip3p": "bussi", "tip4p_2005": "nose_hoover"}
 STEPS = 11000
 EQUILIBRATION_PS = 8.0
 Z_MAX = 3.0
-CUTOFF = 10.0
+CUTOFF = wb.CUTOFF  # the water runs' LJ cutoff, A
 STEP = 1e-4  # relative scaling of the box for the finite differences
 PRESSURE_TOLERANCE = 1e-7  # relative; measured 3e-9 to 5e-9 (PME at 1e-10, O(STEP^2))
 
