@@ -42,6 +42,24 @@ pub trait SplitDynamics: Send {
         self.half_kick();
     }
 
+    /// The step with a thermostat's action `middle` in the middle of the
+    /// free flow (B A M A B): half kick, free flow over `dt/2`, `middle`,
+    /// free flow over `dt/2`, forces and torques, half kick. Between two
+    /// actions the map is position Verlet, so a thermostat that brings the
+    /// momenta there to `T` leaves the orientations of a harmonic libration
+    /// exact at any `dt` (`crate::thermostats`, module doc).
+    fn kick_flow_around(&mut self, middle: impl FnOnce(&mut Self))
+    where
+        Self: Sized,
+    {
+        let half = 0.5 * self.dt();
+        self.half_kick_then_flow(half);
+        middle(self);
+        self.free_flow(half);
+        self.evaluate();
+        self.half_kick();
+    }
+
     /// The total kinetic energy `sum_i 1/2 w_b . I w_b`, summed in rotor
     /// order.
     fn kinetic_energy(&self) -> f64;

@@ -9,9 +9,12 @@
 //!
 //! * [`Langevin`] (`langevin`): friction and noise per principal axis, BAOAB
 //!   with the exact Ornstein-Uhlenbeck step;
-//! * [`Bussi`] (`bussi`): stochastic rescaling of the kinetic energy;
+//! * [`Bussi`] (`bussi`): stochastic rescaling of the kinetic energy, in
+//!   the middle of the step as Langevin's O step (orientations exact for a
+//!   harmonic libration at any `dt`; the full-step momenta read low by
+//!   `(w0 dt / 2)^2`, as Langevin's);
 //! * [`NoseHoover`] (`nose_hoover`): Nose-Hoover chains, a reversible
-//!   splitting; scheme A integrates the same chain ([`NoseHooverChain`], a
+//!   splitting with the chain in the middle of the step; scheme A integrates the same chain ([`NoseHooverChain`], a
 //!   [`crate::thermostat_hook::ChainEquations`]): the friction with its
 //!   predictor-corrector, the chain by a composition of the same splitting.
 //!

@@ -21,9 +21,13 @@
 //! and sample `exp(-(K + V)/T)` when the motion is ergodic (not for a system
 //! whose only coupling is the thermostat, such as free rotors).
 //!
-//! Integration in a kick-based step: the chain's flow over `dt/2` before and
-//! after the splitting's step (half kick, rotation over `dt`, torques, half
-//! kick), each by the symmetric Trotter factorisation of Martyna, Tuckerman,
+//! Integration in a kick-based step: the chain's flow over `dt` in the
+//! middle of the splitting's step (half kick, rotation over `dt/2`, the
+//! chain, rotation over `dt/2`, torques, half kick: where Langevin's O step
+//! and Bussi's rescaling act, which keeps the orientations of a harmonic
+//! libration exact at any `dt`, [`crate::thermostats::Bussi`]'s module doc;
+//! at the full step they would be hot by `1 / (1 - (w0 dt / 2)^2)`), by the
+//! symmetric Trotter factorisation of Martyna, Tuckerman,
 //! Tobias and Klein (Mol. Phys. 87, 1117 (1996)) with one sweep (no
 //! Suzuki-Yoshida weights): the momenta from the end of the chain to the
 //! first over `h/2` (each `p_j` between two factors `exp(-h/4 p_{j+1}/Q_{j+1})`),
@@ -174,7 +178,7 @@ impl NoseHooverChain {
     /// The chain's flow over `h` (module doc) with the rotors' kinetic
     /// energy `kinetic`; returns the factor by which every angular momentum
     /// must be scaled.
-    pub fn half_step(&mut self, kinetic: f64, h: f64) -> f64 {
+    pub fn flow(&mut self, kinetic: f64, h: f64) -> f64 {
         self.kick_down(kinetic, h);
         self.drift(h);
         let scale = (-h * self.friction(&self.momenta)).exp();
@@ -354,16 +358,16 @@ impl NoseHoover {
         }
     }
 
-    /// The chains over `dt/2`, and the angular momenta and the centres'
+    /// The chains over `dt`, and the angular momenta and the centres'
     /// velocities scaled.
-    fn half_step(&mut self, dynamics: &mut impl SplitDynamics) {
-        let h = 0.5 * dynamics.dt();
+    fn flow(&mut self, dynamics: &mut impl SplitDynamics) {
+        let h = dynamics.dt();
         let kinetic = self.coupled.kinetic_energy(dynamics);
-        let scale = self.chains.rotational.half_step(kinetic, h);
+        let scale = self.chains.rotational.flow(kinetic, h);
         self.coupled.scale(dynamics, scale);
         if let Some(chain) = &mut self.chains.translational {
             let kinetic = self.coupled.translational_kinetic_energy(dynamics);
-            let scale = chain.half_step(kinetic, h);
+            let scale = chain.flow(kinetic, h);
             self.coupled.scale_translation(dynamics, scale);
         }
     }
@@ -381,11 +385,10 @@ impl Thermostat for NoseHoover {
             (translational > 0).then(|| NoseHooverChain::new(&options, translational));
     }
 
-    /// The chains over `dt/2`, the splitting's step, the chains over `dt/2`.
+    /// Half kick, flow over `dt/2`, the chains over `dt`, flow over `dt/2`,
+    /// torques, half kick.
     fn step<D: SplitDynamics>(&mut self, dynamics: &mut D) {
-        self.half_step(dynamics);
-        dynamics.kick_flow_kick();
-        self.half_step(dynamics);
+        dynamics.kick_flow_around(|d| self.flow(d));
     }
 
     fn state(&self) -> &NoseHooverChains {
@@ -507,12 +510,12 @@ mod tests {
             let (mut c, mut kinetic) = (initial.clone(), start_kinetic);
             let e0 = energy(&c, kinetic);
             for _ in 0..(0.4 / h) as usize {
-                let s = c.half_step(kinetic, h);
+                let s = c.flow(kinetic, h);
                 kinetic *= s * s;
             }
             errors.push((energy(&c, kinetic) - e0).abs());
             for _ in 0..(0.4 / h) as usize {
-                let s = c.half_step(kinetic, -h);
+                let s = c.flow(kinetic, -h);
                 kinetic *= s * s;
             }
             assert!((kinetic - start_kinetic).abs() < 1e-11, "{kinetic}");
