@@ -62,9 +62,10 @@ impl SiteMultipoles {
 /// (the strain derivative at fixed space-frame multipoles), and per site the
 /// potential, field `E = -dV/dmu`, conjugate `W = dV/dTheta` and force.
 pub trait Electrostatics: Send + Sync + std::fmt::Debug {
-    /// The distance within which it needs the pairs of sites (its
-    /// real-space cutoff).
-    fn pair_cutoff(&self) -> f64;
+    /// The distance within which it reads the pairs of the bodies'
+    /// neighbour list (its real-space cutoff); none when it finds its pairs
+    /// itself.
+    fn pair_cutoff(&self) -> Option<f64>;
 
     /// The parameters and estimated errors of a mesh sum (none by default).
     fn mesh_parameters(&self) -> Option<(MeshParameters, MeshEstimate)> {
@@ -213,8 +214,8 @@ pub(super) fn add_pairs(
 }
 
 impl Electrostatics for CutoffSum {
-    fn pair_cutoff(&self) -> f64 {
-        self.cutoff
+    fn pair_cutoff(&self) -> Option<f64> {
+        Some(self.cutoff)
     }
 
     fn cutoff_pairs(&self) -> Option<(f64, ElectrostaticTruncation)> {

@@ -3,8 +3,10 @@
 //! or directly over the wave vectors: charges, point dipoles and point
 //! quadrupoles at any sites.
 //!
-//! * **Real space**: the pairs of the bodies' neighbour lists (sites of
-//!   different bodies) closer than `r_c`, kernel `erfc(alpha r) / r`.
+//! * **Real space**: the pairs closer than `r_c`, kernel `erfc(alpha r) /
+//!   r`: for charges on a mesh, the mesh sum's own (every pair once, by its
+//!   cell list, sites of one body included); else the pairs of the bodies'
+//!   neighbour list (sites of different bodies), each site's from its end.
 //! * **Reciprocal, self, background, surface**: the mesh sum's, over every
 //!   site ([`crate::potential::multipole::mesh_ewald::MeshEwald`]), or the
 //!   same terms with the reciprocal part by structure factors
@@ -17,8 +19,11 @@
 //!   for each pair of sites `i != j` of one body the correction subtracts
 //!   it: `-q_i q_j erf(alpha r) / r` for charges, the same operators `D_i
 //!   D_j` of the multipoles on `erf(alpha r) / r` in general (`r` the
-//!   separation within the body, not a periodic image), so that the sites of
-//!   one body never interact. The self term is the mesh sum's (`i = j`).
+//!   separation within the body, not a periodic image), and where the
+//!   real space summed the pair too (the mesh's pairs of charges, `r <
+//!   r_c`) also its `erfc(alpha r) / r`: `-q_i q_j / r` in all, so that the
+//!   sites of one body never interact. The self term is the mesh sum's (`i
+//!   = j`).
 //! * **Virial**: the atomic virial of the mesh sum (its module doc), of the
 //!   real-space pairs and of the exclusion pairs (`r_ij f_ij^T` each); the
 //!   molecular virial follows in [`super::evaluate`].
@@ -28,7 +33,9 @@
 //! [`crate::potential::multipole::mesh_ewald::for_multipoles_with_skin`],
 //! as for rotors but with `r_c` plus the skin within half the box; the
 //! mesh, its plans and every buffer are built once for the box and the
-//! number of sites. The direct sum's (`alpha`, `r_c`, `k_c`) come from
+//! number of sites; sites carrying charges alone need no field gradient
+//! (their forces are `q E`), so the mesh computes none
+//! ([`MeshEwald::without_field_gradient`]). The direct sum's (`alpha`, `r_c`, `k_c`) come from
 //! [`crate::potential::multipole::mesh_ewald::for_waves`] with the same
 //! bound; `method = "auto"` takes the cheaper of the two by their cost
 //! models in real-space pairs ([`AutoChoice`]), the direct sum when PME
@@ -89,6 +96,8 @@ pub struct BodyEwald {
     bodies: Vec<Range<usize>>,
     /// The body of each site.
     site_body: Vec<u32>,
+    /// What the sites carry.
+    carried: Carried,
     /// Each site's half of its pairs' virials.
     virials: Vec<Matrix3<f64>>,
 }
@@ -152,11 +161,9 @@ impl BodyEwald {
         };
         let sum = match take_mesh {
             Some((parameters, estimate)) => {
-                let mesh = MeshEwald::new(n, box_lengths, parameters, options.surface)
-                    .map_err(sized)?
-                    .with_virial()
-                    .with_whole_molecules();
-                Self::assemble(LongRange::Mesh(Box::new(mesh), estimate), site_body)
+                let mesh =
+                    MeshEwald::new(n, box_lengths, parameters, options.surface).map_err(sized)?;
+                Self::assemble(LongRange::mesh(mesh, estimate, carried), site_body, carried)
             }
             None => {
                 let (parameters, _) = waves()?;
@@ -164,17 +171,18 @@ impl BodyEwald {
                     .map_err(sized)?
                     .with_virial()
                     .with_whole_molecules();
-                Self::assemble(LongRange::Waves(Box::new(waves)), site_body)
+                Self::assemble(LongRange::Waves(Box::new(waves)), site_body, carried)
             }
         };
         Ok(BodyEwald { choice, ..sum })
     }
 
     /// The sum with given parameters (checked by
-    /// [`MeshEwald::new`], errors naming them), its estimate unknown (NaN).
+    /// [`MeshEwald::new`], errors naming them) of sites carrying `carried`,
+    /// its estimate unknown (NaN).
     pub fn with_parameters(
         parameters: MeshParameters,
-        surface: Surface,
+        (surface, carried): (Surface, Carried),
         site_body: &[u32],
         box_lengths: Vector3<f64>,
     ) -> Result<Self, InputError> {
@@ -184,16 +192,14 @@ impl BodyEwald {
             mesh: f64::NAN,
         };
         Ok(Self::assemble(
-            LongRange::Mesh(
-                Box::new(mesh.with_virial().with_whole_molecules()),
-                estimate,
-            ),
+            LongRange::mesh(mesh, estimate, carried),
             site_body,
+            carried,
         ))
     }
 
-    /// The sum of `long_range` for the sites of `site_body`.
-    fn assemble(long_range: LongRange, site_body: &[u32]) -> Self {
+    /// The sum of `long_range` for the sites of `site_body` carrying `carried`.
+    fn assemble(long_range: LongRange, site_body: &[u32], carried: Carried) -> Self {
         let n = site_body.len();
         let mut bodies: Vec<Range<usize>> = Vec::new();
         for (s, &b) in site_body.iter().enumerate() {
@@ -207,12 +213,30 @@ impl BodyEwald {
             choice: None,
             bodies,
             site_body: site_body.to_vec(),
+            carried,
             virials: vec![Matrix3::zeros(); n],
         }
     }
 }
 
+/// Whether the sum of sites carrying `carried` by `long_range` takes its
+/// real-space pairs from the mesh sum (module doc).
+fn mesh_pairs(long_range: &LongRange, carried: Carried) -> bool {
+    matches!(long_range, LongRange::Mesh(..)) && !(carried.dipoles || carried.quadrupoles)
+}
+
 impl LongRange {
+    /// The mesh sum of bodies' sites carrying `carried` (module doc).
+    fn mesh(mesh: MeshEwald, estimate: MeshEstimate, carried: Carried) -> Self {
+        let mesh = mesh.with_virial().with_whole_molecules();
+        let mesh = if carried.dipoles || carried.quadrupoles {
+            mesh
+        } else {
+            mesh.without_field_gradient()
+        };
+        LongRange::Mesh(Box::new(mesh), estimate)
+    }
+
     /// The splitting `alpha` and the real-space cutoff.
     fn splitting(&self) -> (f64, f64) {
         match self {
@@ -221,13 +245,21 @@ impl LongRange {
         }
     }
 
-    /// Each site's long-range potential derivatives and their virial.
+    /// Each site's potential derivatives and their virial: the long-range
+    /// terms', and with `pairs` the mesh's real-space pairs too.
     fn derivatives(
         &mut self,
         sources: &Sources<'_>,
+        pairs: bool,
     ) -> Result<(&mut [[f64; DERIVATIVES]], Matrix3<f64>), PotentialError> {
         match self {
-            LongRange::Mesh(mesh, _) => mesh.long_range_derivatives(sources),
+            LongRange::Mesh(mesh, _) => {
+                if pairs {
+                    mesh.derivatives(sources)
+                } else {
+                    mesh.long_range_derivatives(sources)
+                }
+            }
             LongRange::Waves(waves) => waves.long_range_derivatives(sources),
         }
     }
@@ -252,8 +284,8 @@ impl Electrostatics for BodyEwald {
         self.choice.as_ref()
     }
 
-    fn pair_cutoff(&self) -> f64 {
-        self.long_range.splitting().1
+    fn pair_cutoff(&self) -> Option<f64> {
+        (!mesh_pairs(&self.long_range, self.carried)).then(|| self.long_range.splitting().1)
     }
 
     fn evaluate(
@@ -265,7 +297,8 @@ impl Electrostatics for BodyEwald {
     ) {
         let sources = sites.sources();
         let (alpha, real_cutoff) = self.long_range.splitting();
-        let Ok((derivatives, long_range)) = self.long_range.derivatives(&sources) else {
+        let summed = mesh_pairs(&self.long_range, self.carried);
+        let Ok((derivatives, long_range)) = self.long_range.derivatives(&sources, summed) else {
             // Only non-finite positions fail here: the run reports the blow-up.
             out.energy = f64::NAN;
             return;
@@ -288,7 +321,7 @@ impl Electrostatics for BodyEwald {
         } else {
             add_charge_pairs(
                 sites,
-                pairs,
+                (!summed).then_some(pairs),
                 real_cutoff,
                 exclusions,
                 (derivatives, &mut self.virials),
@@ -299,15 +332,16 @@ impl Electrostatics for BodyEwald {
     }
 }
 
-/// [`add_pairs`] for sites that carry charges only, unrolled: each pair
-/// within `cutoff` adds `q_j (B_0, -r B_1)` to site `i`'s potential and
-/// field (`d[0..4]`; the higher derivatives, which no charge uses, keep
+/// [`add_pairs`] for sites that carry charges only, unrolled: each pair of
+/// `pairs` within `cutoff` adds `q_j (B_0, -r B_1)` to site `i`'s potential
+/// and field (`d[0..4]`; the higher derivatives, which no charge uses, keep
 /// the long-range part only) and `1/2 r (q_i q_j B_1 r)^T` to its virial,
-/// with the tabulated `erfc` ([`ErfcTable::radial`]); each body's
-/// own pairs subtract `erf(alpha r) / r`.
+/// with the tabulated `erfc` ([`ErfcTable::radial`]); each body's own pairs
+/// subtract `erf(alpha r) / r`, and without `pairs` (the mesh summed every
+/// pair within `cutoff`, a body's own included) `1 / r` within `cutoff`.
 fn add_charge_pairs(
     sites: &SiteMultipoles,
-    pairs: &NeighbourList,
+    pairs: Option<&NeighbourList>,
     cutoff: f64,
     exclusions: Exclusions<'_>,
     (derivatives, virials): (&mut [[f64; DERIVATIVES]], &mut [Matrix3<f64>]),
@@ -333,7 +367,7 @@ fn add_charge_pairs(
             }
             virial += r * (r.transpose() * (0.5 * q_i * g));
         };
-        for (j, r) in pairs.separations(i, positions) {
+        for (j, r) in pairs.iter().flat_map(|p| p.separations(i, positions)) {
             let r2 = r.norm_squared();
             if r2 < cutoff2 {
                 pair(r, table.radial::<2>(alpha, r2), j);
@@ -342,9 +376,13 @@ fn add_charge_pairs(
         for j in bodies[site_body[i] as usize].clone().filter(|&j| j != i) {
             let r = positions[i] - positions[j];
             let r2 = r.norm_squared();
-            let damped = table.radial::<2>(alpha, r2);
             let bare = 1.0 / r2.sqrt();
-            // -erf(alpha r) / r = erfc(alpha r) / r - 1 / r.
+            // -erf(alpha r) / r = erfc(alpha r) / r - 1 / r; less the mesh's erfc(alpha r) / r.
+            let damped = if pairs.is_none() && r2 < cutoff2 {
+                [0.0; 2]
+            } else {
+                table.radial::<2>(alpha, r2)
+            };
             pair(r, [damped[0] - bare, damped[1] - bare / r2], j);
         }
         for (d, s) in d.iter_mut().zip(sums) {
@@ -466,7 +504,8 @@ mod tests {
         let n = site_body.len();
         let (mut sum, cutoff) = match fixed {
             Fixed::Mesh(p) => (
-                BodyEwald::with_parameters(p, surface, site_body, box_lengths).unwrap(),
+                BodyEwald::with_parameters(p, (surface, sites.carried), site_body, box_lengths)
+                    .unwrap(),
                 p.real_cutoff,
             ),
             Fixed::Waves(p) => {
@@ -474,6 +513,7 @@ mod tests {
                 let sum = BodyEwald::assemble(
                     LongRange::Waves(Box::new(waves.with_virial().with_whole_molecules())),
                     site_body,
+                    sites.carried,
                 );
                 (sum, p.real_cutoff)
             }

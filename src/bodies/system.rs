@@ -143,16 +143,16 @@ impl BodySystem {
         let electrostatics = electrostatics(options, carried, &site_body, (&space, skin))?;
         let cutoff = [
             lennard_jones.as_ref().map(|t| t.cutoff()),
-            electrostatics.as_ref().map(|e| e.pair_cutoff()),
+            electrostatics.as_ref().and_then(|e| e.pair_cutoff()),
         ]
         .into_iter()
         .flatten()
         .fold(0.0, f64::max);
         // Bodies without interacting sites still get a (never used) list.
         let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
-        // Only an electrostatic sum outside the pair pass reads the full view.
+        // Only an electrostatic sum outside the pair pass that reads the list reads the full view.
         let neighbours = match &electrostatics {
-            Some(e) if e.cutoff_pairs().is_none() => neighbours,
+            Some(e) if e.cutoff_pairs().is_none() && e.pair_cutoff().is_some() => neighbours,
             _ => neighbours.half_only(),
         };
         space.check(neighbours.reach())?;

@@ -236,8 +236,9 @@ const SPLINE_COST: f64 = 0.0118;
 /// parameters, but by the automatic choice against the direct sum.
 const SITE_COST: f64 = 3.0;
 
-/// The cost of a real-space pair of the unrolled charge kernels (the mesh
-/// sum's and the moving bodies') relative to the general kernel: 67.9 ns
+/// The cost of a real-space pair of the mesh sum's unrolled charge kernel
+/// (which the moving bodies' charges on a mesh use too) relative to the
+/// general kernel: 67.9 ns
 /// per pair, search included (the fit above; 87 to 106 ns when each pair
 /// was visited from both ends).
 pub const CHARGE_PAIR_COST: f64 = 0.126;

@@ -156,13 +156,38 @@ impl MeshEwald {
         sources: &Sources<'_>,
         response: &mut SiteResponse,
     ) -> Result<(), PotentialError> {
-        let (source_order, count) = self.prepare(sources, response.potential.len())?;
+        let virial = self.sum(sources, response.potential.len())?;
+        response.fill(sources, &self.derivatives);
+        response.virial = virial;
+        Ok(())
+    }
+
+    /// The whole sum without [`SiteResponse::fill`], for a caller that
+    /// corrects it before (moving bodies: their exclusions): each site's
+    /// potential derivatives `d^A phi` (the first
+    /// [`super::cartesian::DERIVATIVES`]) and the virial (zero without
+    /// [`Self::with_virial`]). Errors as [`Self::evaluate`].
+    pub(crate) fn derivatives(
+        &mut self,
+        sources: &Sources<'_>,
+    ) -> Result<(&mut [[f64; DERIVATIVES]], Matrix3<f64>), PotentialError> {
+        let virial = self.sum(sources, sources.len())?;
+        Ok((&mut self.derivatives, virial))
+    }
+
+    /// The real-space pairs and the long-range terms into `derivatives`
+    /// (`responses` sites asked for); returns the virial.
+    fn sum(
+        &mut self,
+        sources: &Sources<'_>,
+        responses: usize,
+    ) -> Result<Matrix3<f64>, PotentialError> {
+        let (source_order, count) = self.prepare(sources, responses)?;
         let box_lengths = self.box_lengths;
-        let alpha = self.parameters.alpha;
         let real = self.cells.add_derivatives(
             &self.wrapped,
             &box_lengths,
-            alpha,
+            self.parameters.alpha,
             self.parameters.real_cutoff,
             &self.coefficients,
             (source_order, count),
@@ -170,13 +195,11 @@ impl MeshEwald {
             self.virial,
         );
         let long_range = self.long_range(sources, source_order, count);
-        response.fill(sources, &self.derivatives);
-        response.virial = if self.virial {
+        Ok(if self.virial {
             real + long_range
         } else {
             Matrix3::zeros()
-        };
-        Ok(())
+        })
     }
 
     /// The sum without its real-space part, for a caller that sums the
