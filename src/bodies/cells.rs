@@ -15,7 +15,8 @@ use nalgebra::Vector3;
 
 /// Open space: at most this many cells per site (plus 27).
 pub const CELLS_PER_SITE: usize = 8;
-/// Sites of a cell compared at once (their squared distances on the stack).
+/// Sites of a cell compared at once (their squared distances on the stack,
+/// those within reach as the bits of a `u64`).
 const RUN: usize = 64;
 
 /// A grid of cells over the sites.
@@ -185,9 +186,17 @@ impl Cells {
                     let d = [p.x - xs[k], p.y - ys[k], p.z - zs[k]];
                     *d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                 }
+                // The sites within reach as bits (no branch per site: most
+                // are beyond reach), then those sites in order.
+                let mut within = 0u64;
                 for (k, &d2) in r2[..end - start].iter().enumerate() {
-                    let j = self.site[start + k];
-                    if d2 < reach2 && wanted(j as usize) {
+                    within |= u64::from(d2 < reach2) << k;
+                }
+                let slots = &self.site[start..end];
+                while within != 0 {
+                    let j = slots[within.trailing_zeros() as usize];
+                    within &= within - 1;
+                    if wanted(j as usize) {
                         let b = self.wraps[j as usize];
                         found(
                             j,

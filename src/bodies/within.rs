@@ -11,7 +11,7 @@
 //! [`super::neighbours::NeighbourList::half_pairs`]' separations.
 //!
 //! On x86-64 CPUs with AVX2 the listed partners are taken four at a time
-//! (their positions gathered, the four separations computed in lanes and
+//! (their positions loaded, the four separations computed in lanes and
 //! those within reach stored contiguously through a permutation of the
 //! lanes chosen by their mask), the last few one by one: the same
 //! partners, separations and padding as one by one throughout.
@@ -138,6 +138,7 @@ impl Site<'_> {
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
     use super::{Site, Within, LANES};
+    use nalgebra::Vector3;
     use std::arch::x86_64::*;
 
     /// For each mask of four lanes, the 32-bit halves that move the lanes
@@ -189,17 +190,9 @@ mod avx2 {
             (partners, images): (&[u32], &[[i8; 3]]),
         ) -> (usize, usize) {
             let rows = partners.len().min(images.len()) / LANES * LANES;
-            let sites = site.positions.len();
-            // The gathers' element offsets, `3 j + axis`, must fit an i32.
-            assert!(
-                sites <= i32::MAX as usize / 3 - 1,
-                "too many sites for the gathers"
-            );
-            let base = site.positions.as_ptr().cast::<f64>();
             // The intrinsics need AVX2, which the CPU has (the caller's
             // promise for this function); each load and store says why it
             // stays in bounds.
-            let last = _mm_set1_epi32(sites.saturating_sub(1) as i32);
             // SAFETY: a table row is 16 bytes.
             let [ax, ay, az] = AXIS_BYTES.map(|b| unsafe { _mm_loadu_si128(b.as_ptr().cast()) });
             let [lx, ly, lz] =
@@ -229,22 +222,20 @@ mod avx2 {
             {
                 // SAFETY: four u32 are 16 bytes.
                 let j = unsafe { _mm_loadu_si128(js.as_ptr().cast()) };
-                // Every partner a site (unsigned: j = min(j, sites - 1)).
-                let inside = _mm_movemask_epi8(_mm_cmpeq_epi32(_mm_min_epu32(j, last), j));
-                assert!(
-                    sites > 0 && inside == 0xffff,
-                    "a listed partner is not a site"
+                // Each partner's position loaded whole (`x, y` as a pair,
+                // `z` alone), then turned into rows by component (no
+                // gather instructions: slower than loads on some CPUs).
+                let [p0, p1, p2, p3] = [0, 1, 2, 3].map(|l| &site.positions[js[l] as usize]);
+                let xy = |p: &Vector3<f64>| _mm_set_pd(p.y, p.x);
+                let (xy02, xy13) = (
+                    _mm256_set_m128d(xy(p2), xy(p0)),
+                    _mm256_set_m128d(xy(p3), xy(p1)),
                 );
-                let at = _mm_add_epi32(_mm_add_epi32(j, j), j);
-                // SAFETY: the offsets `3 j + axis` are within the positions
-                // (each j below their number, checked above).
-                let (px, py, pz) = unsafe {
-                    (
-                        _mm256_i32gather_pd::<8>(base, at),
-                        _mm256_i32gather_pd::<8>(base.add(1), at),
-                        _mm256_i32gather_pd::<8>(base.add(2), at),
-                    )
-                };
+                let (px, py, pz) = (
+                    _mm256_unpacklo_pd(xy02, xy13),
+                    _mm256_unpackhi_pd(xy02, xy13),
+                    _mm256_set_pd(p3.z, p2.z, p1.z, p0.z),
+                );
                 // SAFETY: four image counts are 12 bytes, read as 8 and 4.
                 let counts = unsafe {
                     let at = cs.as_ptr().cast::<u8>();
