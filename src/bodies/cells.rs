@@ -15,7 +15,8 @@ use nalgebra::Vector3;
 
 /// Open space: at most this many cells per site (plus 27).
 pub const CELLS_PER_SITE: usize = 8;
-/// Sites of a cell compared at once (their squared distances on the stack).
+/// Sites of a cell compared at once (their squared distances on the stack,
+/// those within reach as the bits of a `u64`).
 const RUN: usize = 64;
 
 /// A grid of cells over the sites.
@@ -115,31 +116,38 @@ impl Cells {
     }
 
     /// The cells next to cell `c` (itself included) with the box lengths
-    /// each is shifted by across the faces: the first `count` of the array.
+    /// each is shifted by across the faces: the first `count` of the array,
+    /// the first axis slowest.
     fn neighbours(&self, c: usize) -> ([(usize, [i8; 3]); 27], usize) {
         let [_, ny, nz] = self.counts;
         let own = [c / (ny * nz), (c / nz) % ny, c % nz];
-        let (mut out, mut count) = ([(0, [0; 3]); 27], 0);
-        for d in 0..27 {
-            let step = [d / 9, (d / 3) % 3, d % 3].map(|s| s as i64 - 1);
-            let (mut cell, mut shift, mut inside) = ([0; 3], [0i8; 3], true);
-            for k in 0..3 {
-                let n = self.counts[k] as i64;
-                let u = own[k] as i64 + step[k];
+        // Along each axis, the cells one below, at and one above the own
+        // (those inside) with their shifts.
+        let along = |k: usize| {
+            let n = self.counts[k] as i64;
+            let (mut out, mut count) = ([(0, 0i8); 3], 0);
+            for step in -1..=1 {
+                let u = own[k] as i64 + step;
                 if self.periodic {
                     // `u` is within one cell of `0..n`.
                     let wrap = i64::from(u >= n) - i64::from(u < 0);
-                    cell[k] = (u - wrap * n) as usize;
-                    shift[k] = wrap as i8;
+                    out[count] = ((u - wrap * n) as usize, wrap as i8);
+                    count += 1;
                 } else if (0..n).contains(&u) {
-                    cell[k] = u as usize;
-                } else {
-                    inside = false;
+                    out[count] = (u as usize, 0);
+                    count += 1;
                 }
             }
-            if inside {
-                out[count] = ((cell[0] * ny + cell[1]) * nz + cell[2], shift);
-                count += 1;
+            (out, count)
+        };
+        let ((xs, cx), (ys, cy), (zs, cz)) = (along(0), along(1), along(2));
+        let (mut out, mut count) = ([(0, [0; 3]); 27], 0);
+        for &(a, sa) in &xs[..cx] {
+            for &(b, sb) in &ys[..cy] {
+                for &(d, sd) in &zs[..cz] {
+                    out[count] = ((a * ny + b) * nz + d, [sa, sb, sd]);
+                    count += 1;
+                }
             }
         }
         (out, count)
@@ -178,9 +186,17 @@ impl Cells {
                     let d = [p.x - xs[k], p.y - ys[k], p.z - zs[k]];
                     *d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                 }
+                // The sites within reach as bits (no branch per site: most
+                // are beyond reach), then those sites in order.
+                let mut within = 0u64;
                 for (k, &d2) in r2[..end - start].iter().enumerate() {
-                    let j = self.site[start + k];
-                    if d2 < reach2 && wanted(j as usize) {
+                    within |= u64::from(d2 < reach2) << k;
+                }
+                let slots = &self.site[start..end];
+                while within != 0 {
+                    let j = slots[within.trailing_zeros() as usize];
+                    within &= within - 1;
+                    if wanted(j as usize) {
                         let b = self.wraps[j as usize];
                         found(
                             j,

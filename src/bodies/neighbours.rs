@@ -134,6 +134,15 @@ impl NeighbourList {
         &self.space
     }
 
+    /// The box lengths of the image counts of [`NeighbourList::half_run`]
+    /// (zero in open space).
+    pub(crate) fn image_lengths(&self) -> Vector3<f64> {
+        match self.space {
+            Space::Periodic(l) => l,
+            Space::Open => Vector3::zeros(),
+        }
+    }
+
     /// Where site `i`'s pairs start in the half list (`i` up to the number
     /// of sites): the pairs of sites `a..b` are `half_start(b) -
     /// half_start(a)`.

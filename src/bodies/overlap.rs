@@ -5,6 +5,7 @@
 
 use super::evaluate::Evaluation;
 use super::system::BodySystem;
+use super::within::Within;
 
 /// Lennard-Jones sites of different bodies closer than this fraction of
 /// their pair's sigma overlap (the repulsion there is `4 eps 2^12`, about
@@ -38,7 +39,8 @@ impl BodySystem {
 
     /// The pair of Lennard-Jones sites of different bodies closest relative
     /// to their sigma at the last evaluation (its site positions and
-    /// neighbour list), pairs at a non-finite distance left out; `None`
+    /// neighbour list, the separations gathered as the pair pass gathers
+    /// them), pairs at a non-finite distance left out; `None`
     /// without such a pair or before the first evaluation.
     pub fn closest_pair(&self) -> Option<Overlap> {
         let term = self.lennard_jones.as_ref()?;
@@ -46,20 +48,26 @@ impl BodySystem {
         if positions.len() != self.sites() {
             return None;
         }
+        let lengths = self.neighbours.image_lengths();
+        // Each site's listed partners with their separations in rows
+        // (every one at a finite distance: none is beyond an infinite reach).
+        let mut near = Within::default();
         // The smallest (r / sigma)^2 as (r^2, sigma^2), compared without
         // divisions; one square root at the end.
         let mut worst: Option<(f64, f64, usize, usize, f64)> = None;
         for (i, kind) in self.lj_kind.iter().enumerate() {
             let Some(a) = kind else { continue };
-            for (j, r) in self.neighbours.half_pairs(i, positions) {
+            let run = self.neighbours.half_run(i);
+            near.collect(&positions[i], run, positions, &lengths, f64::INFINITY);
+            for (&j, &r2) in near.partner[..near.count].iter().zip(&near.r2) {
                 let Some(b) = self.lj_kind[j] else { continue };
                 let sigma = term.sigma(*a as usize, b as usize);
-                let (r2, sigma2) = (r.norm_squared(), sigma * sigma);
+                let sigma2 = sigma * sigma;
                 let closer = match worst {
                     None => true,
                     Some((w_r2, w_sigma2, ..)) => r2 * w_sigma2 < w_r2 * sigma2,
                 };
-                if closer && r2.is_finite() {
+                if closer {
                     worst = Some((r2, sigma2, i, j, sigma));
                 }
             }

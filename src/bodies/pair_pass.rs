@@ -23,8 +23,7 @@ use super::pair_kernels::{
     Bare, ChargeKernel, LennardJones, NoCharges, NoLennardJones, PairKernel, ShiftedForce,
     Truncated,
 };
-use super::space::Space;
-use super::within::{Shifts, Within};
+use super::within::Within;
 use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -67,7 +66,6 @@ pub(super) struct PairPass {
     charged: Vec<bool>,
     /// Each site's Lennard-Jones kind ([`NO_KIND`] without, or without the term).
     kind: Vec<u32>,
-    shifts: Vec<Shifts>,
 }
 
 impl PairPass {
@@ -87,7 +85,7 @@ impl PairPass {
         for block in &mut self.blocks {
             block.reset(n, electrostatics);
         }
-        self.site_tables(terms, list, n);
+        self.site_tables(terms, n);
         let inputs = Inputs {
             terms,
             list,
@@ -96,7 +94,7 @@ impl PairPass {
             kind: &self.kind,
             one_kind: self.kind.iter().all(|&k| k == self.kind[0] && k != NO_KIND),
             all_charged: self.charged.iter().all(|&c| c),
-            shifts: &self.shifts,
+            lengths: list.image_lengths(),
         };
         let blocks = (&mut self.blocks[..], &mut self.within[..]);
         use ElectrostaticTruncation as E;
@@ -152,9 +150,9 @@ impl PairPass {
 }
 
 impl PairPass {
-    /// The pass's per-site and per-image tables for `n` sites: whether each
-    /// is charged, its Lennard-Jones kind, the image shifts of `list`'s space.
-    fn site_tables(&mut self, terms: &PairTerms<'_>, list: &NeighbourList, n: usize) {
+    /// The pass's per-site tables for `n` sites: whether each is charged,
+    /// its Lennard-Jones kind.
+    fn site_tables(&mut self, terms: &PairTerms<'_>, n: usize) {
         self.charged.clear();
         if let Some((_, _, m)) = terms.electrostatics {
             let zero = ChargeDipole::default();
@@ -165,16 +163,6 @@ impl PairPass {
             self.kind.extend(kinds.iter().map(|k| k.unwrap_or(NO_KIND)));
         } else {
             self.kind.resize(n, NO_KIND);
-        }
-        let lengths = match list.space() {
-            Space::Periodic(l) => *l,
-            Space::Open => Vector3::zeros(),
-        };
-        self.shifts.resize(3, [0.0; 256]);
-        for (k, shifts) in self.shifts.iter_mut().enumerate() {
-            for (c, shift) in shifts.iter_mut().enumerate() {
-                *shift = lengths[k] * f64::from(c as u8 as i8);
-            }
         }
     }
 }
@@ -226,8 +214,8 @@ struct Inputs<'a> {
     /// take no kinds) and whether every site is charged.
     one_kind: bool,
     all_charged: bool,
-    /// Along each axis.
-    shifts: &'a [Shifts],
+    /// The box lengths of the list's image counts (zero in open space).
+    lengths: Vector3<f64>,
 }
 
 /// A site without Lennard-Jones.
@@ -348,7 +336,13 @@ impl<'a> Inputs<'a> {
             let (mut force_i, mut field_i, mut potential_i) =
                 (V4::<T>::default(), V4::<T>::default(), T::default());
             let run = self.list.half_run(i);
-            near.collect(&self.positions[i], run, self.positions, self.shifts, reach2);
+            near.collect(
+                &self.positions[i],
+                run,
+                self.positions,
+                &self.lengths,
+                reach2,
+            );
             for start in (0..near.count).step_by(LANES) {
                 // Unused lanes repeat the last pair, their results dropped.
                 let n = (near.count - start).min(LANES);

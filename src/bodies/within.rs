@@ -9,14 +9,15 @@
 //! A separation is `x_i - x_j - shift`, the shift `c L` of the pair's image
 //! counts `c` (zero for most pairs, their own minimum image): the bits of
 //! [`super::neighbours::NeighbourList::half_pairs`]' separations.
+//!
+//! On x86-64 CPUs with AVX2 the listed partners are taken four at a time
+//! (their positions loaded, the four separations computed in lanes and
+//! those within reach stored contiguously through a permutation of the
+//! lanes chosen by their mask), the last few one by one: the same
+//! partners, separations and padding as one by one throughout.
 
 use super::lanes::{Lanes, LANES, V4};
 use nalgebra::Vector3;
-
-/// The shifts `c L_k` of the image counts `c` along one axis `k`, at index
-/// `c as u8`.
-pub(super) type Shifts = [f64; 256];
-
 /// One site's partners within reach and their separations, padded to whole
 /// rows of [`LANES`] by repeating the last (the padding's results are
 /// dropped by the kernels' mask of used lanes).
@@ -36,14 +37,15 @@ pub(super) struct Within {
 impl Within {
     /// Keeps the partners `partners` (image counts `images`) of the site at
     /// `x` among `positions` whose squared separation is below `reach2`,
-    /// in their listed order.
+    /// in their listed order; `lengths` are the box lengths of the image
+    /// counts (zero in open space).
     #[inline(always)]
     pub fn collect(
         &mut self,
         x: &Vector3<f64>,
         (partners, images): (&[u32], &[[i8; 3]]),
         positions: &[Vector3<f64>],
-        shifts: &[Shifts],
+        lengths: &Vector3<f64>,
         reach2: f64,
     ) {
         // Room for every listed partner and a row of padding: each partner
@@ -57,6 +59,18 @@ impl Within {
                 v.resize(room, 0.0);
             }
         }
+        let site = Site {
+            x,
+            positions,
+            lengths,
+            reach2,
+        };
+        let (mut done, mut n) = (0, 0);
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked just above.
+            (done, n) = unsafe { self.keep_rows_avx2(&site, (partners, images)) };
+        }
         let partner = &mut self.partner[..room];
         let (xs, ys, zs, r2s) = (
             &mut self.x[..room],
@@ -64,17 +78,9 @@ impl Within {
             &mut self.z[..room],
             &mut self.r2[..room],
         );
-        let (sx, sy, sz) = (&shifts[0], &shifts[1], &shifts[2]);
-        let mut n = 0;
-        for (&j, c) in partners.iter().zip(images) {
+        for (&j, c) in partners[done..].iter().zip(&images[done..]) {
             let j = j as usize;
-            let shift = Vector3::new(
-                sx[c[0] as u8 as usize],
-                sy[c[1] as u8 as usize],
-                sz[c[2] as u8 as usize],
-            );
-            let r = x - positions[j] - shift;
-            let r2 = r.x * r.x + r.y * r.y + r.z * r.z;
+            let (r, r2) = site.separation(j, c);
             let k = n.min(room - 1);
             (partner[k], xs[k], ys[k], zs[k], r2s[k]) = (j, r.x, r.y, r.z, r2);
             n += usize::from(r2 < reach2);
@@ -104,6 +110,173 @@ impl Within {
     }
 }
 
+/// The site whose partners are kept: its position, the positions of all
+/// sites, the box lengths and the squared reach.
+struct Site<'a> {
+    x: &'a Vector3<f64>,
+    positions: &'a [Vector3<f64>],
+    lengths: &'a Vector3<f64>,
+    reach2: f64,
+}
+
+impl Site<'_> {
+    /// The separation from partner `j` with image counts `c` and its
+    /// squared length.
+    #[inline(always)]
+    fn separation(&self, j: usize, c: &[i8; 3]) -> (Vector3<f64>, f64) {
+        let l = self.lengths;
+        let shift = Vector3::new(
+            l.x * f64::from(c[0]),
+            l.y * f64::from(c[1]),
+            l.z * f64::from(c[2]),
+        );
+        let r = self.x - self.positions[j] - shift;
+        (r, r.x * r.x + r.y * r.y + r.z * r.z)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::{Site, Within, LANES};
+    use nalgebra::Vector3;
+    use std::arch::x86_64::*;
+
+    /// For each mask of four lanes, the 32-bit halves that move the lanes
+    /// where it holds to the front, in their order (the rest filled with
+    /// lane 0).
+    const FRONT: [[i32; 8]; 16] = {
+        let mut table = [[0; 8]; 16];
+        let mut mask = 0;
+        while mask < 16 {
+            let (mut to, mut lane) = (0, 0);
+            while lane < LANES {
+                if mask & (1 << lane) != 0 {
+                    table[mask][2 * to] = 2 * lane as i32;
+                    table[mask][2 * to + 1] = 2 * lane as i32 + 1;
+                    to += 1;
+                }
+                lane += 1;
+            }
+            mask += 1;
+        }
+        table
+    };
+
+    /// Which byte of four pairs' image counts (three bytes each) is the
+    /// count along each axis, in the low four bytes (the rest cleared).
+    const AXIS_BYTES: [[i8; 16]; 3] = {
+        let mut table = [[-1; 16]; 3];
+        let mut k = 0;
+        while k < 3 {
+            let mut l = 0;
+            while l < LANES {
+                table[k][l] = (3 * l + k) as i8;
+                l += 1;
+            }
+            k += 1;
+        }
+        table
+    };
+
+    impl Within {
+        /// [`Within::collect`] of the first whole rows of four listed
+        /// partners (the rows' room already made): how many partners were
+        /// taken and how many kept. Each lane rounds as the one-by-one
+        /// separation does (no fused multiply-add).
+        #[target_feature(enable = "avx2")]
+        pub(super) fn keep_rows_avx2(
+            &mut self,
+            site: &Site<'_>,
+            (partners, images): (&[u32], &[[i8; 3]]),
+        ) -> (usize, usize) {
+            let rows = partners.len().min(images.len()) / LANES * LANES;
+            // The intrinsics need AVX2, which the CPU has (the caller's
+            // promise for this function); each load and store says why it
+            // stays in bounds.
+            // SAFETY: a table row is 16 bytes.
+            let [ax, ay, az] = AXIS_BYTES.map(|b| unsafe { _mm_loadu_si128(b.as_ptr().cast()) });
+            let [lx, ly, lz] =
+                [site.lengths.x, site.lengths.y, site.lengths.z].map(|l| _mm256_set1_pd(l));
+            let [x, y, z] = [site.x.x, site.x.y, site.x.z].map(|c| _mm256_set1_pd(c));
+            let reach2 = _mm256_set1_pd(site.reach2);
+            // Every row is stored from the count `n <= k` (the kept of the
+            // `k` partners before it), so within the room of the listed
+            // partners and a row.
+            assert!(
+                self.partner
+                    .len()
+                    .min(self.x.len())
+                    .min(self.y.len())
+                    .min(self.z.len())
+                    .min(self.r2.len())
+                    >= rows + LANES,
+                "no room for the rows"
+            );
+            let [px_out, py_out, pz_out, r2_out] =
+                [&mut self.x, &mut self.y, &mut self.z, &mut self.r2].map(|v| v.as_mut_ptr());
+            let partner_out = self.partner.as_mut_ptr();
+            let mut n = 0;
+            for (js, cs) in partners[..rows]
+                .chunks_exact(LANES)
+                .zip(images[..rows].chunks_exact(LANES))
+            {
+                // SAFETY: four u32 are 16 bytes.
+                let j = unsafe { _mm_loadu_si128(js.as_ptr().cast()) };
+                // Each partner's position loaded whole (`x, y` as a pair,
+                // `z` alone), then turned into rows by component (no
+                // gather instructions: slower than loads on some CPUs).
+                let [p0, p1, p2, p3] = [0, 1, 2, 3].map(|l| &site.positions[js[l] as usize]);
+                let xy = |p: &Vector3<f64>| _mm_set_pd(p.y, p.x);
+                let (xy02, xy13) = (
+                    _mm256_set_m128d(xy(p2), xy(p0)),
+                    _mm256_set_m128d(xy(p3), xy(p1)),
+                );
+                let (px, py, pz) = (
+                    _mm256_unpacklo_pd(xy02, xy13),
+                    _mm256_unpackhi_pd(xy02, xy13),
+                    _mm256_set_pd(p3.z, p2.z, p1.z, p0.z),
+                );
+                // SAFETY: four image counts are 12 bytes, read as 8 and 4.
+                let counts = unsafe {
+                    let at = cs.as_ptr().cast::<u8>();
+                    _mm_insert_epi32::<2>(
+                        _mm_loadl_epi64(at.cast()),
+                        at.add(8).cast::<i32>().read_unaligned(),
+                    )
+                };
+                let count =
+                    |axis| _mm256_cvtepi32_pd(_mm_cvtepi8_epi32(_mm_shuffle_epi8(counts, axis)));
+                let rx = _mm256_sub_pd(_mm256_sub_pd(x, px), _mm256_mul_pd(lx, count(ax)));
+                let ry = _mm256_sub_pd(_mm256_sub_pd(y, py), _mm256_mul_pd(ly, count(ay)));
+                let rz = _mm256_sub_pd(_mm256_sub_pd(z, pz), _mm256_mul_pd(lz, count(az)));
+                let r2 = _mm256_add_pd(
+                    _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry)),
+                    _mm256_mul_pd(rz, rz),
+                );
+                let kept = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(r2, reach2)) as usize;
+                // SAFETY: a table row is 32 bytes.
+                let front = unsafe { _mm256_loadu_si256(FRONT[kept].as_ptr().cast()) };
+                let to_front = |v: __m256d| {
+                    _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), front))
+                };
+                let j64 = _mm256_permutevar8x32_epi32(_mm256_cvtepu32_epi64(j), front);
+                // SAFETY: four lanes from `n`, within the room (asserted
+                // above); the kept lanes first, the rest overwritten by the
+                // next rows or the padding.
+                unsafe {
+                    _mm256_storeu_pd(px_out.add(n), to_front(rx));
+                    _mm256_storeu_pd(py_out.add(n), to_front(ry));
+                    _mm256_storeu_pd(pz_out.add(n), to_front(rz));
+                    _mm256_storeu_pd(r2_out.add(n), to_front(r2));
+                    _mm256_storeu_si256(partner_out.add(n).cast(), j64);
+                }
+                n += kept.count_ones() as usize;
+            }
+            (rows, n)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,12 +296,7 @@ mod tests {
             Vector3::new(0.5, 9.0, 0.5),
             Vector3::new(0.5, 0.5, 9.0),
         ];
-        let mut shifts = vec![[0.0; 256]; 3];
-        for row in shifts.iter_mut() {
-            for (c, s) in row.iter_mut().enumerate() {
-                *s = 10.0 * f64::from(c as u8 as i8);
-            }
-        }
+        let lengths = Vector3::repeat(10.0);
         let partners = [1, 2, 3, 4, 5];
         let images = [[0; 3], [-1, 0, 0], [0; 3], [0, 0, 0], [0, 0, -1]];
         let mut within = Within::default();
@@ -136,7 +304,7 @@ mod tests {
             &positions[0],
             (&partners, &images),
             &positions,
-            &shifts,
+            &lengths,
             4.0,
         );
         assert_eq!(within.count, 3);
@@ -144,7 +312,57 @@ mod tests {
         assert_eq!(&within.x[..LANES], &[-1.0, 1.0, 0.0, 0.0]);
         assert_eq!(&within.z[..LANES], &[0.0, 0.0, 1.5, 1.5]);
         assert_eq!(&within.r2[..LANES], &[1.0, 1.0, 2.25, 2.25]);
-        within.collect(&positions[0], (&[3], &[[0; 3]]), &positions, &shifts, 4.0);
+        within.collect(&positions[0], (&[3], &[[0; 3]]), &positions, &lengths, 4.0);
         assert_eq!(within.count, 0);
+    }
+
+    /// Taken four at a time (on CPUs with AVX2) or one by one, the kept
+    /// partners, their separations (to the bit) and the padding are those
+    /// of a plain loop over the listed partners, for lists of every length
+    /// from 0 to 40 (whole rows and remainders) of random partners with
+    /// image counts -1, 0 or 1 in a box of sides 7, 8 and 9.
+    #[test]
+    fn rows_of_four_keep_what_a_plain_loop_keeps() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(39);
+        let lengths = Vector3::new(7.0, 8.0, 9.0);
+        let positions: Vec<Vector3<f64>> = (0..300)
+            .map(|_| Vector3::from_fn(|k, _| rng.random_range(0.0..lengths[k])))
+            .collect();
+        let mut within = Within::default();
+        for listed in 0..=40 {
+            let x = positions[rng.random_range(0..positions.len())];
+            let partners: Vec<u32> = (0..listed).map(|_| rng.random_range(0..300)).collect();
+            let images: Vec<[i8; 3]> = (0..listed)
+                .map(|_| [0; 3].map(|_: i8| rng.random_range(-1..=1)))
+                .collect();
+            let reach2 = 9.0;
+            within.collect(&x, (&partners, &images), &positions, &lengths, reach2);
+            let mut expected = Vec::new();
+            for (&j, c) in partners.iter().zip(&images) {
+                let shift = Vector3::from_fn(|k, _| lengths[k] * f64::from(c[k]));
+                let r = x - positions[j as usize] - shift;
+                let r2 = r.x * r.x + r.y * r.y + r.z * r.z;
+                if r2 < reach2 {
+                    expected.push((j as usize, r.x, r.y, r.z, r2));
+                }
+            }
+            assert_eq!(within.count, expected.len(), "{listed} listed");
+            if let Some(&last) = expected.last() {
+                expected.resize(expected.len().next_multiple_of(LANES), last);
+            }
+            let kept: Vec<_> = (0..expected.len())
+                .map(|k| {
+                    (
+                        within.partner[k],
+                        within.x[k],
+                        within.y[k],
+                        within.z[k],
+                        within.r2[k],
+                    )
+                })
+                .collect();
+            assert_eq!(kept, expected, "{listed} listed");
+        }
     }
 }
