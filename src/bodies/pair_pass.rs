@@ -202,6 +202,29 @@ fn charged(m: &SiteMultipoles, i: usize) -> ChargeDipole {
     }
 }
 
+/// Newton's third law for a chunk of pairs: the chunk's forces `f` on the
+/// site taken from its partners `js` (the lanes in use), and `r f^T` added
+/// to the virial's rows.
+#[inline(always)]
+fn react<T: Lanes>(
+    f: &V4<T>,
+    r: &V4<T>,
+    js: &[usize],
+    force: &mut [Vector3<f64>],
+    virial: &mut [T; 9],
+) {
+    let forces = f.to_vectors();
+    for (&j, fj) in js.iter().zip(forces) {
+        force[j] -= fj;
+    }
+    let (rs, fs) = ([r.x, r.y, r.z], [f.x, f.y, f.z]);
+    for a in 0..3 {
+        for b in 0..3 {
+            virial[3 * a + b] += rs[a] * fs[b];
+        }
+    }
+}
+
 /// What the kernels read.
 struct Inputs<'a> {
     terms: &'a PairTerms<'a>,
@@ -362,16 +385,7 @@ impl<'a> Inputs<'a> {
                     f += self.charge_pairs(&coulomb, coulomb_cutoff, chunk, (t, m), sums, out);
                 }
                 force_i += f;
-                let forces = f.to_vectors();
-                for l in 0..n {
-                    out.force[js[l]] -= forces[l];
-                }
-                let (rs, fs) = ([r.x, r.y, r.z], [f.x, f.y, f.z]);
-                for a in 0..3 {
-                    for b in 0..3 {
-                        virial[3 * a + b] += rs[a] * fs[b];
-                    }
-                }
+                react(&f, &r, &js[..n], &mut out.force, &mut virial);
             }
             out.force[i] += force_i.total();
             if target.is_some() {

@@ -195,9 +195,6 @@ mod avx2 {
             // stays in bounds.
             // SAFETY: a table row is 16 bytes.
             let [ax, ay, az] = AXIS_BYTES.map(|b| unsafe { _mm_loadu_si128(b.as_ptr().cast()) });
-            let [lx, ly, lz] =
-                [site.lengths.x, site.lengths.y, site.lengths.z].map(|l| _mm256_set1_pd(l));
-            let [x, y, z] = [site.x.x, site.x.y, site.x.z].map(|c| _mm256_set1_pd(c));
             let reach2 = _mm256_set1_pd(site.reach2);
             // Every row is stored from the count `n <= k` (the kept of the
             // `k` partners before it), so within the room of the listed
@@ -222,37 +219,7 @@ mod avx2 {
             {
                 // SAFETY: four u32 are 16 bytes.
                 let j = unsafe { _mm_loadu_si128(js.as_ptr().cast()) };
-                // Each partner's position loaded whole (`x, y` as a pair,
-                // `z` alone), then turned into rows by component (no
-                // gather instructions: slower than loads on some CPUs).
-                let [p0, p1, p2, p3] = [0, 1, 2, 3].map(|l| &site.positions[js[l] as usize]);
-                let xy = |p: &Vector3<f64>| _mm_set_pd(p.y, p.x);
-                let (xy02, xy13) = (
-                    _mm256_set_m128d(xy(p2), xy(p0)),
-                    _mm256_set_m128d(xy(p3), xy(p1)),
-                );
-                let (px, py, pz) = (
-                    _mm256_unpacklo_pd(xy02, xy13),
-                    _mm256_unpackhi_pd(xy02, xy13),
-                    _mm256_set_pd(p3.z, p2.z, p1.z, p0.z),
-                );
-                // SAFETY: four image counts are 12 bytes, read as 8 and 4.
-                let counts = unsafe {
-                    let at = cs.as_ptr().cast::<u8>();
-                    _mm_insert_epi32::<2>(
-                        _mm_loadl_epi64(at.cast()),
-                        at.add(8).cast::<i32>().read_unaligned(),
-                    )
-                };
-                let count =
-                    |axis| _mm256_cvtepi32_pd(_mm_cvtepi8_epi32(_mm_shuffle_epi8(counts, axis)));
-                let rx = _mm256_sub_pd(_mm256_sub_pd(x, px), _mm256_mul_pd(lx, count(ax)));
-                let ry = _mm256_sub_pd(_mm256_sub_pd(y, py), _mm256_mul_pd(ly, count(ay)));
-                let rz = _mm256_sub_pd(_mm256_sub_pd(z, pz), _mm256_mul_pd(lz, count(az)));
-                let r2 = _mm256_add_pd(
-                    _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry)),
-                    _mm256_mul_pd(rz, rz),
-                );
+                let [rx, ry, rz, r2] = row_separations(site, js, cs, [ax, ay, az]);
                 let kept = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(r2, reach2)) as usize;
                 // SAFETY: a table row is 32 bytes.
                 let front = unsafe { _mm256_loadu_si256(FRONT[kept].as_ptr().cast()) };
@@ -274,6 +241,55 @@ mod avx2 {
             }
             (rows, n)
         }
+    }
+
+    /// The separations `x_i - x_j - L n` of four listed partners `js` with
+    /// image counts `cs` (the byte shuffles `axes` pick each axis's counts),
+    /// as rows by component, and their squares: each lane rounded as the
+    /// one-by-one separation is (no fused multiply-add).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn row_separations(
+        site: &Site<'_>,
+        js: &[u32],
+        cs: &[[i8; 3]],
+        [ax, ay, az]: [__m128i; 3],
+    ) -> [__m256d; 4] {
+        let [lx, ly, lz] =
+            [site.lengths.x, site.lengths.y, site.lengths.z].map(|l| _mm256_set1_pd(l));
+        let [x, y, z] = [site.x.x, site.x.y, site.x.z].map(|c| _mm256_set1_pd(c));
+        // Each partner's position loaded whole (`x, y` as a pair,
+        // `z` alone), then turned into rows by component (no
+        // gather instructions: slower than loads on some CPUs).
+        let [p0, p1, p2, p3] = [0, 1, 2, 3].map(|l| &site.positions[js[l] as usize]);
+        let xy = |p: &Vector3<f64>| _mm_set_pd(p.y, p.x);
+        let (xy02, xy13) = (
+            _mm256_set_m128d(xy(p2), xy(p0)),
+            _mm256_set_m128d(xy(p3), xy(p1)),
+        );
+        let (px, py, pz) = (
+            _mm256_unpacklo_pd(xy02, xy13),
+            _mm256_unpackhi_pd(xy02, xy13),
+            _mm256_set_pd(p3.z, p2.z, p1.z, p0.z),
+        );
+        assert_eq!(cs.len(), LANES, "a row of image counts");
+        // SAFETY: four image counts are 12 bytes, read as 8 and 4.
+        let counts = unsafe {
+            let at = cs.as_ptr().cast::<u8>();
+            _mm_insert_epi32::<2>(
+                _mm_loadl_epi64(at.cast()),
+                at.add(8).cast::<i32>().read_unaligned(),
+            )
+        };
+        let count = |axis| _mm256_cvtepi32_pd(_mm_cvtepi8_epi32(_mm_shuffle_epi8(counts, axis)));
+        let rx = _mm256_sub_pd(_mm256_sub_pd(x, px), _mm256_mul_pd(lx, count(ax)));
+        let ry = _mm256_sub_pd(_mm256_sub_pd(y, py), _mm256_mul_pd(ly, count(ay)));
+        let rz = _mm256_sub_pd(_mm256_sub_pd(z, pz), _mm256_mul_pd(lz, count(az)));
+        let r2 = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry)),
+            _mm256_mul_pd(rz, rz),
+        );
+        [rx, ry, rz, r2]
     }
 }
 
