@@ -23,7 +23,7 @@
 //! 2. the space-frame multipoles, one pass over the rotors;
 //! 3. the pair fields: one section for a cutoff sum (blocks of rows), five
 //!    for the FFT lattice sum (passes over grid lines, the scatter and
-//!    gather fused into the first and last; `fft3::RealFft3::convolve`),
+//!    gather fused into the first and last; `fft3::RealFft3::convolve_into`),
 //!    one plus the reciprocal passes for a direct Ewald sum;
 //! 4. the external fields, gradient and torques, one pass over the rotors;
 //! 5. the second half kick, one pass over chunks of rotors.
@@ -37,7 +37,7 @@
 //! moving bodies, another sum) joins the pass of the same kind: work on one
 //! rotor or body goes into the per-rotor pass that reads the same inputs
 //! (as the external fields joined the torque pass), work on the grid into
-//! the grid passes of `convolve`; a pass of its own only where it needs the
+//! the grid passes of `convolve_into`; a pass of its own only where it needs the
 //! results of all rotors of the previous one. Each pass computes every
 //! rotor's or grid line's values in the same order whatever the cuts, so
 //! results depend on the thread count only where the pair loop's blocks do.

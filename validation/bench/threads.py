@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -37,14 +38,21 @@ TARGET_ROTORS = (1_000, 8_000, 64_000)
 ROTOR_STEPS = 4e6
 #: Pair-steps per run of an open cluster (cost quadratic in N).
 PAIR_STEPS = 2e8
-#: Fewest steps per run.
+#: Fewest steps per run of an open cluster.
 MIN_STEPS = 2
+#: Fewest steps per run of a periodic scene: the run length of the dipole
+#: lattice scenes as written (`run.steps = 500`). Shorter runs are dominated
+#: by what is done once (the Gear start-up alone takes 65 evaluations, as
+#: many as 65 steps): at 64,000 rotors the fixed work of `ROTOR_STEPS` gave
+#: 62 steps, and the set-up was half the run.
+MIN_PERIODIC_STEPS = 500
 #: The largest open cluster measured: its sum is O(N^2) (about 0.8 s an
 #: evaluation at 8,000 rotors, 50 s at 64,000: "Build, test and command
 #: times"), and its Gear start-up takes 65 evaluations a run.
 MAX_OPEN_ROTORS = 2_000
-#: Above this 1-minute load average (per core) the machine is not idle.
-IDLE_LOAD_PER_CORE = 0.1
+#: The machine was idle during a run when other processes (and the
+#: hypervisor's steal) took at most this share of its cores' time.
+IDLE_SHARE = 0.02
 
 
 def lattice_scenes() -> list[tuple[str, dict]]:
@@ -68,9 +76,33 @@ def periodic(scene: dict) -> bool:
 
 
 def steps_for(scene: dict, rotors: int) -> int:
-    """Steps of one run: a fixed work per run (module constants)."""
-    steps = ROTOR_STEPS / rotors if periodic(scene) else PAIR_STEPS / (rotors * rotors / 2)
-    return max(MIN_STEPS, round(steps))
+    """Steps of one run: a fixed work per run (module constants), at least
+    `MIN_PERIODIC_STEPS` for a periodic scene and `MIN_STEPS` for an open one."""
+    if periodic(scene):
+        return max(MIN_PERIODIC_STEPS, round(ROTOR_STEPS / rotors))
+    return max(MIN_STEPS, round(PAIR_STEPS / (rotors * rotors / 2)))
+
+
+def busy_seconds() -> float:
+    """CPU seconds the whole machine has spent busy since boot (all cores:
+    user, nice, system, interrupts and the hypervisor's steal), from
+    `/proc/stat`."""
+    fields = Path("/proc/stat").read_text().split("\n", 1)[0].split()
+    user, nice, system, _idle, _iowait, irq, softirq, steal = (int(v) for v in fields[1:9])
+    return (user + nice + system + irq + softirq + steal) / os.sysconf("SC_CLK_TCK")
+
+
+def own_seconds() -> float:
+    """CPU seconds of this process and its finished children."""
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
+
+
+def others_share(busy: float, own: float, wall: float, cores: int) -> float:
+    """The share of the cores' time over `wall` seconds that went to other
+    processes (or the hypervisor): the machine's busy CPU seconds less ours,
+    over `cores * wall`; never below 0 (the two clocks tick differently)."""
+    return max(0.0, busy - own) / (cores * wall)
 
 
 def scene_text(scene: dict, cells: int) -> str:
@@ -114,8 +146,10 @@ def _value(v) -> str:
 
 
 def timed_run(cli: Path, scene_file: Path, steps: int, threads: int, out: Path) -> dict:
-    """One CLI run: the process's wall time and the loop's (summary)."""
+    """One CLI run: the process's wall time, the loop's (summary) and the
+    share of the machine that other processes took meanwhile."""
     env = {k: v for k, v in os.environ.items() if k != "RAYON_NUM_THREADS"}
+    busy, own = busy_seconds(), own_seconds()
     started = time.perf_counter()
     subprocess.run(
         [str(cli), "run", str(scene_file), "--steps", str(steps), "--threads", str(threads), "--out", str(out)],
@@ -124,9 +158,10 @@ def timed_run(cli: Path, scene_file: Path, steps: int, threads: int, out: Path) 
         env=env,
     )
     wall = time.perf_counter() - started
+    others = others_share(busy_seconds() - busy, own_seconds() - own, wall, os.cpu_count() or 1)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["threads"]["count"] == threads, summary["threads"]
-    return {"wall": wall, "loop": summary["wall_seconds"]}
+    return {"wall": wall, "loop": summary["wall_seconds"], "others": others}
 
 
 def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: Path) -> dict:
@@ -142,10 +177,18 @@ def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: 
         for threads in (1, 2) if repeat % 2 == 0 else (2, 1):
             times[threads].append(timed_run(cli, scene_file, steps, threads, work / f"out_{threads}"))
         loads.append(os.getloadavg()[0])
-    row = {"scene": name, "cells": cells, "rotors": n, "steps": steps, "repeats": repeats, "load_averages": loads}
-    for key in ("wall", "loop"):
-        t1 = [t[key] for t in times[1]]
-        t2 = [t[key] for t in times[2]]
+    row = {
+        "scene": name,
+        "cells": cells,
+        "rotors": n,
+        "steps": steps,
+        "repeats": repeats,
+        "load_averages": loads,
+        "others_share": max(t["others"] for t in times[1] + times[2]),
+    }
+    for key in ("wall", "loop", "set_up"):
+        t1 = [t["wall"] - t["loop"] if key == "set_up" else t[key] for t in times[1]]
+        t2 = [t["wall"] - t["loop"] if key == "set_up" else t[key] for t in times[2]]
         ratios = [a / b for a, b in zip(t1, t2)]
         row[key] = {
             "seconds_1": t1,
@@ -159,7 +202,7 @@ def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: 
     print(
         f"  {name} N = {n}: {row['wall']['median_1']:.3f} s / {row['wall']['median_2']:.3f} s, "
         f"x{row['wall']['speedup']:.2f} (pairs {min(row['wall']['pair_ratios']):.2f}-{max(row['wall']['pair_ratios']):.2f}), "
-        f"load {max(loads):.2f}",
+        f"others {100 * row['others_share']:.1f} %",
         flush=True,
     )
     return row
@@ -168,8 +211,8 @@ def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: 
 def section(result: dict) -> str:
     m = result["machine"]
     cores = m["cpus"] or 1
-    busiest = max(max(r["load_averages"]) for r in result["rows"])
-    idle = busiest <= IDLE_LOAD_PER_CORE * cores
+    busiest = max(r["others_share"] for r in result["rows"])
+    idle = busiest <= IDLE_SHARE
     lines = [
         BEGIN,
         "## Threads: whole runs on 1 and 2 threads (issue 38, `make bench-threads`)",
@@ -178,28 +221,35 @@ def section(result: dict) -> str:
         f"- Command: `python -m validation.bench.threads {' '.join(result['argv'])}` (`make bench-threads` runs it "
         f"with `--out benchmarks`), {result['seconds']:.0f} s.",
         (
-            f"- The machine was idle (1-minute load average at most {busiest:.2f})."
+            f"- The machine was idle: other processes and the hypervisor's steal took at most {100 * busiest:.1f} % "
+            f"of the {cores} cores' time during any run (`/proc/stat`'s busy time less the benchmark's own CPU time)."
             if idle
-            else f"- **The machine was not idle**: the 1-minute load average reached {busiest:.2f} on {cores} hardware "
-            "threads during the measurement (other processes shared the cores), so the speed-ups below understate "
-            "what an idle machine gives and their spread is wide."
+            else f"- **The machine was not idle**: other processes and the hypervisor's steal took up to "
+            f"{100 * busiest:.1f} % of the {cores} cores' time during a run (`/proc/stat`'s busy time less the "
+            "benchmark's own CPU time), so the speed-ups below understate what an idle machine gives and their "
+            "spread is wide."
         ),
         "- Each built-in lattice scene as written (its integrator, thermostat, sum and recording), its `cells` "
         "set for about 1,000, 8,000 and 64,000 rotors, through the CLI (`--threads 1`, `--threads 2`); "
-        f"{ROTOR_STEPS:.0e} rotor-steps per periodic run, {PAIR_STEPS:.0e} pair-steps per open-cluster run "
-        f"(at least {MIN_STEPS} steps); open clusters (O(N^2)) up to {MAX_OPEN_ROTORS:,} rotors. Each repeat runs the pair side by side, the order alternating; medians over "
-        "the repeats. Whole run: the process's wall time (set-up, start-up, outputs included); loop: the run loop "
-        "(`wall_seconds` of `summary.json`). Efficiency `t1 / (2 t2)`; pairs: the range of the repeats' ratios.",
+        f"{ROTOR_STEPS:.0e} rotor-steps per periodic run but at least {MIN_PERIODIC_STEPS} steps (the dipole "
+        f"lattices' own run length), {PAIR_STEPS:.0e} pair-steps per open-cluster run (at least {MIN_STEPS} steps); "
+        f"open clusters (O(N^2)) up to {MAX_OPEN_ROTORS:,} rotors. Each repeat runs the pair side by side, the order "
+        "alternating; medians over the repeats. Whole run: the process's wall time (set-up, start-up, outputs "
+        "included); loop: the run loop (`wall_seconds` of `summary.json`); set-up: the whole run less the loop "
+        "(scene, sums, Gear start-up, opening and closing the outputs). Efficiency `t1 / (2 t2)`; pairs: the range "
+        "of the repeats' ratios; others: the largest share of the cores' time that other processes took during a "
+        "run of the row.",
         "",
-        "| scene | N | steps | repeats | 1 thread s | 2 threads s | speed-up (pairs) | efficiency | loop speed-up | max load |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| scene | N | steps | repeats | 1 thread s | 2 threads s | speed-up (pairs) | efficiency | loop speed-up "
+        "| set-up s (1 / 2 threads) | others |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in result["rows"]:
-        w, lp = r["wall"], r["loop"]
+        w, lp, su = r["wall"], r["loop"], r["set_up"]
         lines.append(
             f"| `{r['scene']}` | {r['rotors']:,} | {r['steps']} | {r['repeats']} | {w['median_1']:.3f} | {w['median_2']:.3f} | "
             f"{w['speedup']:.2f}x ({min(w['pair_ratios']):.2f}-{max(w['pair_ratios']):.2f}) | {w['efficiency']:.2f} | "
-            f"{lp['speedup']:.2f}x | {max(r['load_averages']):.2f} |"
+            f"{lp['speedup']:.2f}x | {su['median_1']:.3f} / {su['median_2']:.3f} | {100 * r['others_share']:.1f} % |"
         )
     lines += ["", END]
     return "\n".join(lines) + "\n"
@@ -217,8 +267,11 @@ def main(argv=None) -> int:
         sys.exit(f"{args.cli} is missing: run `cargo build --release` first")
     started = time.perf_counter()
     machine = results_md.machine()
-    if machine["load_average"] > IDLE_LOAD_PER_CORE * (machine["cpus"] or 1):
-        print(f"warning: the machine is not idle (1-minute load average {machine['load_average']:.2f})", flush=True)
+    busy, wall = busy_seconds(), time.perf_counter()
+    time.sleep(1.0)
+    share = others_share(busy_seconds() - busy, 0.0, time.perf_counter() - wall, machine["cpus"] or 1)
+    if share > IDLE_SHARE:
+        print(f"warning: the machine is not idle (other processes took {100 * share:.0f} % of it)", flush=True)
     rows = []
     with tempfile.TemporaryDirectory(prefix="quatrot-threads-") as tmp:
         for name, scene in lattice_scenes():

@@ -1,7 +1,7 @@
 //! Three-dimensional real-to-complex FFTs on an `n_x x n_y x n_z` grid:
 //! `realfft` along z, then `rustfft` along y and x, each axis as a batch of
 //! contiguous lines (the data is transposed between the axes). Large grids
-//! split their lines among the rayon threads. [`RealFft3::convolve`] runs a
+//! split their lines among the rayon threads. [`RealFft3::convolve_into`] runs a
 //! whole convolution (forward transforms, products per frequency, inverse
 //! transforms of several grids) in five parallel passes.
 //!
@@ -18,11 +18,11 @@ use std::sync::Arc;
 /// Grids with fewer points run on the calling thread (threads cost more).
 const PARALLEL_MIN: usize = 1 << 15;
 
-/// [`RealFft3::convolve`] runs on the calling thread below this many grid
+/// [`RealFft3::convolve_into`] runs on the calling thread below this many grid
 /// points (over all its source and field grids).
 const CONVOLVE_PARALLEL_MIN: usize = 2048;
 
-/// Tasks per thread in a pass of [`RealFft3::convolve`].
+/// Tasks per thread in a pass of [`RealFft3::convolve_into`].
 const TASKS_PER_THREAD: usize = 2;
 
 type C64 = Complex<f64>;
@@ -46,45 +46,33 @@ impl std::fmt::Debug for RealFft3 {
 }
 
 /// The buffers of [`RealFft3::convolve_into`]: two complex ones, used in
-/// turn by its passes, and the real result.
+/// turn by its passes, and the real result, sized once and kept between
+/// convolutions.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ConvolveBuffers {
     a: Vec<C64>,
     b: Vec<C64>,
     real: Vec<f64>,
-    /// Kept between convolutions (sized once by [`Self::held`]).
-    held: bool,
 }
 
 impl ConvolveBuffers {
-    /// Buffers sized once for convolutions of `(sources, fields)` grids
-    /// with `plan`, kept between them.
-    pub fn held(plan: &RealFft3, (sources, fields): (usize, usize)) -> Self {
+    /// Buffers for convolutions of `(sources, fields)` grids with `plan`.
+    pub fn new(plan: &RealFft3, (sources, fields): (usize, usize)) -> Self {
         let complex = plan.spectrum_len() * sources.max(fields);
         let points: usize = plan.n.iter().product();
         ConvolveBuffers {
             a: Vec::with_capacity(complex),
             b: Vec::with_capacity(complex),
             real: Vec::with_capacity(points * fields),
-            held: true,
         }
     }
 }
 
-/// Makes `buffer` `len` long (within its capacity when `held`; every value
-/// is overwritten by the pass).
-fn ready<T: Clone + Default>(buffer: &mut Vec<T>, len: usize, held: bool) {
-    if held {
-        buffer.clear();
-    }
+/// Makes `buffer` `len` long. Every value is overwritten by the pass, so
+/// the values it keeps from the last convolution are left there (only a
+/// buffer growing past its length is zeroed, in its new part).
+fn ready<T: Clone + Default>(buffer: &mut Vec<T>, len: usize) {
     buffer.resize(len, T::default());
-}
-
-/// Frees `buffer` unless it is `held`.
-fn release<T>(buffer: &mut Vec<T>, held: bool) {
-    if !held {
-        *buffer = Vec::new();
-    }
 }
 
 /// Runs `f(lines, scratch)` on batches of whole lines of `buffer`, in
@@ -247,28 +235,15 @@ impl RealFft3 {
     /// is transformed along z, then y, then x; `multiply(m, s, f)` turns the
     /// x lines `s` (`[g][k_x]`) of `m = k_z n_y + k_y` into the field x lines
     /// `f` (`[t][k_x]`); those are transformed back along x, y and z.
-    /// Returns the real fields (times `n_x n_y n_z`) as `[l][t][z]`.
+    /// Returns the real fields (times `n_x n_y n_z`) as `[l][t][z]`, in
+    /// `buffers` (nothing mesh-sized is allocated when they were made for
+    /// these grids by [`ConvolveBuffers::new`]; the transforms' line
+    /// scratch still is).
     ///
     /// Each line is transformed on its own and the gathers are copies, so
     /// the result does not depend on the number of threads or tasks. The
     /// imaginary parts that a real field's spectrum lacks (its `k_z = 0` and
     /// `k_z = n_z / 2` planes after the x and y transforms) are dropped.
-    pub fn convolve(
-        &self,
-        grids: (usize, usize),
-        fill: impl Fn(usize, &mut [f64]) + Sync,
-        multiply: impl Fn(usize, &[C64], &mut [C64]) + Sync,
-    ) -> Vec<f64> {
-        let mut buffers = ConvolveBuffers::default();
-        let _ = self.convolve_into(&mut buffers, grids, fill, multiply);
-        buffers.real
-    }
-
-    /// [`Self::convolve`] into `buffers`, returning the real fields: with
-    /// [`ConvolveBuffers::held`] nothing mesh-sized is allocated (the
-    /// transforms' line scratch still is); otherwise each pass allocates
-    /// its output and the input of the pass before is freed (two passes'
-    /// buffers at a time). The same arithmetic either way.
     pub fn convolve_into<'a>(
         &self,
         buffers: &'a mut ConvolveBuffers,
@@ -279,35 +254,31 @@ impl RealFft3 {
         let [nx, ny, nz] = self.n;
         let half = self.half;
         let parallel = (sources + fields) * nx * ny * nz >= CONVOLVE_PARALLEL_MIN;
-        let ConvolveBuffers { a, b, real, held } = buffers;
-        let held = *held;
+        let ConvolveBuffers { a, b, real } = buffers;
         let source_len = nx * ny * sources * half;
         let field_len = nx * ny * fields * half;
         // z: [x y][g][kz] in a.
-        ready(a, source_len, held);
+        ready(a, source_len);
         self.forward_z(sources, parallel, fill, a);
         // y: [kz x][g][y] in b, gathered from [x y][g][kz].
-        ready(b, source_len, held);
+        ready(b, source_len);
         self.y_pass(&self.y[0], sources, parallel, b, |kz, x, g, y| {
             a[((x * ny + y) * sources + g) * half + kz]
         });
-        release(a, held);
         // x and the products: [kz ky][t][x] in a.
-        ready(a, field_len, held);
+        ready(a, field_len);
         self.x_products(b, (sources, fields), parallel, multiply, a);
-        release(b, held);
         // y back: [kz x][t][y] in b, gathered from [kz ky][t][x].
-        ready(b, field_len, held);
+        ready(b, field_len);
         self.y_pass(&self.y[1], fields, parallel, b, |kz, x, t, ky| {
             a[((kz * ny + ky) * fields + t) * nx + x]
         });
-        release(a, held);
-        ready(real, nx * ny * fields * nz, held);
+        ready(real, nx * ny * fields * nz);
         self.inverse_z(b, fields, parallel, real);
         real
     }
 
-    /// The first pass of [`Self::convolve`]: the `sources` real z lines of
+    /// The first pass of [`Self::convolve_into`]: the `sources` real z lines of
     /// each grid line `l`, written by `fill`, transformed along z, as
     /// `[l][g][kz]`.
     fn forward_z(
@@ -342,7 +313,7 @@ impl RealFft3 {
         );
     }
 
-    /// The middle pass of [`Self::convolve`]: x transforms of the sources'
+    /// The middle pass of [`Self::convolve_into`]: x transforms of the sources'
     /// lines gathered from `along_y` (`[kz x][g][y]`), the products
     /// `multiply`, and the fields' x lines transformed back, as
     /// `[kz ky][t][x]`.
@@ -383,7 +354,7 @@ impl RealFft3 {
         );
     }
 
-    /// The last pass of [`Self::convolve`]: the `fields` real z lines of
+    /// The last pass of [`Self::convolve_into`]: the `fields` real z lines of
     /// each grid line, gathered from `back_y` (`[kz x][t][y]`) and
     /// transformed back along z, as `[l][t][z]`.
     fn inverse_z(&self, back_y: &[C64], fields: usize, parallel: bool, real: &mut [f64]) {
@@ -419,7 +390,7 @@ impl RealFft3 {
         );
     }
 
-    /// A y pass of [`Self::convolve`]: the `[kz x][g][y]` lines of `grids`
+    /// A y pass of [`Self::convolve_into`]: the `[kz x][g][y]` lines of `grids`
     /// grids, each value `at(kz, x, g, y)`, transformed by `fft`.
     fn y_pass(
         &self,
@@ -467,6 +438,20 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
+    impl RealFft3 {
+        /// [`RealFft3::convolve_into`] into buffers of its own.
+        fn convolve(
+            &self,
+            grids: (usize, usize),
+            fill: impl Fn(usize, &mut [f64]) + Sync,
+            multiply: impl Fn(usize, &[C64], &mut [C64]) + Sync,
+        ) -> Vec<f64> {
+            let mut buffers = ConvolveBuffers::new(self, grids);
+            let _ = self.convolve_into(&mut buffers, grids, fill, multiply);
+            buffers.real
+        }
+    }
+
     /// `a f + b g` for two grids `f`, `g` (the linear map of a convolution
     /// with a constant kernel), as `convolve` returns them, divided by `N`.
     fn linear_map(plan: &RealFft3, grids: [&[f64]; 2], weights: &[[f64; 2]]) -> Vec<Vec<f64>> {
@@ -495,6 +480,53 @@ mod tests {
                     .collect()
             })
             .collect()
+    }
+
+    /// Every value of the kept buffers is overwritten by the passes: buffers
+    /// holding NaN from end to end, or left by a convolution of other grid
+    /// counts, give the result of new buffers bit for bit (on an odd and an
+    /// even z length, serial and parallel).
+    #[test]
+    fn kept_buffers_give_the_result_of_new_ones() {
+        for n in [[3, 4, 5], [16, 16, 18]] {
+            let plan = RealFft3::new(n);
+            let [nx, _, nz] = n;
+            let fill = |l: usize, lines: &mut [f64]| {
+                for (g, line) in lines.chunks_mut(nz).enumerate() {
+                    for (z, v) in line.iter_mut().enumerate() {
+                        *v = ((l * 31 + z * 7 + g * 3) % 11) as f64 - 5.0;
+                    }
+                }
+            };
+            let multiply = |m: usize, s: &[C64], f: &mut [C64]| {
+                for (t, out) in f.chunks_mut(nx).enumerate() {
+                    for (kx, v) in out.iter_mut().enumerate() {
+                        *v = s[kx] * (1.0 + (m + t) as f64) - s[nx + kx] * 0.5;
+                    }
+                }
+            };
+            let fresh = plan.convolve((2, 3), fill, multiply);
+            let mut kept = ConvolveBuffers::new(&plan, (2, 3));
+            kept.a
+                .resize(kept.a.capacity(), C64::new(f64::NAN, f64::NAN));
+            kept.b
+                .resize(kept.b.capacity(), C64::new(f64::NAN, f64::NAN));
+            kept.real.resize(kept.real.capacity(), f64::NAN);
+            let first = plan
+                .convolve_into(&mut kept, (2, 3), fill, multiply)
+                .to_vec();
+            let _ = plan.convolve_into(&mut kept, (2, 1), fill, |_, s, f| {
+                f.copy_from_slice(&s[..nx])
+            });
+            let again = plan.convolve_into(&mut kept, (2, 3), fill, multiply);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&first), bits(&fresh), "{n:?}: buffers of NaN");
+            assert_eq!(
+                bits(again),
+                bits(&fresh),
+                "{n:?}: buffers of another convolution"
+            );
+        }
     }
 
     /// Three linear maps of two grids, `convolve` against the values computed

@@ -28,7 +28,7 @@
 //! [`MAX_FFT_BYTES`] or the memory limit of [`crate::memory`].
 
 use super::ewald_parameters::{Cost, EwaldParameters};
-use super::fft3::RealFft3;
+use super::fft3::{ConvolveBuffers, RealFft3};
 use super::kernels::{Lanes, MultipoleKind, SiteFields, SpaceMultipoles};
 use super::lattice_grid::LatticeGrid;
 use super::lattice_kernel::{build_kernel, KernelShape, C64};
@@ -36,6 +36,7 @@ use super::periodic_sum::ChosenSum;
 use super::PotentialError;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
+use std::sync::{Mutex, PoisonError};
 
 /// The most memory (bytes) the FFT lattice sum may hold: its kernel, the
 /// buffers of one evaluation and those of the kernel's construction.
@@ -54,7 +55,7 @@ fn source_components(
 }
 
 /// The FFT lattice sum of one lattice (see the module doc).
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub(crate) struct LatticeFft {
     grid: LatticeGrid,
     plan: RealFft3,
@@ -68,6 +69,24 @@ pub(crate) struct LatticeFft {
     /// The site in each slot `(cell, basis)` at `cell * B + basis`, or [`EMPTY`].
     occupants: Vec<usize>,
     parameters: Option<EwaldParameters>,
+    /// The convolution's buffers, sized once and kept between evaluations
+    /// (no allocation, zeroing or page faults per evaluation), behind a
+    /// lock: an evaluation writes them, and the potential evaluates through
+    /// `&self`.
+    buffers: Mutex<ConvolveBuffers>,
+}
+
+impl Clone for LatticeFft {
+    fn clone(&self) -> Self {
+        LatticeFft {
+            grid: self.grid.clone(),
+            plan: self.plan.clone(),
+            kernel: self.kernel.clone(),
+            occupants: self.occupants.clone(),
+            buffers: Mutex::new(self.lock().clone()),
+            ..*self
+        }
+    }
 }
 
 /// An empty slot in [`LatticeFft::occupants`].
@@ -112,7 +131,10 @@ impl LatticeFft {
             &shape,
             (dipoles, quadrupoles),
         );
+        let b = grid.basis.len();
+        let buffers = ConvolveBuffers::new(&plan, (b * shape.sources, b * shape.fields));
         Ok(LatticeFft {
+            buffers: Mutex::new(buffers),
             grid,
             plan,
             dipoles,
@@ -123,6 +145,11 @@ impl LatticeFft {
             occupants,
             parameters: sum.parameters,
         })
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, ConvolveBuffers> {
+        // A panic elsewhere leaves the buffers valid: each evaluation rewrites them.
+        self.buffers.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     /// The Ewald parameters of the kernel (`None` for a truncated sum).
@@ -136,7 +163,7 @@ impl LatticeFft {
     }
 
     /// The fields of every site: the multipoles scattered onto the grid
-    /// lines, convolved with the kernel ([`RealFft3::convolve`], parallel
+    /// lines, convolved with the kernel ([`RealFft3::convolve_into`], parallel
     /// on large grids), and gathered per site in parallel.
     pub fn fields<K: MultipoleKind>(&self, multipoles: &SpaceMultipoles) -> SiteFields {
         debug_assert_eq!(
@@ -183,7 +210,10 @@ impl LatticeFft {
                 }
             }
         };
-        let real = self.plan.convolve((bc, bf), fill, multiply);
+        let mut buffers = self.lock();
+        let real = self
+            .plan
+            .convolve_into(&mut buffers, (bc, bf), fill, multiply);
         let mut out = SiteFields::zeros::<K>(self.grid.slots.len());
         let at = |i: usize, f: usize| {
             let (cell, basis) = self.grid.slots[i];
@@ -283,9 +313,9 @@ fn output_bytes_per_site(dipoles: bool, quadrupoles: bool) -> usize {
 }
 
 /// Bytes of the kernel, the slots' occupants and the plans (two complex
-/// twiddle factors per point of each axis), of one evaluation's buffers
-/// (`output` those of the fields it returns; the passes of
-/// [`RealFft3::convolve`] hold two of their buffers at a time) and of the
+/// twiddle factors per point of each axis), of the convolution's buffers
+/// (held from the end of the construction on, [`ConvolveBuffers::new`]),
+/// of the fields an evaluation returns (`output`), and of the
 /// construction's, on a grid of `axes` cells.
 fn memory_bytes(
     b: usize,
@@ -300,12 +330,9 @@ fn memory_bytes(
     let (b, spectrum) = (b as f64, spectrum as f64);
     let (c, f) = (sources as f64, fields as f64);
     let kernel = spectrum * b * b * c * f * 16.0 + cells * b * 8.0 + plans;
-    let real_fields = f * b * cells * 8.0;
-    let evaluation = (2.0 * c.max(f) * b * spectrum * 16.0)
-        .max(f * b * spectrum * 16.0 + real_fields)
-        .max(real_fields + output as f64);
+    let buffers = 2.0 * c.max(f) * b * spectrum * 16.0 + f * b * cells * 8.0;
     let construction = c * f * cells * 8.0 + 2.0 * spectrum * 16.0;
-    kernel + evaluation.max(construction)
+    kernel + (buffers + output as f64).max(construction)
 }
 
 #[cfg(test)]

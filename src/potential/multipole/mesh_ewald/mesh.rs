@@ -94,7 +94,7 @@ impl MeshEwald {
             box_lengths,
             influence,
             mesh: vec![0.0; points as usize],
-            convolution: ConvolveBuffers::held(&fft, (1, 1)),
+            convolution: ConvolveBuffers::new(&fft, (1, 1)),
             fft,
             weights: SiteWeights::new(sites, grid, parameters.order),
             cells: CellList::new(sites, &box_lengths, parameters.real_cutoff),

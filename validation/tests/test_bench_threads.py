@@ -1,0 +1,61 @@
+"""The thread benchmark's protocol (`validation/bench/threads.py`): run
+lengths, the share of the machine other processes took, and the idle
+verdict of its section."""
+
+import time
+
+from validation.bench import threads
+
+
+def test_periodic_runs_are_never_shorter_than_the_dipole_lattices_own_length():
+    periodic = {"interactions": {"boundary": {"kind": "periodic"}}}
+    assert threads.steps_for(periodic, 1_000) == 4_000
+    assert threads.steps_for(periodic, 8_000) == threads.MIN_PERIODIC_STEPS == 500
+    assert threads.steps_for(periodic, 64_000) == 500
+
+
+def test_open_clusters_keep_a_fixed_pair_work():
+    open_cluster = {"interactions": {"boundary": {"kind": "open"}}}
+    assert threads.steps_for(open_cluster, 1_024) == round(threads.PAIR_STEPS / (1_024**2 / 2))
+    assert threads.steps_for(open_cluster, 100_000) == threads.MIN_STEPS
+
+
+def test_others_share_is_the_busy_time_not_ours():
+    assert threads.others_share(busy=3.0, own=2.0, wall=1.0, cores=2) == 0.5
+    assert threads.others_share(busy=1.9, own=2.0, wall=1.0, cores=2) == 0.0
+
+
+def test_a_busy_loop_of_our_own_is_counted_as_ours():
+    busy, own, wall = threads.busy_seconds(), threads.own_seconds(), time.perf_counter()
+    spun = 0
+    while time.perf_counter() - wall < 0.3:
+        spun += 1
+    busy, own, wall = threads.busy_seconds() - busy, threads.own_seconds() - own, time.perf_counter() - wall
+    # This process kept one core busy for 0.3 s: its own CPU time says so,
+    # and subtracting it takes most of a core's share off the others',
+    # whatever other processes did meanwhile.
+    assert 0.25 <= own <= wall + 0.02
+    assert threads.others_share(busy, own, wall, 1) <= threads.others_share(busy, 0.0, wall, 1) - 0.8
+
+
+def _row(others: float) -> dict:
+    timing = {"median_1": 1.0, "median_2": 0.6, "speedup": 1.0 / 0.6, "pair_ratios": [1.6, 1.7], "efficiency": 0.83}
+    return {
+        "scene": "dipole_lattice_sc",
+        "rotors": 1_000,
+        "steps": 4_000,
+        "repeats": 2,
+        "wall": timing,
+        "loop": timing,
+        "set_up": timing,
+        "load_averages": [1.5],
+        "others_share": others,
+    }
+
+
+def test_the_section_says_idle_from_the_others_share_not_the_load_average():
+    machine = {"cpu": "test", "cpus": 2, "platform": "test", "date": "today"}
+    idle = threads.section({"machine": machine, "rows": [_row(0.01)], "seconds": 1.0, "argv": []})
+    busy = threads.section({"machine": machine, "rows": [_row(0.3)], "seconds": 1.0, "argv": []})
+    assert "The machine was idle" in idle and "not idle" not in idle
+    assert "**The machine was not idle**" in busy and "30.0 %" in busy
