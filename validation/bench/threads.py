@@ -51,8 +51,11 @@ MIN_PERIODIC_STEPS = 500
 #: times"), and its Gear start-up takes 65 evaluations a run.
 MAX_OPEN_ROTORS = 2_000
 #: The machine was idle during a run when other processes (and the
-#: hypervisor's steal) took at most this share of its cores' time.
-IDLE_SHARE = 0.02
+#: hypervisor's steal) took at most this share of its cores' time. The
+#: kernel's writeback of the runs' own output files lands there too: 1 to
+#: 6 % of a 2-core machine on the 0.5 s runs with nothing else running
+#: (2026-12-01).
+IDLE_SHARE = 0.1
 
 
 def lattice_scenes() -> list[tuple[str, dict]]:
