@@ -13,7 +13,7 @@ export PATH := $(abspath $(VENV))/bin:$(PATH)
 export LD_LIBRARY_PATH := $(abspath $(VENV))/lib:$(LD_LIBRARY_PATH)
 RESULTS ?= results
 
-.PHONY: all test validate fixtures bench bench-threads bench-water develop lint rust-test py-test stubtest docs screenshots mutants mutants-report clean
+.PHONY: all test python-checks validate fixtures bench bench-threads bench-water develop lint rust-test py-test stubtest docs screenshots mutants mutants-report clean
 
 all: test
 
@@ -67,10 +67,20 @@ docs: develop
 	$(PY) docs/check_links.py $(DOCS_BUILD)/html
 
 # The virtual environment is set up (mostly waiting on downloads: 2.5 min
-# from nothing) while clippy checks the crate (CPU), then the tests run.
+# from nothing) while clippy checks the crate (CPU). Then both builds, one
+# after the other (cargo locks the target folder while it compiles): the
+# extension module, and the Rust tests. Then the Rust tests run beside the
+# Python checks (cargo test runs one test binary at a time and pytest one
+# test at a time, so either alone leaves a core idle for much of its run).
 test:
 	$(MAKE) --jobs=2 --output-sync=target lint $(STAMP_VENV)
-	$(MAKE) rust-test py-test stubtest docs QUATROT_DOCS_QUICK=1 QUATROT_REPORT=
+	$(MAKE) develop
+	cargo test --release --no-run
+	$(MAKE) --jobs=2 --output-sync=target rust-test python-checks QUATROT_DOCS_QUICK=1 QUATROT_REPORT=
+
+# The Python tests, the type stubs and the documentation site, in order.
+python-checks:
+	$(MAKE) --jobs=1 py-test stubtest docs
 
 fixtures: develop
 	$(PY) -m validation.fixtures
