@@ -25,12 +25,27 @@ pub(crate) struct AxisWeights {
 }
 
 impl AxisWeights {
+    /// No weights (all zero, base point 0).
+    pub const ZERO: Self = AxisWeights {
+        base: 0,
+        weight: [[0.0; 8]; MAX_DERIVATIVE + 1],
+    };
+
     /// The weights at scaled coordinate `u` in `[0, K)` for order `order`,
     /// derivatives up to `derivatives`.
     pub fn new(u: f64, order: usize, derivatives: usize) -> Self {
+        let mut weights = Self::ZERO;
+        weights.set(u, order, derivatives);
+        weights
+    }
+
+    /// Sets the weights of [`Self::new`] in place: rows `0..=derivatives`,
+    /// entries `0..order` (the others are left as they were).
+    pub fn set(&mut self, u: f64, order: usize, derivatives: usize) {
         let floor = u.floor();
         let w = u - floor;
-        // m[t] = M_n(w + t), raised from n = 1 to n = order.
+        // m[t] = M_n(w + t), raised from n = 1 to n = order; only the
+        // entries t < n of level n are written and read.
         let mut levels = [[0.0; 8]; 9];
         levels[1][0] = 1.0;
         for n in 2..=order {
@@ -44,8 +59,7 @@ impl AxisWeights {
                 current[t] = (x * left + (n as f64 - x) * right) * scale;
             }
         }
-        let mut weight = [[0.0; 8]; MAX_DERIVATIVE + 1];
-        for (d, row) in weight.iter_mut().enumerate().take(derivatives + 1) {
+        for (d, row) in self.weight.iter_mut().enumerate().take(derivatives + 1) {
             let lower = &levels[order - d];
             for (t, value) in row.iter_mut().enumerate().take(order) {
                 let mut sum = 0.0;
@@ -58,10 +72,7 @@ impl AxisWeights {
                 *value = sum;
             }
         }
-        AxisWeights {
-            base: floor as usize,
-            weight,
-        }
+        self.base = floor as usize;
     }
 }
 

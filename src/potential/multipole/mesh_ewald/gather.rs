@@ -3,9 +3,8 @@
 //! potential and its derivatives up to the third order, by the derivatives
 //! of the spline weights. Sites are independent rayon tasks.
 
-use super::bspline::MAX_DERIVATIVE;
 use super::cartesian::Tables;
-use super::spread::{back, mesh_points, SiteWeights};
+use super::spread::{back, for_stencil, SiteWeights};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -20,53 +19,68 @@ impl SiteWeights {
         count: usize,
         derivatives: &mut [[f64; D]],
     ) {
-        // One monomorphised loop per count (the multi-indices up to an order).
+        // One monomorphised loop per count (the multi-indices up to an order,
+        // which need the z-derivatives up to `Z - 1`) and spline order.
         match count {
-            1 => self.gather_first::<D, 1>(phi, scale, derivatives),
-            4 => self.gather_first::<D, 4>(phi, scale, derivatives),
-            10 => self.gather_first::<D, 10>(phi, scale, derivatives),
-            _ => self.gather_first::<D, 20>(phi, scale, derivatives),
+            1 => self.gather_order::<D, 1, 1>(phi, scale, derivatives),
+            4 => self.gather_order::<D, 4, 2>(phi, scale, derivatives),
+            10 => self.gather_order::<D, 10, 3>(phi, scale, derivatives),
+            _ => self.gather_order::<D, 20, 4>(phi, scale, derivatives),
+        }
+    }
+
+    /// [`Self::gather_first`] at the spline order.
+    fn gather_order<const D: usize, const N: usize, const Z: usize>(
+        &self,
+        phi: &[f64],
+        scale: &Vector3<f64>,
+        derivatives: &mut [[f64; D]],
+    ) {
+        match self.order {
+            4 => self.gather_first::<D, N, Z, 4>(phi, scale, derivatives),
+            5 => self.gather_first::<D, N, Z, 5>(phi, scale, derivatives),
+            6 => self.gather_first::<D, N, Z, 6>(phi, scale, derivatives),
+            7 => self.gather_first::<D, N, Z, 7>(phi, scale, derivatives),
+            _ => self.gather_first::<D, N, Z, 8>(phi, scale, derivatives),
         }
     }
 
     /// [`Self::gather`] of the first `N` multi-indices (`N` of
-    /// [`super::cartesian::UP_TO`], at most `D`).
-    fn gather_first<const D: usize, const N: usize>(
+    /// [`super::cartesian::UP_TO`], at most `D`; their z-derivatives below
+    /// `Z`) at spline order `P`.
+    fn gather_first<const D: usize, const N: usize, const Z: usize, const P: usize>(
         &self,
         phi: &[f64],
         scale: &Vector3<f64>,
         derivatives: &mut [[f64; D]],
     ) {
         let [kx, ky, kz] = self.grid;
-        let p = self.order;
         let tables = Tables::get();
         let exponents: [[usize; 3]; N] = std::array::from_fn(|a| tables.exponents[a]);
+        debug_assert_eq!(Z, 1 + exponents.iter().map(|e| e[2]).max().unwrap_or(0));
         let factors: [f64; N] = std::array::from_fn(|a| {
             let e = exponents[a];
             (0..3).map(|k| scale[k].powi(e[k] as i32)).product()
         });
-        // The z-derivatives the multi-indices need.
-        let z_orders = 1 + exponents.iter().map(|e| e[2]).max().unwrap_or(0);
         derivatives
             .par_iter_mut()
             .zip(&self.axes)
             .with_min_len(64)
             .for_each(|(d, [wx, wy, wz])| {
                 let mut sum = [0.0; N];
-                let zs = mesh_points(wz.base, kz, p);
-                for tx in 0..p {
+                for tx in 0..P {
                     let x = back(wx.base, tx, kx);
-                    for ty in 0..p {
+                    for ty in 0..P {
                         let y = back(wy.base, ty, ky);
                         let row = &phi[(x * ky + y) * kz..(x * ky + y + 1) * kz];
                         // Contract z first: by_z[n] = sum_tz wz^(n) phi.
-                        let mut by_z = [0.0; MAX_DERIVATIVE + 1];
-                        for (tz, &z) in zs.iter().enumerate().take(p) {
+                        let mut by_z = [0.0; Z];
+                        for_stencil::<P>(wz.base, kz, |tz, z| {
                             let value = row[z];
-                            for (n, out) in by_z.iter_mut().enumerate().take(z_orders) {
+                            for (n, out) in by_z.iter_mut().enumerate() {
                                 *out += wz.weight[n][tz] * value;
                             }
-                        }
+                        });
                         for (out, [ex, ey, ez]) in sum.iter_mut().zip(&exponents) {
                             *out += wx.weight[*ex][tx] * wy.weight[*ey][ty] * by_z[*ez];
                         }

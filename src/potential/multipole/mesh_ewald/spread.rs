@@ -6,7 +6,7 @@
 //! whose stencil reaches it in a fixed order (sites sorted by their base
 //! plane), so the mesh does not depend on the number of threads.
 
-use super::bspline::{AxisWeights, MAX_DERIVATIVE};
+use super::bspline::AxisWeights;
 use super::cartesian::{Tables, SOURCES, UP_TO};
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -26,14 +26,10 @@ pub(crate) struct SiteWeights {
 
 impl SiteWeights {
     pub fn new(sites: usize, grid: [usize; 3], order: usize) -> Self {
-        let empty = AxisWeights {
-            base: 0,
-            weight: [[0.0; 8]; MAX_DERIVATIVE + 1],
-        };
         SiteWeights {
             order,
             grid,
-            axes: vec![[empty; 3]; sites],
+            axes: vec![[AxisWeights::ZERO; 3]; sites],
             plane_start: vec![0; grid[0] + 1],
             by_plane: vec![0; sites],
         }
@@ -57,12 +53,12 @@ impl SiteWeights {
             .zip(wrapped)
             .with_min_len(256)
             .for_each(|(axes, r)| {
-                *axes = std::array::from_fn(|a| {
+                for (a, weights) in axes.iter_mut().enumerate() {
                     let points = grid[a] as f64;
                     let u = r[a] / box_lengths[a] * points;
                     // A coordinate rounded up to L_a is the point 0.
-                    AxisWeights::new(if u >= points { u - points } else { u }, order, derivatives)
-                });
+                    weights.set(if u >= points { u - points } else { u }, order, derivatives);
+                }
             });
         self.plane_start.fill(0);
         for axes in &self.axes {
@@ -85,22 +81,36 @@ impl SiteWeights {
     /// `Q` on `mesh` (layout `[x][y][z]`) from the coefficients scaled by
     /// `prod_a (K_a / L_a)^(E_a)`, of order at most `source_order`.
     pub fn spread(&self, scaled: &[[f64; SOURCES]], source_order: usize, mesh: &mut [f64]) {
+        match self.order {
+            4 => self.spread_order::<4>(scaled, source_order, mesh),
+            5 => self.spread_order::<5>(scaled, source_order, mesh),
+            6 => self.spread_order::<6>(scaled, source_order, mesh),
+            7 => self.spread_order::<7>(scaled, source_order, mesh),
+            _ => self.spread_order::<8>(scaled, source_order, mesh),
+        }
+    }
+
+    /// [`Self::spread`] at spline order `P`.
+    fn spread_order<const P: usize>(
+        &self,
+        scaled: &[[f64; SOURCES]],
+        source_order: usize,
+        mesh: &mut [f64],
+    ) {
         let [kx, ky, kz] = self.grid;
-        let p = self.order;
         let tables = Tables::get();
         let sources = UP_TO[source_order];
         mesh.par_chunks_mut(ky * kz)
             .enumerate()
             .for_each(|(x, plane)| {
                 plane.fill(0.0);
-                for t in 0..p {
+                for t in 0..P {
                     // Sites with base plane x + t reach plane x at stencil index t.
                     let base = (x + t) % kx;
                     for &i in &self.by_plane[self.plane_start[base]..self.plane_start[base + 1]] {
                         let [wx, wy, wz] = &self.axes[i];
                         let c = &scaled[i];
-                        let zs = mesh_points(wz.base, kz, p);
-                        for ty in 0..p {
+                        for ty in 0..P {
                             let y = back(wy.base, ty, ky);
                             // sum_E c_E wx^(E_x) wy^(E_y), per z-derivative order.
                             let mut by_z = [0.0; 3];
@@ -111,16 +121,16 @@ impl SiteWeights {
                             let row = &mut plane[y * kz..(y + 1) * kz];
                             if source_order == 0 {
                                 // Charges: no z-derivatives.
-                                for (tz, &z) in zs.iter().enumerate().take(p) {
+                                for_stencil::<P>(wz.base, kz, |tz, z| {
                                     row[z] += by_z[0] * wz.weight[0][tz];
-                                }
+                                });
                                 continue;
                             }
-                            for (tz, &z) in zs.iter().enumerate().take(p) {
+                            for_stencil::<P>(wz.base, kz, |tz, z| {
                                 row[z] += by_z[0] * wz.weight[0][tz]
                                     + by_z[1] * wz.weight[1][tz]
                                     + by_z[2] * wz.weight[2][tz];
-                            }
+                            });
                         }
                     }
                 }
@@ -128,9 +138,24 @@ impl SiteWeights {
     }
 }
 
-/// The mesh points `base - t` (modulo `points`) of a stencil, `t < order`.
-pub(super) fn mesh_points(base: usize, points: usize, order: usize) -> [usize; 8] {
-    std::array::from_fn(|t| if t < order { back(base, t, points) } else { 0 })
+/// Calls `f(t, base - t)` for `t = 0..P` (mesh points modulo `points >=
+/// P`), in that order: a stencil that does not wrap (`base >= P - 1`, most
+/// of them) without the modulo, in a loop the compiler unrolls.
+#[inline(always)]
+pub(super) fn for_stencil<const P: usize>(
+    base: usize,
+    points: usize,
+    mut f: impl FnMut(usize, usize),
+) {
+    if base + 1 >= P {
+        for t in 0..P {
+            f(t, base - t);
+        }
+    } else {
+        for t in 0..P {
+            f(t, back(base, t, points));
+        }
+    }
 }
 
 /// `base - t` modulo `points` for `base < points` and `t <= points`,
