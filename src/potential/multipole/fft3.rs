@@ -48,7 +48,7 @@ impl std::fmt::Debug for RealFft3 {
 /// The buffers of [`RealFft3::convolve_into`]: two complex ones, used in
 /// turn by its passes, and the real result, sized once and kept between
 /// convolutions.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub(crate) struct ConvolveBuffers {
     a: Vec<C64>,
     b: Vec<C64>,
