@@ -38,8 +38,9 @@ lint:
 	RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --features python
 	RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --features python --document-private-items
 
+# `+`: cargo shares make's job slots (and finds the jobserver it is told of).
 rust-test:
-	cargo test --release
+	+cargo test --release
 
 py-test: develop
 	$(PY) -m pytest -q validation/tests
