@@ -168,3 +168,28 @@ pub(super) fn back(base: usize, t: usize, points: usize) -> usize {
         base + points - t
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wrapped coordinate of `L_a` (a position just below 0 wraps to it
+    /// in floating point) is the mesh point 0: its weights are those of a
+    /// coordinate of 0, base point and every weight, on each axis.
+    #[test]
+    fn a_coordinate_rounded_up_to_the_box_length_is_the_point_zero() {
+        let box_lengths = Vector3::new(3.0, 2.5, 4.0);
+        let at = |position: Vector3<f64>| {
+            let mut weights = SiteWeights::new(1, [8, 9, 10], 5);
+            weights.compute(&[position], &box_lengths, 2);
+            weights.axes[0]
+        };
+        let wrapped = at(Vector3::new(3.0, 2.5, 4.0));
+        let origin = at(Vector3::zeros());
+        for a in 0..3 {
+            assert_eq!(wrapped[a].base, origin[a].base, "axis {a}");
+            assert_eq!(wrapped[a].weight, origin[a].weight, "axis {a}");
+        }
+        assert_eq!(origin[0].base, 0);
+    }
+}
