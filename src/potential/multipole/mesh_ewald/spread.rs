@@ -192,4 +192,42 @@ mod tests {
         }
         assert_eq!(origin[0].base, 0);
     }
+
+    /// The partition of unity of the B-splines on the smallest meshes each
+    /// order allows (as many points as the order: every stencil wraps):
+    /// spread charges sum to the total charge, and a constant mesh
+    /// potential gathers to itself with zero field, at every order.
+    #[test]
+    fn the_smallest_meshes_keep_the_partition_of_unity() {
+        let box_lengths = Vector3::new(1.0, 1.3, 0.8);
+        let positions = [
+            Vector3::new(0.1, 0.2, 0.3),
+            Vector3::new(0.95, 1.25, 0.01),
+            Vector3::new(0.5, 0.0, 0.79),
+        ];
+        let charges = [1.5, -0.7, 0.3];
+        for order in 4..=8 {
+            let grid = [order, order + 1, order];
+            let mut weights = SiteWeights::new(3, grid, order);
+            weights.compute(&positions, &box_lengths, 1);
+            let scaled: Vec<[f64; SOURCES]> = charges
+                .iter()
+                .map(|&q| std::array::from_fn(|e| if e == 0 { q } else { 0.0 }))
+                .collect();
+            let mut mesh = vec![f64::NAN; grid.iter().product()];
+            weights.spread(&scaled, 0, &mut mesh);
+            let total: f64 = mesh.iter().sum();
+            assert!((total - 1.1).abs() < 1e-13, "order {order}: {total}");
+            let scale = Vector3::from_fn(|a, _| grid[a] as f64 / box_lengths[a]);
+            let mut derivatives = vec![[0.0; 4]; 3];
+            weights.gather(&vec![1.0; mesh.len()], &scale, 4, &mut derivatives);
+            for d in &derivatives {
+                assert!((d[0] - 1.0).abs() < 1e-13, "order {order}: {d:?}");
+                assert!(
+                    d[1..].iter().all(|f| f.abs() < 1e-12),
+                    "order {order}: {d:?}"
+                );
+            }
+        }
+    }
 }
