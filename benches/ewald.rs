@@ -19,9 +19,10 @@
 //!   22) at accuracies 1e-4 to 1e-6 for the side-by-side with LAMMPS
 //!   `pppm/dipole`, which `validation.bench.ewald` measures on a
 //!   configuration of the same kind; the crossover of the two sums at
-//!   1e-4 and 1e-6 (512 to 4,096 dipoles), and the automatic choice's
-//!   estimates of both (`method = "auto"`'s cost models) at 1e-4 to 1e-6,
-//!   for the crossover they give.
+//!   1e-4 and 1e-6 (512 to 4,096 dipoles), and of linear quadrupoles on
+//!   the same sites at 1e-4 to 1e-6 (125 to 2,197), and the automatic
+//!   choice's estimates of both (`method = "auto"`'s cost models) at 1e-4
+//!   to 1e-6, for the crossover they give and their calibration.
 //!
 //! Each time is the median and the best of repeated single evaluations
 //! (repeats fill ~`SECONDS_PER_CASE`), in wall and in process CPU time (on
@@ -31,7 +32,7 @@
 #[path = "shared/harness.rs"]
 mod harness;
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use quatrot::lattice::{Lattice, LatticeKind};
 use quatrot::potential::{
     Accuracy, Boundary, ExternalFields, MultipolePotential, PeriodicSum, Potential, SumMethod,
@@ -58,6 +59,35 @@ fn dipoles(sites: &[Vector3<f64>]) -> Vec<Rotor> {
             quadrupole_body: None,
         })
         .collect()
+}
+
+/// What the irregular configurations' sites carry.
+#[derive(Clone, Copy, PartialEq)]
+enum Carries {
+    /// A unit dipole along body z.
+    Dipoles,
+    /// A linear unit quadrupole along body z (diag(-1/2, -1/2, 1)).
+    Quadrupoles,
+}
+
+impl Carries {
+    fn rotors(self, sites: &[Vector3<f64>]) -> Vec<Rotor> {
+        let mut rotors = dipoles(sites);
+        if self == Carries::Quadrupoles {
+            for r in &mut rotors {
+                r.dipole_body = None;
+                r.quadrupole_body = Some(Matrix3::from_diagonal(&Vector3::new(-0.5, -0.5, 1.0)));
+            }
+        }
+        rotors
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Carries::Dipoles => "dipoles",
+            Carries::Quadrupoles => "quadrupoles",
+        }
+    }
 }
 
 fn orientations(n: usize, seed: u64) -> Vec<Quat> {
@@ -91,13 +121,25 @@ fn jittered(cells: usize, keep: Option<usize>, seed: u64) -> (Vec<Vector3<f64>>,
     (sites, cells as f64)
 }
 
-/// One PME or direct-Ewald case on the jittered configuration.
+/// One PME or direct-Ewald case on the jittered configuration of dipoles.
 fn irregular_case(cells: usize, keep: Option<usize>, accuracy: f64, method: SumMethod) -> Value {
+    carrying_case(Carries::Dipoles, (cells, keep), accuracy, method)
+}
+
+/// One PME or direct-Ewald case on the jittered configuration of sites
+/// carrying `carries`.
+fn carrying_case(
+    carries: Carries,
+    (cells, keep): (usize, Option<usize>),
+    accuracy: f64,
+    method: SumMethod,
+) -> Value {
     let (sites, edge) = jittered(cells, keep, 40);
-    let rotors = dipoles(&sites);
+    let rotors = carries.rotors(&sites);
     let q = orientations(rotors.len(), 41);
     let mut case = time_case(&rotors, ewald(Vector3::repeat(edge), accuracy), method, &q);
     case["accuracy"] = json!(accuracy);
+    case["carries"] = json!(carries.name());
     case["method"] = json!(if method == SumMethod::Pme {
         "pme"
     } else {
@@ -108,12 +150,12 @@ fn irregular_case(cells: usize, keep: Option<usize>, accuracy: f64, method: SumM
 }
 
 /// What `method = "auto"` estimates for the jittered configuration of
-/// `cells^3` dipoles at `accuracy` (its cost models in seconds, the path
-/// it takes), for the crossover the models give.
-fn auto_choice(cells: usize, accuracy: f64) -> Value {
+/// `cells^3` sites carrying `carries` at `accuracy` (its cost models in
+/// seconds, the path it takes), for the crossover the models give.
+fn auto_choice(carries: Carries, cells: usize, accuracy: f64) -> Value {
     let (sites, edge) = jittered(cells, None, 40);
     let p = MultipolePotential::with_method(
-        &dipoles(&sites),
+        &carries.rotors(&sites),
         ewald(Vector3::repeat(edge), accuracy),
         ExternalFields::NONE,
         SumMethod::Auto,
@@ -123,6 +165,7 @@ fn auto_choice(cells: usize, accuracy: f64) -> Value {
     json!({
         "rotors": sites.len(),
         "accuracy": accuracy,
+        "carries": carries.name(),
         "path": p.sum_path().as_str(),
         "direct_seconds": choice.direct_seconds,
         "pme_seconds": choice.pme_seconds,
@@ -287,10 +330,26 @@ fn main() {
                 crossover.push(irregular_case(c, None, accuracy, SumMethod::Pme));
             }
         }
+        let quadrupole_cells: &[usize] = if quick { &[5, 8] } else { &[5, 8, 10, 13] };
+        for &accuracy in &[1e-4, 1e-5, 1e-6] {
+            for &c in quadrupole_cells {
+                for method in [SumMethod::Direct, SumMethod::Pme] {
+                    crossover.push(carrying_case(
+                        Carries::Quadrupoles,
+                        (c, None),
+                        accuracy,
+                        method,
+                    ));
+                }
+            }
+        }
         let mut auto_choices = Vec::new();
         for &accuracy in &[1e-4, 1e-5, 1e-6] {
             for &c in direct_cells {
-                auto_choices.push(auto_choice(c, accuracy));
+                auto_choices.push(auto_choice(Carries::Dipoles, c, accuracy));
+            }
+            for &c in quadrupole_cells {
+                auto_choices.push(auto_choice(Carries::Quadrupoles, c, accuracy));
             }
         }
         let ten_thousand: Vec<Value> = [1e-4, 1e-5, 1e-6]

@@ -10,8 +10,8 @@
 //! not weigh), for each kind of site: 12,000 random charges at the charge
 //! bench's density (one third -0.8476, two thirds 0.4238; 100.2 per unit
 //! volume, as `benches/pme_charges.rs`'s water, forces without the field
-//! gradient) and 4,096 random unit dipoles at density 0.8 (forces and
-//! torques). Each kind's cases vary one of `r_c`, the mesh and the order at
+//! gradient), 4,096 random unit dipoles at density 0.8 (forces and
+//! torques) and as many linear unit quadrupoles (the general kernel). Each kind's cases vary one of `r_c`, the mesh and the order at
 //! a time around a base case; each time is the median process CPU time of
 //! repeated evaluations on one thread. Prints every case, the fitted
 //! seconds and their ratio to `PME_SECONDS_PER_UNIT` (the model's unit),
@@ -24,7 +24,7 @@
 #[path = "../benches/shared/harness.rs"]
 mod harness;
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use quatrot::potential::multipole::mesh_ewald::{MeshEwald, MeshParameters, SiteResponse, Sources};
 use quatrot::potential::multipole::PME_SECONDS_PER_UNIT;
 use quatrot::potential::Surface;
@@ -37,23 +37,31 @@ use std::time::Instant;
 /// Evaluations per case (the median is fitted).
 const REPEATS: usize = 5;
 
+/// What the sites of a kind carry.
+#[derive(Clone, Copy, PartialEq)]
+enum Carries {
+    Charges,
+    Dipoles,
+    Quadrupoles,
+}
+
 /// One kind of site: its name, site count, density, and the base case's
 /// cutoff, mesh points per axis and the cutoffs and meshes tried around it.
 struct Kind {
     name: &'static str,
     sites: usize,
     density: f64,
-    dipoles: bool,
+    carries: Carries,
     cutoffs: [f64; 5],
     meshes: [usize; 5],
 }
 
-const KINDS: [Kind; 2] = [
+const KINDS: [Kind; 3] = [
     Kind {
         name: "charges",
         sites: 12_000,
         density: 100.2,
-        dipoles: false,
+        carries: Carries::Charges,
         cutoffs: [0.35, 0.45, 0.6, 0.8, 1.0],
         meshes: [40, 54, 64, 80, 100],
     },
@@ -61,7 +69,15 @@ const KINDS: [Kind; 2] = [
         name: "dipoles",
         sites: 4_096,
         density: 0.8,
-        dipoles: true,
+        carries: Carries::Dipoles,
+        cutoffs: [1.5, 2.0, 2.5, 3.0, 3.6],
+        meshes: [16, 24, 32, 40, 48],
+    },
+    Kind {
+        name: "quadrupoles",
+        sites: 4_096,
+        density: 0.8,
+        carries: Carries::Quadrupoles,
         cutoffs: [1.5, 2.0, 2.5, 3.0, 3.6],
         meshes: [16, 24, 32, 40, 48],
     },
@@ -75,10 +91,10 @@ fn time(kind: &Kind, sources: &Sources, edge: f64, parameters: MeshParameters) -
     let n = sources.len();
     let mesh = MeshEwald::new(n, Vector3::repeat(edge), parameters, Surface::Conducting)
         .expect("forced parameters");
-    let mut mesh = if kind.dipoles {
-        mesh
-    } else {
+    let mut mesh = if kind.carries == Carries::Charges {
         mesh.without_field_gradient()
+    } else {
+        mesh
     };
     let mut response = SiteResponse::zeros(n);
     mesh.evaluate(sources, &mut response).expect("evaluation");
@@ -107,11 +123,16 @@ fn measure(kind: &Kind, quick: bool) -> Value {
     let dipoles: Vec<Vector3<f64>> = (0..n)
         .map(|_| Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0)).normalize())
         .collect();
+    // Linear quadrupoles (3 u u^T - 1) / 2 along the dipoles' directions.
+    let quadrupoles: Vec<Matrix3<f64>> = dipoles
+        .iter()
+        .map(|u| 1.5 * u * u.transpose() - 0.5 * Matrix3::identity())
+        .collect();
     let sources = Sources {
         positions: &positions,
-        charges: (!kind.dipoles).then_some(&charges[..]),
-        dipoles: kind.dipoles.then_some(&dipoles[..]),
-        quadrupoles: None,
+        charges: (kind.carries == Carries::Charges).then_some(&charges[..]),
+        dipoles: (kind.carries == Carries::Dipoles).then_some(&dipoles[..]),
+        quadrupoles: (kind.carries == Carries::Quadrupoles).then_some(&quadrupoles[..]),
     };
     let scale = if quick { 10f64.cbrt().recip() } else { 1.0 };
     let meshes = kind.meshes.map(|k| ((k as f64 * scale) as usize).max(8));

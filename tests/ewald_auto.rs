@@ -3,7 +3,8 @@
 //! (`src/potential/multipole/auto_choice.rs`), the direct sum for
 //! accuracies PME cannot reach; each path's sum within the request against
 //! the converged direct sum, and the choice recorded (`summary.json`'s
-//! `interactions.choice`). Lattices keep the FFT path.
+//! `interactions.choice`); PME when the direct sum is too large to build.
+//! Lattices keep the FFT path.
 
 mod multipole_support;
 
@@ -90,7 +91,7 @@ fn errors(p: &MultipolePotential, rotors: &[Rotor], q: &[Quat], edge: f64) -> (f
 }
 
 /// 125 dipoles at 1e-5 take the direct sum, 1,728 at 1e-4 take PME (the
-/// model's crossovers are 1,040 and 550 dipoles, docs/scenes.md); each is
+/// model's crossovers are 168 and 116 dipoles, docs/scenes.md); each is
 /// within the request against the converged sum, and the choice records
 /// both estimates with the cheaper one taken.
 #[test]
@@ -105,11 +106,8 @@ fn small_systems_take_the_direct_sum_and_large_ones_pme() {
         let choice: &AutoChoice = p.auto_choice().expect("the choice is recorded");
         let pme = choice.pme_seconds.expect("PME reaches the accuracy");
         assert_eq!(choice.takes_pme(), path == SumPath::EwaldPme);
-        assert_eq!(
-            pme < choice.direct_seconds,
-            path == SumPath::EwaldPme,
-            "{choice:?}"
-        );
+        let direct = choice.direct_seconds.expect("the direct sum fits");
+        assert_eq!(pme < direct, path == SumPath::EwaldPme, "{choice:?}");
         let (torque, energy) = errors(&p, &rotors, &q, edge);
         println!("{cells}^3 at {accuracy:e}: {choice:?}, RMS torque error {torque:.2e}, energy {energy:.2e}");
         assert!(
@@ -150,12 +148,10 @@ fn unreachable_accuracies_take_the_direct_sum_and_lattices_the_fft() {
     assert!(p.auto_choice().is_none());
 }
 
-/// A scene of explicit irregular sites at 1e-6 records the path taken and
-/// the choice in `summary.json` (`interactions.choice`: both estimates and
-/// the reason), as the potential it builds made it.
-#[test]
-fn the_summary_records_the_choice() {
-    let (rotors, _, edge) = jittered_dipoles(3, 9);
+/// A scene of `rotors` at explicit sites (unit dipoles along body z) in a
+/// cubic box of edge `edge`, Ewald at `accuracy` by `method = "auto"`, two
+/// DLM steps.
+fn irregular_scene(rotors: &[Rotor], edge: f64, accuracy: f64) -> String {
     let sites: Vec<String> = rotors
         .iter()
         .map(|r| {
@@ -165,15 +161,24 @@ fn the_summary_records_the_choice() {
             )
         })
         .collect();
-    let text = format!(
+    format!(
         "version = 1\nname = \"irregular\"\n\
          [rotors]\nkind = \"sites\"\nsites = [{}]\n\
          default = {{ inertia = 1.0, dipole = [0.0, 0.0, 1.0] }}\n\
-         [interactions]\nboundary = {{ kind = \"periodic\", accuracy = 1e-6, box = [{edge}, {edge}, {edge}] }}\n\
+         [interactions]\nboundary = {{ kind = \"periodic\", accuracy = {accuracy:e}, box = [{edge}, {edge}, {edge}] }}\n\
          [initial]\nkind = \"random\"\nseed = 3\ntemperature = 0.5\n\
          [integrator]\nkind = \"dlm\"\n[run]\ndt = 0.001\nsteps = 2\n",
         sites.join(", ")
-    );
+    )
+}
+
+/// A scene of explicit irregular sites at 1e-6 records the path taken and
+/// the choice in `summary.json` (`interactions.choice`: both estimates and
+/// the reason), as the potential it builds made it.
+#[test]
+fn the_summary_records_the_choice() {
+    let (rotors, _, edge) = jittered_dipoles(3, 9);
+    let text = irregular_scene(&rotors, edge, 1e-6);
     let (raw, scene) = load_text(&text, &Overrides::default()).expect("valid scene");
     let dir = tempfile::tempdir().expect("temporary directory");
     let outputs = common::outputs(Some(dir.path()), false);
@@ -198,4 +203,70 @@ fn the_summary_records_the_choice() {
         written["interactions"]["choice"]["reason"],
         choice.reason.as_str()
     );
+}
+
+/// A direct sum the model prices cheaper but too large to build takes PME
+/// (in a run under `--memory-limit 8M`, 125 dipoles at 1e-6: the direct sum
+/// needs 12.2 MB, PME 5.8 MB; the model prices the direct sum about 6
+/// times cheaper); `summary.json` records why, with no direct estimate.
+/// When neither fits (3M), the run is refused before it starts with both
+/// reasons, and writes nothing.
+#[test]
+fn a_direct_sum_too_large_to_build_takes_pme() {
+    let (rotors, _, edge) = jittered_dipoles(5, 10);
+    let unlimited = build(&rotors, edge, 1e-6, SumMethod::Auto);
+    assert_eq!(unlimited.sum_path(), SumPath::EwaldDirect);
+    let choice = unlimited.auto_choice().expect("a choice");
+    let pme = choice.pme_seconds.expect("PME fits");
+    assert!(
+        choice.direct_seconds.expect("the direct sum fits") < pme,
+        "{choice:?}"
+    );
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let scene = dir.path().join("irregular.toml");
+    std::fs::write(&scene, irregular_scene(&rotors, edge, 1e-6)).expect("scene written");
+    let run = |limit: &str, out: &str| {
+        let out = dir.path().join(out);
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_quatrot"))
+            .args(["--memory-limit", limit, "run"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .expect("the CLI runs");
+        (output, out)
+    };
+    let (output, out) = run("8M", "fits");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("summary.json")).expect("summary written"),
+    )
+    .expect("JSON");
+    let interactions = &summary["interactions"];
+    assert_eq!(interactions["path"], "ewald_pme", "{interactions}");
+    assert_eq!(
+        interactions["choice"]["direct_seconds"],
+        serde_json::Value::Null
+    );
+    assert_eq!(interactions["choice"]["pme_seconds"], pme);
+    let reason = interactions["choice"]["reason"].as_str().expect("a reason");
+    assert!(
+        reason.starts_with(
+            "the direct sum cannot be used: accuracy: the direct Ewald sum of 125 rotors"
+        ) && reason.contains("more than the limit"),
+        "{reason}"
+    );
+    let (output, out) = run("3M", "neither");
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("the direct Ewald sum of 125 rotors")
+            && stderr.contains("; and the mesh Ewald sum cannot be used: accuracy: 1e-6 needs a"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing written");
 }

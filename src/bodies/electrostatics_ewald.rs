@@ -144,7 +144,8 @@ impl BodyEwald {
                         .as_ref()
                         .map(|(p, _)| mesh_cost(p, n, &box_lengths, pair) * PME_SECONDS_PER_UNIT)
                         .map_err(Clone::clone);
-                    let choice = AutoChoice::compare(units * PME_SECONDS_PER_UNIT, pme_seconds);
+                    let choice =
+                        AutoChoice::compare(Ok(units * PME_SECONDS_PER_UNIT), pme_seconds)?;
                     (m.ok().filter(|_| choice.takes_pme()), Some(choice))
                 }
             },

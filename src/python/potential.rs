@@ -186,7 +186,7 @@ fn orthorhombic_box(box_lengths: &Bound<'_, PyAny>) -> PyResult<Vector3<f64>> {
 ///     `mesh_estimate`, for FFT sums `cells` and `basis`; when "auto" chose
 ///     between the direct sum and PME, `choice`: a dict of each path's
 ///     estimated `direct_seconds` and `pme_seconds` per evaluation (None
-///     when PME cannot be built) and the `reason`.
+///     when that path cannot be built) and the `reason`.
 ///
 /// Raises
 /// ------

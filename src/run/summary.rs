@@ -92,8 +92,9 @@ pub struct InteractionsSummary {
 /// estimated seconds per evaluation and the reason.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ChoiceSummary {
-    /// The direct Ewald sum's estimated seconds per evaluation.
-    pub direct_seconds: f64,
+    /// The direct Ewald sum's estimated seconds per evaluation (absent
+    /// when it is too large to build).
+    pub direct_seconds: Option<f64>,
     /// The mesh Ewald sum's (absent when it cannot be built for the request).
     pub pme_seconds: Option<f64>,
     /// Why the path was taken.

@@ -2,8 +2,10 @@
 issue 40's mesh Ewald (PME) benchmark, after `cargo bench --bench ewald`
 (whose quatrot timings it reads): PME's time per evaluation at accuracy
 1e-5 from 1,000 to 1,000,000 dipoles with its fitted exponent, the
-crossover with the direct Ewald sum at 1e-4 to 1e-6 measured and as the
-automatic choice's cost models give it, and at 10,000 dipoles the side by side
+crossover with the direct Ewald sum at 1e-4 to 1e-6 (dipoles, and linear
+quadrupoles on the same sites) measured and as the automatic choice's cost
+models give it, the models' calibration (measured over estimated seconds),
+and at 10,000 dipoles the side by side
 with LAMMPS `pppm/dipole` at the same measured accuracy (one thread each).
 Times compared are process CPU times: LAMMPS runs in this process, its
 steps' time being that of a run of the steps less that of a run of none.
@@ -119,6 +121,11 @@ def matched(r: dict) -> list[dict]:
     return out
 
 
+def carrying(rows: list[dict], carries: str) -> list[dict]:
+    """The rows of sites carrying `carries` (rows written before quadrupoles were timed carry dipoles)."""
+    return [c for c in rows if c.get("carries", "dipoles") == carries]
+
+
 def crossover(cases: list[dict]) -> float | None:
     """The N where the direct and mesh sums cost the same, by log-log
     interpolation of each (None when one is cheaper throughout)."""
@@ -129,17 +136,52 @@ def crossover(cases: list[dict]) -> float | None:
 
 def model_crossover(choices: list[dict], accuracy: float) -> float | None:
     """The N where `method = "auto"`'s cost models (src/potential/multipole/auto_choice.rs)
-    price both sums the same at `accuracy`."""
-    rows = sorted((c["rotors"], c["direct_seconds"], c["pme_seconds"]) for c in choices if c["accuracy"] == accuracy)
+    price both sums the same at `accuracy` (among the sizes where both can be built)."""
+    rows = sorted((c["rotors"], c["direct_seconds"], c["pme_seconds"]) for c in choices
+                  if c["accuracy"] == accuracy and None not in (c["direct_seconds"], c["pme_seconds"]))
     return interpolated(rows)
 
 
+def timed_cases(raw: dict, carries: str, accuracy: float) -> list[dict]:
+    """The timed direct and PME cases of sites carrying `carries` at `accuracy`."""
+    cases = raw["crossover"] + (raw["mesh_scaling"] if accuracy == 1e-5 else [])
+    return [c for c in carrying(cases, carries) if c["accuracy"] == accuracy]
+
+
 def crossovers(raw: dict) -> list[dict]:
-    """Measured and modelled crossovers at 1e-4, 1e-5 (the scaling cases) and 1e-6."""
+    """Measured and modelled crossovers of dipoles and of quadrupoles at 1e-4, 1e-5 and 1e-6."""
     out = []
-    for accuracy in (1e-4, 1e-5, 1e-6):
-        cases = raw["mesh_scaling"] if accuracy == 1e-5 else [c for c in raw["crossover"] if c["accuracy"] == accuracy]
-        out.append({"accuracy": accuracy, "measured": crossover(cases), "model": model_crossover(raw["auto_choices"], accuracy)})
+    for carries in ("dipoles", "quadrupoles"):
+        choices = carrying(raw["auto_choices"], carries)
+        for accuracy in (1e-4, 1e-5, 1e-6):
+            cases = timed_cases(raw, carries, accuracy)
+            if cases:
+                out.append({"carries": carries, "accuracy": accuracy, "measured": crossover(cases),
+                            "model": model_crossover(choices, accuracy)})
+    return out
+
+
+def calibration(raw: dict) -> list[dict]:
+    """How far the cost models' seconds are from the measured ones: for each
+    kind of site and each path, the ratios of the measured CPU time per
+    evaluation to the model's estimate of the same configuration (the auto
+    choice's of the same size and accuracy), their geometric mean and range.
+    The geometric means are what the times per unit of auto_choice.rs are
+    scaled by when they are refitted."""
+    estimates = {(c.get("carries", "dipoles"), c["rotors"], c["accuracy"]): c for c in raw["auto_choices"]}
+    out = []
+    for carries in ("dipoles", "quadrupoles"):
+        for method, key in (("direct", "direct_seconds"), ("pme", "pme_seconds")):
+            ratios = []
+            for accuracy in (1e-4, 1e-5, 1e-6):
+                for c in timed_cases(raw, carries, accuracy):
+                    model = estimates.get((carries, c["rotors"], accuracy), {}).get(key)
+                    if c["method"] == method and model:
+                        ratios.append(c["median_cpu_seconds"] / model)
+            if ratios:
+                out.append({"carries": carries, "method": method, "cases": len(ratios),
+                            "geometric_mean": float(np.exp(np.mean(np.log(ratios)))),
+                            "least": min(ratios), "most": max(ratios)})
     return out
 
 
@@ -189,15 +231,25 @@ def section(r: dict) -> str:
         f"Crossover N where PME becomes cheaper than the direct sum at 1e-5: {r['crossover']:.0f}." if r["crossover"] else
         "No crossover inside the sizes timed.",
         "",
-        "Crossover N of the two sums measured (512 to 8,000 dipoles) and priced by `method = \"auto\"`'s cost models "
-        "(src/potential/multipole/auto_choice.rs), which choose the path:",
+        "Crossover N of the two sums measured (125 to 8,000 dipoles; 125 to 2,197 linear quadrupoles on the same sites) "
+        "and priced by `method = \"auto\"`'s cost models (src/potential/multipole/auto_choice.rs), which choose the path:",
         "",
-        "| accuracy | measured | model |",
-        "|---|---|---|",
+        "| sites carry | accuracy | measured | model |",
+        "|---|---|---|---|",
     ]
     for c in r["crossovers"]:
         shown = [f"{c[k]:.0f}" if c[k] else "none inside the sizes" for k in ("measured", "model")]
-        lines.append(f"| {c['accuracy']:g} | {shown[0]} | {shown[1]} |")
+        lines.append(f"| {c['carries']} | {c['accuracy']:g} | {shown[0]} | {shown[1]} |")
+    lines += [
+        "",
+        "The models' calibration: measured CPU time per evaluation over the model's estimate of the same case "
+        "(every size and accuracy above; the times per unit in auto_choice.rs are scaled by the geometric means when refitted):",
+        "",
+        "| sites carry | sum | cases | geometric mean | range |",
+        "|---|---|---|---|---|",
+    ]
+    for c in r["calibration"]:
+        lines.append(f"| {c['carries']} | {c['method']} | {c['cases']} | {c['geometric_mean']:.3f} | {c['least']:.2f} to {c['most']:.2f} |")
     lines += [
         "",
         f"10,000 dipoles (22^3 jittered sites less 648, box 22): RMS torque errors against PME at 1e-10 (RMS torque {r['side_by_side']['reference_rms_torque']:.3g}):",
@@ -238,6 +290,7 @@ def main(argv=None) -> int:
         "mesh_exponent": fit_exponent([c["rotors"] for c in mesh], [c["median_cpu_seconds"] for c in mesh]),
         "crossover": crossover(raw["mesh_scaling"]),
         "crossovers": crossovers(raw),
+        "calibration": calibration(raw),
     }
     result["matched"] = matched(result)
     results_md.publish(args.out, "mesh", result, (BEGIN, END), section(result))

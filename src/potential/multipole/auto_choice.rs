@@ -8,40 +8,88 @@
 //! taken. An accuracy PME cannot reach (outside
 //! [`super::mesh_ewald::ACCURACY_RANGE`], the default 1e-12 among them) or a
 //! request it refuses (a box its cutoff does not fit, a mesh over the
-//! memory limit) takes the direct sum.
+//! memory limit) takes the direct sum; a direct sum too large to build (its
+//! pair, wave-vector or memory limit) takes PME. When both are refused, the
+//! direct sum's refusal is the error, with PME's.
 //!
-//! The times per unit are the geometric means of measured time over
-//! modelled cost in the single-thread evaluation times of
-//! benchmarks/RESULTS.md's mesh section (2026-11-28, jittered dipoles at
-//! 1e-5) from 512 to 2,197 sites, where the choice is close (the model's
-//! crossover is then 1,040 dipoles, the measured one 908). A direct
-//! real-space pair is cheap (its geometry is stored once, the sites being
-//! fixed) and a PME pair dear (its derivative tensors are computed at each
-//! evaluation), hence the two scales. The
-//! crossover they give, and its measurement at other accuracies, are in
-//! docs/scenes.md.
+//! The models' costs become seconds by a time per unit of each model and a
+//! calibration per kind of site: the geometric mean of measured CPU time
+//! over modelled seconds in the single-thread evaluation times of
+//! benchmarks/RESULTS.md's mesh section (2026-12-02, an idle 2-CPU AMD
+//! EPYC; jittered sites at 1e-4 to 1e-6, 125 to 8,000 dipoles in 14 cases
+//! for each sum, 125 to 2,197 linear quadrupoles in 12), its calibration
+//! table. A direct real-space pair is cheap (its geometry is stored once,
+//! the sites being fixed) and a PME pair dear (its derivative tensors are
+//! computed at each evaluation), hence the two scales; a quadrupole's
+//! direct pair and wave vector cost 2.2 times a dipole's (higher
+//! derivative tensors), which the direct model, counting pairs and wave
+//! vectors only, does not see. Before that calibration the models priced
+//! PME of quadrupoles 4 to 8 times dearer than the direct sum against the
+//! measured 0.6 to 1.5 (the model's crossover above 13,700 quadrupoles at
+//! 1e-5, the measured one 840). What the models still get wrong (PME's
+//! mesh terms, overpriced most for small systems at tight accuracies: its
+//! measured over modelled ratio runs from 0.18 to 0.66) and the
+//! crossovers they give against the measured ones are in docs/scenes.md.
 
 use super::PotentialError;
 
 /// Seconds per unit of the direct Ewald sum's cost model (a real-space
-/// pair, or half a structure-factor product) in one evaluation.
-pub const DIRECT_SECONDS_PER_UNIT: f64 = 1.6e-8;
+/// pair, or half a structure-factor product) in one evaluation of dipoles:
+/// the fit of 2026-11-28 (1.6e-8) times its measured over modelled 0.770 of
+/// 2026-12-02 (module doc).
+pub const DIRECT_SECONDS_PER_UNIT: f64 = 1.23e-8;
+
+/// The direct sum's time per unit with quadrupoles (alone or with dipoles)
+/// over that of dipoles: 1.691 / 0.770, the two measured over modelled
+/// ratios of 2026-12-02 (module doc).
+pub const DIRECT_QUADRUPOLE_FACTOR: f64 = 2.2;
 
 /// Seconds per unit of the mesh Ewald sum's cost model (a real-space pair
 /// of the general kernel and its equivalents for the mesh and the splines)
 /// in one evaluation. Since 2026-11-29 the unit of the mesh sum's constants
 /// (`mesh_ewald::estimate`): each is its measured seconds
 /// (`examples/pme_costs.rs`, 2026-11-29, a loaded 2-CPU Xeon) over this
-/// one, kept from the fit above, so that a modelled cost is that run's
-/// seconds while [`DIRECT_SECONDS_PER_UNIT`] is still the fit of
-/// 2026-11-28.
+/// one. The automatic choice scales it by [`PME_DIPOLE_CALIBRATION`] or
+/// [`PME_QUADRUPOLE_CALIBRATION`]; the moving bodies' choice, whose two
+/// models are both in this unit, does not.
 pub const PME_SECONDS_PER_UNIT: f64 = 5.4e-7;
+
+/// The mesh sum's measured over modelled seconds for dipoles (2026-12-02,
+/// module doc): its constants were measured under load.
+pub const PME_DIPOLE_CALIBRATION: f64 = 0.482;
+
+/// The mesh sum's measured over modelled seconds for quadrupoles (alone
+/// or with dipoles; 2026-12-02, module doc).
+pub const PME_QUADRUPOLE_CALIBRATION: f64 = 0.387;
+
+/// The direct sum's estimated seconds per evaluation of its cost model's
+/// `units` for sites with or without `quadrupoles`.
+pub(crate) fn direct_seconds(units: f64, quadrupoles: bool) -> f64 {
+    let kind = if quadrupoles {
+        DIRECT_QUADRUPOLE_FACTOR
+    } else {
+        1.0
+    };
+    units * DIRECT_SECONDS_PER_UNIT * kind
+}
+
+/// The mesh sum's estimated seconds per evaluation of its cost model's
+/// `units` for sites with or without `quadrupoles`.
+pub(crate) fn pme_seconds(units: f64, quadrupoles: bool) -> f64 {
+    let kind = if quadrupoles {
+        PME_QUADRUPOLE_CALIBRATION
+    } else {
+        PME_DIPOLE_CALIBRATION
+    };
+    units * PME_SECONDS_PER_UNIT * kind
+}
 
 /// What the automatic choice compared and why it took its path.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AutoChoice {
-    /// The direct Ewald sum's estimated seconds per evaluation.
-    pub direct_seconds: f64,
+    /// The direct Ewald sum's estimated seconds per evaluation (`None` when
+    /// it is too large to build: see `reason`).
+    pub direct_seconds: Option<f64>,
     /// The mesh Ewald sum's estimated seconds per evaluation (`None` when
     /// it cannot be built for the request: see `reason`).
     pub pme_seconds: Option<f64>,
@@ -51,34 +99,46 @@ pub struct AutoChoice {
 
 impl AutoChoice {
     /// The comparison of a direct sum estimated at `direct_seconds` per
-    /// evaluation with a mesh sum at `pme_seconds`, or with the error that
-    /// refused the mesh sum.
-    pub(crate) fn compare(direct_seconds: f64, pme_seconds: Result<f64, PotentialError>) -> Self {
-        match pme_seconds {
-            Ok(pme_seconds) => {
-                let reason = if pme_seconds < direct_seconds {
-                    "the mesh Ewald sum is estimated cheaper than the direct sum"
-                } else {
-                    "the direct sum is estimated cheaper than the mesh Ewald sum"
-                };
-                AutoChoice {
-                    direct_seconds,
-                    pme_seconds: Some(pme_seconds),
-                    reason: reason.to_string(),
-                }
+    /// evaluation with a mesh sum at `pme_seconds`, each or the error that
+    /// refused it; both refused is the direct sum's error, PME's appended.
+    pub(crate) fn compare(
+        direct_seconds: Result<f64, PotentialError>,
+        pme_seconds: Result<f64, PotentialError>,
+    ) -> Result<Self, PotentialError> {
+        let reason = match (&direct_seconds, &pme_seconds) {
+            (Err(direct), Err(pme)) => {
+                return Err(PotentialError::new(
+                    direct.path.clone(),
+                    format!(
+                        "{}; and the mesh Ewald sum cannot be used: {pme}",
+                        direct.message
+                    ),
+                ))
             }
-            Err(e) => AutoChoice {
-                direct_seconds,
-                pme_seconds: None,
-                reason: format!("the mesh Ewald sum cannot be used: {e}"),
-            },
-        }
+            (Ok(_), Err(pme)) => format!("the mesh Ewald sum cannot be used: {pme}"),
+            (Err(direct), Ok(_)) => format!("the direct sum cannot be used: {direct}"),
+            (Ok(direct), Ok(pme)) if pme < direct => {
+                "the mesh Ewald sum is estimated cheaper than the direct sum".to_string()
+            }
+            (Ok(_), Ok(_)) => {
+                "the direct sum is estimated cheaper than the mesh Ewald sum".to_string()
+            }
+        };
+        Ok(AutoChoice {
+            direct_seconds: direct_seconds.ok(),
+            pme_seconds: pme_seconds.ok(),
+            reason,
+        })
     }
 
-    /// Whether the mesh Ewald sum was taken.
+    /// Whether the mesh Ewald sum was taken: it can be built, and the
+    /// direct sum cannot or is estimated dearer.
     pub fn takes_pme(&self) -> bool {
-        self.pme_seconds
-            .is_some_and(|pme| pme < self.direct_seconds)
+        match (self.direct_seconds, self.pme_seconds) {
+            (_, None) => false,
+            (None, Some(_)) => true,
+            (Some(direct), Some(pme)) => pme < direct,
+        }
     }
 }
 
@@ -86,20 +146,38 @@ impl AutoChoice {
 mod tests {
     use super::*;
 
-    /// The cheaper estimate wins; a refused mesh sum leaves the direct sum,
-    /// its error kept as the reason.
+    /// The cheaper estimate wins; a refused path leaves the other, its
+    /// error kept as the reason; both refused is an error naming both.
     #[test]
     fn the_cheaper_path_wins_and_a_refusal_is_the_reason() {
-        let pme = AutoChoice::compare(1.01, Ok(1.0));
+        let refusal = |path: &str| Err(PotentialError::new(path, "too large"));
+        let pme = AutoChoice::compare(Ok(1.01), Ok(1.0)).unwrap();
         assert!(pme.takes_pme(), "{pme:?}");
-        let direct = AutoChoice::compare(0.99, Ok(1.0));
+        let direct = AutoChoice::compare(Ok(0.99), Ok(1.0)).unwrap();
         assert!(!direct.takes_pme(), "{direct:?}");
-        let refused = AutoChoice::compare(1e12, Err(PotentialError::new("accuracy", "too tight")));
+        let tie = AutoChoice::compare(Ok(1.0), Ok(1.0)).unwrap();
+        assert!(!tie.takes_pme(), "{tie:?}");
+        let refused = AutoChoice::compare(Ok(1e12), refusal("accuracy")).unwrap();
         assert!(!refused.takes_pme());
         assert_eq!(refused.pme_seconds, None);
+        assert_eq!(refused.direct_seconds, Some(1e12));
         assert_eq!(
             refused.reason,
-            "the mesh Ewald sum cannot be used: accuracy: too tight"
+            "the mesh Ewald sum cannot be used: accuracy: too large"
+        );
+        let too_large = AutoChoice::compare(refusal("rotors"), Ok(1e12)).unwrap();
+        assert!(too_large.takes_pme(), "{too_large:?}");
+        assert_eq!(too_large.direct_seconds, None);
+        assert_eq!(too_large.pme_seconds, Some(1e12));
+        assert_eq!(
+            too_large.reason,
+            "the direct sum cannot be used: rotors: too large"
+        );
+        let both = AutoChoice::compare(refusal("rotors"), refusal("accuracy")).unwrap_err();
+        assert_eq!(both.path, "rotors");
+        assert_eq!(
+            both.message,
+            "too large; and the mesh Ewald sum cannot be used: accuracy: too large"
         );
     }
 }

@@ -65,18 +65,51 @@ impl EwaldSum {
 
     /// The sum with the parameters chosen for its accuracy
     /// ([`super::PeriodicSum::choose`] with [`Self::cost`]; the tests and the
-    /// converged references give their own). Refuses sums larger than
-    /// [`MAX_PAIRS`] pairs or [`MAX_WAVE_VECTORS`] wave vectors or than the
-    /// memory limit of [`crate::memory`] (pair list, wave vectors and the
-    /// structure factors of an evaluation; path `accuracy`, which sets the
-    /// sizes), and coincident sites (periodic images included).
+    /// converged references give their own). Refuses sums that
+    /// [`Self::check_size`] refuses, and coincident sites (periodic images
+    /// included).
     pub fn with_parameters(
         sites: &[Vector3<f64>],
         box_lengths: Vector3<f64>,
         parameters: EwaldParameters,
         surface: Surface,
     ) -> Result<Self, PotentialError> {
-        let n = sites.len() as f64;
+        let max_index = Self::check_size(sites.len(), &box_lengths, &parameters)?;
+        let rc = parameters.real_cutoff;
+        let kc = parameters.reciprocal_cutoff;
+        let volume = box_lengths.product();
+        let real = PairTable::build(sites, Some((box_lengths, rc)))?;
+        let real_geometry = real
+            .geometry
+            .iter()
+            .map(|g| (g.unit / g.inv_r, radial(parameters.alpha, 1.0 / g.inv_r)))
+            .collect();
+        let waves = wave_vectors(&box_lengths, max_index, parameters.alpha, kc);
+        Ok(EwaldSum {
+            parameters,
+            surface,
+            volume,
+            box_lengths,
+            sites: sites.to_vec(),
+            real,
+            real_geometry,
+            waves,
+            max_index,
+        })
+    }
+
+    /// The half-index box of the wave vectors of a direct sum of `sites`
+    /// sites in `box_lengths` with `parameters`, after checking its size
+    /// without building it: refuses sums larger than [`MAX_PAIRS`] pairs or
+    /// [`MAX_WAVE_VECTORS`] wave vectors or than the memory limit of
+    /// [`crate::memory`] (pair list, wave vectors and the structure factors
+    /// of an evaluation; path `accuracy`, which sets the sizes).
+    pub fn check_size(
+        sites: usize,
+        box_lengths: &Vector3<f64>,
+        parameters: &EwaldParameters,
+    ) -> Result<[i32; 3], PotentialError> {
+        let n = sites as f64;
         let volume = box_lengths.product();
         let rc = parameters.real_cutoff;
         let estimate = n * n * (2.0 * PI / 3.0) * rc.powi(3) / volume;
@@ -84,10 +117,9 @@ impl EwaldSum {
             return Err(PotentialError::new(
                 "rotors",
                 format!(
-                    "the direct Ewald sum of {} rotors would hold about {estimate:.2e} \
+                    "the direct Ewald sum of {sites} rotors would hold about {estimate:.2e} \
                      real-space pairs (cutoff {rc:.3}, periodic images included), more than \
-                     the limit {MAX_PAIRS}",
-                    sites.len()
+                     the limit {MAX_PAIRS}"
                 ),
             ));
         }
@@ -112,31 +144,13 @@ impl EwaldSum {
             PotentialError::new(
                 "accuracy",
                 format!(
-                    "the direct Ewald sum of {} rotors (about {estimate:.2e} real-space pairs, \
+                    "the direct Ewald sum of {sites} rotors (about {estimate:.2e} real-space pairs, \
                      cutoff {rc:.3}, and {waves_count:.2e} wave vectors) {}",
-                    sites.len(),
                     e.message
                 ),
             )
         })?;
-        let real = PairTable::build(sites, Some((box_lengths, rc)))?;
-        let real_geometry = real
-            .geometry
-            .iter()
-            .map(|g| (g.unit / g.inv_r, radial(parameters.alpha, 1.0 / g.inv_r)))
-            .collect();
-        let waves = wave_vectors(&box_lengths, max_index, parameters.alpha, kc);
-        Ok(EwaldSum {
-            parameters,
-            surface,
-            volume,
-            box_lengths,
-            sites: sites.to_vec(),
-            real,
-            real_geometry,
-            waves,
-            max_index,
-        })
+        Ok(max_index)
     }
 
     pub fn parameters(&self) -> EwaldParameters {

@@ -1,7 +1,7 @@
 //! [`FieldSum`]: how a [`super::MultipolePotential`] sums its pair fields,
 //! chosen once from the boundary and the way of summing ([`SumMethod`]).
 
-use super::auto_choice::{AutoChoice, DIRECT_SECONDS_PER_UNIT, PME_SECONDS_PER_UNIT};
+use super::auto_choice::{direct_seconds, pme_seconds, AutoChoice};
 use super::ewald::EwaldSum;
 use super::lattice_fft::LatticeFft;
 use super::lattice_grid::{self, LatticeGrid};
@@ -136,7 +136,7 @@ impl FieldSum {
 
     /// The direct Ewald sum of `sites` with `parameters`, or, when `auto`
     /// gives its cost (`method = "auto"`), the cheaper of it and PME by
-    /// their cost models ([`AutoChoice`]).
+    /// their cost models, or the one that can be built ([`AutoChoice`]).
     fn ewald(
         sites: &[Vector3<f64>],
         box_lengths: Vector3<f64>,
@@ -144,34 +144,40 @@ impl FieldSum {
         (parameters, auto): (EwaldParameters, Option<f64>),
         kinds: (bool, bool),
     ) -> Result<(FieldSum, Option<AutoChoice>), PotentialError> {
-        let choice = auto.map(|direct| {
-            let free = ForcedMesh::default();
-            let mesh = MeshSum::choose(sites.len(), &box_lengths, (accuracy, &free), kinds);
-            let pme = mesh
-                .as_ref()
-                .map(|(p, _)| {
-                    let pair = Carried {
-                        charges: false,
-                        dipoles: kinds.0,
-                        quadrupoles: kinds.1,
-                    }
-                    .pair_cost();
-                    mesh_cost(p, sites.len(), &box_lengths, pair) * PME_SECONDS_PER_UNIT
-                })
-                .map_err(Clone::clone);
-            (
-                AutoChoice::compare(direct * DIRECT_SECONDS_PER_UNIT, pme),
-                mesh,
-            )
-        });
-        if let Some((choice, Ok(mesh))) = &choice {
-            if choice.takes_pme() {
-                let sum = MeshSum::new(sites, box_lengths, (accuracy, surface), *mesh, kinds)?;
-                return Ok((FieldSum::Mesh(Box::new(sum)), Some(choice.clone())));
+        let Some(direct) = auto else {
+            let ewald = EwaldSum::with_parameters(sites, box_lengths, parameters, surface)?;
+            return Ok((FieldSum::Ewald(Box::new(ewald)), None));
+        };
+        let direct = EwaldSum::check_size(sites.len(), &box_lengths, &parameters)
+            .map(|_| direct_seconds(direct, kinds.1));
+        let free = ForcedMesh::default();
+        let mesh = MeshSum::choose(sites.len(), &box_lengths, (accuracy, &free), kinds);
+        let pme = mesh.as_ref().map_err(Clone::clone).map(|(p, _)| {
+            let pair = Carried {
+                charges: false,
+                dipoles: kinds.0,
+                quadrupoles: kinds.1,
             }
-        }
-        let ewald = EwaldSum::with_parameters(sites, box_lengths, parameters, surface)?;
-        Ok((FieldSum::Ewald(Box::new(ewald)), choice.map(|(c, _)| c)))
+            .pair_cost();
+            pme_seconds(mesh_cost(p, sites.len(), &box_lengths, pair), kinds.1)
+        });
+        let choice = AutoChoice::compare(direct, pme)?;
+        let sum = match mesh {
+            Ok(mesh) if choice.takes_pme() => FieldSum::Mesh(Box::new(MeshSum::new(
+                sites,
+                box_lengths,
+                (accuracy, surface),
+                mesh,
+                kinds,
+            )?)),
+            _ => FieldSum::Ewald(Box::new(EwaldSum::with_parameters(
+                sites,
+                box_lengths,
+                parameters,
+                surface,
+            )?)),
+        };
+        Ok((sum, Some(choice)))
     }
 
     /// Every pair of `sites` in open space; `method` must not be one of

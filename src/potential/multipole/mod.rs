@@ -27,7 +27,10 @@ mod potential;
 mod row_quads;
 mod sum_method;
 
-pub use auto_choice::{AutoChoice, DIRECT_SECONDS_PER_UNIT, PME_SECONDS_PER_UNIT};
+pub use auto_choice::{
+    AutoChoice, DIRECT_QUADRUPOLE_FACTOR, DIRECT_SECONDS_PER_UNIT, PME_DIPOLE_CALIBRATION,
+    PME_QUADRUPOLE_CALIBRATION, PME_SECONDS_PER_UNIT,
+};
 pub use boundary::{Boundary, BYTES_PER_PAIR, MAX_PAIRS};
 pub use error::PotentialError;
 pub use ewald::MAX_WAVE_VECTORS;
