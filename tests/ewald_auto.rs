@@ -9,7 +9,7 @@
 mod multipole_support;
 
 use multipole_support::*;
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use quatrot::potential::multipole::AutoChoice;
 use quatrot::potential::{
     Boundary, ExternalFields, MultipolePotential, SumMethod, SumOptions, SumPath,
@@ -114,6 +114,32 @@ fn small_systems_take_the_direct_sum_and_large_ones_pme() {
             torque <= accuracy && energy <= accuracy,
             "{cells}^3 at {accuracy:e}: torque {torque:e}, energy {energy:e}"
         );
+    }
+}
+
+/// `cells^3` jittered sites as [`jittered_dipoles`], each carrying a linear
+/// unit quadrupole along body z instead of the dipole.
+fn jittered_quadrupoles(cells: usize, seed: u64) -> (Vec<Rotor>, f64) {
+    let (mut rotors, _, edge) = jittered_dipoles(cells, seed);
+    for r in &mut rotors {
+        r.dipole_body = None;
+        r.quadrupole_body = Some(Matrix3::from_diagonal(&Vector3::new(-0.5, -0.5, 1.0)));
+    }
+    (rotors, edge)
+}
+
+/// Quadrupoles at 1e-5 follow the measured crossover (benchmarks/RESULTS.md,
+/// mesh section of 2026-12-02: 729 to 838 on these sites): 125 take the
+/// direct sum (3.0-3.3 ms against PME's 10.2-10.9 ms per evaluation) and
+/// 1,000 PME (63-66 ms against 67-72 ms). Before the models were
+/// calibrated per kind, the direct sum was taken up to 13,700 quadrupoles.
+#[test]
+fn quadrupoles_take_the_path_measured_cheaper() {
+    for (cells, path) in [(5, SumPath::EwaldDirect), (10, SumPath::EwaldPme)] {
+        let (rotors, edge) = jittered_quadrupoles(cells, 11);
+        let p = build(&rotors, edge, 1e-5, SumMethod::Auto);
+        let choice = p.auto_choice().expect("the choice is recorded");
+        assert_eq!(p.sum_path(), path, "{cells}^3 quadrupoles: {choice:?}");
     }
 }
 

@@ -157,6 +157,13 @@ mod tests {
         assert!(!direct.takes_pme(), "{direct:?}");
         let tie = AutoChoice::compare(Ok(1.0), Ok(1.0)).unwrap();
         assert!(!tie.takes_pme(), "{tie:?}");
+        let (cheaper_pme, cheaper_direct) = (
+            "the mesh Ewald sum is estimated cheaper than the direct sum",
+            "the direct sum is estimated cheaper than the mesh Ewald sum",
+        );
+        assert_eq!(pme.reason, cheaper_pme);
+        assert_eq!(direct.reason, cheaper_direct);
+        assert_eq!(tie.reason, cheaper_direct);
         let refused = AutoChoice::compare(Ok(1e12), refusal("accuracy")).unwrap();
         assert!(!refused.takes_pme());
         assert_eq!(refused.pme_seconds, None);
