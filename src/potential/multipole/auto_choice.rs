@@ -105,6 +105,11 @@ impl AutoChoice {
         direct_seconds: Result<f64, PotentialError>,
         pme_seconds: Result<f64, PotentialError>,
     ) -> Result<Self, PotentialError> {
+        let seconds = AutoChoice {
+            direct_seconds: direct_seconds.as_ref().ok().copied(),
+            pme_seconds: pme_seconds.as_ref().ok().copied(),
+            reason: String::new(),
+        };
         let reason = match (&direct_seconds, &pme_seconds) {
             (Err(direct), Err(pme)) => {
                 return Err(PotentialError::new(
@@ -117,18 +122,14 @@ impl AutoChoice {
             }
             (Ok(_), Err(pme)) => format!("the mesh Ewald sum cannot be used: {pme}"),
             (Err(direct), Ok(_)) => format!("the direct sum cannot be used: {direct}"),
-            (Ok(direct), Ok(pme)) if pme < direct => {
+            (Ok(_), Ok(_)) if seconds.takes_pme() => {
                 "the mesh Ewald sum is estimated cheaper than the direct sum".to_string()
             }
             (Ok(_), Ok(_)) => {
                 "the direct sum is estimated cheaper than the mesh Ewald sum".to_string()
             }
         };
-        Ok(AutoChoice {
-            direct_seconds: direct_seconds.ok(),
-            pme_seconds: pme_seconds.ok(),
-            reason,
-        })
+        Ok(AutoChoice { reason, ..seconds })
     }
 
     /// Whether the mesh Ewald sum was taken: it can be built, and the
