@@ -61,6 +61,7 @@ pub mod dynamics;
 pub mod experiments;
 pub mod integrators;
 pub mod lattice;
+pub(crate) mod lanes;
 pub(crate) mod memory;
 pub mod observables;
 pub(crate) mod parallel;

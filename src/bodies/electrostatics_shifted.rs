@@ -24,7 +24,7 @@
 //! a time (the lanes of `super::lanes`): the radial factors at one
 //! distance, `Plain`'s bare `B_l` and `ShiftedForceFactors`.
 
-use super::lanes::{Lanes, V4};
+use crate::lanes::{Lanes, V4};
 use crate::potential::multipole::ChargeDipole;
 #[cfg(test)]
 use nalgebra::Vector3;
@@ -253,7 +253,7 @@ struct PairResponse {
 /// shifted-force pair of the module doc) of a target at offset `r = r_t -
 /// r_s` (`|r| < cutoff`) from a source, in every lane (the first read).
 #[cfg(test)]
-fn pair_response<F: Factors<super::lanes::F4>>(
+fn pair_response<F: Factors<crate::lanes::F4>>(
     r: &Vector3<f64>,
     cutoff: f64,
     target: &ChargeDipole,
@@ -277,7 +277,7 @@ fn pair_response<F: Factors<super::lanes::F4>>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bodies::lanes::F4;
+    use crate::lanes::F4;
 
     type ShiftedForce = ShiftedForceFactors<F4>;
 

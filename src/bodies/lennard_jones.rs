@@ -12,7 +12,7 @@
 //! `x = sigma / r_c` (all site pairs counted, those within a body too, as
 //! LAMMPS does).
 
-use super::lanes::{Lanes, LANES};
+use crate::lanes::{Lanes, LANES};
 use super::site::LennardJones;
 use crate::checks::{named_choices, positive, InputError};
 use std::f64::consts::PI;

@@ -14,7 +14,7 @@
 //!   particle-mesh Ewald sum).
 //! * `pair_pass`: Lennard-Jones and a cutoff sum of charges and dipoles in
 //!   one pass over the half neighbour list, four pairs at a time
-//!   (`lanes`), its kernels in `pair_kernels`, each site's partners within
+//!   (`crate::lanes`), its kernels in `pair_kernels`, each site's partners within
 //!   a cutoff gathered in `within`.
 //! * [`system`], [`evaluate`]: bodies with their interactions; energies,
 //!   forces, torques, virial and pressure of a configuration.
@@ -38,7 +38,6 @@ pub mod electrostatics_shifted;
 pub mod evaluate;
 pub mod generate;
 pub mod integrators;
-mod lanes;
 pub mod lennard_jones;
 pub mod neighbours;
 pub mod overlap;

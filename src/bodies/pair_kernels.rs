@@ -5,7 +5,7 @@
 //! once per pass and monomorphised into its loop.
 
 use super::electrostatics_shifted::{ChargeDipoles, Factors, Plain, ShiftedForceFactors};
-use super::lanes::{Lanes, LANES, V4};
+use crate::lanes::{Lanes, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
 
 /// The Lennard-Jones pairs of a pass.

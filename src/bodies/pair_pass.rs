@@ -15,8 +15,8 @@
 use super::electrostatics::{SiteMultipoles, SiteResponse};
 use super::electrostatics_shifted::{ChargeDipoles, ElectrostaticTruncation};
 #[cfg(target_arch = "x86_64")]
-use super::lanes::Avx;
-use super::lanes::{Lanes, F4, LANES, V4};
+use crate::lanes::Avx;
+use crate::lanes::{Lanes, F4, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
 use super::pair_kernels::{

@@ -16,7 +16,7 @@
 //! lanes chosen by their mask), the last few one by one: the same
 //! partners, separations and padding as one by one throughout.
 
-use super::lanes::{Lanes, LANES, V4};
+use crate::lanes::{Lanes, LANES, V4};
 use nalgebra::Vector3;
 /// One site's partners within reach and their separations, padded to whole
 /// rows of [`LANES`] by repeating the last (the padding's results are

@@ -13,7 +13,9 @@
 //! which the former kernel's `exp(-x^2)` has too), the tests check it; at
 //! `x >= 8` (`erfc < 1.2e-29`) libm's `erfc`.
 
+use crate::lanes::{Lanes, LANES};
 use std::f64::consts::PI;
+use std::ops::{Add, Div, Mul};
 use std::sync::OnceLock;
 
 /// Intervals per unit of `x`.
@@ -90,12 +92,34 @@ impl ErfcTable {
         }
         let k = scaled as usize;
         let t = 2.0 * (scaled - k as f64) - 1.0;
-        let c = &self.coefficients[k];
-        let mut sum = c[DEGREE];
-        for m in (0..DEGREE).rev() {
-            sum = sum * t + c[m];
-        }
+        let sum = horner(|m| self.coefficients[k][m], t);
         (gauss * sum, gauss)
+    }
+
+    /// [`Self::erfc_gauss`] in four lanes, each lane's bits those of the
+    /// scalar function (the same operations in the same order; `exp` and,
+    /// beyond the table, `erfc` by libm for each lane).
+    #[inline(always)]
+    pub fn erfc_gauss_lanes<T: Lanes>(&self, x: T) -> (T, T) {
+        let gauss = T::from_array((-x * x).to_array().map(f64::exp));
+        let scaled = x * PER_UNIT as f64;
+        let intervals = scaled.to_array().map(|s| s as usize);
+        let beyond = intervals.map(|k| k >= INTERVALS);
+        let rows = intervals.map(|k| &self.coefficients[k.min(INTERVALS - 1)]);
+        let start = T::from_array(intervals.map(|k| k as f64));
+        let t = (scaled - start) * 2.0 - T::splat(1.0);
+        let sum = horner(|m| T::from_array(rows.map(|c| c[m])), t);
+        let erfc = gauss * sum;
+        if !beyond.contains(&true) {
+            return (erfc, gauss);
+        }
+        let (mut lanes, xs) = (erfc.to_array(), x.to_array());
+        for l in 0..LANES {
+            if beyond[l] {
+                lanes[l] = libm::erfc(xs[l]);
+            }
+        }
+        (T::from_array(lanes), gauss)
     }
 
     /// Smith's radial functions `B_0..B_(L-1)` of `erfc(alpha r) / r` (the
@@ -105,16 +129,53 @@ impl ErfcTable {
     pub fn radial<const L: usize>(&self, alpha: f64, distance_squared: f64) -> [f64; L] {
         let r = distance_squared.sqrt();
         let (erfc, gauss) = self.erfc_gauss(alpha * r);
-        let inv_r2 = 1.0 / distance_squared;
-        let mut b = [0.0; L];
-        b[0] = erfc / r;
-        let mut gauss = gauss / (alpha * PI.sqrt());
-        for l in 1..L {
-            gauss *= 2.0 * alpha * alpha;
-            b[l] = ((2 * l - 1) as f64 * b[l - 1] + gauss) * inv_r2;
-        }
-        b
+        recursion(erfc, gauss, (r, distance_squared), alpha, |x| x)
     }
+
+    /// [`Self::radial`] in four lanes, each lane's bits the scalar
+    /// function's.
+    #[inline(always)]
+    pub fn radial_lanes<T: Lanes, const L: usize>(&self, alpha: f64, distance_squared: T) -> [T; L] {
+        let r = distance_squared.sqrt();
+        let (erfc, gauss) = self.erfc_gauss_lanes(r * alpha);
+        recursion(erfc, gauss, (r, distance_squared), alpha, T::splat)
+    }
+}
+
+/// `c(8) t^8 + ... + c(0)` by Horner's rule.
+#[inline(always)]
+fn horner<T: Copy + Add<Output = T> + Mul<Output = T>>(c: impl Fn(usize) -> T, t: T) -> T {
+    let mut sum = c(DEGREE);
+    for m in (0..DEGREE).rev() {
+        sum = sum * t + c(m);
+    }
+    sum
+}
+
+/// `B_0 = erfc(alpha r) / r` and `B_l = ((2 l - 1) B_(l-1) + (2 alpha^2)^l
+/// exp(-alpha^2 r^2) / (alpha sqrt(pi))) / r^2` (Smith's recursion), from
+/// `erfc` and `gauss = exp(-alpha^2 r^2)`, scalars or lanes (`splat` a
+/// constant).
+#[inline(always)]
+fn recursion<T, const L: usize>(
+    erfc: T,
+    gauss: T,
+    (r, distance_squared): (T, T),
+    alpha: f64,
+    splat: impl Fn(f64) -> T,
+) -> [T; L]
+where
+    T: Copy + Add<Output = T> + Mul<Output = T> + Div<Output = T>,
+{
+    let inv_r2 = splat(1.0) / distance_squared;
+    let mut b = [splat(0.0); L];
+    b[0] = erfc / r;
+    let mut gauss = gauss / splat(alpha * PI.sqrt());
+    for l in 1..L {
+        gauss = gauss * splat(2.0 * alpha * alpha);
+        b[l] = (splat((2 * l - 1) as f64) * b[l - 1] + gauss) * inv_r2;
+    }
+    b
 }
 
 #[cfg(test)]
@@ -163,6 +224,39 @@ mod tests {
                 (erfc / expected - 1.0).abs() < ERFC_RELATIVE,
                 "{x}: {erfc:e}"
             );
+        }
+    }
+
+    /// Each lane of `radial_lanes` holds the bits of the scalar `radial`
+    /// (in arrays and, where the CPU has AVX2, in AVX registers), lanes
+    /// beyond the table's end (libm's `erfc`) mixed with lanes inside it.
+    #[test]
+    fn radial_lanes_are_the_scalar_radial() {
+        fn check<T: Lanes>() {
+            let table = ErfcTable::get();
+            let alpha = 1.3;
+            for start in 0..400 {
+                // alpha r = x: lane 0 from 0.01 to 8.7, the others beyond the table.
+                let x: [f64; LANES] =
+                    std::array::from_fn(|l| 0.01 + 0.0217 * start as f64 + 7.9 * l as f64);
+                let r2 = x.map(|x| (x / alpha) * (x / alpha));
+                let lanes = table.radial_lanes::<T, 4>(alpha, T::from_array(r2));
+                for (l, &r2) in r2.iter().enumerate() {
+                    let scalar = table.radial::<4>(alpha, r2);
+                    for k in 0..4 {
+                        assert_eq!(
+                            lanes[k].to_array()[l].to_bits(),
+                            scalar[k].to_bits(),
+                            "r^2 {r2} B_{k}"
+                        );
+                    }
+                }
+            }
+        }
+        check::<crate::lanes::F4>();
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            check::<crate::lanes::Avx>();
         }
     }
 

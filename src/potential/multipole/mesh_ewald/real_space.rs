@@ -28,6 +28,9 @@ use super::cartesian::{
     add_source, pair_force, radial_derivatives, Tables, DERIVATIVES, SOURCES, UP_TO,
 };
 use super::damped::ErfcTable;
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::Avx;
+use crate::lanes::{Lanes, F4, LANES, V4};
 use crate::potential::multipole::ewald_terms::radial_functions;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -172,16 +175,18 @@ impl CellList {
         }
     }
 
-    /// Calls `pair(a, b, r, r^2)` once for every pair of sites (`a`, `b`
+    /// Calls `pairs.pair(a, b, r, r^2)` once for every pair of sites (`a`, `b`
     /// their places in cell order) closer than `sqrt(cutoff_squared)` with
     /// `a` in cell `c`, `r = r_a - r_b` at the image of `b` in reach: the
     /// pairs within `c`, and those with the cells of the half stencil.
+    /// Inlined, so that `pair` is compiled with the caller's target features.
+    #[inline(always)]
     fn for_each_pair_from(
         &self,
         c: usize,
         box_lengths: &Vector3<f64>,
         cutoff_squared: f64,
-        mut pair: impl FnMut(usize, usize, Vector3<f64>, f64),
+        pairs: &mut impl PairSink,
     ) {
         let cells = self.cells;
         let own = self.start[c]..self.start[c + 1];
@@ -190,7 +195,7 @@ impl CellList {
                 let r = self.sorted[a] - self.sorted[b];
                 let distance_squared = r.norm_squared();
                 if distance_squared < cutoff_squared {
-                    pair(a, b, r, distance_squared);
+                    pairs.pair(a, b, r, distance_squared);
                 }
             }
         }
@@ -231,7 +236,7 @@ impl CellList {
                     let r = base - position;
                     let distance_squared = r.norm_squared();
                     if distance_squared < cutoff_squared {
-                        pair(a, range.start + b, r, distance_squared);
+                        pairs.pair(a, range.start + b, r, distance_squared);
                     }
                 }
             }
@@ -239,18 +244,14 @@ impl CellList {
     }
 
     /// Sums the pairs into one block per thread (module doc), each thread's
-    /// kernel made by `kernel()`: `kernel(c_a, c_b, r, r^2, d_a, d_b, w)`
-    /// adds the pair's share to the derivatives `d_a` of site `a` and `d_b`
-    /// of `b` (coefficients `c_a`, `c_b`, `r = r_a - r_b`) and its `r f^T`
-    /// to `w`.
-    fn sum_pairs<K>(
+    /// kernel made by `kernel()`, four pairs at a time ([`RealKernel`]), in
+    /// AVX registers where the CPU has AVX2, else in arrays (the same bits).
+    fn sum_pairs<K: RealKernel>(
         &mut self,
         box_lengths: &Vector3<f64>,
         cutoff: f64,
         kernel: impl Fn() -> K + Sync,
-    ) where
-        K: FnMut(&[f64; SOURCES], &[f64; SOURCES], &Vector3<f64>, f64, Pair<'_>),
-    {
+    ) {
         let sites = self.members.len();
         let cells = self.start.len() - 1;
         let threads = rayon::current_num_threads().clamp(1, cells);
@@ -268,30 +269,109 @@ impl CellList {
             block.derivatives.clear();
             block.derivatives.resize(sites, [0.0; DERIVATIVES]);
             block.virial = Matrix3::zeros();
-            let mut kernel = kernel();
-            let (derivatives, virial) = (&mut block.derivatives, &mut block.virial);
             let last = if k + 1 == threads {
                 cells
             } else {
                 bound(k + 1)
             };
-            for c in bound(k)..last {
-                this.for_each_pair_from(c, box_lengths, cutoff * cutoff, |a, b, r, r2| {
-                    // a != b; a half-stencil cell may come before the home cell.
-                    let (low, high) = derivatives.split_at_mut(a.max(b));
-                    let (d_a, d_b) = if a < b {
-                        (&mut low[a], &mut high[0])
-                    } else {
-                        (&mut high[0], &mut low[b])
-                    };
-                    let (c_a, c_b) = (&this.sorted_coefficients[a], &this.sorted_coefficients[b]);
-                    kernel(c_a, c_b, &r, r2, (d_a, d_b, &mut *virial));
-                });
+            let range = (bound(k)..last, box_lengths, cutoff);
+            let mut kernel = kernel();
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has AVX2, checked just above.
+                unsafe { this.cells_avx2(range, &mut kernel, block) };
+                return;
             }
+            this.cells_in_lanes::<F4, K>(range, &mut kernel, block);
         });
         self.blocks = blocks;
     }
 
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn cells_avx2<K: RealKernel>(
+        &self,
+        range: (std::ops::Range<usize>, &Vector3<f64>, f64),
+        kernel: &mut K,
+        block: &mut Block,
+    ) {
+        self.cells_in_lanes::<Avx, K>(range, kernel, block);
+    }
+
+    /// The pairs from the cells of `cells` (within `cutoff` in
+    /// `box_lengths`) into `block` by `kernel`, four at a time in the order
+    /// [`Self::for_each_pair_from`] finds them: each site's sums take the
+    /// pairs in that order whatever the lanes, so they are the bits of a
+    /// pair-by-pair sum.
+    #[inline(always)]
+    fn cells_in_lanes<T: Lanes, K: RealKernel>(
+        &self,
+        (cells, box_lengths, cutoff): (std::ops::Range<usize>, &Vector3<f64>, f64),
+        kernel: &mut K,
+        block: &mut Block,
+    ) {
+        let mut sink = ChunkSink {
+            chunk: Chunk::default(),
+            kernel,
+            coefficients: &self.sorted_coefficients,
+            block,
+            lanes: std::marker::PhantomData::<T>,
+        };
+        for c in cells {
+            self.for_each_pair_from(c, box_lengths, cutoff * cutoff, &mut sink);
+        }
+        if sink.chunk.len > 0 {
+            sink.flush();
+        }
+    }
+}
+
+/// Where [`CellList::for_each_pair_from`] puts the pairs it finds: a
+/// closure, or the chunks of a kernel (whose method is inlined into the
+/// search, so that it is compiled with the search's target features).
+trait PairSink {
+    fn pair(&mut self, a: usize, b: usize, r: Vector3<f64>, r2: f64);
+}
+
+impl<F: FnMut(usize, usize, Vector3<f64>, f64)> PairSink for F {
+    fn pair(&mut self, a: usize, b: usize, r: Vector3<f64>, r2: f64) {
+        self(a, b, r, r2);
+    }
+}
+
+/// The pairs into chunks of four, each full chunk through `kernel` in lanes `T`.
+struct ChunkSink<'a, T, K> {
+    chunk: Chunk,
+    kernel: &'a mut K,
+    coefficients: &'a [[f64; SOURCES]],
+    block: &'a mut Block,
+    lanes: std::marker::PhantomData<T>,
+}
+
+impl<T: Lanes, K: RealKernel> ChunkSink<'_, T, K> {
+    #[inline(always)]
+    fn flush(&mut self) {
+        let block = &mut *self.block;
+        self.kernel.add::<T>(
+            &self.chunk,
+            self.coefficients,
+            &mut block.derivatives,
+            &mut block.virial,
+        );
+        self.chunk.len = 0;
+    }
+}
+
+impl<T: Lanes, K: RealKernel> PairSink for ChunkSink<'_, T, K> {
+    #[inline(always)]
+    fn pair(&mut self, a: usize, b: usize, r: Vector3<f64>, r2: f64) {
+        if self.chunk.push(a, b, r, r2) {
+            self.flush();
+        }
+    }
+}
+
+impl CellList {
     /// Adds the real-space derivatives of every site to `derivatives`
     /// (`count` of them), from the sources' coefficients `coefficients` (of
     /// order at most `source_order`); returns the pairs' virial `sum r_ij
@@ -315,17 +395,17 @@ impl CellList {
         let unrolled = count <= UP_TO[2] && (source_order == 0 || (source_order == 1 && !virial));
         match (unrolled, source_order, count > UP_TO[1]) {
             (true, 0, false) => self.sum_pairs(box_lengths, cutoff, || {
-                charge_dipole_kernel::<2, false>(alpha, virial)
+                ChargeDipoleKernel::<2, false>::new(alpha, virial)
             }),
             (true, 0, true) => self.sum_pairs(box_lengths, cutoff, || {
-                charge_dipole_kernel::<4, false>(alpha, virial)
+                ChargeDipoleKernel::<4, false>::new(alpha, virial)
             }),
             // Dipoles: their forces need the field gradient (count 10).
             (true, _, _) => self.sum_pairs(box_lengths, cutoff, || {
-                charge_dipole_kernel::<4, true>(alpha, virial)
+                ChargeDipoleKernel::<4, true>::new(alpha, virial)
             }),
             (false, _, _) => self.sum_pairs(box_lengths, cutoff, || {
-                general_kernel(alpha, (source_order, count), virial)
+                GeneralKernel::new(alpha, (source_order, count), virial)
             }),
         }
         let mut total = Matrix3::zeros();
@@ -345,94 +425,213 @@ impl CellList {
     }
 }
 
-/// The derivatives of both sites of a pair and the virial they add to.
-type Pair<'a> = (
-    &'a mut [f64; DERIVATIVES],
-    &'a mut [f64; DERIVATIVES],
-    &'a mut Matrix3<f64>,
-);
+/// Up to four pairs for a kernel: the places of their sites in cell order
+/// (`a`, `b`), `r = r_a - r_b` and `r^2`; the lanes from `len` on hold a
+/// harmless separation (`r^2 = 1`) whose results are dropped.
+#[derive(Clone, Copy, Debug)]
+struct Chunk {
+    a: [usize; LANES],
+    b: [usize; LANES],
+    r: [Vector3<f64>; LANES],
+    r2: [f64; LANES],
+    len: usize,
+}
+
+impl Default for Chunk {
+    fn default() -> Self {
+        Chunk {
+            a: [0; LANES],
+            b: [0; LANES],
+            r: [Vector3::x(); LANES],
+            r2: [1.0; LANES],
+            len: 0,
+        }
+    }
+}
+
+impl Chunk {
+    /// Adds a pair; whether the chunk is full.
+    #[inline(always)]
+    fn push(&mut self, a: usize, b: usize, r: Vector3<f64>, r2: f64) -> bool {
+        let l = self.len;
+        (self.a[l], self.b[l], self.r[l], self.r2[l]) = (a, b, r, r2);
+        self.len += 1;
+        self.len == LANES
+    }
+
+    /// The lanes of the sources' coefficients `e` of the sites `sites`.
+    #[inline(always)]
+    fn sources<T: Lanes, const E: usize>(
+        sites: &[usize; LANES],
+        coefficients: &[[f64; SOURCES]],
+    ) -> [T; E] {
+        std::array::from_fn(|e| T::from_array(sites.map(|i| coefficients[i][e])))
+    }
+}
+
+/// A real-space pair kernel, four pairs at a time: adds each pair's share
+/// to the derivatives of both its sites (`d_a` from the coefficients of
+/// `b` at `r`, `d_b` from those of `a` at `-r`) and its `r f^T` to the
+/// virial, lane by lane in the chunk's order.
+trait RealKernel {
+    fn add<T: Lanes>(
+        &mut self,
+        chunk: &Chunk,
+        coefficients: &[[f64; SOURCES]],
+        derivatives: &mut [[f64; DERIVATIVES]],
+        virial: &mut Matrix3<f64>,
+    );
+}
 
 /// The pair kernel of charges and (with `DIPOLES`) dipoles by
-/// [`add_charge_dipole`], the radial functions `B_0..B_(L-1)` (`L = 2`: the
-/// potential and field; 4: and the field gradient) from [`ErfcTable`]; the
-/// virial of charges only (the general kernel has that of dipoles).
-fn charge_dipole_kernel<const L: usize, const DIPOLES: bool>(
+/// [`charge_dipole_terms`], the radial functions `B_0..B_(L-1)` (`L = 2`:
+/// the potential and field; 4: and the field gradient) from [`ErfcTable`];
+/// the virial of charges only (the general kernel has that of dipoles).
+struct ChargeDipoleKernel<const L: usize, const DIPOLES: bool> {
     alpha: f64,
     virial: bool,
-) -> impl FnMut(&[f64; SOURCES], &[f64; SOURCES], &Vector3<f64>, f64, Pair<'_>) {
-    let erfc = ErfcTable::get();
-    move |c_a, c_b, r, r2, (d_a, d_b, w)| {
-        let b = erfc.radial::<L>(alpha, r2);
-        add_charge_dipole::<L, DIPOLES>(c_b, r, &b, d_a);
-        add_charge_dipole::<L, DIPOLES>(c_a, &-r, &b, d_b);
-        if virial {
-            let f = r * (c_a[0] * c_b[0] * b[1]);
-            *w += r * f.transpose();
+    erfc: &'static ErfcTable,
+}
+
+impl<const L: usize, const DIPOLES: bool> ChargeDipoleKernel<L, DIPOLES> {
+    fn new(alpha: f64, virial: bool) -> Self {
+        ChargeDipoleKernel {
+            alpha,
+            virial,
+            erfc: ErfcTable::get(),
+        }
+    }
+}
+
+impl<const L: usize, const DIPOLES: bool> RealKernel for ChargeDipoleKernel<L, DIPOLES> {
+    #[inline(always)]
+    fn add<T: Lanes>(
+        &mut self,
+        chunk: &Chunk,
+        coefficients: &[[f64; SOURCES]],
+        derivatives: &mut [[f64; DERIVATIVES]],
+        virial: &mut Matrix3<f64>,
+    ) {
+        let r = V4::<T>::gather(chunk.r.each_ref());
+        let b = self
+            .erfc
+            .radial_lanes::<T, L>(self.alpha, T::from_array(chunk.r2));
+        let c_a = Chunk::sources::<T, 4>(&chunk.a, coefficients);
+        let c_b = Chunk::sources::<T, 4>(&chunk.b, coefficients);
+        let to_a = charge_dipole_terms::<T, L, DIPOLES>(&c_b, &r, &b).map(T::to_array);
+        let to_b = charge_dipole_terms::<T, L, DIPOLES>(&c_a, &-r, &b).map(T::to_array);
+        let count = if L > 2 { UP_TO[2] } else { UP_TO[1] };
+        let b1 = b[1].to_array();
+        for l in 0..chunk.len {
+            let d_a = &mut derivatives[chunk.a[l]];
+            for (d, t) in d_a.iter_mut().zip(&to_a).take(count) {
+                *d += t[l];
+            }
+            let d_b = &mut derivatives[chunk.b[l]];
+            for (d, t) in d_b.iter_mut().zip(&to_b).take(count) {
+                *d += t[l];
+            }
+            if self.virial {
+                let (r, q_a, q_b) = (chunk.r[l], coefficients[chunk.a[l]][0], coefficients[chunk.b[l]][0]);
+                let f = r * (q_a * q_b * b1[l]);
+                *virial += r * f.transpose();
+            }
         }
     }
 }
 
 /// The pair kernel of any sources (order at most `source_order`, `count`
-/// derivatives) by the derivative tensors of `erfc(alpha r) / r`: those at
-/// `-r` for the second site are `(-1)^|N|` times those at `r`.
-fn general_kernel(
+/// derivatives) by the derivative tensors of `erfc(alpha r) / r`, pair by
+/// pair: those at `-r` for the second site are `(-1)^|N|` times those at
+/// `r`.
+struct GeneralKernel {
     alpha: f64,
-    (source_order, count): (usize, usize),
+    source_order: usize,
+    count: usize,
     virial: bool,
-) -> impl FnMut(&[f64; SOURCES], &[f64; SOURCES], &Vector3<f64>, f64, Pair<'_>) {
-    let tables = Tables::get();
-    let sources = UP_TO[source_order];
-    // `count` reaches one order above the sources: enough for the pair forces too.
-    let needed = UP_TO[tables.order(count - 1) + source_order];
-    let signs: [f64; 56] =
-        std::array::from_fn(|n| if tables.order(n) % 2 == 1 { -1.0 } else { 1.0 });
-    let mut t = [[0.0; 56]; 6];
-    let mut flipped = [0.0; 56];
-    move |c_a, c_b, r, r2, (d_a, d_b, w)| {
-        radial_derivatives(r, &radial_functions(alpha, r2.sqrt()), needed, &mut t);
-        add_source(&t[0], c_b, sources, count, d_a);
-        for ((f, t), s) in flipped.iter_mut().zip(&t[0]).zip(&signs).take(needed) {
-            *f = t * s;
-        }
-        add_source(&flipped, c_a, sources, count, d_b);
-        if virial {
-            let f = pair_force(&t[0], c_a, sources, c_b, sources);
-            *w += r * f.transpose();
+    /// The multi-indices the pair needs (one order above the sources'
+    /// derivatives: enough for the pair forces too).
+    needed: usize,
+    signs: [f64; 56],
+    t: [[f64; 56]; 6],
+    flipped: [f64; 56],
+}
+
+impl GeneralKernel {
+    fn new(alpha: f64, (source_order, count): (usize, usize), virial: bool) -> Self {
+        let tables = Tables::get();
+        GeneralKernel {
+            alpha,
+            source_order,
+            count,
+            virial,
+            needed: UP_TO[tables.order(count - 1) + source_order],
+            signs: std::array::from_fn(|n| if tables.order(n) % 2 == 1 { -1.0 } else { 1.0 }),
+            t: [[0.0; 56]; 6],
+            flipped: [0.0; 56],
         }
     }
 }
 
-/// Adds the potential of a source with charge `q = c[0]` and dipole `mu =
+impl RealKernel for GeneralKernel {
+    fn add<T: Lanes>(
+        &mut self,
+        chunk: &Chunk,
+        coefficients: &[[f64; SOURCES]],
+        derivatives: &mut [[f64; DERIVATIVES]],
+        virial: &mut Matrix3<f64>,
+    ) {
+        let (sources, count, needed) = (UP_TO[self.source_order], self.count, self.needed);
+        for l in 0..chunk.len {
+            let (a, b, r) = (chunk.a[l], chunk.b[l], &chunk.r[l]);
+            let (c_a, c_b) = (&coefficients[a], &coefficients[b]);
+            let t = &mut self.t;
+            radial_derivatives(r, &radial_functions(self.alpha, chunk.r2[l].sqrt()), needed, t);
+            add_source(&t[0], c_b, sources, count, &mut derivatives[a]);
+            for ((f, t), s) in self.flipped.iter_mut().zip(&t[0]).zip(&self.signs).take(needed) {
+                *f = t * s;
+            }
+            add_source(&self.flipped, c_a, sources, count, &mut derivatives[b]);
+            if self.virial {
+                let f = pair_force(&t[0], c_a, sources, c_b, sources);
+                *virial += r * f.transpose();
+            }
+        }
+    }
+}
+
+/// The potential of a source with charge `q = c[0]` and dipole `mu =
 /// c[1..4]` (with `DIPOLES`, which needs `L = 4`) and its first 4 (`L =
-/// 2`) or 10 (`L = 4`) derivatives at offset `r` to `d`, from the radial
-/// functions `b` at `|r|` (the sums of [`add_source`]
-/// for these sources, unrolled): `phi = q B_0 + (mu.r) B_1`, `d_a phi = -q
-/// r_a B_1 + mu_a B_1 - r_a (mu.r) B_2`, `d_ac phi = q (r_a r_c B_2 -
-/// delta_ac B_1) + (mu.r) r_a r_c B_3 - (mu_a r_c + mu_c r_a + delta_ac
-/// mu.r) B_2`.
+/// 2`) or 10 (`L = 4`) derivatives at offset `r`, four pairs at once, from
+/// the radial functions `b` at `|r|` (the sums of [`add_source`] for these
+/// sources, unrolled): `phi = q B_0 + (mu.r) B_1`, `d_a phi = -q r_a B_1 +
+/// mu_a B_1 - r_a (mu.r) B_2`, `d_ac phi = q (r_a r_c B_2 - delta_ac B_1) +
+/// (mu.r) r_a r_c B_3 - (mu_a r_c + mu_c r_a + delta_ac mu.r) B_2`.
 #[inline(always)]
-fn add_charge_dipole<const L: usize, const DIPOLES: bool>(
-    c: &[f64; SOURCES],
-    r: &Vector3<f64>,
-    b: &[f64; L],
-    d: &mut [f64; DERIVATIVES],
-) {
+fn charge_dipole_terms<T: Lanes, const L: usize, const DIPOLES: bool>(
+    c: &[T; 4],
+    r: &V4<T>,
+    b: &[T; L],
+) -> [T; UP_TO[2]] {
+    let mut d = [T::default(); UP_TO[2]];
     let q = c[0];
+    let r = [r.x, r.y, r.z];
     let mu = if DIPOLES {
         [c[1], c[2], c[3]]
     } else {
-        [0.0; 3]
+        [T::default(); 3]
     };
     let mu_r = mu[0] * r[0] + mu[1] * r[1] + mu[2] * r[2];
     if DIPOLES {
-        d[0] += q * b[0] + mu_r * b[1];
+        d[0] = q * b[0] + mu_r * b[1];
         for a in 0..3 {
-            d[1 + a] += (mu[a] - q * r[a]) * b[1] - r[a] * mu_r * b[2];
+            d[1 + a] = (mu[a] - q * r[a]) * b[1] - r[a] * mu_r * b[2];
         }
     } else {
-        d[0] += q * b[0];
+        d[0] = q * b[0];
         for a in 0..3 {
-            d[1 + a] -= q * r[a] * b[1];
+            // d - x is d + (-x), bit for bit.
+            d[1 + a] = -(q * r[a] * b[1]);
         }
     }
     if L > 2 {
@@ -440,13 +639,14 @@ fn add_charge_dipole<const L: usize, const DIPOLES: bool>(
         for a in 0..3 {
             for e in a..3 {
                 let rr = r[a] * r[e];
-                let delta = if a == e { 1.0 } else { 0.0 };
-                d[k] += q * (rr * b[2] - delta * b[1]) + mu_r * rr * b[3]
+                let delta = T::splat(if a == e { 1.0 } else { 0.0 });
+                d[k] = q * (rr * b[2] - delta * b[1]) + mu_r * rr * b[3]
                     - (mu[a] * r[e] + mu[e] * r[a] + delta * mu_r) * b[2];
                 k += 1;
             }
         }
     }
+    d
 }
 
 /// Runs `f(i, derivatives[i], virials[i])` for every site, sites as rayon
@@ -492,7 +692,7 @@ mod tests {
             cells.build(&wrapped, &box_lengths, &vec![[0.0; SOURCES]; sites]);
             let mut found = Vec::new();
             for c in 0..cells.start.len() - 1 {
-                cells.for_each_pair_from(c, &box_lengths, cutoff * cutoff, |a, b, r, r2| {
+                cells.for_each_pair_from(c, &box_lengths, cutoff * cutoff, &mut |a: usize, b: usize, r: Vector3<f64>, r2: f64| {
                     let (i, j) = (cells.members[a], cells.members[b]);
                     found.push((i.min(j), i.max(j), if i < j { r } else { -r }, r2));
                 });

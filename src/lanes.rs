@@ -1,23 +1,23 @@
 //! Four pairs at once: [`Lanes`], four `f64` lanes, and `V4`, four
 //! 3-vectors as three lanes of components, for the pair kernels of the
-//! pair pass.
+//! moving bodies' pair pass and of the mesh Ewald sum's real space.
 //!
 //! Each operation acts lane by lane with the same rounding as the scalar
 //! operation (no fused multiply-add), so a lane holds the bits the scalar
 //! formula would give for its pair, whichever implementation computes it:
 //! `F4`, plain arrays for any machine, or `Avx`, AVX registers, which the
-//! pass uses on x86-64 CPUs that have AVX2 (its operations are inlined into
-//! the pass compiled for AVX2, and only there).
+//! passes use on x86-64 CPUs that have AVX2 (its operations are inlined into
+//! the passes compiled for AVX2, and only there).
 
 use nalgebra::Vector3;
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
 /// The number of lanes.
-pub(super) const LANES: usize = 4;
+pub(crate) const LANES: usize = 4;
 
 /// Four `f64` lanes. A mask is a value with all bits set in the lanes where
 /// it holds and none elsewhere.
-pub(super) trait Lanes:
+pub(crate) trait Lanes:
     Copy
     + Default
     + Add<Output = Self>
@@ -56,7 +56,7 @@ pub(super) trait Lanes:
 
 /// Four `f64` lanes as an array (any machine).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(super) struct F4(pub [f64; LANES]);
+pub(crate) struct F4(pub [f64; LANES]);
 
 /// Lane-by-lane arithmetic of `F4`.
 macro_rules! lanewise {
@@ -130,7 +130,7 @@ impl Lanes for F4 {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub(super) use avx::Avx;
+pub(crate) use avx::Avx;
 
 #[cfg(target_arch = "x86_64")]
 mod avx {
@@ -141,7 +141,7 @@ mod avx {
     /// Four `f64` lanes in an AVX register: to be used only in code
     /// compiled with AVX2 enabled and run on a CPU that has it.
     #[derive(Clone, Copy, Debug)]
-    pub(in crate::bodies) struct Avx(__m256d);
+    pub(crate) struct Avx(__m256d);
 
     impl Default for Avx {
         #[inline(always)]
@@ -231,7 +231,7 @@ mod avx {
 
 /// Four 3-vectors by component.
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct V4<T> {
+pub(crate) struct V4<T> {
     pub x: T,
     pub y: T,
     pub z: T,
