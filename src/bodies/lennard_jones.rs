@@ -12,9 +12,9 @@
 //! `x = sigma / r_c` (all site pairs counted, those within a body too, as
 //! LAMMPS does).
 
-use crate::lanes::{Lanes, LANES};
 use super::site::LennardJones;
 use crate::checks::{named_choices, positive, InputError};
+use crate::lanes::{Lanes, LANES};
 use std::f64::consts::PI;
 
 /// How the potential is cut at the cutoff.

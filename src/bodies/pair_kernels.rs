@@ -5,8 +5,8 @@
 //! once per pass and monomorphised into its loop.
 
 use super::electrostatics_shifted::{ChargeDipoles, Factors, Plain, ShiftedForceFactors};
-use crate::lanes::{Lanes, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
+use crate::lanes::{Lanes, LANES, V4};
 
 /// The Lennard-Jones pairs of a pass.
 pub(super) trait PairKernel<'a>: Sync + Sized {

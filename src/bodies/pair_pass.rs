@@ -14,9 +14,6 @@
 
 use super::electrostatics::{SiteMultipoles, SiteResponse};
 use super::electrostatics_shifted::{ChargeDipoles, ElectrostaticTruncation};
-#[cfg(target_arch = "x86_64")]
-use crate::lanes::Avx;
-use crate::lanes::{Lanes, F4, LANES, V4};
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
 use super::pair_kernels::{
@@ -24,6 +21,9 @@ use super::pair_kernels::{
     Truncated,
 };
 use super::within::Within;
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::Avx;
+use crate::lanes::{Lanes, F4, LANES, V4};
 use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;

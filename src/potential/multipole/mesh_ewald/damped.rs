@@ -135,7 +135,11 @@ impl ErfcTable {
     /// [`Self::radial`] in four lanes, each lane's bits the scalar
     /// function's.
     #[inline(always)]
-    pub fn radial_lanes<T: Lanes, const L: usize>(&self, alpha: f64, distance_squared: T) -> [T; L] {
+    pub fn radial_lanes<T: Lanes, const L: usize>(
+        &self,
+        alpha: f64,
+        distance_squared: T,
+    ) -> [T; L] {
         let r = distance_squared.sqrt();
         let (erfc, gauss) = self.erfc_gauss_lanes(r * alpha);
         recursion(erfc, gauss, (r, distance_squared), alpha, T::splat)

@@ -1,7 +1,8 @@
 //! Gathering the mesh potential at the sites (Essmann et al. 1995, eq 4.9;
 //! derivatives as in Sagui, Pedersen & Darden 2004): the interpolated
 //! potential and its derivatives up to the third order, by the derivatives
-//! of the spline weights. Sites are independent rayon tasks.
+//! of the spline weights, contracted one axis at a time (z, then y, then
+//! x). Sites are independent rayon tasks.
 
 use super::cartesian::Tables;
 use super::spread::{back, for_stencil, SiteWeights};
@@ -70,6 +71,9 @@ impl SiteWeights {
                 let mut sum = [0.0; N];
                 for tx in 0..P {
                     let x = back(wx.base, tx, kx);
+                    // Contract y next: by_yz[ey][ez] = sum_ty wy^(ey) by_z[ez],
+                    // for ey + ez below Z (the orders of the multi-indices).
+                    let mut by_yz = [[0.0; Z]; Z];
                     for ty in 0..P {
                         let y = back(wy.base, ty, ky);
                         let row = &phi[(x * ky + y) * kz..(x * ky + y + 1) * kz];
@@ -81,9 +85,15 @@ impl SiteWeights {
                                 *out += wz.weight[n][tz] * value;
                             }
                         });
-                        for (out, [ex, ey, ez]) in sum.iter_mut().zip(&exponents) {
-                            *out += wx.weight[*ex][tx] * wy.weight[*ey][ty] * by_z[*ez];
+                        for (ey, by_y) in by_yz.iter_mut().enumerate() {
+                            let w = wy.weight[ey][ty];
+                            for (out, z) in by_y.iter_mut().zip(&by_z).take(Z - ey) {
+                                *out += w * z;
+                            }
                         }
+                    }
+                    for (out, [ex, ey, ez]) in sum.iter_mut().zip(&exponents) {
+                        *out += wx.weight[*ex][tx] * by_yz[*ey][*ez];
                     }
                 }
                 for ((d, s), f) in d.iter_mut().zip(&sum).zip(&factors) {

@@ -532,7 +532,11 @@ impl<const L: usize, const DIPOLES: bool> RealKernel for ChargeDipoleKernel<L, D
                 *d += t[l];
             }
             if self.virial {
-                let (r, q_a, q_b) = (chunk.r[l], coefficients[chunk.a[l]][0], coefficients[chunk.b[l]][0]);
+                let (r, q_a, q_b) = (
+                    chunk.r[l],
+                    coefficients[chunk.a[l]][0],
+                    coefficients[chunk.b[l]][0],
+                );
                 let f = r * (q_a * q_b * b1[l]);
                 *virial += r * f.transpose();
             }
@@ -586,9 +590,20 @@ impl RealKernel for GeneralKernel {
             let (a, b, r) = (chunk.a[l], chunk.b[l], &chunk.r[l]);
             let (c_a, c_b) = (&coefficients[a], &coefficients[b]);
             let t = &mut self.t;
-            radial_derivatives(r, &radial_functions(self.alpha, chunk.r2[l].sqrt()), needed, t);
+            radial_derivatives(
+                r,
+                &radial_functions(self.alpha, chunk.r2[l].sqrt()),
+                needed,
+                t,
+            );
             add_source(&t[0], c_b, sources, count, &mut derivatives[a]);
-            for ((f, t), s) in self.flipped.iter_mut().zip(&t[0]).zip(&self.signs).take(needed) {
+            for ((f, t), s) in self
+                .flipped
+                .iter_mut()
+                .zip(&t[0])
+                .zip(&self.signs)
+                .take(needed)
+            {
                 *f = t * s;
             }
             add_source(&self.flipped, c_a, sources, count, &mut derivatives[b]);
@@ -692,10 +707,15 @@ mod tests {
             cells.build(&wrapped, &box_lengths, &vec![[0.0; SOURCES]; sites]);
             let mut found = Vec::new();
             for c in 0..cells.start.len() - 1 {
-                cells.for_each_pair_from(c, &box_lengths, cutoff * cutoff, &mut |a: usize, b: usize, r: Vector3<f64>, r2: f64| {
-                    let (i, j) = (cells.members[a], cells.members[b]);
-                    found.push((i.min(j), i.max(j), if i < j { r } else { -r }, r2));
-                });
+                cells.for_each_pair_from(
+                    c,
+                    &box_lengths,
+                    cutoff * cutoff,
+                    &mut |a: usize, b: usize, r: Vector3<f64>, r2: f64| {
+                        let (i, j) = (cells.members[a], cells.members[b]);
+                        found.push((i.min(j), i.max(j), if i < j { r } else { -r }, r2));
+                    },
+                );
             }
             found.sort_by_key(|x| (x.0, x.1));
             let mut expected = Vec::new();
@@ -716,6 +736,175 @@ mod tests {
                 assert!((r - er).norm() < 1e-12, "{i} {j}: {r:?} against {er:?}");
                 assert!((r2 - r.norm_squared()).abs() < 1e-12);
             }
+        }
+    }
+
+    /// The sums of `kernel` over every pair of `cells` (built) in lanes `T`.
+    fn pair_sums<T: Lanes, K: RealKernel>(
+        cells: &CellList,
+        box_lengths: &Vector3<f64>,
+        cutoff: f64,
+        mut kernel: K,
+    ) -> Block {
+        let mut block = Block::default();
+        block
+            .derivatives
+            .resize(cells.members.len(), [0.0; DERIVATIVES]);
+        let all = 0..cells.start.len() - 1;
+        cells.cells_in_lanes::<T, K>((all, box_lengths, cutoff), &mut kernel, &mut block);
+        block
+    }
+
+    /// The unrolled kernels of charges and of charges and dipoles, four
+    /// pairs at a time, sum what the general kernel sums pair by pair (by
+    /// the derivative tensors of `erfc(alpha r) / r`, to round-off), the
+    /// charges' virial too, and the last chunk of fewer than four pairs
+    /// with the rest; in arrays and (where the CPU has AVX2) in AVX
+    /// registers, the same bits.
+    #[test]
+    fn lane_kernels_sum_what_the_general_kernel_sums() {
+        let (box_lengths, sites, cutoff, alpha) = (Vector3::new(4.0, 4.5, 5.0), 153, 1.7, 1.3);
+        let mut rng = ChaCha20Rng::seed_from_u64(11);
+        let wrapped: Vec<Vector3<f64>> = (0..sites)
+            .map(|_| Vector3::from_fn(|a, _| rng.random_range(0.0..box_lengths[a])))
+            .collect();
+        let coefficients: Vec<[f64; SOURCES]> = (0..sites)
+            .map(|_| {
+                std::array::from_fn(|e| {
+                    if e < 4 {
+                        rng.random_range(-1.0..1.0)
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect();
+        let charges: Vec<[f64; SOURCES]> = coefficients
+            .iter()
+            .map(|c| std::array::from_fn(|e| if e == 0 { c[0] } else { 0.0 }))
+            .collect();
+        let mut pairs = 0;
+        let mut cells = CellList::new(sites, &box_lengths, cutoff);
+        cells.build(&wrapped, &box_lengths, &coefficients);
+        for c in 0..cells.start.len() - 1 {
+            cells.for_each_pair_from(
+                c,
+                &box_lengths,
+                cutoff * cutoff,
+                &mut |_: usize, _: usize, _: Vector3<f64>, _: f64| pairs += 1,
+            );
+        }
+        assert!(
+            pairs % LANES != 0 && pairs > 500,
+            "{pairs} pairs: a partial last chunk"
+        );
+        let close = |lanes: &Block, general: &Block, count: usize, what: &str| {
+            let scale = general
+                .derivatives
+                .iter()
+                .flatten()
+                .fold(0.0f64, |m, x| m.max(x.abs()));
+            for (i, (l, g)) in lanes
+                .derivatives
+                .iter()
+                .zip(&general.derivatives)
+                .enumerate()
+            {
+                for k in 0..DERIVATIVES {
+                    let expected = if k < count { g[k] } else { 0.0 };
+                    assert!(
+                        (l[k] - expected).abs() < 1e-12 * scale,
+                        "{what}: site {i} derivative {k}: {} against {expected}",
+                        l[k]
+                    );
+                }
+            }
+            let virial_scale = general.virial.abs().max().max(1.0);
+            assert!(
+                (lanes.virial - general.virial).abs().max() < 1e-12 * virial_scale,
+                "{what}: virial"
+            );
+        };
+        let same_bits = |a: &Block, b: &Block| {
+            let bits = |x: &Block| {
+                x.derivatives
+                    .iter()
+                    .flatten()
+                    .map(|v| v.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(a), bits(b));
+            assert_eq!(a.virial, b.virial);
+        };
+        // Charges (potential and field, with the virial), charges with the field gradient.
+        cells.build(&wrapped, &box_lengths, &charges);
+        for (count, virial) in [(UP_TO[1], true), (UP_TO[2], false)] {
+            let general = pair_sums::<F4, _>(
+                &cells,
+                &box_lengths,
+                cutoff,
+                GeneralKernel::new(alpha, (0, count), virial),
+            );
+            let lanes = if count == UP_TO[1] {
+                pair_sums::<F4, _>(
+                    &cells,
+                    &box_lengths,
+                    cutoff,
+                    ChargeDipoleKernel::<2, false>::new(alpha, virial),
+                )
+            } else {
+                pair_sums::<F4, _>(
+                    &cells,
+                    &box_lengths,
+                    cutoff,
+                    ChargeDipoleKernel::<4, false>::new(alpha, virial),
+                )
+            };
+            close(&lanes, &general, count, "charges");
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                let avx = if count == UP_TO[1] {
+                    pair_sums::<Avx, _>(
+                        &cells,
+                        &box_lengths,
+                        cutoff,
+                        ChargeDipoleKernel::<2, false>::new(alpha, virial),
+                    )
+                } else {
+                    pair_sums::<Avx, _>(
+                        &cells,
+                        &box_lengths,
+                        cutoff,
+                        ChargeDipoleKernel::<4, false>::new(alpha, virial),
+                    )
+                };
+                same_bits(&avx, &lanes);
+            }
+        }
+        // Charges and dipoles.
+        cells.build(&wrapped, &box_lengths, &coefficients);
+        let general = pair_sums::<F4, _>(
+            &cells,
+            &box_lengths,
+            cutoff,
+            GeneralKernel::new(alpha, (1, UP_TO[2]), false),
+        );
+        let lanes = pair_sums::<F4, _>(
+            &cells,
+            &box_lengths,
+            cutoff,
+            ChargeDipoleKernel::<4, true>::new(alpha, false),
+        );
+        close(&lanes, &general, UP_TO[2], "charges and dipoles");
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let avx = pair_sums::<Avx, _>(
+                &cells,
+                &box_lengths,
+                cutoff,
+                ChargeDipoleKernel::<4, true>::new(alpha, false),
+            );
+            same_bits(&avx, &lanes);
         }
     }
 }

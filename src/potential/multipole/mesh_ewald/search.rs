@@ -158,7 +158,13 @@ fn choose(
                 }
                 continue;
             }
-            let c = cost((n_sites, density), rc, grid, p, pair);
+            let c = cost(
+                (n_sites, density),
+                rc,
+                grid,
+                p,
+                (pair, carried.spline_cost()),
+            );
             if best.as_ref().is_none_or(|(b, _, _)| c < *b) {
                 best = Some((c, parameters, estimate));
             }

@@ -110,6 +110,10 @@ impl SiteWeights {
                     for &i in &self.by_plane[self.plane_start[base]..self.plane_start[base + 1]] {
                         let [wx, wy, wz] = &self.axes[i];
                         let c = &scaled[i];
+                        // The z-weights in increasing z (point base - P + 1 + j at j).
+                        let reversed: [[f64; P]; 3] = std::array::from_fn(|n| {
+                            std::array::from_fn(|j| wz.weight[n][P - 1 - j])
+                        });
                         for ty in 0..P {
                             let y = back(wy.base, ty, ky);
                             // sum_E c_E wx^(E_x) wy^(E_y), per z-derivative order.
@@ -119,18 +123,33 @@ impl SiteWeights {
                                 by_z[ez] += c * wx.weight[ex][t] * wy.weight[ey][ty];
                             }
                             let row = &mut plane[y * kz..(y + 1) * kz];
-                            if source_order == 0 {
-                                // Charges: no z-derivatives.
-                                for_stencil::<P>(wz.base, kz, |tz, z| {
-                                    row[z] += by_z[0] * wz.weight[0][tz];
-                                });
+                            let charges = source_order == 0;
+                            if wz.base + 1 >= P {
+                                // A stencil that does not wrap: contiguous, in vector registers.
+                                let segment = &mut row[wz.base + 1 - P..=wz.base];
+                                if charges {
+                                    for (q, w) in segment.iter_mut().zip(&reversed[0]) {
+                                        *q += by_z[0] * w;
+                                    }
+                                } else {
+                                    for (j, q) in segment.iter_mut().enumerate() {
+                                        *q += by_z[0] * reversed[0][j]
+                                            + by_z[1] * reversed[1][j]
+                                            + by_z[2] * reversed[2][j];
+                                    }
+                                }
                                 continue;
                             }
-                            for_stencil::<P>(wz.base, kz, |tz, z| {
-                                row[z] += by_z[0] * wz.weight[0][tz]
-                                    + by_z[1] * wz.weight[1][tz]
-                                    + by_z[2] * wz.weight[2][tz];
-                            });
+                            for tz in 0..P {
+                                let z = back(wz.base, tz, kz);
+                                row[z] += if charges {
+                                    by_z[0] * wz.weight[0][tz]
+                                } else {
+                                    by_z[0] * wz.weight[0][tz]
+                                        + by_z[1] * wz.weight[1][tz]
+                                        + by_z[2] * wz.weight[2][tz]
+                                };
+                            }
                         }
                     }
                 }
