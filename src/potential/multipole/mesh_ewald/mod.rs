@@ -10,7 +10,7 @@
 //! potential derivatives `d^A phi(r_i)` up to the third order are the sum of:
 //!
 //! * real space: the pairs within `r_c` with the kernel `erfc(alpha r)/r`
-//!   (`real_space`);
+//!   (`real_space`, its kernels four pairs at a time in `pair_kernels`);
 //! * reciprocal space: `phi(r) = (4 pi / V) sum_(k != 0) exp(-k^2 / 4
 //!   alpha^2) / k^2 S(k) exp(i k.r)` with `S(k) = sum_j D_j exp(-i k.r_j)`,
 //!   computed on a mesh of `K_x x K_y x K_z` points with B-splines of order
@@ -69,6 +69,7 @@ mod estimate;
 mod gather;
 mod influence;
 mod mesh;
+mod pair_kernels;
 mod parameters;
 mod real_space;
 mod search;

@@ -120,6 +120,7 @@ fn choose(
     let density = n_sites / box_lengths.product();
     let d = density.cbrt().recip();
     let target = 0.5 * accuracy;
+    let costs = (pair, carried.spline_cost());
     let mut best: Option<(f64, MeshParameters, MeshEstimate)> = None;
     let mut missed: Option<Missed> = None;
     let splittings = splittings_to_try(forced, d);
@@ -158,13 +159,7 @@ fn choose(
                 }
                 continue;
             }
-            let c = cost(
-                (n_sites, density),
-                rc,
-                grid,
-                p,
-                (pair, carried.spline_cost()),
-            );
+            let c = cost((n_sites, density), rc, grid, p, costs);
             if best.as_ref().is_none_or(|(b, _, _)| c < *b) {
                 best = Some((c, parameters, estimate));
             }
