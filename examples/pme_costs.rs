@@ -1,7 +1,6 @@
 //! The measurements behind the mesh Ewald sum's cost model
 //! (`mesh_ewald::estimate`'s `CHARGE_PAIR_COST`, `DIPOLE_PAIR_COST`,
-//! `QUADRUPOLE_PAIR_COST`, `FFT_COST`, `CHARGE_SPLINE_COST`,
-//! `MULTIPOLE_SPLINE_COST` and `SITE_COST`): evaluation times of forced parameters
+//! `FFT_COST` and `SPLINE_COST`): evaluation times of forced parameters
 //! fitted by least squares to
 //!
 //! `t = t_pair * N n (2 pi / 3) r_c^3 + t_mesh * M log2 M + t_spline * N p^3 + t_site * N`

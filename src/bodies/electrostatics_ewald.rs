@@ -142,9 +142,7 @@ impl BodyEwald {
                 (Ok((_, units)), m) => {
                     let pme_seconds = m
                         .as_ref()
-                        .map(|(p, _)| {
-                            mesh_cost(p, (n, carried), &box_lengths, pair) * PME_SECONDS_PER_UNIT
-                        })
+                        .map(|(p, _)| mesh_cost(p, n, &box_lengths, pair) * PME_SECONDS_PER_UNIT)
                         .map_err(Clone::clone);
                     let choice =
                         AutoChoice::compare(Ok(units * PME_SECONDS_PER_UNIT), pme_seconds)?;

@@ -15,25 +15,21 @@
 //! The models' costs become seconds by a time per unit of each model and a
 //! calibration per kind of site: the geometric mean of measured CPU time
 //! over modelled seconds in the single-thread evaluation times of
-//! benchmarks/RESULTS.md's mesh section (jittered sites at 1e-4 to 1e-6,
-//! 125 to 8,000 dipoles in 14 cases for each sum, 125 to 2,197 linear
-//! quadrupoles in 12), its calibration table. The direct sum's: 2026-12-02
-//! 14:16 UTC, an idle 2-CPU AMD EPYC. PME's: its constants refitted on an
-//! idle 2-CPU Intel Xeon (`examples/pme_costs.rs`, 2026-12-02 19:40 UTC,
-//! after the real space's kernels in lanes), then its measured over
-//! modelled 0.944 (dipoles) and 0.930 (quadrupoles) in the mesh section's
-//! run of 19:51 on the same machine. A direct real-space pair is cheap (its
-//! geometry is stored once, the sites being fixed) and a PME pair dear (its
-//! derivative tensors are computed at each evaluation), hence the two
-//! scales; a quadrupole's direct pair and wave vector cost 2.2 times a
-//! dipole's (higher derivative tensors), which the direct model, counting
-//! pairs and wave vectors only, does not see. The direct sum's ratio
-//! depends on the host: 0.77 to 1.26 (dipoles) and 0.97 to 1.69
-//! (quadrupoles) in two runs on the EPYC, 0.556 and 0.521 on the Xeon,
-//! which runs the direct sum 1.8 times faster against its model and PME
-//! alike; the constants are the EPYC's, so on the Xeon the models put the
-//! crossovers below the measured ones (docs/scenes.md), where the two sums
-//! cost about the same.
+//! benchmarks/RESULTS.md's mesh section (2026-12-02, an idle 2-CPU AMD
+//! EPYC; jittered sites at 1e-4 to 1e-6, 125 to 8,000 dipoles in 14 cases
+//! for each sum, 125 to 2,197 linear quadrupoles in 12), its calibration
+//! table. A direct real-space pair is cheap (its geometry is stored once,
+//! the sites being fixed) and a PME pair dear (its derivative tensors are
+//! computed at each evaluation), hence the two scales; a quadrupole's
+//! direct pair and wave vector cost 2.2 times a dipole's (higher
+//! derivative tensors), which the direct model, counting pairs and wave
+//! vectors only, does not see. Before that calibration the models priced
+//! PME of quadrupoles 4 to 8 times dearer than the direct sum against the
+//! measured 0.6 to 1.5 (the model's crossover above 13,700 quadrupoles at
+//! 1e-5, the measured one 840). What the models still get wrong (PME's
+//! mesh terms, overpriced most for small systems at tight accuracies: its
+//! measured over modelled ratio runs from 0.18 to 0.66) and the
+//! crossovers they give against the measured ones are in docs/scenes.md.
 
 use super::PotentialError;
 
@@ -52,19 +48,19 @@ pub const DIRECT_QUADRUPOLE_FACTOR: f64 = 2.2;
 /// of the general kernel and its equivalents for the mesh and the splines)
 /// in one evaluation. Since 2026-11-29 the unit of the mesh sum's constants
 /// (`mesh_ewald::estimate`): each is its measured seconds
-/// (`examples/pme_costs.rs`, refitted 2026-12-02 on an idle 2-CPU Xeon)
-/// over this one. The automatic choice scales it by [`PME_DIPOLE_CALIBRATION`] or
+/// (`examples/pme_costs.rs`, 2026-11-29, a loaded 2-CPU Xeon) over this
+/// one. The automatic choice scales it by [`PME_DIPOLE_CALIBRATION`] or
 /// [`PME_QUADRUPOLE_CALIBRATION`]; the moving bodies' choice, whose two
 /// models are both in this unit, does not.
 pub const PME_SECONDS_PER_UNIT: f64 = 5.4e-7;
 
-/// The mesh sum's measured over modelled seconds for dipoles (2026-12-02
-/// 19:51, module doc).
-pub const PME_DIPOLE_CALIBRATION: f64 = 0.944;
+/// The mesh sum's measured over modelled seconds for dipoles (2026-12-02,
+/// module doc): its constants were measured under load.
+pub const PME_DIPOLE_CALIBRATION: f64 = 0.482;
 
 /// The mesh sum's measured over modelled seconds for quadrupoles (alone
-/// or with dipoles; 2026-12-02 19:51, module doc).
-pub const PME_QUADRUPOLE_CALIBRATION: f64 = 0.930;
+/// or with dipoles; 2026-12-02, module doc).
+pub const PME_QUADRUPOLE_CALIBRATION: f64 = 0.387;
 
 /// The direct sum's estimated seconds per evaluation of its cost model's
 /// `units` for sites with or without `quadrupoles`.

@@ -78,21 +78,11 @@ impl Carried {
     /// and dipoles ([`DIPOLE_PAIR_COST`]).
     pub fn pair_cost(&self) -> f64 {
         if self.quadrupoles {
-            QUADRUPOLE_PAIR_COST
+            1.0
         } else if self.dipoles {
             DIPOLE_PAIR_COST
         } else {
             CHARGE_PAIR_COST
-        }
-    }
-
-    /// The cost of a site's spline point (spreading and gathering; the
-    /// multipoles gather the field gradient too, charges the field only).
-    pub fn spline_cost(&self) -> f64 {
-        if self.dipoles || self.quadrupoles {
-            MULTIPOLE_SPLINE_COST
-        } else {
-            CHARGE_SPLINE_COST
         }
     }
 
@@ -186,33 +176,32 @@ pub(crate) fn mesh_estimate(
     largest
 }
 
-/// The cost of one evaluation, in units of
-/// [`crate::potential::multipole::PME_SECONDS_PER_UNIT`]: `N n (2 pi / 3)
-/// r_c^3` pairs at `pair` each (the kernel's cost, [`Carried::pair_cost`]),
-/// [`FFT_COST`] per mesh point and `log2` of the point count (the FFTs
-/// both ways and the influence function), `spline` per site and `p^3`
-/// (spreading and gathering, [`Carried::spline_cost`]) and [`SITE_COST`]
-/// per site.
+/// The cost of one evaluation, in real-space pairs of the general kernel:
+/// `N n (2 pi / 3) r_c^3` pairs at `pair` each (the kernel's cost,
+/// [`Carried::pair_cost`]), [`FFT_COST`] per mesh point and `log2` of the
+/// point count (the FFTs both ways and the influence function),
+/// [`SPLINE_COST`] per site and `p^3` (spreading and gathering) and
+/// [`SITE_COST`] per site.
 pub(crate) fn cost(
     (sites, density): (f64, f64),
     rc: f64,
     grid: [usize; 3],
     order: usize,
-    (pair, spline): (f64, f64),
+    pair: f64,
 ) -> f64 {
     let points: f64 = grid.iter().map(|&k| k as f64).product();
     pair * sites * density * (2.0 * PI / 3.0) * rc.powi(3)
         + FFT_COST * points * points.log2()
-        + spline * sites * (order as f64).powi(3)
+        + SPLINE_COST * sites * (order as f64).powi(3)
         + SITE_COST * sites
 }
 
-/// `cost` of the sum of `sites` sites carrying `carried` in `box_lengths`
-/// with `parameters`, a real-space pair costing `pair`: what the automatic
-/// choices weigh against the direct sum.
+/// `cost` of the sum of `sites` sites in `box_lengths` with `parameters`,
+/// a real-space pair costing `pair`: what the automatic choices weigh
+/// against the direct sum.
 pub fn mesh_cost(
     parameters: &MeshParameters,
-    (sites, carried): (usize, Carried),
+    sites: usize,
     box_lengths: &Vector3<f64>,
     pair: f64,
 ) -> f64 {
@@ -222,7 +211,7 @@ pub fn mesh_cost(
         parameters.real_cutoff,
         parameters.grid,
         parameters.order,
-        (pair, carried.spline_cost()),
+        pair,
     )
 }
 
@@ -230,40 +219,32 @@ pub fn mesh_cost(
 /// [`crate::potential::multipole::PME_SECONDS_PER_UNIT`] (540 ns): least-squares
 /// fits of `t = t_pair P + t_mesh M log2 M + t_spline N p^3 + t_site N`
 /// to the evaluation times of `examples/pme_costs.rs` (forced parameters,
-/// one thread, median process CPU time; 2026-12-02 19:40 UTC, a 2-CPU Intel
-/// Xeon with nothing else running, three runs agreeing within 4 % on the
-/// pairs and splines, 15 % on the mesh), after the real space's kernels in
-/// lanes and the gather contracted axis by axis. 12,000 random charges at
-/// 100.2 per unit volume (15 cases, residual 2 %): 23.8 ns per pair, 0.80
-/// ns per mesh-point unit, 1.54 ns per spline unit, 0.48 us per site. 4,096
-/// random dipoles at density 0.8 (residual 2.4 %): 33.9 ns, 0.68 ns, 2.22
-/// ns, 0.62 us. As many linear quadrupoles (the general kernel; residual
-/// 0.8 %): 327 ns, 0.60 ns, 3.06 ns, 0.89 us. The mesh constant is the
-/// mean of the three kinds'; the site constant the dipoles'.
+/// one thread, median process CPU time; 2026-11-29, a 2-CPU Intel Xeon at
+/// load 9 to 11), after the real space's reach-1 cells. 12,000 random charges at 100.2 per unit volume (15 cases,
+/// residual 2.6 %): 67.9 ns per pair, 3.31 ns per mesh-point unit, 6.35 ns
+/// per spline unit, 1.92 us per site. 4,096 random dipoles at density 0.8
+/// (15 cases, residual 11 %, noisy under that load): 79.6 ns per pair,
+/// 9.9 and 10.3 ns per mesh and spline unit, 1.24 us per site. The mesh and
+/// spline constants are the charges' (the better determined fit).
 ///
 /// The cost of a mesh point (times `log2` of the point count).
-const FFT_COST: f64 = 0.00128;
-/// The cost of a spline point of a site carrying charges only (`p^3` of
-/// them per site).
-const CHARGE_SPLINE_COST: f64 = 0.00285;
-/// The cost of a spline point of a site carrying dipoles or quadrupoles.
-const MULTIPOLE_SPLINE_COST: f64 = 0.0041;
+const FFT_COST: f64 = 0.0061;
+/// The cost of a site's spline point (`p^3` of them per site).
+const SPLINE_COST: f64 = 0.0118;
 /// The cost of a site's work that no parameter changes (wrapping, the cell
 /// list, the self terms, the forces): not weighed by the choice of
 /// parameters, but by the automatic choice against the direct sum.
-const SITE_COST: f64 = 1.15;
+const SITE_COST: f64 = 3.0;
 
 /// The cost of a real-space pair of the mesh sum's unrolled charge kernel
-/// (which the moving bodies' charges on a mesh use too): 23.8 ns per pair,
-/// search included (the fit above; 67.9 ns in the scalar kernel's fit of
-/// 2026-11-29 under load, 32 ns idle on 2026-12-02).
-pub const CHARGE_PAIR_COST: f64 = 0.044;
+/// (which the moving bodies' charges on a mesh use too) relative to the
+/// general kernel: 67.9 ns
+/// per pair, search included (the fit above; 87 to 106 ns when each pair
+/// was visited from both ends).
+pub const CHARGE_PAIR_COST: f64 = 0.126;
 
 /// The cost of a real-space pair of the mesh sum's unrolled kernel of
-/// charges and dipoles: 33.9 ns per pair, search included (the fit above;
-/// 79.6 ns in the scalar kernel's fit under load, 64 ns idle).
-pub const DIPOLE_PAIR_COST: f64 = 0.0628;
-
-/// The cost of a real-space pair of the general kernel (quadrupoles, or
-/// any virial of dipoles): 327 ns per pair (the fit above).
-pub const QUADRUPOLE_PAIR_COST: f64 = 0.605;
+/// charges and dipoles relative to the general kernel: 79.6 ns per pair,
+/// search included (the fit above; 148 ns when each pair was visited from
+/// both ends).
+pub const DIPOLE_PAIR_COST: f64 = 0.147;

@@ -120,7 +120,6 @@ fn choose(
     let density = n_sites / box_lengths.product();
     let d = density.cbrt().recip();
     let target = 0.5 * accuracy;
-    let costs = (pair, carried.spline_cost());
     let mut best: Option<(f64, MeshParameters, MeshEstimate)> = None;
     let mut missed: Option<Missed> = None;
     let splittings = splittings_to_try(forced, d);
@@ -159,7 +158,7 @@ fn choose(
                 }
                 continue;
             }
-            let c = cost((n_sites, density), rc, grid, p, costs);
+            let c = cost((n_sites, density), rc, grid, p, pair);
             if best.as_ref().is_none_or(|(b, _, _)| c < *b) {
                 best = Some((c, parameters, estimate));
             }
