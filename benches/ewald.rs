@@ -330,7 +330,7 @@ fn main() {
                 crossover.push(irregular_case(c, None, accuracy, SumMethod::Pme));
             }
         }
-        let quadrupole_cells: &[usize] = if quick { &[5, 8] } else { &[5, 8, 10, 13] };
+        let quadrupole_cells: &[usize] = if quick { &[5, 8] } else { &[5, 8, 10, 13, 16] };
         for &accuracy in &[1e-4, 1e-5, 1e-6] {
             for &c in quadrupole_cells {
                 for method in [SumMethod::Direct, SumMethod::Pme] {

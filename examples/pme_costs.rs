@@ -1,6 +1,6 @@
 //! The measurements behind the mesh Ewald sum's cost model
-//! (`mesh_ewald::estimate`'s `CHARGE_PAIR_COST`, `DIPOLE_PAIR_COST`,
-//! `FFT_COST` and `SPLINE_COST`): evaluation times of forced parameters
+//! (`mesh_ewald::estimate`'s `MeshCosts` of each kind of site and
+//! `MESH_POINT_SECONDS`): evaluation times of forced parameters
 //! fitted by least squares to
 //!
 //! `t = t_pair * N n (2 pi / 3) r_c^3 + t_mesh * M log2 M + t_spline * N p^3 + t_site * N`
@@ -14,8 +14,7 @@
 //! torques) and as many linear unit quadrupoles (the general kernel). Each kind's cases vary one of `r_c`, the mesh and the order at
 //! a time around a base case; each time is the median process CPU time of
 //! repeated evaluations on one thread. Prints every case, the fitted
-//! seconds and their ratio to `PME_SECONDS_PER_UNIT` (the model's unit),
-//! and writes them to `<QUATROT_BENCH_RAW or target/bench/raw>/pme_costs.json`.
+//! seconds and the model's (`Carried::costs`), and writes them to `<QUATROT_BENCH_RAW or target/bench/raw>/pme_costs.json`.
 //! A measurement, not a test: state the machine and its load with the
 //! numbers. `QUATROT_BENCH_QUICK=1` takes a tenth of the sites.
 //!
@@ -25,8 +24,9 @@
 mod harness;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
-use quatrot::potential::multipole::mesh_ewald::{MeshEwald, MeshParameters, SiteResponse, Sources};
-use quatrot::potential::multipole::PME_SECONDS_PER_UNIT;
+use quatrot::potential::multipole::mesh_ewald::{
+    Carried, MeshEwald, MeshParameters, SiteResponse, Sources,
+};
 use quatrot::potential::Surface;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha20Rng;
@@ -63,7 +63,7 @@ const KINDS: [Kind; 3] = [
         density: 100.2,
         carries: Carries::Charges,
         cutoffs: [0.35, 0.45, 0.6, 0.8, 1.0],
-        meshes: [40, 54, 64, 80, 100],
+        meshes: [40, 64, 100, 144, 200],
     },
     Kind {
         name: "dipoles",
@@ -71,7 +71,7 @@ const KINDS: [Kind; 3] = [
         density: 0.8,
         carries: Carries::Dipoles,
         cutoffs: [1.5, 2.0, 2.5, 3.0, 3.6],
-        meshes: [16, 24, 32, 40, 48],
+        meshes: [16, 24, 48, 96, 160],
     },
     Kind {
         name: "quadrupoles",
@@ -179,12 +179,19 @@ fn measure(kind: &Kind, quick: bool) -> Value {
         .expect("least squares");
     let residual = (&a * &fit - &b).norm() / b.norm();
     let names = ["pair", "mesh_point_log2", "spline_point", "site"];
-    for (name, s) in names.iter().zip(fit.iter()) {
+    let costs = Carried {
+        charges: kind.carries == Carries::Charges,
+        dipoles: kind.carries == Carries::Dipoles,
+        quadrupoles: kind.carries == Carries::Quadrupoles,
+    }
+    .costs();
+    let model = [costs.pair, f64::NAN, costs.spline_point, costs.site];
+    for ((name, s), m) in names.iter().zip(fit.iter()).zip(model) {
         println!(
-            "{} {name}: {:.4} ns, {:.5} units of PME_SECONDS_PER_UNIT",
+            "{} {name}: {:.4} ns (the model's {:.4} ns)",
             kind.name,
             s * 1e9,
-            s / PME_SECONDS_PER_UNIT
+            m * 1e9
         );
     }
     println!("{} relative residual of the fit: {residual:.3}", kind.name);
@@ -203,7 +210,7 @@ fn main() {
     let started = Instant::now();
     let out = harness::one_thread(|| {
         let kinds: Vec<Value> = KINDS.iter().map(|k| measure(k, quick)).collect();
-        json!({"quick": quick, "pme_seconds_per_unit": PME_SECONDS_PER_UNIT, "kinds": kinds})
+        json!({"quick": quick, "kinds": kinds})
     });
     harness::write("pme_costs.json", out, started);
 }

@@ -8,11 +8,11 @@ mod bodies_common;
 use bodies_common::{assert_minus_gradients, bent_molecule, bodies, options, stockmayer};
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
-    BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, Evaluation,
-    EwaldOptions, InteractionOptions, LennardJones, Site, Space, Truncation,
+    direct_costs, BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions,
+    Evaluation, EwaldOptions, InteractionOptions, LennardJones, Site, Space, Truncation,
 };
 use quatrot::integrators::NoSquishOptions;
-use quatrot::potential::multipole::mesh_ewald::ForcedMesh;
+use quatrot::potential::multipole::mesh_ewald::{Carried, ForcedMesh};
 use quatrot::potential::multipole::{SumMethod, Surface};
 
 /// A Lennard-Jones sphere with a dipole and a point quadrupole.
@@ -175,4 +175,24 @@ fn auto_takes_the_direct_sum_for_small_systems_and_pme_for_large() {
         assert_eq!(choice.takes_pme(), !direct);
         assert_eq!(choice.pme_seconds.is_none(), accuracy < 1e-10);
     }
+}
+
+/// The bodies' direct sum prices a mixture as its dearest kind
+/// (quadrupoles, then dipoles), whose pairs and wave vectors cost more.
+#[test]
+fn the_direct_sum_prices_a_mixture_as_its_dearest_kind() {
+    let carried = |charges, dipoles, quadrupoles| Carried {
+        charges,
+        dipoles,
+        quadrupoles,
+    };
+    let (c, d, q) = (
+        direct_costs(carried(true, false, false)),
+        direct_costs(carried(false, true, false)),
+        direct_costs(carried(false, false, true)),
+    );
+    assert_eq!(direct_costs(carried(true, true, false)), d);
+    assert_eq!(direct_costs(carried(true, true, true)), q);
+    assert!(c.0 < d.0 && d.0 < q.0, "{c:?} {d:?} {q:?}");
+    assert!(c.1 < d.1 && d.1 < q.1, "{c:?} {d:?} {q:?}");
 }

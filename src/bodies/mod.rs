@@ -52,7 +52,7 @@ mod within;
 
 pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
-pub use electrostatics_ewald::{BodyEwald, EwaldOptions, DEFAULT_ACCURACY};
+pub use electrostatics_ewald::{direct_costs, BodyEwald, EwaldOptions, DEFAULT_ACCURACY};
 pub use electrostatics_shifted::ElectrostaticTruncation;
 pub use evaluate::Evaluation;
 pub use generate::{lattice_start, random_start, Lattice, LatticeStart, RandomStart, MAX_PACKING};

@@ -12,55 +12,47 @@
 //! pair, wave-vector or memory limit) takes PME. When both are refused, the
 //! direct sum's refusal is the error, with PME's.
 //!
-//! The models' costs become seconds by a time per unit of each model and a
-//! calibration per kind of site: the geometric mean of measured CPU time
-//! over modelled seconds in the single-thread evaluation times of
-//! benchmarks/RESULTS.md's mesh section (2026-12-02, an idle 2-CPU AMD
-//! EPYC; jittered sites at 1e-4 to 1e-6, 125 to 8,000 dipoles in 14 cases
-//! for each sum, 125 to 2,197 linear quadrupoles in 12), its calibration
-//! table. A direct real-space pair is cheap (its geometry is stored once,
-//! the sites being fixed) and a PME pair dear (its derivative tensors are
-//! computed at each evaluation), hence the two scales; a quadrupole's
-//! direct pair and wave vector cost 2.2 times a dipole's (higher
-//! derivative tensors), which the direct model, counting pairs and wave
-//! vectors only, does not see. Before that calibration the models priced
-//! PME of quadrupoles 4 to 8 times dearer than the direct sum against the
-//! measured 0.6 to 1.5 (the model's crossover above 13,700 quadrupoles at
-//! 1e-5, the measured one 840). What the models still get wrong (PME's
-//! mesh terms, overpriced most for small systems at tight accuracies: its
-//! measured over modelled ratio runs from 0.18 to 0.66) and the
-//! crossovers they give against the measured ones are in docs/scenes.md.
+//! The direct model's units become seconds by a time per unit, PME's model
+//! is in measured seconds (`mesh_ewald::estimate`'s `MeshCosts`, fitted to
+//! forced parameters by `examples/pme_costs.rs`), and each is calibrated
+//! per kind of site: the geometric mean of measured CPU time over modelled
+//! seconds in the single-thread evaluation times of benchmarks/RESULTS.md's
+//! mesh section, its calibration table (2026-12-02 22:11, an idle 2-CPU
+//! Intel Xeon; jittered sites at 1e-4 to 1e-6, 125 to 8,000 dipoles in 14
+//! cases for each sum, 125 to 2,197 linear quadrupoles in 12). A direct
+//! real-space pair is cheap (its geometry is stored once, the sites being
+//! fixed) and a PME pair dear (its derivative tensors are computed at each
+//! evaluation); a quadrupole's direct pair and wave vector cost about twice
+//! a dipole's (higher derivative tensors), which the direct model, counting
+//! pairs and wave vectors only, does not see. The hosts differ: the direct
+//! sum runs 1.7 times faster against PME on that Xeon than on the AMD
+//! EPYC of the calibration before (so the quadrupoles' measured crossover
+//! at 1e-5 lies above 2,197 there and at 730 to 840 on the EPYC); the
+//! calibration is one host's. The crossovers the models give against the
+//! measured ones are in docs/scenes.md.
 
 use super::PotentialError;
 
 /// Seconds per unit of the direct Ewald sum's cost model (a real-space
 /// pair, or half a structure-factor product) in one evaluation of dipoles:
-/// the fit of 2026-11-28 (1.6e-8) times its measured over modelled 0.770 of
-/// 2026-12-02 (module doc).
-pub const DIRECT_SECONDS_PER_UNIT: f64 = 1.23e-8;
+/// the 1.23e-8 of the AMD EPYC's calibration times this host's measured
+/// over modelled 0.579 (module doc).
+pub const DIRECT_SECONDS_PER_UNIT: f64 = 7.12e-9;
 
 /// The direct sum's time per unit with quadrupoles (alone or with dipoles)
-/// over that of dipoles: 1.691 / 0.770, the two measured over modelled
-/// ratios of 2026-12-02 (module doc).
-pub const DIRECT_QUADRUPOLE_FACTOR: f64 = 2.2;
+/// over that of dipoles: the former 2.2 times 0.524 / 0.579, the
+/// quadrupoles' and the dipoles' measured over modelled ratios (module doc).
+pub const DIRECT_QUADRUPOLE_FACTOR: f64 = 1.99;
 
-/// Seconds per unit of the mesh Ewald sum's cost model (a real-space pair
-/// of the general kernel and its equivalents for the mesh and the splines)
-/// in one evaluation. Since 2026-11-29 the unit of the mesh sum's constants
-/// (`mesh_ewald::estimate`): each is its measured seconds
-/// (`examples/pme_costs.rs`, 2026-11-29, a loaded 2-CPU Xeon) over this
-/// one. The automatic choice scales it by [`PME_DIPOLE_CALIBRATION`] or
-/// [`PME_QUADRUPOLE_CALIBRATION`]; the moving bodies' choice, whose two
-/// models are both in this unit, does not.
-pub const PME_SECONDS_PER_UNIT: f64 = 5.4e-7;
-
-/// The mesh sum's measured over modelled seconds for dipoles (2026-12-02,
-/// module doc): its constants were measured under load.
-pub const PME_DIPOLE_CALIBRATION: f64 = 0.482;
+/// The mesh sum's measured over modelled seconds for dipoles (module doc;
+/// the model, `mesh_ewald::mesh_cost`, is in seconds): 0.809, range 0.54
+/// to 1.02 over the 14 cases.
+pub const PME_DIPOLE_CALIBRATION: f64 = 0.809;
 
 /// The mesh sum's measured over modelled seconds for quadrupoles (alone
-/// or with dipoles; 2026-12-02, module doc).
-pub const PME_QUADRUPOLE_CALIBRATION: f64 = 0.387;
+/// or with dipoles; module doc): 0.708, range 0.40 to 0.94 over the 12
+/// cases.
+pub const PME_QUADRUPOLE_CALIBRATION: f64 = 0.708;
 
 /// The direct sum's estimated seconds per evaluation of its cost model's
 /// `units` for sites with or without `quadrupoles`.
@@ -73,15 +65,15 @@ pub(crate) fn direct_seconds(units: f64, quadrupoles: bool) -> f64 {
     units * DIRECT_SECONDS_PER_UNIT * kind
 }
 
-/// The mesh sum's estimated seconds per evaluation of its cost model's
-/// `units` for sites with or without `quadrupoles`.
-pub(crate) fn pme_seconds(units: f64, quadrupoles: bool) -> f64 {
+/// The mesh sum's estimated seconds per evaluation from its cost model's
+/// `seconds` for sites with or without `quadrupoles`.
+pub(crate) fn pme_seconds(seconds: f64, quadrupoles: bool) -> f64 {
     let kind = if quadrupoles {
         PME_QUADRUPOLE_CALIBRATION
     } else {
         PME_DIPOLE_CALIBRATION
     };
-    units * PME_SECONDS_PER_UNIT * kind
+    seconds * kind
 }
 
 /// What the automatic choice compared and why it took its path.

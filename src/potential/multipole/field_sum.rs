@@ -153,13 +153,13 @@ impl FieldSum {
         let free = ForcedMesh::default();
         let mesh = MeshSum::choose(sites.len(), &box_lengths, (accuracy, &free), kinds);
         let pme = mesh.as_ref().map_err(Clone::clone).map(|(p, _)| {
-            let pair = Carried {
+            let costs = Carried {
                 charges: false,
                 dipoles: kinds.0,
                 quadrupoles: kinds.1,
             }
-            .pair_cost();
-            pme_seconds(mesh_cost(p, sites.len(), &box_lengths, pair), kinds.1)
+            .costs();
+            pme_seconds(mesh_cost(p, sites.len(), &box_lengths, costs), kinds.1)
         });
         let choice = AutoChoice::compare(direct, pme)?;
         let sum = match mesh {

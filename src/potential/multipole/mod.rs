@@ -29,7 +29,7 @@ mod sum_method;
 
 pub use auto_choice::{
     AutoChoice, DIRECT_QUADRUPOLE_FACTOR, DIRECT_SECONDS_PER_UNIT, PME_DIPOLE_CALIBRATION,
-    PME_QUADRUPOLE_CALIBRATION, PME_SECONDS_PER_UNIT,
+    PME_QUADRUPOLE_CALIBRATION,
 };
 pub use boundary::{Boundary, BYTES_PER_PAIR, MAX_PAIRS};
 pub use error::PotentialError;

@@ -72,17 +72,16 @@ pub struct Carried {
 }
 
 impl Carried {
-    /// The cost of a real-space pair of the mesh sum's own kernel
-    /// relative to the general one (quadrupoles, or any virial): the
-    /// unrolled kernels of charges ([`CHARGE_PAIR_COST`]) and of charges
-    /// and dipoles ([`DIPOLE_PAIR_COST`]).
-    pub fn pair_cost(&self) -> f64 {
+    /// The measured costs of the mesh sum's work for these sites: those of
+    /// the dearest kind carried (quadrupoles take the general kernel, dipoles
+    /// the unrolled kernel of charges and dipoles, charges alone their own).
+    pub fn costs(&self) -> MeshCosts {
         if self.quadrupoles {
-            1.0
+            QUADRUPOLE_COSTS
         } else if self.dipoles {
-            DIPOLE_PAIR_COST
+            DIPOLE_COSTS
         } else {
-            CHARGE_PAIR_COST
+            CHARGE_COSTS
         }
     }
 
@@ -176,34 +175,33 @@ pub(crate) fn mesh_estimate(
     largest
 }
 
-/// The cost of one evaluation, in real-space pairs of the general kernel:
-/// `N n (2 pi / 3) r_c^3` pairs at `pair` each (the kernel's cost,
-/// [`Carried::pair_cost`]), [`FFT_COST`] per mesh point and `log2` of the
-/// point count (the FFTs both ways and the influence function),
-/// [`SPLINE_COST`] per site and `p^3` (spreading and gathering) and
-/// [`SITE_COST`] per site.
+/// The estimated seconds of one evaluation: `N n (2 pi / 3) r_c^3` pairs,
+/// [`MESH_POINT_SECONDS`] per mesh point and `log2` of the point count (the
+/// FFTs both ways and the influence function), `p^3` spline points per site
+/// (spreading and gathering) and the per-site work, each at its measured
+/// cost (`costs`).
 pub(crate) fn cost(
     (sites, density): (f64, f64),
     rc: f64,
     grid: [usize; 3],
     order: usize,
-    pair: f64,
+    costs: MeshCosts,
 ) -> f64 {
     let points: f64 = grid.iter().map(|&k| k as f64).product();
-    pair * sites * density * (2.0 * PI / 3.0) * rc.powi(3)
-        + FFT_COST * points * points.log2()
-        + SPLINE_COST * sites * (order as f64).powi(3)
-        + SITE_COST * sites
+    costs.pair * sites * density * (2.0 * PI / 3.0) * rc.powi(3)
+        + MESH_POINT_SECONDS * points * points.log2()
+        + costs.spline_point * sites * (order as f64).powi(3)
+        + costs.site * sites
 }
 
-/// `cost` of the sum of `sites` sites in `box_lengths` with `parameters`,
-/// a real-space pair costing `pair`: what the automatic choices weigh
+/// `cost` of the sum of `sites` sites in `box_lengths` with `parameters`
+/// at `costs`, in seconds per evaluation: what the automatic choices weigh
 /// against the direct sum.
 pub fn mesh_cost(
     parameters: &MeshParameters,
     sites: usize,
     box_lengths: &Vector3<f64>,
-    pair: f64,
+    costs: MeshCosts,
 ) -> f64 {
     let n = sites.max(1) as f64;
     cost(
@@ -211,40 +209,53 @@ pub fn mesh_cost(
         parameters.real_cutoff,
         parameters.grid,
         parameters.order,
-        pair,
+        costs,
     )
 }
 
-/// The model's constants are measured seconds over the unit
-/// [`crate::potential::multipole::PME_SECONDS_PER_UNIT`] (540 ns): least-squares
-/// fits of `t = t_pair P + t_mesh M log2 M + t_spline N p^3 + t_site N`
-/// to the evaluation times of `examples/pme_costs.rs` (forced parameters,
-/// one thread, median process CPU time; 2026-11-29, a 2-CPU Intel Xeon at
-/// load 9 to 11), after the real space's reach-1 cells. 12,000 random charges at 100.2 per unit volume (15 cases,
-/// residual 2.6 %): 67.9 ns per pair, 3.31 ns per mesh-point unit, 6.35 ns
-/// per spline unit, 1.92 us per site. 4,096 random dipoles at density 0.8
-/// (15 cases, residual 11 %, noisy under that load): 79.6 ns per pair,
-/// 9.9 and 10.3 ns per mesh and spline unit, 1.24 us per site. The mesh and
-/// spline constants are the charges' (the better determined fit).
-///
-/// The cost of a mesh point (times `log2` of the point count).
-const FFT_COST: f64 = 0.0061;
-/// The cost of a site's spline point (`p^3` of them per site).
-const SPLINE_COST: f64 = 0.0118;
-/// The cost of a site's work that no parameter changes (wrapping, the cell
-/// list, the self terms, the forces): not weighed by the choice of
-/// parameters, but by the automatic choice against the direct sum.
-const SITE_COST: f64 = 3.0;
+/// The seconds of the mesh sum's work per unit for one kind of site, one
+/// thread: least-squares fits of `t = t_pair P + t_mesh M log2 M + t_spline
+/// N p^3 + t_site N` to the evaluation times of `examples/pme_costs.rs`
+/// (forced parameters, median process CPU time; 2026-12-02, an idle 2-CPU
+/// Intel Xeon), `P = N n (2 pi / 3) r_c^3` the model's pairs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshCosts {
+    /// A real-space pair, the search included.
+    pub pair: f64,
+    /// A site's spline point (`p^3` of them per site).
+    pub spline_point: f64,
+    /// A site's work that no parameter changes (wrapping, the cell list,
+    /// the self terms, the forces): not weighed by the choice of
+    /// parameters, but by the automatic choice against the direct sum.
+    pub site: f64,
+}
 
-/// The cost of a real-space pair of the mesh sum's unrolled charge kernel
-/// (which the moving bodies' charges on a mesh use too) relative to the
-/// general kernel: 67.9 ns
-/// per pair, search included (the fit above; 87 to 106 ns when each pair
-/// was visited from both ends).
-pub const CHARGE_PAIR_COST: f64 = 0.126;
+/// 12,000 random charges at 100.2 per unit volume, forces without the
+/// field gradient (15 cases, meshes 40^3 to 200^3, residual 2.8 %).
+const CHARGE_COSTS: MeshCosts = MeshCosts {
+    pair: 25.9e-9,
+    spline_point: 1.76e-9,
+    site: 297e-9,
+};
 
-/// The cost of a real-space pair of the mesh sum's unrolled kernel of
-/// charges and dipoles relative to the general kernel: 79.6 ns per pair,
-/// search included (the fit above; 148 ns when each pair was visited from
-/// both ends).
-pub const DIPOLE_PAIR_COST: f64 = 0.147;
+/// 4,096 random unit dipoles at density 0.8, forces and torques (15
+/// cases, meshes 16^3 to 160^3, residual 6 %).
+const DIPOLE_COSTS: MeshCosts = MeshCosts {
+    pair: 35.3e-9,
+    spline_point: 2.36e-9,
+    site: 468e-9,
+};
+
+/// 4,096 random linear quadrupoles at density 0.8 on the general kernel
+/// (15 cases, residual 0.6 %).
+const QUADRUPOLE_COSTS: MeshCosts = MeshCosts {
+    pair: 336e-9,
+    spline_point: 3.33e-9,
+    site: 961e-9,
+};
+
+/// The cost of a mesh point (times `log2` of the point count), from the
+/// charges' fit: per unit it grows with the mesh (0.6 ns below 48^3, 1.0
+/// to 1.3 ns from 100^3 to 200^3, out of cache), and the fit over meshes
+/// up to 200^3 prices the large meshes that dominate a sum's cost.
+const MESH_POINT_SECONDS: f64 = 1.19e-9;

@@ -84,13 +84,13 @@ pub use accuracy::{
 pub use bspline::ORDERS;
 pub(crate) use cartesian::{add_source, pair_force, radial_derivatives, DERIVATIVES, UP_TO};
 pub(crate) use damped::ErfcTable;
-pub use estimate::{mesh_cost, Carried, MeshEstimate, CHARGE_PAIR_COST, DIPOLE_PAIR_COST};
+pub use estimate::{mesh_cost, Carried, MeshCosts, MeshEstimate};
 pub use mesh::MeshEwald;
 pub use parameters::{ForcedMesh, MeshParameters};
 pub(crate) use real_space::per_site;
 pub use search::{for_multipoles, for_multipoles_forced, for_multipoles_with_skin};
 pub use sites::{SiteResponse, Sources};
-pub use waves::{for_waves, WaveEwald, WAVE_COST};
+pub use waves::{for_waves, WaveEwald};
 
 #[cfg(test)]
 pub(crate) mod tests;

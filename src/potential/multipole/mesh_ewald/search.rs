@@ -8,7 +8,7 @@
 //! the accuracy.
 
 use super::accuracy::{check_accuracy, fft_size};
-use super::estimate::{cost, mesh_estimate, Carried, MeshEstimate};
+use super::estimate::{cost, mesh_estimate, Carried, MeshCosts, MeshEstimate};
 use super::mesh::mesh_bytes;
 use super::parameters::{ForcedMesh, MeshParameters};
 use crate::checks::num;
@@ -63,14 +63,14 @@ pub fn for_multipoles_forced(
         box_lengths,
         forced,
         (half_box, "half the shortest box side"),
-        carried.pair_cost(),
+        carried.costs(),
     )
 }
 
 /// [`for_multipoles_forced`] with a real-space cutoff of at most `skin`
 /// less than half the shortest box side (the reach of a neighbour list with
-/// that skin), and the real-space pairs summed by the caller at `pair` each
-/// (in the unit of [`super::mesh_cost`]).
+/// that skin), and the real-space pairs summed by the caller at `pair`
+/// seconds each (the model's pairs, [`super::mesh_cost`]).
 pub fn for_multipoles_with_skin(
     accuracy: f64,
     carried: Carried,
@@ -87,7 +87,10 @@ pub fn for_multipoles_with_skin(
         box_lengths,
         forced,
         (longest, "half the shortest box side less the skin"),
-        pair,
+        MeshCosts {
+            pair,
+            ..carried.costs()
+        },
     )
 }
 
@@ -101,7 +104,7 @@ struct Missed {
 }
 
 /// [`for_multipoles_forced`] with the real-space cutoff at most `longest`
-/// (named `what`) and a real-space pair costing `pair`.
+/// (named `what`), the work costing `costs`.
 fn choose(
     accuracy: f64,
     carried: Carried,
@@ -109,7 +112,7 @@ fn choose(
     box_lengths: &Vector3<f64>,
     forced: &ForcedMesh,
     (half_box, what): (f64, &str),
-    pair: f64,
+    costs: MeshCosts,
 ) -> Result<(MeshParameters, MeshEstimate), PotentialError> {
     check_accuracy(accuracy)?;
     let orders_tried = orders_to_try(forced.order)?;
@@ -158,7 +161,7 @@ fn choose(
                 }
                 continue;
             }
-            let c = cost((n_sites, density), rc, grid, p, pair);
+            let c = cost((n_sites, density), rc, grid, p, costs);
             if best.as_ref().is_none_or(|(b, _, _)| c < *b) {
                 best = Some((c, parameters, estimate));
             }

@@ -33,28 +33,23 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 use rustfft::num_complex::Complex;
 
-/// The cost of one site and one wave vector (both loops) relative to a
-/// real-space pair of the bodies' neighbour lists, for the choice of
-/// `alpha` and the automatic choice against PME: an estimate (about 30
-/// multiply-adds against a pair's derivative tensors), not yet measured.
-pub const WAVE_COST: f64 = 0.1;
-
 /// Sites per rayon task.
 const SITES_PER_TASK: usize = 32;
 
 /// The parameters of a direct Ewald sum of `sites` sites carrying `carried`
 /// in `box_lengths` at `accuracy` (in (0, 1), the relative field accuracy of
 /// the mesh sum's estimate module), its real-space cutoff at most `longest` (named
-/// `what` when no splitting fits it), with the cost of one evaluation in
-/// real-space pairs: `alpha` minimises the pairs plus [`WAVE_COST`] per
-/// site and wave vector (`crate::potential::multipole::ewald_parameters`'
+/// `what` when no splitting fits it), with the estimated seconds of one
+/// evaluation: `alpha` minimises the model's real-space pairs `N n (2 pi /
+/// 3) r_c^3` at `pair` seconds each plus the sites times the wave vectors
+/// at `wave` seconds each (`crate::potential::multipole::ewald_parameters`'
 /// estimates, each part half the accuracy).
 pub fn for_waves(
     accuracy: f64,
-    carried: Carried,
-    sites: usize,
+    (carried, sites): (Carried, usize),
     box_lengths: &Vector3<f64>,
     (longest, what): (f64, &str),
+    (pair, wave): (f64, f64),
 ) -> Result<(EwaldParameters, f64), PotentialError> {
     let accuracy = Accuracy::new(accuracy)?.get();
     let ranks: Vec<i32> = carried.orders().iter().map(|(s, g)| s + g).collect();
@@ -67,11 +62,11 @@ pub fn for_waves(
         }
         let pairs = n * density * (2.0 * std::f64::consts::PI / 3.0) * rc.powi(3);
         let waves = volume * kc.powi(3) / (12.0 * std::f64::consts::PI.powi(2));
-        pairs + WAVE_COST * n * waves
+        pair * pairs + wave * n * waves
     };
     let parameters = choose(accuracy, density, &ranks, cost);
-    let units = cost(parameters.real_cutoff, parameters.reciprocal_cutoff);
-    if !units.is_finite() {
+    let seconds = cost(parameters.real_cutoff, parameters.reciprocal_cutoff);
+    if !seconds.is_finite() {
         return Err(PotentialError::new(
             "box_lengths",
             format!(
@@ -82,7 +77,7 @@ pub fn for_waves(
             ),
         ));
     }
-    Ok((parameters, units))
+    Ok((parameters, seconds))
 }
 
 /// A direct Ewald sum for a fixed number of moving sites in a fixed

@@ -2,9 +2,11 @@
 //! direct Ewald sum converged to round-off for dipoles and quadrupoles, a
 //! textbook charge Ewald sum written there, Madelung constants, closed
 //! forms of lattices, finite differences of the energy) and its guarantees
-//! ([`guarantees`]: threads, allocations, refusals).
+//! ([`guarantees`]: threads, allocations, refusals), and the cost models
+//! that choose its parameters ([`costs`]).
 
 mod accuracy;
+mod costs;
 mod guarantees;
 pub(crate) mod references;
 mod virial;
