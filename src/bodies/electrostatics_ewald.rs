@@ -37,9 +37,9 @@
 //! (their forces are `q E`), so the mesh computes none
 //! ([`MeshEwald::without_field_gradient`]). The direct sum's (`alpha`, `r_c`, `k_c`) come from
 //! [`crate::potential::multipole::mesh_ewald::for_waves`] with the same
-//! bound; `method = "auto"` takes the cheaper of the two by their cost
-//! models in real-space pairs ([`AutoChoice`]), the direct sum when PME
-//! cannot reach the accuracy.
+//! bound and the measured costs of [`direct_costs`]; `method = "auto"`
+//! takes the cheaper of the two by their cost models in seconds
+//! ([`AutoChoice`]), the direct sum when PME cannot reach the accuracy.
 
 use super::electrostatics::{add_pairs, Electrostatics, Exclusions, SiteMultipoles, SiteResponse};
 use super::neighbours::NeighbourList;
