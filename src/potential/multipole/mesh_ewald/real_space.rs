@@ -255,7 +255,8 @@ impl CellList {
         let mut blocks = std::mem::take(&mut self.blocks);
         blocks.resize_with(threads, Block::default);
         let start = &self.start;
-        // The first cell of range k: the first with at least k sites / threads before it.
+        // The first cell of range k: the first with at least k sites / threads
+        // before it (for k = threads, the first of the empty cells that end the list).
         let bound = |k: usize| {
             start
                 .partition_point(|&s| s * threads < k * sites)
@@ -266,12 +267,7 @@ impl CellList {
             block.derivatives.clear();
             block.derivatives.resize(sites, [0.0; DERIVATIVES]);
             block.virial = Matrix3::zeros();
-            let last = if k + 1 == threads {
-                cells
-            } else {
-                bound(k + 1)
-            };
-            let range = (bound(k)..last, box_lengths, cutoff);
+            let range = (bound(k)..bound(k + 1), box_lengths, cutoff);
             let mut kernel = kernel();
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
@@ -496,6 +492,44 @@ mod tests {
                 assert!((r2 - r.norm_squared()).abs() < 1e-12);
             }
         }
+    }
+
+    /// A pair exactly at the cutoff is not a pair (the search takes `r <
+    /// r_c`), in a site's own cell and in a neighbouring one: dyadic sites
+    /// in a box of 3 cells 7/6 wide, at separations of exactly 1 (two
+    /// pairs), 1.5 and 15/16 (the one pair found).
+    #[test]
+    fn a_pair_at_the_cutoff_is_not_found() {
+        let box_lengths = Vector3::repeat(3.5);
+        let cutoff = 1.0;
+        let wrapped = [
+            Vector3::new(0.0625, 0.0625, 0.0625),
+            Vector3::new(1.0625, 0.0625, 0.0625),
+            Vector3::new(2.0625, 0.0625, 0.0625),
+            Vector3::new(0.0625, 1.0, 0.0625),
+        ];
+        let sites = wrapped.len();
+        let mut cells = CellList::new(sites, &box_lengths, cutoff);
+        assert_eq!((cells.reach, cells.cells), ([1; 3], [3; 3]));
+        cells.build(&wrapped, &box_lengths, &vec![[0.0; SOURCES]; sites]);
+        // Sites 0 and 1 share a cell, 1 and 2 are in neighbouring ones.
+        assert_eq!(cells.cell_of[0], cells.cell_of[1]);
+        assert_ne!(cells.cell_of[1], cells.cell_of[2]);
+        assert_eq!((wrapped[1] - wrapped[0]).norm_squared(), cutoff * cutoff);
+        assert_eq!((wrapped[2] - wrapped[1]).norm_squared(), cutoff * cutoff);
+        let mut found = Vec::new();
+        for c in 0..cells.start.len() - 1 {
+            cells.for_each_pair_from(
+                c,
+                &box_lengths,
+                cutoff * cutoff,
+                &mut |a: usize, b: usize, _: Vector3<f64>, r2: f64| {
+                    let (i, j) = (cells.members[a], cells.members[b]);
+                    found.push((i.min(j), i.max(j), r2));
+                },
+            );
+        }
+        assert_eq!(found, [(0, 3, 0.9375 * 0.9375)]);
     }
 
     /// The sums of `kernel` over every pair of `cells` (built) in lanes `T`.

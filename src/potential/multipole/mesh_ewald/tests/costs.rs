@@ -4,7 +4,7 @@
 //! costs.
 
 use crate::potential::multipole::mesh_ewald::{
-    for_waves, mesh_cost, Carried, MeshCosts, MeshParameters,
+    for_multipoles_with_skin, for_waves, mesh_cost, Carried, ForcedMesh, MeshCosts, MeshParameters,
 };
 use nalgebra::Vector3;
 use std::f64::consts::PI;
@@ -115,4 +115,52 @@ fn dearer_wave_vectors_take_fewer_of_them() {
     assert!(dear.alpha < base.alpha, "{dear:?} {base:?}");
     assert!(dear.real_cutoff > base.real_cutoff);
     assert!(dear.reciprocal_cutoff < base.reciprocal_cutoff);
+}
+
+/// The direct sum's estimate is its counts at the splitting it chose times
+/// their costs: `N n (2 pi / 3) r_c^3` real-space pairs and `N V k_c^3 /
+/// (12 pi^2)` site-wave terms (half the wave vectors within `k_c`).
+#[test]
+fn the_direct_sum_counts_its_pairs_and_waves() {
+    let box_lengths = Vector3::new(9.0, 10.0, 11.0);
+    let n = 800;
+    let longest = (4.5, "half the shortest side");
+    let (nf, volume) = (n as f64, box_lengths.product());
+    for (pair, wave) in [(1.0, 0.0), (0.0, 1.0), (300e-9, 20e-9)] {
+        let (p, seconds) = for_waves(1e-5, (DIPOLES, n), &box_lengths, longest, (pair, wave))
+            .expect("a direct sum");
+        let pairs = nf * (nf / volume) * (2.0 * PI / 3.0) * p.real_cutoff.powi(3);
+        let waves = nf * volume * p.reciprocal_cutoff.powi(3) / (12.0 * PI * PI);
+        let expected = pair * pairs + wave * waves;
+        assert!(
+            (seconds - expected).abs() <= 1e-12 * expected,
+            "{pair} {wave}: {seconds} against {expected}"
+        );
+    }
+}
+
+/// The mesh's search with a neighbour list's skin prices the real-space
+/// pairs at the caller's cost: dearer pairs take a shorter cutoff (and a
+/// finer mesh) than the kind's own pair cost.
+#[test]
+fn the_callers_pair_cost_moves_the_mesh_choice() {
+    let box_lengths = Vector3::repeat(20.0);
+    let (n, skin) = (8000, 0.3);
+    let own = DIPOLES.costs().pair;
+    let choose = |pair: f64| {
+        for_multipoles_with_skin(
+            1e-5,
+            DIPOLES,
+            n,
+            &box_lengths,
+            (skin, pair),
+            &ForcedMesh::default(),
+        )
+        .expect("a mesh")
+        .0
+    };
+    let (cheap, dear) = (choose(own), choose(10.0 * own));
+    assert!(dear.real_cutoff < cheap.real_cutoff, "{dear:?} {cheap:?}");
+    let points = |p: MeshParameters| p.grid.iter().product::<usize>();
+    assert!(points(dear) > points(cheap), "{dear:?} {cheap:?}");
 }
