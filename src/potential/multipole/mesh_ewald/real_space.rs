@@ -460,18 +460,7 @@ mod tests {
             let mut cells = CellList::new(sites, &box_lengths, cutoff);
             assert_eq!(cells.reach, reach, "{box_lengths:?} with {sites} sites");
             cells.build(&wrapped, &box_lengths, &vec![[0.0; SOURCES]; sites]);
-            let mut found = Vec::new();
-            for c in 0..cells.start.len() - 1 {
-                cells.for_each_pair_from(
-                    c,
-                    &box_lengths,
-                    cutoff * cutoff,
-                    &mut |a: usize, b: usize, r: Vector3<f64>, r2: f64| {
-                        let (i, j) = (cells.members[a], cells.members[b]);
-                        found.push((i.min(j), i.max(j), if i < j { r } else { -r }, r2));
-                    },
-                );
-            }
+            let mut found = pairs_found(&cells, &box_lengths, cutoff);
             found.sort_by_key(|x| (x.0, x.1));
             let mut expected = Vec::new();
             for i in 0..sites {
@@ -492,6 +481,28 @@ mod tests {
                 assert!((r2 - r.norm_squared()).abs() < 1e-12);
             }
         }
+    }
+
+    /// The pairs `cells` (built) finds within `cutoff`, in the order found:
+    /// the sites' indices `(i, j)`, `i < j`, their separation `r_i - r_j` and its square.
+    fn pairs_found(
+        cells: &CellList,
+        box_lengths: &Vector3<f64>,
+        cutoff: f64,
+    ) -> Vec<(usize, usize, Vector3<f64>, f64)> {
+        let mut found = Vec::new();
+        for c in 0..cells.start.len() - 1 {
+            cells.for_each_pair_from(
+                c,
+                box_lengths,
+                cutoff * cutoff,
+                &mut |a: usize, b: usize, r: Vector3<f64>, r2: f64| {
+                    let (i, j) = (cells.members[a], cells.members[b]);
+                    found.push((i.min(j), i.max(j), if i < j { r } else { -r }, r2));
+                },
+            );
+        }
+        found
     }
 
     /// A pair exactly at the cutoff is not a pair (the search takes `r <
@@ -517,19 +528,9 @@ mod tests {
         assert_ne!(cells.cell_of[1], cells.cell_of[2]);
         assert_eq!((wrapped[1] - wrapped[0]).norm_squared(), cutoff * cutoff);
         assert_eq!((wrapped[2] - wrapped[1]).norm_squared(), cutoff * cutoff);
-        let mut found = Vec::new();
-        for c in 0..cells.start.len() - 1 {
-            cells.for_each_pair_from(
-                c,
-                &box_lengths,
-                cutoff * cutoff,
-                &mut |a: usize, b: usize, _: Vector3<f64>, r2: f64| {
-                    let (i, j) = (cells.members[a], cells.members[b]);
-                    found.push((i.min(j), i.max(j), r2));
-                },
-            );
-        }
-        assert_eq!(found, [(0, 3, 0.9375 * 0.9375)]);
+        let found = pairs_found(&cells, &box_lengths, cutoff);
+        let r = Vector3::new(0.0, -0.9375, 0.0);
+        assert_eq!(found, [(0, 3, r, 0.9375 * 0.9375)]);
     }
 
     /// The sums of `kernel` over every pair of `cells` (built) in lanes `T`.
