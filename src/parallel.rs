@@ -42,7 +42,10 @@
 //! rotor's or grid line's values in the same order whatever the cuts, so
 //! results depend on the thread count only where the pair loop's blocks do.
 
+mod waiting_team;
+
 use std::num::NonZeroUsize;
+use waiting_team::run_with_waiters;
 
 /// The most threads a pool may have (checked where a count is given): more
 /// than the hardware threads of any node (a few hundred), few enough that a
@@ -84,7 +87,9 @@ pub fn on_worker<R: Send>(op: impl FnOnce() -> R + Send) -> R {
 }
 
 /// Runs `op` on a worker of a new rayon pool of `threads` threads (built for
-/// this call and dropped after it) and returns its result.
+/// this call and dropped after it) and returns its result. The pool's other
+/// workers wait for `op`'s work actively when the pool fits in the machine's
+/// cores ([`waiting_team`]).
 pub fn in_pool<R: Send>(
     threads: NonZeroUsize,
     op: impl FnOnce() -> R + Send,
@@ -92,7 +97,8 @@ pub fn in_pool<R: Send>(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.get())
         .build()?;
-    Ok(pool.install(op))
+    let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
+    Ok(pool.install(|| run_with_waiters(threads.get(), cores, op)))
 }
 
 /// Rotors per thread of the automatic count: a run takes one thread per
