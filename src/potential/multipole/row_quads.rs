@@ -121,31 +121,8 @@ fn distinct_tensors(pairs: &PairTable) -> (Vec<u32>, Vec<SymmetricTensor>) {
     (tensor_index, tensors)
 }
 
-/// The directed pairs of every rotor (each pair seen from both ends) in CSR
-/// form, each row sorted by offset.
-struct DirectedRows {
-    /// Row `i` is `entries[start[i]..start[i + 1]]`.
-    start: Vec<usize>,
-    entries: Vec<DirectedRow>,
-}
-
-impl DirectedRows {
-    /// Row `i`, empty past the last rotor.
-    fn row(&self, i: usize) -> &[DirectedRow] {
-        match self.start.get(i..i + 2) {
-            Some(&[first, end]) => &self.entries[first..end],
-            _ => &[],
-        }
-    }
-}
-
-/// Each rotor's row holds its own pairs `(key, j, t)` and then the pairs of
-/// which it is the partner, `(-key, i, t)`. The rows are cut into one block
-/// of consecutive rows per thread; each block fills its rows' own pairs,
-/// scans the pairs of the rows up to its last for its partnered ones, and
-/// sorts its rows. A row's sorted entries do not depend on the order they
-/// were written in, so the rows are the same on any number of threads.
-fn directed_rows(pairs: &PairTable, tensor_index: &[u32]) -> DirectedRows {
+/// The directed rows of every rotor (each pair seen from both ends), sorted by offset.
+fn directed_rows(pairs: &PairTable, tensor_index: &[u32]) -> Vec<Vec<DirectedRow>> {
     let rotors = pairs.start.len() - 1;
     let resolution =
         OFFSET_KEY_RESOLUTION / pairs.geometry.iter().fold(0.0, |m: f64, g| m.max(g.inv_r));
@@ -158,54 +135,19 @@ fn directed_rows(pairs: &PairTable, tensor_index: &[u32]) -> DirectedRows {
             offset.map(|x| x.round() as i64).into()
         })
         .collect();
-    let own = |i: usize| pairs.start[i]..pairs.start[i + 1];
-    let entry = |p: usize, key: [i64; 3], partner: usize| {
-        (key, partner as u32, tensor_index[pairs.geometry_index[p] as usize])
-    };
-    let mut partnered = vec![0usize; rotors];
-    for &j in &pairs.partner {
-        partnered[j as usize] += 1;
-    }
-    let mut start = Vec::with_capacity(rotors + 1);
-    start.push(0);
-    for (i, extra) in partnered.iter().enumerate() {
-        start.push(start[i] + own(i).len() + extra);
-    }
-    let mut entries = vec![([0; 3], 0, 0); start[rotors]];
-    let mut rows = Vec::with_capacity(rotors);
-    let mut rest = &mut entries[..];
-    for i in 0..rotors {
-        let (row, tail) = rest.split_at_mut(start[i + 1] - start[i]);
-        rows.push(row);
-        rest = tail;
-    }
-    let per_block = rotors.div_ceil(rayon::current_num_threads());
-    rows.par_chunks_mut(per_block).enumerate().for_each(|(b, block)| {
-        let first = b * per_block;
-        let mut filled = vec![0; block.len()];
-        for (k, row) in block.iter_mut().enumerate() {
-            for (slot, p) in row.iter_mut().zip(own(first + k)) {
-                let g = pairs.geometry_index[p] as usize;
-                *slot = entry(p, keys[g], pairs.partner[p] as usize);
-                filled[k] += 1;
-            }
+    let mut rows: Vec<Vec<DirectedRow>> = vec![Vec::new(); rotors];
+    for (i, row) in pairs.start.windows(2).enumerate() {
+        for p in row[0]..row[1] {
+            let j = pairs.partner[p] as usize;
+            let g = pairs.geometry_index[p] as usize;
+            let key = keys[g];
+            rows[i].push((key, j as u32, tensor_index[g]));
+            rows[j].push((key.map(|x| -x), i as u32, tensor_index[g]));
         }
-        // Partners j >= i: only rows up to the block's last have pairs in it.
-        for i in 0..first + block.len() {
-            for p in own(i) {
-                let Some(k) = (pairs.partner[p] as usize).checked_sub(first) else {
-                    continue;
-                };
-                if let Some(row) = block.get_mut(k) {
-                    let g = pairs.geometry_index[p] as usize;
-                    row[filled[k]] = entry(p, keys[g].map(|x| -x), i);
-                    filled[k] += 1;
-                }
-            }
-        }
-        block.iter_mut().for_each(|row| row.sort_unstable());
-    });
-    DirectedRows { start, entries }
+    }
+    // Each row sorted on its own: the same rows on any number of threads.
+    rows.par_iter_mut().for_each(|row| row.sort_unstable());
+    rows
 }
 
 /// The dipoles as separate component arrays, extended with the ghost copies
@@ -244,7 +186,7 @@ impl RowQuads {
         let mut padded = 0;
         for b in 0..quads {
             let lanes: Vec<&[DirectedRow]> = (4 * b..4 * b + 4)
-                .map(|i| rows.row(i))
+                .map(|i| rows.get(i).map_or(&[][..], |r| &r[..]))
                 .collect();
             // Merge the four rows by offset: a row lacking the offset misses the slot.
             let mut next = [0usize; 4];
@@ -614,25 +556,6 @@ mod tests {
         assert!(!unit.2.is_empty());
         for scale in [1e-7, 1e7] {
             assert!(table(scale) == unit, "scale {scale}");
-        }
-    }
-
-    /// The directed rows are cut into one block per thread: the table of the
-    /// lattice with vacancies (rows of different lengths, ghosts) is the
-    /// same on 1, 2, 3 and 7 threads (blocks cut at odd rows).
-    #[test]
-    fn the_table_does_not_depend_on_the_thread_count() {
-        let pairs = PairTable::build(&simple_cubic(10, &[17, 600]), periodic(10, 3.1)).unwrap();
-        let table = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            let quads = pool.install(|| RowQuads::build(&pairs)).expect("the quad kernel");
-            let slots: Vec<_> = quads.slots.iter().map(|s| (s.tensor, s.partner)).collect();
-            let tensors: Vec<_> = quads.tensors.iter().map(SymmetricTensor::key).collect();
-            (quads.start, slots, tensors, quads.ghosts)
-        };
-        let one = table(1);
-        for threads in [2, 3, 7] {
-            assert!(table(threads) == one, "{threads} threads");
         }
     }
 
