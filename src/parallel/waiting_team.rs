@@ -10,16 +10,23 @@
 //!
 //! While its run goes on, a run's pool keeps its other workers polling
 //! instead, as OpenMP's active wait does (`OMP_WAIT_POLICY=active`). Each
-//! worker runs a waiter that takes jobs with `rayon::yield_now` and, between
-//! polls, yields its core to any other thread that wants it
+//! worker runs a waiter that takes jobs with `rayon::yield_now` and spins
+//! between polls (the `pause` instruction, which leaves a hyper-threaded
+//! core's other thread its resources: a `sched_yield` between every two
+//! polls made the 1,000-rotor cutoff lattice 20 % slower on the Xeon); every
+//! [`YIELD_EVERY`] it yields its core to any other thread that wants it
 //! (`sched_yield`). After [`SPIN_FOR`] without a job it polls every
 //! [`POLL_EVERY`] and sleeps in between, so a long serial stretch (the
 //! outputs, the set-up) holds no core. A yield returns within 5 us on an
 //! idle core; one that takes over [`CONTENDED_YIELD`] gave the core to
-//! another process. A waiter that has lost [`GIVE_UP_AFTER`] that way
-//! stops waiting actively and its worker waits as rayon's do: two runs of 2
-//! threads side by side on 2 cores were up to 30 % slower with waiters that
-//! never stopped (issue 38, benchmarks/RESULTS.md).
+//! another thread. A waiter that has lost more than [`GIVE_UP_AFTER`] and
+//! more than [`CONTENDED_SHARE`] of its time that way shares its core with
+//! another process: it stops waiting actively, and its worker waits as
+//! rayon's do. Two runs of 2 threads side by side on 2 cores were up to
+//! 30 % slower with waiters that never stopped; on the idle machine a few
+//! yields of a run take 1-3 ms each (the kernel's writeback of the outputs,
+//! the hypervisor), up to 5 % of a short run, which must not stop them
+//! (issue 38, benchmarks/RESULTS.md).
 //!
 //! Which worker runs which job changes no value: every pass computes in an
 //! order fixed by its cuts. So a fixed thread count gives the same bits with
@@ -36,6 +43,9 @@ use std::time::{Duration, Instant};
 /// against the outputs' stretches and the set-up.
 pub const SPIN_FOR: Duration = Duration::from_millis(1);
 
+/// How often a spinning waiter offers its core to other threads.
+pub const YIELD_EVERY: Duration = Duration::from_micros(50);
+
 /// The sleep between polls after [`SPIN_FOR`] without a job.
 pub const POLL_EVERY: Duration = Duration::from_micros(50);
 
@@ -48,6 +58,11 @@ pub const CONTENDED_YIELD: Duration = Duration::from_micros(100);
 /// The time a waiter may lose to other threads in contended yields before it
 /// stops waiting actively: a few of the scheduler's time slices.
 pub const GIVE_UP_AFTER: Duration = Duration::from_millis(10);
+
+/// The share of its waiting time a waiter may lose to other threads (once
+/// past [`GIVE_UP_AFTER`]): a second process on the core takes about half,
+/// the idle machine's occasional slow yields under 5 %.
+pub const CONTENDED_SHARE: f64 = 0.25;
 
 /// The threads of the teams now waiting actively in this process.
 static WAITING_THREADS: AtomicUsize = AtomicUsize::new(0);
@@ -124,19 +139,33 @@ fn place<R: Send>(waiters: usize, flags: &Flags, op: impl FnOnce() -> R + Send) 
 }
 
 /// One worker's active wait: runs the jobs it finds until `op` finishes,
-/// or until its yields have lost [`GIVE_UP_AFTER`] to other threads.
+/// or until it shares its core with another process ([`contended`]).
 fn wait(flags: &Flags) {
     while !flags.started.load(Ordering::Acquire) {
         std::hint::spin_loop();
     }
-    let (mut last_job, mut lost) = (Instant::now(), Duration::ZERO);
-    while !flags.finished.load(Ordering::Acquire) && lost <= GIVE_UP_AFTER {
+    let start = Instant::now();
+    let (mut last_job, mut last_yield, mut lost) = (start, start, Duration::ZERO);
+    while !flags.finished.load(Ordering::Acquire) && !contended(lost, start.elapsed()) {
         match rayon::yield_now() {
             Some(rayon::Yield::Executed) => last_job = Instant::now(),
-            _ if last_job.elapsed() < SPIN_FOR => lost += contended_yield(),
+            _ if last_job.elapsed() < SPIN_FOR => {
+                std::hint::spin_loop();
+                if last_yield.elapsed() >= YIELD_EVERY {
+                    lost += contended_yield();
+                    last_yield = Instant::now();
+                }
+            }
             _ => std::thread::sleep(POLL_EVERY),
         }
     }
+}
+
+/// Whether a waiter that has lost `lost` of `waited` to other threads in
+/// its yields shares its core: over [`GIVE_UP_AFTER`] and
+/// [`CONTENDED_SHARE`] of the time.
+fn contended(lost: Duration, waited: Duration) -> bool {
+    lost > GIVE_UP_AFTER && lost.as_secs_f64() > CONTENDED_SHARE * waited.as_secs_f64()
 }
 
 /// Yields the core; returns the time the yield took if another thread took
@@ -206,6 +235,15 @@ mod tests {
         drop(first);
         assert_eq!(count.load(Ordering::SeqCst), 0, "the first team gave its cores back");
         assert!(Claim::take(&count, 2, 4).is_some(), "2 threads fit 4 cores");
+    }
+
+    #[test]
+    fn a_waiter_stops_when_another_process_takes_a_share_of_its_core() {
+        let ms = Duration::from_millis;
+        assert!(!contended(ms(9), ms(10)), "under the absolute threshold");
+        assert!(!contended(ms(11), ms(100)), "11 % of the time: hiccups");
+        assert!(contended(ms(30), ms(100)), "30 % of the time");
+        assert!(contended(ms(11), ms(40)));
     }
 
     #[test]
