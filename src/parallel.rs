@@ -41,6 +41,10 @@
 //! results of all rotors of the previous one. Each pass computes every
 //! rotor's or grid line's values in the same order whatever the cuts, so
 //! results depend on the thread count only where the pair loop's blocks do.
+//!
+//! Between and inside these sections a run's pool keeps its idle workers
+//! polling for work instead of sleeping ([`waiting_team`]): a sleeping
+//! worker's wake-up cost more than a small lattice's whole section.
 
 mod waiting_team;
 

@@ -74,11 +74,7 @@ static WAITING_THREADS: AtomicUsize = AtomicUsize::new(0);
 ///
 /// The caller must be a worker of a pool of exactly `threads` threads with
 /// nothing else to do: each waiter holds one worker until `op` returns.
-pub fn run_with_waiters<R: Send>(
-    threads: usize,
-    cores: usize,
-    op: impl FnOnce() -> R + Send,
-) -> R {
+pub fn run_with_waiters<R: Send>(threads: usize, cores: usize, op: impl FnOnce() -> R + Send) -> R {
     match Claim::take(&WAITING_THREADS, threads, cores) {
         Some(_claim) => place(threads - 1, &Flags::default(), op),
         None => op(),
@@ -181,10 +177,12 @@ fn contended_yield() -> Duration {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::atomic::AtomicUsize;
 
     fn pool(threads: usize) -> rayon::ThreadPool {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap()
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
     }
 
     /// The worker `install` runs on, the worker `op` runs on, and the count
@@ -226,14 +224,28 @@ mod tests {
     #[test]
     fn a_team_that_does_not_fit_the_cores_waits_as_rayon_does() {
         let count = AtomicUsize::new(0);
-        assert!(Claim::take(&count, 1, 8).is_none(), "one thread has no one to wait");
+        assert!(
+            Claim::take(&count, 1, 8).is_none(),
+            "one thread has no one to wait"
+        );
         assert!(Claim::take(&count, 3, 2).is_none(), "3 threads on 2 cores");
-        assert_eq!(count.load(Ordering::SeqCst), 0, "a refused claim takes nothing");
+        assert_eq!(
+            count.load(Ordering::SeqCst),
+            0,
+            "a refused claim takes nothing"
+        );
         let first = Claim::take(&count, 2, 3).expect("2 threads fit 3 cores");
-        assert!(Claim::take(&count, 2, 3).is_none(), "a second team of 2 does not fit");
+        assert!(
+            Claim::take(&count, 2, 3).is_none(),
+            "a second team of 2 does not fit"
+        );
         assert_eq!(count.load(Ordering::SeqCst), 2);
         drop(first);
-        assert_eq!(count.load(Ordering::SeqCst), 0, "the first team gave its cores back");
+        assert_eq!(
+            count.load(Ordering::SeqCst),
+            0,
+            "the first team gave its cores back"
+        );
         assert!(Claim::take(&count, 2, 4).is_some(), "2 threads fit 4 cores");
     }
 
