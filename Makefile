@@ -146,7 +146,8 @@ bench-threads:
 # reason from mutants/explanations.toml. MUTANTS_GROUPS limits a run to some
 # groups, MUTANTS_ARGS passes cargo-mutants options to every pass, e.g.
 # MUTANTS_ARGS="--in-diff change.diff" for a change, MUTANTS_JOBS sets the
-# work trees (and Python-stage workers) run side by side, and MUTANTS_RETEST=1 sends the missed mutants
+# work trees (and Python-stage workers) run side by side, MUTANTS_FROM=unit starts at the unit pass
+# (which runs the focused tests too), and MUTANTS_RETEST=1 sends the missed mutants
 # the run chooses through every pass again (after new tests). `make mutants-report` writes
 # the report from the recorded outcomes without running anything.
 MUTANTS_VERSION := 27.1.0
@@ -156,6 +157,7 @@ MUTANTS_ARGS ?=
 MUTANTS_GROUPS ?=
 MUTANTS_JOBS ?= 2
 MUTANTS_RETEST ?=
+MUTANTS_FROM ?=
 STAGED := $(PY) -m mutants.staged --cargo-mutants $(CARGO_MUTANTS) --out $(MUTANTS_DIR)
 
 $(CARGO_MUTANTS):
@@ -163,7 +165,7 @@ $(CARGO_MUTANTS):
 
 mutants: $(CARGO_MUTANTS) $(STAMP_VENV)
 	$(STAGED) --jobs $(MUTANTS_JOBS) --extra="$(MUTANTS_ARGS)" $(foreach g,$(MUTANTS_GROUPS),--group $(g)) \
-	  $(if $(MUTANTS_RETEST),--retest-missed)
+	  $(if $(MUTANTS_RETEST),--retest-missed) $(if $(MUTANTS_FROM),--from-pass $(MUTANTS_FROM))
 
 mutants-report: $(CARGO_MUTANTS) $(STAMP_VENV)
 	$(STAGED) --report-only

@@ -108,8 +108,11 @@ class GroupRun:
     """One group's passes, recorded in its ledger."""
 
     def __init__(self, cargo_mutants: Path, out: Path, group: Group, others: list[Group], extra: list[str], jobs: int,
-                 ledger: Ledger | None = None, trees: Path = TREES):
+                 ledger: Ledger | None = None, trees: Path = TREES, first_pass: str = PASSES[0]):
         self.cargo_mutants, self.group, self.extra, self.jobs = cargo_mutants.resolve(), group, extra, jobs
+        # The Rust passes before this one are left out: each pass runs the
+        # narrower passes' tests too, so starting later misses nothing.
+        self.first_pass = first_pass
         # The configuration's examine_globs add to --file, so the group is
         # chosen by leaving the other groups' files out.
         self.excluded = [glob for other in others if other is not group for glob in other.files]
@@ -146,6 +149,8 @@ class GroupRun:
         self.keys = keys
         self.ledger.save(keys)  # drops the outcomes of mutants since changed
         for label, targets in TARGETS.items():
+            if PASSES.index(label) < PASSES.index(self.first_pass):
+                continue
             still = self.to_test(label, keys, chosen)
             if not still:
                 print(f"{self.group.name}: {label}: nothing left to test", flush=True)
@@ -226,6 +231,10 @@ def main() -> int:
     parser.add_argument("--report-only", action="store_true", help="write the report from the ledgers, run nothing")
     parser.add_argument("--import", dest="imports", action="append", default=[], metavar="FOLDER=PASS",
                         help="record an earlier run's mutants.out folder as pass PASS of every chosen group")
+    parser.add_argument("--from-pass", choices=PASSES[:-1], default=PASSES[0],
+                        help="start at this Rust pass (it runs the narrower passes' tests too): 'unit' for files "
+                             "whose own unit tests are their best tests, where a miss of the focused pass costs "
+                             "the whole focused suite")
     parser.add_argument("--retest-missed", action="store_true",
                         help="test the missed mutants this run chooses through every pass again (after new tests)")
     parser.add_argument("--report", type=Path, default=ROOT / "mutants" / "REPORT.md")
@@ -244,7 +253,8 @@ def main() -> int:
         # cargo-mutants adds --file to the configured examine_globs: it would
         # choose every file, and --retest-missed would forget every miss.
         raise SystemExit("--extra: --file does not narrow a run (it adds to examine_globs); use --re or --exclude")
-    runs = [GroupRun(args.cargo_mutants, args.out, g, every, rooted(extra), args.jobs) for g in chosen]
+    runs = [GroupRun(args.cargo_mutants, args.out, g, every, rooted(extra), args.jobs, first_pass=args.from_pass)
+            for g in chosen]
     listings = {run.group.name: run.listing() for run in runs}
     keys = {name: hashes(d) for name, d in listings.items()}
     for run in runs:

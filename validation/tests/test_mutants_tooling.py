@@ -290,6 +290,14 @@ def test_each_pass_tests_only_what_the_narrower_ones_missed_and_a_missed_mutant_
     assert _passes(fake.go()) == []
 
 
+def test_a_run_from_the_unit_pass_leaves_the_focused_pass_out(tmp_path, monkeypatch):
+    fake = Fake(tmp_path, monkeypatch, [A, B, C], {A: ["focused", "unit", "suite"], B: ["unit", "suite"]})
+    fake.run.first_pass = "unit"
+    assert _passes(fake.go()) == [("unit", [A, B, C]), ("suite", [C])]
+    assert {n: (e.outcome, e.pass_) for n, e in fake.book.entries.items()} == {
+        A: ("caught", "unit"), B: ("caught", "unit"), C: ("missed", "suite")}
+
+
 def test_an_interrupted_pass_keeps_what_it_tested_and_resumes_with_the_rest(tmp_path, monkeypatch):
     fake = Fake(tmp_path, monkeypatch, [A, B, C, D], {A: ["focused", "unit", "suite"], C: ["unit", "suite"]})
     fake.set(stop=1)  # each shard's process dies after its first mutant
