@@ -239,3 +239,54 @@ pub fn for_charges(
     };
     Ok((parameters, estimate))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// LAMMPS's `estimated absolute RMS force accuracy` of `pppm` with forced
+    /// parameters (`fixtures/pppm_estimates_lammps.json`, by `make fixtures`):
+    /// the same two estimates, evaluated by LAMMPS from its own copy of the
+    /// formulas and of Deserno & Holm's `a_m^(7)`, as `sqrt(dF_r^2 +
+    /// dF_k^2)` with `dF_k` the axes in quadrature over `sqrt(3)`; printed
+    /// to 8 digits. The cases reach `h alpha` from 0.2 to 1.7 (every
+    /// `a_m` weighs in some) and one where the real space dominates.
+    #[test]
+    fn the_estimates_are_those_lammps_prints() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/fixtures/pppm_estimates_lammps.json"
+        );
+        let fixture: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).expect(path)).expect("JSON");
+        let cases = fixture["cases"].as_array().expect("cases");
+        assert_eq!(cases.len(), 8);
+        for case in cases {
+            let number = |key: &str| case[key].as_f64().expect(key);
+            let list = |key: &str| -> Vec<f64> {
+                case[key]
+                    .as_array()
+                    .expect(key)
+                    .iter()
+                    .map(|v| v.as_f64().expect(key))
+                    .collect()
+            };
+            let (box_, mesh) = (list("box"), list("mesh"));
+            let (square_sum, sites) = (number("square_sum"), number("sites"));
+            let (alpha, cutoff) = (number("alpha"), number("cutoff"));
+            let volume: f64 = box_.iter().product();
+            let real = real_error(square_sum, sites, volume, alpha, cutoff);
+            let axes: f64 = box_
+                .iter()
+                .zip(&mesh)
+                .map(|(&l, &k)| mesh_error(square_sum, sites, alpha, 7, l, k as usize).powi(2))
+                .sum();
+            let ours = real.hypot((axes / 3.0).sqrt());
+            let lammps = number("lammps_absolute_rms_force_accuracy");
+            assert!(
+                ((ours - lammps) / lammps).abs() < 2e-7,
+                "case {case}: ours {ours:e}, LAMMPS {lammps:e}"
+            );
+        }
+    }
+}
