@@ -21,7 +21,7 @@ use super::image_grid::ImageGrid;
 use super::PotentialError;
 use nalgebra::Vector3;
 use rayon::prelude::*;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Sites closer than this (length unit, periodic images included) are
@@ -161,7 +161,7 @@ impl PairTable {
         let mut start = Vec::with_capacity(n + 1);
         let mut count = 0;
         let mut geometry = Vec::new();
-        let mut by_offset: HashMap<[u64; 3], u32> = HashMap::new();
+        let mut by_offset: FxHashMap<[u64; 3], u32> = FxHashMap::default();
         let mut global_index = Vec::with_capacity(tasks.len());
         for task in &tasks {
             for &length in &task.row_lengths {
@@ -230,7 +230,7 @@ fn scan_rows(
 ) -> RowsFound {
     let n = sites.len();
     let mut found = RowsFound::default();
-    let mut by_offset: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut by_offset: FxHashMap<[u64; 3], u32> = FxHashMap::default();
     let mut row = Vec::new();
     for i in rows {
         match grid {
@@ -406,7 +406,8 @@ fn coincident(i: usize, j: usize, d: f64) -> PotentialError {
 fn first_coincident(sites: &[Vector3<f64>]) -> Option<(usize, usize, f64)> {
     let cell =
         |s: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|a| (s[a] / COINCIDENT).floor() as i64) };
-    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(sites.len());
+    let mut cells: FxHashMap<[i64; 3], Vec<u32>> =
+        FxHashMap::with_capacity_and_hasher(sites.len(), Default::default());
     for (k, s) in sites.iter().enumerate() {
         cells.entry(cell(s)).or_default().push(k as u32);
     }

@@ -30,7 +30,7 @@
 use super::kernels::{Lanes, MulAdd};
 use super::pairs::PairTable;
 use rayon::prelude::*;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Entries per rayon task when the dipoles are copied into component
 /// arrays: a copy costs a few nanoseconds, so the 1000-rotor lattice stays
@@ -100,7 +100,7 @@ type DirectedRow = ([i64; 3], u32, u32);
 fn distinct_tensors(pairs: &PairTable) -> (Vec<u32>, Vec<SymmetricTensor>) {
     let mut tensor_index = Vec::with_capacity(pairs.geometry.len());
     let mut tensors: Vec<SymmetricTensor> = Vec::new();
-    let mut by_key: HashMap<[u64; 6], u32> = HashMap::new();
+    let mut by_key: FxHashMap<[u64; 6], u32> = FxHashMap::default();
     for g in &pairs.geometry {
         let t = &g.dipole_tensor;
         let s = SymmetricTensor {
@@ -121,33 +121,71 @@ fn distinct_tensors(pairs: &PairTable) -> (Vec<u32>, Vec<SymmetricTensor>) {
     (tensor_index, tensors)
 }
 
-/// The directed rows of every rotor (each pair seen from both ends), sorted by offset.
-fn directed_rows(pairs: &PairTable, tensor_index: &[u32]) -> Vec<Vec<DirectedRow>> {
-    let rotors = pairs.start.len() - 1;
-    let resolution =
-        OFFSET_KEY_RESOLUTION / pairs.geometry.iter().fold(0.0, |m: f64, g| m.max(g.inv_r));
-    // The key of each distinct offset, once (a pair's key is its offset's).
-    let keys: Vec<[i64; 3]> = pairs
-        .geometry
-        .iter()
-        .map(|geometry| {
-            let offset = geometry.unit / (geometry.inv_r * resolution);
-            offset.map(|x| x.round() as i64).into()
-        })
-        .collect();
-    let mut rows: Vec<Vec<DirectedRow>> = vec![Vec::new(); rotors];
-    for (i, row) in pairs.start.windows(2).enumerate() {
-        for p in row[0]..row[1] {
-            let j = pairs.partner[p] as usize;
-            let g = pairs.geometry_index[p] as usize;
-            let key = keys[g];
-            rows[i].push((key, j as u32, tensor_index[g]));
-            rows[j].push((key.map(|x| -x), i as u32, tensor_index[g]));
+/// The directed rows of every rotor (each pair seen from both ends), each
+/// sorted by offset: row `i` is `entries[start[i]..start[i + 1]]`.
+struct DirectedRows {
+    start: Vec<usize>,
+    entries: Vec<DirectedRow>,
+}
+
+impl DirectedRows {
+    fn new(pairs: &PairTable, tensor_index: &[u32]) -> Self {
+        let rotors = pairs.start.len() - 1;
+        let resolution =
+            OFFSET_KEY_RESOLUTION / pairs.geometry.iter().fold(0.0, |m: f64, g| m.max(g.inv_r));
+        // The key of each distinct offset, once (a pair's key is its offset's).
+        let keys: Vec<[i64; 3]> = pairs
+            .geometry
+            .iter()
+            .map(|geometry| {
+                let offset = geometry.unit / (geometry.inv_r * resolution);
+                offset.map(|x| x.round() as i64).into()
+            })
+            .collect();
+        // Each row's length (its pairs from both ends), then their starts.
+        let mut start = vec![0; rotors + 1];
+        for (i, row) in pairs.start.windows(2).enumerate() {
+            start[i + 1] += row[1] - row[0];
+            for &j in &pairs.partner[row[0]..row[1]] {
+                start[j as usize + 1] += 1;
+            }
+        }
+        for i in 0..rotors {
+            start[i + 1] += start[i];
+        }
+        let mut entries = vec![([0; 3], 0, 0); start[rotors]];
+        let mut next = start[..rotors].to_vec();
+        for (i, row) in pairs.start.windows(2).enumerate() {
+            for p in row[0]..row[1] {
+                let j = pairs.partner[p] as usize;
+                let g = pairs.geometry_index[p] as usize;
+                let key = keys[g];
+                // One after the other: a self pair enters its row twice.
+                entries[next[i]] = (key, j as u32, tensor_index[g]);
+                next[i] += 1;
+                entries[next[j]] = (key.map(|x| -x), i as u32, tensor_index[g]);
+                next[j] += 1;
+            }
+        }
+        // Each row sorted on its own: the same rows on any number of threads.
+        let mut rows = Vec::with_capacity(rotors);
+        let mut rest = &mut entries[..];
+        for row in start.windows(2) {
+            let (sorted, tail) = rest.split_at_mut(row[1] - row[0]);
+            rows.push(sorted);
+            rest = tail;
+        }
+        rows.into_par_iter().for_each(|row| row.sort_unstable());
+        DirectedRows { start, entries }
+    }
+
+    /// Row `i`, empty past the last rotor.
+    fn row(&self, i: usize) -> &[DirectedRow] {
+        match self.start.get(i..i + 2) {
+            Some(&[first, end]) => &self.entries[first..end],
+            _ => &[],
         }
     }
-    // Each row sorted on its own: the same rows on any number of threads.
-    rows.par_iter_mut().for_each(|row| row.sort_unstable());
-    rows
 }
 
 /// The dipoles as separate component arrays, extended with the ghost copies
@@ -171,7 +209,7 @@ impl RowQuads {
         let zero = tensors.len() as u32;
         tensors.push(SymmetricTensor::default());
 
-        let rows = directed_rows(pairs, &tensor_index);
+        let rows = DirectedRows::new(pairs, &tensor_index);
 
         let quads = rotors.div_ceil(4);
         let mut table = RowQuads {
@@ -182,12 +220,10 @@ impl RowQuads {
             ghosts: Vec::new(),
         };
         table.start.push(0);
-        let mut placed: HashMap<[u32; 4], u32> = HashMap::new();
+        let mut placed: FxHashMap<[u32; 4], u32> = FxHashMap::default();
         let mut padded = 0;
         for b in 0..quads {
-            let lanes: Vec<&[DirectedRow]> = (4 * b..4 * b + 4)
-                .map(|i| rows.get(i).map_or(&[][..], |r| &r[..]))
-                .collect();
+            let lanes: Vec<&[DirectedRow]> = (4 * b..4 * b + 4).map(|i| rows.row(i)).collect();
             // Merge the four rows by offset: a row lacking the offset misses the slot.
             let mut next = [0usize; 4];
             while let Some(key) = (0..4)
