@@ -23,8 +23,10 @@
 
 #[path = "../benches/shared/harness.rs"]
 mod harness;
+#[path = "shared/least_squares.rs"]
+mod least_squares;
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
     direct_costs, Body, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions, Evaluation,
     EwaldOptions, InteractionOptions, Site, Space,
@@ -190,17 +192,11 @@ fn fit_direct(kind: &str, rows: &[Value]) -> Value {
             ]
         })
         .collect();
-    let a = DMatrix::from_row_slice(direct.len(), 3, &design);
-    let b = DVector::from_iterator(
-        direct.len(),
-        direct.iter().map(|r| r["cpu_seconds"].as_f64().unwrap()),
-    );
-    let fit = a
-        .clone()
-        .svd(true, true)
-        .solve(&b, 1e-300)
-        .expect("least squares");
-    let residual = (&a * &fit - &b).norm() / b.norm();
+    let seconds: Vec<f64> = direct
+        .iter()
+        .map(|r| r["cpu_seconds"].as_f64().unwrap())
+        .collect();
+    let (fit, residual) = least_squares::fit(&design, 3, &seconds);
     let (pair, wave) = direct_costs(carried(kind));
     println!(
         "{kind} direct: {:.1} ns per pair (the model's {:.1}), {:.2} ns per site wave ({:.2}), \

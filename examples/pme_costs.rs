@@ -22,8 +22,10 @@
 
 #[path = "../benches/shared/harness.rs"]
 mod harness;
+#[path = "shared/least_squares.rs"]
+mod least_squares;
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use quatrot::potential::multipole::mesh_ewald::{
     Carried, MeshEwald, MeshParameters, SiteResponse, Sources,
 };
@@ -170,14 +172,7 @@ fn measure(kind: &Kind, quick: bool) -> Value {
         design.extend(row);
         seconds.push(t);
     }
-    let a = DMatrix::from_row_slice(cases.len(), 4, &design);
-    let b = DVector::from_vec(seconds);
-    let fit = a
-        .clone()
-        .svd(true, true)
-        .solve(&b, 1e-300)
-        .expect("least squares");
-    let residual = (&a * &fit - &b).norm() / b.norm();
+    let (fit, residual) = least_squares::fit(&design, 4, &seconds);
     let names = ["pair", "mesh_point_log2", "spline_point", "site"];
     let costs = Carried {
         charges: kind.carries == Carries::Charges,
