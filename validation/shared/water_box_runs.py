@@ -52,21 +52,22 @@ class BoxState:
     omega_body: np.ndarray
 
 
-def builtin() -> dict:
-    return tomllib.loads(quatrot.builtin_scenes()[SCENE])
+def builtin(name: str = SCENE) -> dict:
+    return tomllib.loads(quatrot.builtin_scenes()[name])
 
 
-def equilibrated_state(cache: Path, steps: int | None = None) -> BoxState:
-    """The built-in's last frame after its run (or `steps` steps), cached."""
-    scene = builtin()
+def equilibrated_state(cache: Path, steps: int | None = None, name: str = SCENE) -> BoxState:
+    """The last frame of the built-in `name` (a water box with its
+    thermostat) after its run (or `steps` steps), cached."""
+    scene = builtin(name)
     steps = steps or scene["run"]["steps"]
-    path = cache / f"{SCENE}_{steps}.npz"
+    path = cache / f"{name}_{steps}.npz"
     if not path.exists():
         import gsd.hoomd
 
         scene["run"]["steps"] = steps
         scene["record"]["trajectory"] = {"every": steps, "format": "gsd"}
-        out = cache / f"{SCENE}_{steps}"
+        out = cache / f"{name}_{steps}"
         quatrot.run(scene, out_dir=out)
         with gsd.hoomd.open(out / "trajectory.gsd") as frames:
             state = state_from_frame(frames[-1])

@@ -26,9 +26,13 @@ def test_quick_run_writes_its_section(tmp_path):
     assert result["scene"] == "spce_water_512" and result["molecules"] == 512
     # Two and four steps time the pipeline, not the codes: the differences
     # are finite but may be noise of either sign.
-    assert len(result["timings"]) == len(water_speed.INTEGRATORS) + 2
+    assert len(result["timings"]) == len(water_speed.INTEGRATORS) + 2 and result["blew_up"] == {}
     for name, timing in result["timings"].items():
         assert math.isfinite(timing["seconds_per_step"]), name
+    # The verdict is one named integrator's, with each round's ratio.
+    assert result["verdict_integrator"] in water_speed.INTEGRATORS
+    for peer in water_speed.TARGETS:
+        assert len(result["ratio_rounds"][peer]) == result["rounds"] == 1
     for code in ("quatrot", "OpenMM", "LAMMPS"):
         error = result["accuracy"]["codes"][code]["chosen"]["error"]
         assert 0 < error < 1e-2, (code, error)
