@@ -90,5 +90,7 @@ pub mod internals {
     pub use crate::checks::from_name;
     pub use crate::cli::main as cli_main;
     pub use crate::memory::{set_limit, LIMIT_VARIABLE};
-    pub use crate::parallel::{automatic_threads, fixed_threads, on_worker};
+    pub use crate::parallel::{
+        automatic_threads, fixed_threads, on_worker, ROTORS_PER_THREAD, SITES_PER_THREAD,
+    };
 }

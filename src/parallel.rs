@@ -114,20 +114,32 @@ pub fn in_pool<R: Send>(
 /// two threads from 1,000 rotors; smaller systems were not measured.
 pub const ROTORS_PER_THREAD: usize = 500;
 
-/// The thread count of a run of `rotors` rotors whose count is not fixed,
-/// on a machine with `cores` hardware threads: `rotors /`
-/// `ROTORS_PER_THREAD`, at least 1 and at most `cores`.
+/// Sites of moving bodies per thread of the automatic count. Whole runs
+/// through the CLI, 1 against 2 threads, 3 alternating pairs on an idle
+/// 2-core AMD EPYC (2026-12-03, benchmarks/RESULTS.md, moving bodies): the
+/// second thread's loop speed-up was 0.90-1.23x on the 256-site Stockmayer
+/// fluid, 1.27-1.48x on 500 Stockmayer sites, 1.08-1.59x on o-terphenyl's
+/// 768 and 1.43-1.52x on 512 SPC/E molecules' 1,536: two threads from 500
+/// sites.
+pub const SITES_PER_THREAD: usize = 250;
+
+/// The thread count of a run whose count is not fixed, for `size` units of
+/// work (rotors, or sites of moving bodies) at `per_thread` units a thread,
+/// on a machine with `cores` hardware threads: `size / per_thread`, at
+/// least 1 and at most `cores`.
 ///
 /// ```
-/// use quatrot::internals::automatic_threads;
-/// assert_eq!(automatic_threads(1, 8).get(), 1);
-/// assert_eq!(automatic_threads(999, 2).get(), 1);
-/// assert_eq!(automatic_threads(1000, 2).get(), 2);
-/// assert_eq!(automatic_threads(8000, 2).get(), 2);
-/// assert_eq!(automatic_threads(1_000_000, 8).get(), 8);
-/// assert_eq!(automatic_threads(1000, 0).get(), 1);
+/// use quatrot::internals::{automatic_threads, ROTORS_PER_THREAD, SITES_PER_THREAD};
+/// assert_eq!(automatic_threads(1, ROTORS_PER_THREAD, 8).get(), 1);
+/// assert_eq!(automatic_threads(999, ROTORS_PER_THREAD, 2).get(), 1);
+/// assert_eq!(automatic_threads(1000, ROTORS_PER_THREAD, 2).get(), 2);
+/// assert_eq!(automatic_threads(8000, ROTORS_PER_THREAD, 2).get(), 2);
+/// assert_eq!(automatic_threads(1_000_000, ROTORS_PER_THREAD, 8).get(), 8);
+/// assert_eq!(automatic_threads(1000, ROTORS_PER_THREAD, 0).get(), 1);
+/// assert_eq!(automatic_threads(256, SITES_PER_THREAD, 2).get(), 1);
+/// assert_eq!(automatic_threads(500, SITES_PER_THREAD, 2).get(), 2);
 /// ```
-pub fn automatic_threads(rotors: usize, cores: usize) -> NonZeroUsize {
-    let count = (rotors / ROTORS_PER_THREAD).clamp(1, cores.max(1));
+pub fn automatic_threads(size: usize, per_thread: usize, cores: usize) -> NonZeroUsize {
+    let count = (size / per_thread.max(1)).clamp(1, cores.max(1));
     NonZeroUsize::new(count).unwrap_or(NonZeroUsize::MIN)
 }

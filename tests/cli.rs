@@ -461,6 +461,47 @@ fn the_thread_count_is_given_from_the_environment_or_automatic() {
     }
 }
 
+/// A scene of moving bodies left to choose takes one thread per 250 of
+/// its bodies' sites (at least 1, at most the cores), not the count of a
+/// scene without rotors: the 256 single-site bodies of the Stockmayer
+/// fluid one thread, the 512 three-site waters (1,536 sites) every core
+/// up to 6; the reason names the sites.
+#[test]
+fn moving_bodies_choose_their_threads_by_their_sites() {
+    let dir = tempfile::tempdir().expect("dir");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    for (scene, sites, count) in [
+        ("stockmayer_fluid", 256, 1),
+        ("spce_water_512", 1536, cores.min(6)),
+    ] {
+        let out_dir = dir.path().join(scene);
+        let out = Command::new(BIN)
+            .args(["run", scene, "--steps", "1", "--out"])
+            .arg(&out_dir)
+            .env_remove("RAYON_NUM_THREADS")
+            .env("QUATROT_MEMORY_LIMIT", MEMORY_LIMIT)
+            .output()
+            .expect("the binary runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read_to_string(out_dir.join("summary.json")).expect("summary");
+        let threads =
+            serde_json::from_str::<serde_json::Value>(&text).expect("json")["threads"].clone();
+        assert_eq!(threads["chosen"], "automatic", "{scene}");
+        assert_eq!(threads["count"], count, "{scene}");
+        let reason = format!("body sites {sites}, cores {cores}: one thread per 250 body sites");
+        assert!(
+            threads["reason"]
+                .as_str()
+                .is_some_and(|r| r.starts_with(&reason)),
+            "{scene}: {threads}"
+        );
+    }
+}
+
 /// A scene's `run.threads` is honoured (3, more than this machine's
 /// cores), recorded as the scene's choice, also over `RAYON_NUM_THREADS`,
 /// and kept in the summary's scene definition; `--threads` overrides it;

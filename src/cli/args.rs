@@ -46,9 +46,9 @@ pub(super) enum Command {
         #[arg(long)]
         restart: Option<PathBuf>,
         /// Threads of the run (1 to 1024); default the scene's run.threads,
-        /// else RAYON_NUM_THREADS if set, else one per 500 rotors, at least
-        /// 1, at most the cores. Results are bitwise reproducible for a
-        /// given count.
+        /// else RAYON_NUM_THREADS if set, else one per 500 rotors or 250 sites
+        /// of moving bodies, at least 1, at most the cores. Results are
+        /// bitwise reproducible for a given count.
         #[arg(long, allow_negative_numbers = true)]
         threads: Option<i64>,
     },

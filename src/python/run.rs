@@ -142,7 +142,8 @@ const POLL: Duration = Duration::from_millis(20);
 ///     Runs on a pool of that many threads (1 to `MAX_THREADS`; default
 ///     the scene's `run.threads`, else the shared pool when
 ///     `RAYON_NUM_THREADS` is set, else one thread per
-///     500 rotors, at least 1, at most the cores; recorded in the summary's
+///     500 rotors or 250 sites of moving bodies, at least 1, at most the
+///     cores; recorded in the summary's
 ///     `threads`). The periodic pair loop's last bits depend on it.
 /// progress : bool, default False
 ///     A progress bar (tqdm if installed, else a line on stderr).

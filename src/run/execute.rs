@@ -7,7 +7,9 @@ use super::error::RunError;
 use super::limits::check_run_limits;
 use super::scene_run::{run_scene, thread_record, Outputs, Progress, RunResult, ScenePotential};
 use super::summary::InteractionsSummary;
-use crate::parallel::{automatic_threads, in_pool, on_worker, ThreadCount, ROTORS_PER_THREAD};
+use crate::parallel::{
+    automatic_threads, in_pool, on_worker, ThreadCount, ROTORS_PER_THREAD, SITES_PER_THREAD,
+};
 use crate::potential::multipole::mesh_ewald::ForcedMesh;
 use crate::potential::{Boundary, ExternalFields, Free, MultipolePotential, SumMethod};
 use crate::scene::{boundary_error, Interactions, Scene};
@@ -57,7 +59,7 @@ pub fn prepare(scene: &Scene, keep: bool) -> Result<Option<MultipolePotential>, 
 /// on a worker of a rayon pool of `outputs.threads` threads when given, else
 /// of the scene's `run.threads`, else of the shared pool when
 /// `RAYON_NUM_THREADS` sizes it, else of [`automatic_threads`] for its
-/// rotors (`choose_threads`); the count and the reason are
+/// rotors or its moving bodies' sites (`choose_threads`); the count and the reason are
 /// recorded in the summary ([`super::Threads`]).
 pub fn execute(
     scene: &Scene,
@@ -105,7 +107,7 @@ pub fn execute(
 /// The pool a run of `scene` takes (`None`: the shared pool), who chose it
 /// and why: `given` threads, else the scene's `run.threads`, else the shared
 /// pool when `RAYON_NUM_THREADS` sizes it, else [`automatic_threads`] for its
-/// rotors.
+/// rotors or its moving bodies' sites.
 pub(super) fn choose_threads(
     scene: &Scene,
     given: Option<NonZeroUsize>,
@@ -125,10 +127,13 @@ pub(super) fn choose_threads(
         return (None, RAYON_NUM_THREADS, reason);
     }
     let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
-    let rotors = scene.rotors.len();
-    let count = automatic_threads(rotors, cores);
+    let (size, what, per_thread) = match &scene.bodies {
+        Some(bodies) => (bodies.sites(), "body sites", SITES_PER_THREAD),
+        None => (scene.rotors.len(), "rotors", ROTORS_PER_THREAD),
+    };
+    let count = automatic_threads(size, per_thread, cores);
     let reason = format!(
-        "rotors {rotors}, cores {cores}: one thread per {ROTORS_PER_THREAD} rotors, \
+        "{what} {size}, cores {cores}: one thread per {per_thread} {what}, \
          at least 1, at most the cores"
     );
     (Some(count), "automatic", reason)

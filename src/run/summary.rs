@@ -323,7 +323,8 @@ pub struct Threads {
     /// Who chose it: `"given"` (`--threads`, Python's `threads=`),
     /// `"scene"` (its `run.threads`), `"RAYON_NUM_THREADS"` (the
     /// environment) or `"automatic"` (from the
-    /// number of rotors, [`crate::parallel::automatic_threads`]).
+    /// number of rotors or of moving bodies' sites,
+    /// [`crate::parallel::automatic_threads`]).
     pub chosen: &'static str,
     /// The rule or the setting that gave the count.
     pub reason: String,
