@@ -128,7 +128,10 @@ pub(super) fn choose_threads(
     }
     let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
     let (size, what, per_thread) = match &scene.bodies {
-        Some(bodies) => (bodies.sites(), "body sites", SITES_PER_THREAD),
+        Some(b) => {
+            let sites = b.bodies.iter().map(|body| b.types[body.kind].sites.len());
+            (sites.sum(), "body sites", SITES_PER_THREAD)
+        }
         None => (scene.rotors.len(), "rotors", ROTORS_PER_THREAD),
     };
     let count = automatic_threads(size, per_thread, cores);

@@ -196,14 +196,6 @@ pub struct BodySeries {
 }
 
 impl BodyScene {
-    /// The number of sites of the bodies.
-    pub fn sites(&self) -> usize {
-        self.bodies
-            .iter()
-            .map(|b| self.types[b.kind].sites.len())
-            .sum()
-    }
-
     /// The system of the scene at t = 0.
     pub fn system(&self) -> Result<BodySystem, SceneError> {
         BodySystem::new(
