@@ -118,9 +118,9 @@ pub const ROTORS_PER_THREAD: usize = 500;
 /// through the CLI, 1 against 2 threads, 3 alternating pairs on an idle
 /// 2-core AMD EPYC (2026-12-03, benchmarks/RESULTS.md, moving bodies): the
 /// second thread's loop speed-up was 0.90-1.23x on the 256-site Stockmayer
-/// fluid, 1.27-1.48x on 500 Stockmayer sites, 1.08-1.59x on o-terphenyl's
-/// 768 and 1.43-1.52x on 512 SPC/E molecules' 1,536: two threads from 500
-/// sites.
+/// fluid, 1.27-1.48x on 500 Stockmayer sites and 0.97-1.32x on 864,
+/// 1.08-1.59x on o-terphenyl's 768 and 1.43-1.52x on 512 SPC/E molecules'
+/// 1,536: two threads from 500 sites.
 pub const SITES_PER_THREAD: usize = 250;
 
 /// The thread count of a run whose count is not fixed, for `size` units of
