@@ -232,3 +232,22 @@ def test_ctrl_c_on_a_sweep_prints_one_line(tmp_path: Path):
     assert recorded < 40, "the sweep finished before the interrupt: the test needs longer runs"
     assert sweep.returncode == 130
     assert err.splitlines() == [f"interrupted: {table} holds the runs finished so far; the same command resumes"]
+
+
+def test_only_distributeds_cancel_race_is_kept_out_of_the_log():
+    """The filter drops the record of distributed's NameError in
+    `sync.<locals>.cancel` on Ctrl-C, and lets every other record through
+    (an error in another callback, the same message without the NameError)."""
+    import logging
+
+    from quatrot.sweep.execute import _sync_cancel_race
+
+    def record(message: str, exc: BaseException | None) -> logging.LogRecord:
+        info = (type(exc), exc, None) if exc else None
+        return logging.LogRecord("tornado.application", logging.ERROR, __file__, 1, message, None, info)
+
+    race = "Exception in callback functools.partial(<function sync.<locals>.cancel at 0x7f990c258360>)"
+    assert not _sync_cancel_race(record(race, NameError("cannot access free variable 'future'")))
+    assert _sync_cancel_race(record(race, ValueError("another error")))
+    assert _sync_cancel_race(record("Exception in callback functools.partial(<function other>)", NameError("x")))
+    assert _sync_cancel_race(record(race, None))
