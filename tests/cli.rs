@@ -402,12 +402,25 @@ fn run_summary(
         }
         None => "dipole_in_field".to_string(),
     };
+    summary_of_run(&scene, 4, &out_dir, args, env)
+}
+
+/// `summary.json` of `quatrot run scene --steps steps --out out_dir` with
+/// `args`, `RAYON_NUM_THREADS` set to `env` (or unset); the run must succeed.
+fn summary_of_run(
+    scene: &str,
+    steps: u32,
+    out_dir: &Path,
+    args: &[&str],
+    env: Option<&str>,
+) -> serde_json::Value {
     let mut command = Command::new(BIN);
     command
-        .args(["run", &scene, "--steps", "4", "--out"])
-        .arg(&out_dir)
+        .args(["run", scene, "--steps", &steps.to_string(), "--out"])
+        .arg(out_dir)
         .args(args)
-        .env_remove("RAYON_NUM_THREADS");
+        .env_remove("RAYON_NUM_THREADS")
+        .env("QUATROT_MEMORY_LIMIT", MEMORY_LIMIT);
     if let Some(value) = env {
         command.env("RAYON_NUM_THREADS", value);
     }
@@ -474,22 +487,8 @@ fn moving_bodies_choose_their_threads_by_their_sites() {
         ("stockmayer_fluid", 256, 1),
         ("spce_water_512", 1536, cores.min(6)),
     ] {
-        let out_dir = dir.path().join(scene);
-        let out = Command::new(BIN)
-            .args(["run", scene, "--steps", "1", "--out"])
-            .arg(&out_dir)
-            .env_remove("RAYON_NUM_THREADS")
-            .env("QUATROT_MEMORY_LIMIT", MEMORY_LIMIT)
-            .output()
-            .expect("the binary runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let text = std::fs::read_to_string(out_dir.join("summary.json")).expect("summary");
-        let threads =
-            serde_json::from_str::<serde_json::Value>(&text).expect("json")["threads"].clone();
+        let summary = summary_of_run(scene, 1, &dir.path().join(scene), &[], None);
+        let threads = &summary["threads"];
         assert_eq!(threads["chosen"], "automatic", "{scene}");
         assert_eq!(threads["count"], count, "{scene}");
         let reason = format!("body sites {sites}, cores {cores}: one thread per 250 body sites");
