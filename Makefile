@@ -128,7 +128,7 @@ bench-water: develop
 # Whole runs of every built-in lattice scene at about 1,000, 8,000 and 64,000
 # rotors on 1 and 2 threads, side by side (issue 38); runnable alone, on an
 # idle machine (the section says when it was not).
-bench-threads:
+bench-threads: develop
 	cargo build --release
 	$(PY) -m validation.bench.threads --out benchmarks
 
