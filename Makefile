@@ -99,7 +99,7 @@ validate: develop
 	$(MAKE) docs QUATROT_REPORT=$(abspath $(RESULTS))/report.md
 	$(MAKE) screenshots
 
-screenshots:
+screenshots: $(STAMP_VENV)
 	command -v chromium >/dev/null || (apt-get update && apt-get install -y chromium)
 	$(PY) docs/screenshots.py --site $(DOCS_BUILD)/html --report $(RESULTS)
 
