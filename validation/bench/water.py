@@ -62,9 +62,10 @@ def run_one(method: str, dt: float, length_fs: float, state, cache: Path) -> dic
     return dict(np.load(path))
 
 
-def measure(found: dict, box: float, length_fs: float, reference_g=None) -> dict:
+def measure(found: dict, box: float, length_fs: float, dt: float, reference_g=None) -> dict:
     times, total = found["time_ps"], found["total_per_molecule"]
-    completed = bool(np.isnan(found["failed_at_fs"]) and len(times) and times[-1] * 1000 >= length_fs - 1e-9)
+    last_fs = runs.sample_steps(dt, length_fs, SAMPLE_FS)[-1] * dt
+    completed = bool(np.isnan(found["failed_at_fs"]) and len(times) and times[-1] * 1000 >= last_fs - 1e-9)
     stable = bool(completed and np.all(np.isfinite(total)) and np.abs(total - total[0]).max() <= STABLE_MOVE)
     out = {"stable": stable, "completed": completed, "cpu_per_ps": float(found["cpu_seconds"]) / max(times[-1], 1e-12)}
     if not stable:
@@ -136,7 +137,7 @@ def main(argv=None) -> int:
         for dt in steps_fs:
             print(f"water, {method} at {dt:g} fs: {length_ps:g} ps ...", flush=True)
             found = run_one(method, dt, length_ps * 1000, state, args.cache)
-            measured = measure(found, state.box, length_ps * 1000, reference)
+            measured = measure(found, state.box, length_ps * 1000, dt, reference)
             if reference is None and measured["stable"]:
                 reference = np.asarray(measured["g"])
             rows.append({"method": method, "dt": dt, "measured": measured})

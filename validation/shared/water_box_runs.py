@@ -128,6 +128,15 @@ def result(times, totals, t_trans, t_rot, frames, started, failed_at=None) -> di
             "cpu_seconds": time.process_time() - started, "failed_at_fs": failed_at}
 
 
+def sample_steps(dt: float, length_fs: float, sample_fs: float) -> range:
+    """The steps at which every run here samples: 0, `every`, 2 `every`, ...
+    up to the run's ``round(length_fs / dt)`` steps, `every` being
+    ``round(sample_fs / dt)`` (at least 1). The last sample can fall short of
+    `length_fs` (at 3 fs: 3,333 steps sampled every 7, the last at 9,996
+    fs of 10 ps)."""
+    return range(0, round(length_fs / dt) + 1, max(1, round(sample_fs / dt)))
+
+
 def quatrot_run(state: BoxState, integrator: str, dt: float, length_fs: float, sample_fs: float,
                 frame_fs: float, out_dir: Path) -> dict:
     """The built-in's model from `state` at constant energy, one thread."""
@@ -137,7 +146,7 @@ def quatrot_run(state: BoxState, integrator: str, dt: float, length_fs: float, s
     steps = round(length_fs / dt)
     scene = given_scene(state, integrator, dt, steps)
     scene["record"] = {
-        "series": [{"name": "series", "every": max(1, round(sample_fs / dt)),
+        "series": [{"name": "series", "every": sample_steps(dt, length_fs, sample_fs).step,
                     "quantities": ["total_energy", "T_trans", "T_rot"]}],
         "trajectory": {"every": max(1, round(frame_fs / dt)), "format": "gsd"},
     }
@@ -198,11 +207,12 @@ def openmm_run(state: BoxState, dt: float, length_fs: float, sample_fs: float, f
 
     n = len(state.centres)
     context, integrator = openmm_context(state, dt)
-    every, frame_every = max(1, round(sample_fs / dt)), max(1, round(frame_fs / dt))
+    samples, frame_every = sample_steps(dt, length_fs, sample_fs), max(1, round(frame_fs / dt))
+    every = samples.step
     times, totals, t_trans, t_rot, frames = [], [], [], [], []
     started = time.process_time()
     failed_at = None
-    for step in range(0, round(length_fs / dt) + 1, every):
+    for step in samples:
         if step:
             integrator.step(every)
         s = context.getState(getEnergy=True, getVelocities=True, getPositions=step % frame_every == 0)
@@ -230,10 +240,11 @@ def lammps_run(state: BoxState, dt: float, length_fs: float, sample_fs: float, f
     started = time.process_time()
     lmp = lammps_box(state, dt, constraint)
     try:
-        every, frame_every = max(1, round(sample_fs / dt)), max(1, round(frame_fs / dt))
+        samples, frame_every = sample_steps(dt, length_fs, sample_fs), max(1, round(frame_fs / dt))
+        every = samples.step
         times, totals, t_trans, t_rot, frames = [], [], [], [], []
         failed_at = None
-        for step in range(0, round(length_fs / dt) + 1, every):
+        for step in samples:
             lmp.command("run 0 post no" if step == 0 else f"run {every} pre no post no")
             total = lmp.get_thermo("etotal")
             if not math.isfinite(total):
