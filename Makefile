@@ -127,9 +127,11 @@ bench-water: develop
 
 # Whole runs of every built-in lattice scene at about 1,000, 8,000 and 64,000
 # rotors on 1 and 2 threads, side by side (issue 38); runnable alone, on an
-# idle machine (the section says when it was not).
+# idle machine (the section says when it was not), with the machine's memory
+# bandwidth at 1 and 2 threads measured before and after the runs
+# (examples/memory_bandwidth.rs).
 bench-threads: develop
-	cargo build --release
+	cargo build --release --bin quatrot --example memory_bandwidth
 	$(PY) -m validation.bench.threads --out benchmarks
 
 # Mutation testing of the physics modules (scope and exclusions in

@@ -6,7 +6,10 @@ runs is timed side by side, the order alternating from repeat to repeat;
 the medians, the spread and the efficiency `t1 / (2 t2)` go into
 `<out>/results.json` (key `threads`) and this benchmark's section of
 `<out>/RESULTS.md`. The load average is read before and after every pair:
-the section says when the machine was not idle."""
+the section says when the machine was not idle. Before and after the runs
+the triad of `examples/memory_bandwidth.rs` measures the machine's memory
+bandwidth at 1 and 2 threads (`--probe`), which bounds what a second
+thread gives a step that streams its data."""
 
 from __future__ import annotations
 
@@ -27,6 +30,8 @@ from validation.bench import results_md
 BEGIN = "<!-- make bench-threads: threads section begin -->"
 END = "<!-- make bench-threads: threads section end -->"
 CLI = Path("target/release/quatrot")
+# The triad of examples/memory_bandwidth.rs (`make bench-threads` builds it).
+BANDWIDTH_PROBE = Path("target/release/examples/memory_bandwidth")
 SCENES = Path("scenes")
 
 #: Sites per cell of each lattice kind.
@@ -211,6 +216,27 @@ def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: 
     return row
 
 
+def bandwidth(probe: Path) -> dict | None:
+    """The probe's triad bandwidth at 1 and 2 threads (GB/s), or None
+    without the probe."""
+    if not probe.exists():
+        return None
+    done = subprocess.run([str(probe)], check=True, capture_output=True, text=True, timeout=600)
+    return json.loads(done.stdout)
+
+
+def bandwidth_line(probes: list[dict | None]) -> str:
+    """The section's line on the memory bandwidth measured before and after
+    the runs."""
+    found = [p for p in probes if p]
+    if not found:
+        return "- Memory bandwidth: not measured (no `examples/memory_bandwidth` binary)."
+    cells = "; ".join(f"{p['gb_per_s_1']:.1f} and {p['gb_per_s_2']:.1f} GB/s ({p['gb_per_s_2'] / p['gb_per_s_1']:.2f}x)"
+                      for p in found)
+    return ("- Memory bandwidth (triad of `examples/memory_bandwidth.rs`, 1 and 2 threads, before and after the runs): "
+            f"{cells}. A step that streams its data gains at most about the 2-thread ratio.")
+
+
 def section(result: dict) -> str:
     m = result["machine"]
     cores = m["cpus"] or 1
@@ -232,6 +258,7 @@ def section(result: dict) -> str:
             "benchmark's own CPU time), so the speed-ups below understate what an idle machine gives and their "
             "spread is wide."
         ),
+        bandwidth_line(result.get("bandwidth", [])),
         "- Each built-in lattice scene as written (its integrator, thermostat, sum and recording), its `cells` "
         "set for about 1,000, 8,000 and 64,000 rotors, through the CLI (`--threads 1`, `--threads 2`); "
         f"{ROTOR_STEPS:.0e} rotor-steps per periodic run but at least {MIN_PERIODIC_STEPS} steps (the dipole "
@@ -265,6 +292,8 @@ def main(argv=None) -> int:
     parser.add_argument("--sizes", type=int, nargs="+", default=list(TARGET_ROTORS), help="rotor counts asked for")
     parser.add_argument("--scenes", nargs="+", help="only these built-in scenes")
     parser.add_argument("--cli", type=Path, default=CLI, help=f"the quatrot binary (default {CLI})")
+    parser.add_argument("--probe", type=Path, default=BANDWIDTH_PROBE,
+                        help=f"the memory bandwidth probe (default {BANDWIDTH_PROBE}; skipped if missing)")
     args = parser.parse_args(argv)
     if not args.cli.exists():
         sys.exit(f"{args.cli} is missing: run `cargo build --release` first")
@@ -275,6 +304,7 @@ def main(argv=None) -> int:
     share = others_share(busy_seconds() - busy, 0.0, time.perf_counter() - wall, machine["cpus"] or 1)
     if share > IDLE_SHARE:
         print(f"warning: the machine is not idle (other processes took {100 * share:.0f} % of it)", flush=True)
+    probes = [bandwidth(args.probe)]
     rows = []
     with tempfile.TemporaryDirectory(prefix="quatrot-threads-") as tmp:
         for name, scene in lattice_scenes():
@@ -283,7 +313,8 @@ def main(argv=None) -> int:
             for rotors in args.sizes:
                 if periodic(scene) or rotors <= MAX_OPEN_ROTORS:
                     rows.append(measure(args.cli, name, scene, rotors, args.repeats, Path(tmp)))
-    result = {"machine": machine, "rows": rows, "seconds": time.perf_counter() - started, "argv": sys.argv[1:] if argv is None else argv}
+    probes.append(bandwidth(args.probe))
+    result = {"machine": machine, "bandwidth": probes, "rows": rows, "seconds": time.perf_counter() - started, "argv": sys.argv[1:] if argv is None else argv}
     args.out.mkdir(parents=True, exist_ok=True)
     results_md.update_json(args.out / "results.json", {"threads": result})
     results_md.replace_section(args.out / "RESULTS.md", BEGIN, END, section(result))

@@ -64,3 +64,11 @@ def test_the_section_says_idle_from_the_others_share_not_the_load_average():
     busy = threads.section({"machine": machine, "rows": [_row(0.3)], "seconds": 1.0, "argv": []})
     assert "The machine was idle" in idle and "not idle" not in idle
     assert "**The machine was not idle**" in busy and "30.0 %" in busy
+
+
+def test_the_bandwidth_line_gives_both_probes_and_their_ratio(tmp_path):
+    line = threads.bandwidth_line([{"gb_per_s_1": 10.0, "gb_per_s_2": 15.0}, None,
+                                   {"gb_per_s_1": 12.0, "gb_per_s_2": 24.0}])
+    assert "10.0 and 15.0 GB/s (1.50x); 12.0 and 24.0 GB/s (2.00x)" in line
+    assert "not measured" in threads.bandwidth_line([None, None])
+    assert threads.bandwidth(tmp_path / "missing") is None
