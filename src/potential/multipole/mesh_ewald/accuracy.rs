@@ -128,16 +128,18 @@ fn check_request(accuracy: f64, order: Option<usize>) -> Result<usize, Potential
 }
 
 /// The fewest points (from `order` up, at most [`MAX_POINTS_PER_AXIS`])
-/// that `fits`, which holds from some count on: doubling, then bisection.
+/// that `fits`, which holds from some count on: doubling (the last step
+/// cut to the limit), then bisection between the last count that did not
+/// fit and the first that did.
 fn smallest_mesh(fits: impl Fn(usize) -> bool, order: usize) -> Option<usize> {
-    let mut upper = order;
+    let (mut lower, mut upper) = (order - 1, order);
     while !fits(upper) {
-        upper *= 2;
-        if upper > MAX_POINTS_PER_AXIS {
+        if upper >= MAX_POINTS_PER_AXIS {
             return None;
         }
+        lower = upper;
+        upper = (2 * upper).min(MAX_POINTS_PER_AXIS);
     }
-    let mut lower = upper / 2;
     while upper - lower > 1 {
         let middle = (lower + upper) / 2;
         if fits(middle) {
@@ -212,7 +214,7 @@ pub fn for_charges(
                 ),
             )
         })?;
-        *points = fft_size(upper.max(order));
+        *points = fft_size(upper);
     }
     crate::memory::check("accuracy", mesh_bytes(grid)).map_err(|e| {
         PotentialError::new(
@@ -243,6 +245,34 @@ pub fn for_charges(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The search finds the fewest fitting points from `order` up to the
+    /// limit, for every spline order 4 to 8: before session 36 it doubled
+    /// past the limit unless the order times a power of two hit it (at the
+    /// charges' order 7: 3,584, then 7,168 > 4,096, so meshes of 3,585 to
+    /// 4,096 points that fit were refused), and bisected below the order
+    /// when the order itself fit (found by `make mutants`: `>` with `>=` at
+    /// the limit survived).
+    #[test]
+    fn the_mesh_search_finds_every_count_up_to_the_limit() {
+        for order in 4..=8 {
+            for first in [
+                order,
+                order + 1,
+                37,
+                1000,
+                2561,
+                3585,
+                4095,
+                MAX_POINTS_PER_AXIS,
+            ] {
+                let found = smallest_mesh(|k| k >= first, order);
+                assert_eq!(found, Some(first), "order {order}, fits from {first}");
+            }
+            assert_eq!(smallest_mesh(|k| k > MAX_POINTS_PER_AXIS, order), None);
+            assert_eq!(smallest_mesh(|_| true, order), Some(order));
+        }
+    }
 
     /// LAMMPS's `estimated absolute RMS force accuracy` of `pppm` with forced
     /// parameters (`fixtures/pppm_estimates_lammps.json`, by `make fixtures`):
