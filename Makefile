@@ -129,9 +129,9 @@ bench-water: develop
 # rotors on 1 and 2 threads, side by side (issue 38); runnable alone, on an
 # idle machine (the section says when it was not), with the machine's memory
 # bandwidth at 1 and 2 threads measured before and after the runs
-# (examples/memory_bandwidth.rs).
+# (examples/host_probe.rs).
 bench-threads: develop
-	cargo build --release --bin quatrot --example memory_bandwidth
+	cargo build --release --bin quatrot --example host_probe
 	$(PY) -m validation.bench.threads --out benchmarks
 
 # Mutation testing of the physics modules (scope and exclusions in

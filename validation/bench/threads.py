@@ -6,10 +6,12 @@ runs is timed side by side, the order alternating from repeat to repeat;
 the medians, the spread and the efficiency `t1 / (2 t2)` go into
 `<out>/results.json` (key `threads`) and this benchmark's section of
 `<out>/RESULTS.md`. The load average is read before and after every pair:
-the section says when the machine was not idle. Before and after the runs
-the triad of `examples/memory_bandwidth.rs` measures the machine's memory
-bandwidth at 1 and 2 threads (`--probe`), which bounds what a second
-thread gives a step that streams its data."""
+the section says when the machine was not idle. Before every pair and after
+a row's last, `examples/host_probe.rs` measures what a second thread adds to
+the host's memory bandwidth (a triad) and to its arithmetic (register-only
+chains) (`--probe`, 1 s): each pair gets the mean 2-thread/1-thread ratios
+of the two probes around it, and the section sets the pairs' speed-ups
+against them."""
 
 from __future__ import annotations
 
@@ -25,13 +27,17 @@ import time
 import tomllib
 from pathlib import Path
 
+import scipy.stats
+
 from validation.bench import results_md
 
 BEGIN = "<!-- make bench-threads: threads section begin -->"
 END = "<!-- make bench-threads: threads section end -->"
 CLI = Path("target/release/quatrot")
-# The triad of examples/memory_bandwidth.rs (`make bench-threads` builds it).
-BANDWIDTH_PROBE = Path("target/release/examples/memory_bandwidth")
+# examples/host_probe.rs (`make bench-threads` builds it).
+HOST_PROBE = Path("target/release/examples/host_probe")
+#: The probe's measurements: (name, unit, its keys at 1 and 2 threads).
+PROBES = (("triad", "GB/s", "gb_per_s_1", "gb_per_s_2"), ("arithmetic", "GFLOP/s", "gflops_1", "gflops_2"))
 SCENES = Path("scenes")
 
 #: Sites per cell of each lattice kind.
@@ -172,8 +178,9 @@ def timed_run(cli: Path, scene_file: Path, steps: int, threads: int, out: Path) 
     return {"wall": wall, "loop": summary["wall_seconds"], "others": others}
 
 
-def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: Path) -> dict:
-    """`repeats` pairs of runs on 1 and 2 threads, the order alternating."""
+def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: Path, probe: Path) -> dict:
+    """`repeats` pairs of runs on 1 and 2 threads, the order alternating,
+    the host probed before each pair and after the last."""
     cells = cells_for(scene, rotors)
     n = SITES_PER_CELL[scene["rotors"]["lattice"]] * cells**3
     steps = steps_for(scene, n)
@@ -181,9 +188,11 @@ def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: 
     scene_file.write_text(scene_text(scene, cells))
     times: dict[int, list[dict]] = {1: [], 2: []}
     loads = [os.getloadavg()[0]]
+    probes = [probe_host(probe)]
     for repeat in range(repeats):
         for threads in (1, 2) if repeat % 2 == 0 else (2, 1):
             times[threads].append(timed_run(cli, scene_file, steps, threads, work / f"out_{threads}"))
+        probes.append(probe_host(probe))
         loads.append(os.getloadavg()[0])
     row = {
         "scene": name,
@@ -193,6 +202,8 @@ def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: 
         "repeats": repeats,
         "load_averages": loads,
         "others_share": max(t["others"] for t in times[1] + times[2]),
+        "probes": probes,
+        **{f"{name}_ratios": pair_ratios(probes, name) for name, *_ in PROBES},
     }
     for key in ("wall", "loop", "set_up"):
         t1 = [t["wall"] - t["loop"] if key == "set_up" else t[key] for t in times[1]]
@@ -216,25 +227,75 @@ def measure(cli: Path, name: str, scene: dict, rotors: int, repeats: int, work: 
     return row
 
 
-def bandwidth(probe: Path) -> dict | None:
-    """The probe's triad bandwidth at 1 and 2 threads (GB/s), or None
-    without the probe."""
+def probe_host(probe: Path) -> dict | None:
+    """The probe's measurements at 1 and 2 threads, or None without the
+    probe."""
     if not probe.exists():
         return None
     done = subprocess.run([str(probe)], check=True, capture_output=True, text=True, timeout=600)
     return json.loads(done.stdout)
 
 
-def bandwidth_line(probes: list[dict | None]) -> str:
-    """The section's line on the memory bandwidth measured before and after
-    the runs."""
-    found = [p for p in probes if p]
+def ratio(probe: dict, name: str) -> float:
+    """What a second thread adds to the probe's measurement `name` (2 threads over 1)."""
+    _, _, one, two = next(m for m in PROBES if m[0] == name)
+    return probe[two] / probe[one]
+
+
+def pair_ratios(probes: list[dict | None], name: str) -> list[float] | None:
+    """Each pair's ratio of measurement `name`: the mean of the probes before
+    and after it (`probes` has one more entry than there are pairs); None
+    without the probe."""
+    if any(p is None for p in probes):
+        return None
+    ratios = [ratio(p, name) for p in probes]
+    return [(a + b) / 2 for a, b in zip(ratios, ratios[1:])]
+
+
+#: Rows from this size on stream more than the caches hold (the 8,000-rotor
+#: lattices' pair tables and grids are tens of MB) and have sections long
+#: enough to share evenly, so their speed-up can follow the host.
+LARGE_ROTORS = 8_000
+#: Pairs whose probe gains at least this much from a second thread are the
+#: ones with the host's resources to spare.
+RATIO_SPLIT = 1.8
+
+
+def probe_lines(rows: list[dict]) -> list[str]:
+    """The section's lines on the host probe: each measurement's range and,
+    over the pairs of the large rows, their speed-ups against its ratios."""
+    probes = [p for r in rows for p in r.get("probes") or [] if p]
+    if not probes:
+        return ["- Host probe: not run (no `examples/host_probe` binary)."]
+    lines = [f"- Host probe (`examples/host_probe.rs` before every pair and after each row's last, {len(probes)} "
+             "probes), 1 thread, 2 threads and their ratio: "
+             + "; ".join(_probe_range(probes, m) for m in PROBES)
+             + ". A step that streams its data gains at most about the triad's ratio, one that computes in "
+             "registers about the arithmetic's; the columns `triad` and `arithmetic` give each row's pairs' ratios."]
+    for name, *_ in PROBES:
+        pairs = [(s, t) for r in rows if r["rotors"] >= LARGE_ROTORS and r.get(f"{name}_ratios")
+                 for s, t in zip(r["wall"]["pair_ratios"], r[f"{name}_ratios"])]
+        if len(pairs) < 3:
+            continue
+        rho = scipy.stats.spearmanr([s for s, _ in pairs], [t for _, t in pairs]).statistic
+        split = "; ".join(
+            f"{label} {RATIO_SPLIT}x: median speed-up {statistics.median(group):.2f}x "
+            f"({len(group)} pair{'' if len(group) == 1 else 's'})"
+            for label, group in (("at least", [s for s, t in pairs if t >= RATIO_SPLIT]),
+                                 ("below", [s for s, t in pairs if t < RATIO_SPLIT])) if group)
+        lines.append(f"- The {len(pairs)} pairs of the rows from {LARGE_ROTORS:,} rotors against the {name}'s ratio: "
+                     f"Spearman rank correlation {rho:.2f} with the whole-run speed-up; {name} ratio {split}.")
+    return lines
+
+
+def _probe_range(probes: list[dict], measurement: tuple) -> str:
+    name, unit, one, two = measurement
+    found = [p for p in probes if one in p and two in p]
     if not found:
-        return "- Memory bandwidth: not measured (no `examples/memory_bandwidth` binary)."
-    cells = "; ".join(f"{p['gb_per_s_1']:.1f} and {p['gb_per_s_2']:.1f} GB/s ({p['gb_per_s_2'] / p['gb_per_s_1']:.2f}x)"
-                      for p in found)
-    return ("- Memory bandwidth (triad of `examples/memory_bandwidth.rs`, 1 and 2 threads, before and after the runs): "
-            f"{cells}. A step that streams its data gains at most about the 2-thread ratio.")
+        return f"{name} not measured"
+    a, b, r = [p[one] for p in found], [p[two] for p in found], [ratio(p, name) for p in found]
+    return (f"{name} {min(a):.1f}-{max(a):.1f} and {min(b):.1f}-{max(b):.1f} {unit}, "
+            f"{min(r):.2f}-{max(r):.2f}x (median {statistics.median(r):.2f}x)")
 
 
 def section(result: dict) -> str:
@@ -258,7 +319,7 @@ def section(result: dict) -> str:
             "benchmark's own CPU time), so the speed-ups below understate what an idle machine gives and their "
             "spread is wide."
         ),
-        bandwidth_line(result.get("bandwidth", [])),
+        *probe_lines(result["rows"]),
         "- Each built-in lattice scene as written (its integrator, thermostat, sum and recording), its `cells` "
         "set for about 1,000, 8,000 and 64,000 rotors, through the CLI (`--threads 1`, `--threads 2`); "
         f"{ROTOR_STEPS:.0e} rotor-steps per periodic run but at least {MIN_PERIODIC_STEPS} steps (the dipole "
@@ -271,18 +332,23 @@ def section(result: dict) -> str:
         "run of the row.",
         "",
         "| scene | N | steps | repeats | 1 thread s | 2 threads s | speed-up (pairs) | efficiency | loop speed-up "
-        "| set-up s (1 / 2 threads) | others |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| set-up s (1 / 2 threads) | triad (pairs) | arithmetic (pairs) | others |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in result["rows"]:
         w, lp, su = r["wall"], r["loop"], r["set_up"]
+        triad, arithmetic = (_ratio_cell(r.get(f"{name}_ratios")) for name, *_ in PROBES)
         lines.append(
             f"| `{r['scene']}` | {r['rotors']:,} | {r['steps']} | {r['repeats']} | {w['median_1']:.3f} | {w['median_2']:.3f} | "
             f"{w['speedup']:.2f}x ({min(w['pair_ratios']):.2f}-{max(w['pair_ratios']):.2f}) | {w['efficiency']:.2f} | "
-            f"{lp['speedup']:.2f}x | {su['median_1']:.3f} / {su['median_2']:.3f} | {100 * r['others_share']:.1f} % |"
+            f"{lp['speedup']:.2f}x | {su['median_1']:.3f} / {su['median_2']:.3f} | {triad} | {arithmetic} | {100 * r['others_share']:.1f} % |"
         )
     lines += ["", END]
     return "\n".join(lines) + "\n"
+
+
+def _ratio_cell(ratios: list[float] | None) -> str:
+    return f"{statistics.median(ratios):.2f}x ({min(ratios):.2f}-{max(ratios):.2f})" if ratios else "-"
 
 
 def main(argv=None) -> int:
@@ -292,8 +358,8 @@ def main(argv=None) -> int:
     parser.add_argument("--sizes", type=int, nargs="+", default=list(TARGET_ROTORS), help="rotor counts asked for")
     parser.add_argument("--scenes", nargs="+", help="only these built-in scenes")
     parser.add_argument("--cli", type=Path, default=CLI, help=f"the quatrot binary (default {CLI})")
-    parser.add_argument("--probe", type=Path, default=BANDWIDTH_PROBE,
-                        help=f"the memory bandwidth probe (default {BANDWIDTH_PROBE}; skipped if missing)")
+    parser.add_argument("--probe", type=Path, default=HOST_PROBE,
+                        help=f"the host probe (default {HOST_PROBE}; skipped if missing)")
     args = parser.parse_args(argv)
     if not args.cli.exists():
         sys.exit(f"{args.cli} is missing: run `cargo build --release` first")
@@ -304,7 +370,6 @@ def main(argv=None) -> int:
     share = others_share(busy_seconds() - busy, 0.0, time.perf_counter() - wall, machine["cpus"] or 1)
     if share > IDLE_SHARE:
         print(f"warning: the machine is not idle (other processes took {100 * share:.0f} % of it)", flush=True)
-    probes = [bandwidth(args.probe)]
     rows = []
     with tempfile.TemporaryDirectory(prefix="quatrot-threads-") as tmp:
         for name, scene in lattice_scenes():
@@ -312,9 +377,8 @@ def main(argv=None) -> int:
                 continue
             for rotors in args.sizes:
                 if periodic(scene) or rotors <= MAX_OPEN_ROTORS:
-                    rows.append(measure(args.cli, name, scene, rotors, args.repeats, Path(tmp)))
-    probes.append(bandwidth(args.probe))
-    result = {"machine": machine, "bandwidth": probes, "rows": rows, "seconds": time.perf_counter() - started, "argv": sys.argv[1:] if argv is None else argv}
+                    rows.append(measure(args.cli, name, scene, rotors, args.repeats, Path(tmp), args.probe))
+    result = {"machine": machine, "rows": rows, "seconds": time.perf_counter() - started, "argv": sys.argv[1:] if argv is None else argv}
     args.out.mkdir(parents=True, exist_ok=True)
     results_md.update_json(args.out / "results.json", {"threads": result})
     results_md.replace_section(args.out / "RESULTS.md", BEGIN, END, section(result))
