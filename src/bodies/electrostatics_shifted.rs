@@ -100,18 +100,18 @@ pub(super) trait Factors<T: Lanes> {
 
 /// The bare pair (LAMMPS `lj/cut/dipole/cut`): Smith's radial functions
 /// of `1/r`, `B_0 = 1/r`, `B_l = (2l - 1) B_(l-1) / r^2` (`grad B_l = -r
-/// B_(l+1)`), as `crate::potential::multipole`'s `radial` computes them,
-/// and its `dipole_field`, in lanes, with the force of the pair energy in
+/// B_(l+1)`), as `crate::potential::multipole`'s `radial` computes them
+/// (but for rounding: `1/r^2` is `(1/r)^2` here, one division fewer), and
+/// its `dipole_field`, in lanes, with the force of the pair energy in
 /// [`Plain::force`]'s doc.
 pub(super) struct Plain<T>([T; 4]);
 
 impl<T: Lanes> Factors<T> for Plain<T> {
     #[inline(always)]
     fn new(r2: T, _: f64) -> Self {
-        let r = r2.sqrt();
-        let one = T::splat(1.0);
-        let inv_r2 = one / (r * r);
-        let b0 = one / r;
+        // One division: `1/r^2 = (1/r)^2`.
+        let b0 = T::splat(1.0) / r2.sqrt();
+        let inv_r2 = b0 * b0;
         let b1 = b0 * inv_r2;
         let b2 = b1 * 3.0 * inv_r2;
         Plain([b0, b1, b2, b2 * 5.0 * inv_r2])
@@ -180,15 +180,17 @@ impl<T: Lanes> Factors<T> for ShiftedForceFactors<T> {
     /// The factors at squared distances `r2` for the cutoff `cutoff`.
     #[inline(always)]
     fn new(r2: T, cutoff: f64) -> Self {
+        // One division: the odd powers of `1/r` from `1/r` and `(1/r)^2`.
         let r = r2.sqrt();
         let one = T::splat(1.0);
         let inv_r = one / r;
-        let (inv_r3, x) = (inv_r / r2, r / T::splat(cutoff));
+        let inv_r2 = inv_r * inv_r;
+        let (inv_r3, x) = (inv_r * inv_r2, r * T::splat(1.0 / cutoff));
         let (x2, x3) = (x * x, x * x * x);
         ShiftedForceFactors {
             inv_r,
             inv_r3,
-            inv_r5: inv_r3 / r2,
+            inv_r5: inv_r3 * inv_r2,
             x2,
             s: [
                 (one - x) * (one - x),

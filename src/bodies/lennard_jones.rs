@@ -159,10 +159,12 @@ impl LennardJonesTerm {
         if !FORCE_SHIFTED {
             return (u, f_over_r);
         }
+        // `1/r = r / r^2`: a multiplication where a division would cost
+        // as much as the rest of the pair.
         let r = r2.sqrt();
         (
             u - (r - self.options.cutoff) * p.slope,
-            f_over_r + p.slope / r,
+            f_over_r + p.slope * (r * inv_r2),
         )
     }
 
@@ -195,7 +197,7 @@ impl LennardJonesTerm {
         let (r, slope) = (r2.sqrt(), lanes(|p| p.slope));
         (
             u - (r - T::splat(self.options.cutoff)) * slope,
-            f_over_r + slope / r,
+            f_over_r + slope * (r * inv_r2),
         )
     }
 
