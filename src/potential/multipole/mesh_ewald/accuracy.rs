@@ -279,7 +279,11 @@ mod tests {
                     order,
                 );
                 assert_eq!(found, Some(first), "order {order}, fits from {first}");
-                assert!(tests.get() <= 22, "order {order}, fits from {first}: {} tests", tests.get());
+                assert!(
+                    tests.get() <= 22,
+                    "order {order}, fits from {first}: {} tests",
+                    tests.get()
+                );
             }
             assert_eq!(smallest_mesh(|k| k > MAX_POINTS_PER_AXIS, order), None);
             assert_eq!(smallest_mesh(|_| true, order), Some(order));
