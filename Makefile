@@ -127,8 +127,8 @@ bench-water: develop
 
 # Whole runs of every built-in lattice scene at about 1,000, 8,000 and 64,000
 # rotors on 1 and 2 threads, side by side (issue 38); runnable alone, on an
-# idle machine (the section says when it was not), with the machine's memory
-# bandwidth at 1 and 2 threads measured before and after the runs
+# idle machine (the section says when it was not), with the host's memory
+# bandwidth and arithmetic at 1 and 2 threads probed before every pair
 # (examples/host_probe.rs).
 bench-threads: develop
 	cargo build --release --bin quatrot --example host_probe
