@@ -9,7 +9,7 @@ use bodies_common::{assert_minus_gradients, bent_molecule, bodies, options, stoc
 use nalgebra::{Matrix3, Vector3};
 use quatrot::bodies::{
     direct_costs, BodyNoSquish, BodySystem, BodyType, BodyTypeSpec, ElectrostaticsOptions,
-    Evaluation, EwaldOptions, InteractionOptions, LennardJones, Site, Space, Truncation,
+    Evaluation, EwaldOptions, InteractionOptions, LennardJones, Scope, Site, Space, Truncation,
 };
 use quatrot::integrators::NoSquishOptions;
 use quatrot::potential::multipole::mesh_ewald::{Carried, ForcedMesh};
@@ -195,4 +195,116 @@ fn the_direct_sum_prices_a_mixture_as_its_dearest_kind() {
     assert_eq!(direct_costs(carried(true, true, true)), q);
     assert!(c.0 < d.0 && d.0 < q.0, "{c:?} {d:?} {q:?}");
     assert!(c.1 < d.1 && d.1 < q.1, "{c:?} {d:?} {q:?}");
+}
+
+/// A bent molecule of charges alone (no dipole): its mesh sum takes its
+/// real-space pairs itself, and a forces-only evaluation leaves out its
+/// virial.
+fn charged_molecule() -> BodyType {
+    let site = |p: [f64; 3], charge: f64, lj: bool| Site {
+        position: Vector3::from(p),
+        mass: 1.0,
+        lennard_jones: lj.then_some(LennardJones {
+            epsilon: 1.0,
+            sigma: 1.0,
+        }),
+        charge,
+        ..Site::default()
+    };
+    BodyType::new(&BodyTypeSpec {
+        sites: vec![
+            site([0.0, 0.0, 0.0], -0.8, true),
+            site([0.33, 0.2, 0.0], 0.4, false),
+            site([-0.33, 0.2, 0.0], 0.4, false),
+        ],
+        mass: None,
+        inertia: None,
+    })
+    .expect("a valid molecule")
+}
+
+/// A forces-only evaluation (`Scope::Forces`, the steps a run does not
+/// record) gives the site forces, body forces and torques of the full one
+/// bit for bit, and NaN for the energies and the virial it leaves out: for
+/// the cutoff sum in the pair pass (charges and dipoles), the cutoff sum
+/// of quadrupoles (its own path), PME of charges alone (the mesh without
+/// its virial) and PME of dipoles (the mesh as in full: its dipoles'
+/// kernel depends on the virial).
+#[test]
+fn forces_only_evaluations_are_the_full_forces_bit_for_bit() {
+    let cutoff = |sphere: BodyType| {
+        BodySystem::new(
+            vec![bent_molecule(), sphere],
+            bodies(64, 1.6, 5, 2),
+            Space::Periodic(Vector3::repeat(6.4)),
+            &options(Truncation::Plain, 2.5, 2.5),
+        )
+        .expect("a valid system")
+    };
+    let interactions = InteractionOptions {
+        electrostatics: Some(ElectrostaticsOptions::Ewald(EwaldOptions {
+            accuracy: 1e-5,
+            method: SumMethod::Pme,
+            surface: Surface::Conducting,
+            forced: ForcedMesh::default(),
+        })),
+        ..options(Truncation::ForceShifted, 2.5, 2.5)
+    };
+    let charges = BodySystem::new(
+        vec![charged_molecule()],
+        bodies(64, 1.6, 5, 1),
+        Space::Periodic(Vector3::repeat(6.4)),
+        &interactions,
+    )
+    .expect("a valid system");
+    let cases = [
+        ("cutoff, charges and dipoles", cutoff(stockmayer())),
+        ("cutoff, quadrupoles", cutoff(quadrupolar_sphere())),
+        ("PME, charges", charges),
+        ("PME, dipoles", system(stockmayer(), 1e-5)),
+    ];
+    for (name, mut system) in cases {
+        let (mut full, mut forces) = (Evaluation::default(), Evaluation::default());
+        system.evaluate(&mut full);
+        system.evaluate_in(&mut forces, Scope::Forces);
+        let bits = |v: &[Vector3<f64>]| {
+            v.iter()
+                .flat_map(|x| x.iter().map(|c| c.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            bits(&full.site_force),
+            bits(&forces.site_force),
+            "{name}: site forces"
+        );
+        assert_eq!(bits(&full.force), bits(&forces.force), "{name}: forces");
+        assert_eq!(bits(&full.torque), bits(&forces.torque), "{name}: torques");
+        let parts = |e: &Evaluation| {
+            [
+                e.lennard_jones,
+                e.lennard_jones_tail,
+                e.electrostatic,
+                e.pressure_tail,
+            ]
+        };
+        assert!(
+            full.virial
+                .iter()
+                .chain(&parts(&full))
+                .all(|x| x.is_finite()),
+            "{name}: {full:?}"
+        );
+        assert!(
+            full.electrostatic != 0.0 && full.lennard_jones != 0.0,
+            "{name}: both terms act"
+        );
+        assert!(
+            forces
+                .virial
+                .iter()
+                .chain(&parts(&forces))
+                .all(|x| x.is_nan()),
+            "{name}: {forces:?}"
+        );
+    }
 }

@@ -436,3 +436,52 @@ fn bad_integrator_settings_are_refused_naming_the_field() {
     let error = BodyGearA::new(&mut system, f64::NAN, GearAOptions::default()).unwrap_err();
     assert!(error.to_string().starts_with("dt: "), "{error}");
 }
+
+/// A run's step that nothing reads evaluates forces and torques only: after
+/// `step_read(system, false)` a kick-based integrator's own evaluation (what
+/// `evaluated` hands a run) has no energies (NaN), after `step_read(system,
+/// true)` it has them, and both kinds of step leave the same state bit for
+/// bit as `step`; the Gear schemes' `evaluated` evaluates afresh, in full.
+#[test]
+fn steps_nothing_reads_evaluate_forces_only() {
+    use quatrot::bodies::BodyIntegrator;
+    use quatrot::integrators::IntegratorSpec;
+    for spec in [
+        IntegratorSpec::NoSquish(NoSquishOptions::default()),
+        IntegratorSpec::Dlm(DlmOptions::default()),
+        IntegratorSpec::Richardson(RichardsonOptions::default()),
+        IntegratorSpec::GearA(GearAOptions::default()),
+        IntegratorSpec::GearB(GearBOptions::default()),
+    ] {
+        let space = Space::Periodic(Vector3::repeat(6.4));
+        let (mut read, mut plain) = (
+            mixed_system(space, Truncation::Plain, 2.5, 64),
+            mixed_system(space, Truncation::Plain, 2.5, 64),
+        );
+        let mut integrator = BodyIntegrator::new(&spec, None, &mut read, 0.002).unwrap();
+        let mut reference = BodyIntegrator::new(&spec, None, &mut plain, 0.002).unwrap();
+        let mut scratch = Evaluation::default();
+        for step in 0..6 {
+            let sampled = step % 3 == 2;
+            integrator.step_read(&mut read, sampled);
+            reference.step(&mut plain);
+            let kicked = !matches!(spec, IntegratorSpec::GearA(_) | IntegratorSpec::GearB(_));
+            let energy = integrator
+                .evaluated(&mut read, &mut scratch)
+                .potential_energy();
+            assert_eq!(
+                energy.is_nan(),
+                kicked && !sampled,
+                "{spec:?} step {step}: {energy}"
+            );
+            let state = |s: &BodySystem| {
+                s.bodies
+                    .iter()
+                    .flat_map(|b| b.position.iter().chain(&b.angular_momentum_body).copied())
+                    .map(f64::to_bits)
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(state(&read), state(&plain), "{spec:?} step {step}");
+        }
+    }
+}

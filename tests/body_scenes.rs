@@ -273,3 +273,74 @@ fn the_summary_records_the_bodies() {
         assert!(dir.path().join(file).is_file(), "{file}");
     }
 }
+
+/// The built-in `name` (its thermostat kept, or removed and `integrator`
+/// given) for `steps` steps, its series recorded every `every` steps (the
+/// trajectory dropped).
+fn recorded_every(name: &str, integrator: Option<&str>, steps: i64, every: u64) -> Scene {
+    let text = match integrator {
+        Some(_) => common::builtin_at_constant_energy(name),
+        None => quatrot::scene::builtin(name)
+            .expect("a built-in")
+            .toml
+            .to_string(),
+    };
+    let (head, _) = text
+        .split_once("[record.trajectory]")
+        .expect("a trajectory table");
+    let at = head.find("[[record.series]]").expect("a series");
+    let (before, series) = head.split_at(at);
+    let every_line = series
+        .lines()
+        .find(|l| l.starts_with("every = "))
+        .expect("every");
+    let text = format!(
+        "{before}{}",
+        series.replacen(every_line, &format!("every = {every}"), 1)
+    );
+    let overrides = Overrides {
+        steps: Some(steps),
+        integrator: integrator.map(String::from),
+        ..Overrides::default()
+    };
+    load_text(&text, &overrides).expect("valid").1
+}
+
+/// A run's steps do not depend on what it records: the steps between
+/// samples evaluate forces and torques only (`quatrot::bodies::Scope`),
+/// and every quantity of each built-in's series (energies, pressure,
+/// temperatures, momenta), sampled every 4 steps, is bit for bit that of
+/// the same run sampled at every step, for every integrator at constant
+/// energy and for each built-in with its own thermostat.
+#[test]
+fn the_series_do_not_depend_on_how_often_they_are_sampled() {
+    let mut cases: Vec<(&str, Option<&str>)> = Vec::new();
+    for name in ["stockmayer_fluid", "lewis_wahnstrom_otp", "spce_water_512"] {
+        cases.push((name, None));
+        cases.extend(INTEGRATORS.iter().map(|&i| (name, Some(i))));
+    }
+    for (name, integrator) in cases {
+        let every_step = run(&recorded_every(name, integrator, 12, 1));
+        let sparse = run(&recorded_every(name, integrator, 12, 4));
+        let (all, some) = (&every_step.series[0], &sparse.series[0]);
+        assert_eq!(all.columns, some.columns);
+        let width = all.columns.len();
+        let rows: Vec<&[f64]> = all.values.chunks(width).step_by(4).collect();
+        let sampled: Vec<&[f64]> = some.values.chunks(width).collect();
+        assert_eq!(sampled.len(), 4, "{name} {integrator:?}: steps 0, 4, 8, 12");
+        for (a, b) in rows.iter().zip(&sampled) {
+            let same = a
+                .iter()
+                .zip(b.iter())
+                .all(|(x, y)| x.to_bits() == y.to_bits());
+            assert!(
+                same,
+                "{name} {integrator:?}: every step {a:?}, every 4 {b:?}"
+            );
+            assert!(
+                a.iter().all(|x| x.is_finite()),
+                "{name} {integrator:?}: {a:?}"
+            );
+        }
+    }
+}

@@ -16,6 +16,7 @@
 //! [`super::electrostatics_ewald`].
 
 use super::electrostatics_shifted::ElectrostaticTruncation;
+use super::evaluate::Scope;
 use super::neighbours::NeighbourList;
 use super::pair_pass::{PairPass, PairTerms};
 use super::space::Space;
@@ -89,13 +90,16 @@ pub trait Electrostatics: Send + Sync + std::fmt::Debug {
         None
     }
 
-    /// Evaluates the sites' electrostatics into `out` (sized for the sites).
+    /// Evaluates the sites' electrostatics into `out` (sized for the
+    /// sites), in `scope`: a method may leave the energy and the virial out
+    /// for [`Scope::Forces`] where its forces stay the same bits.
     fn evaluate(
         &mut self,
         sites: &SiteMultipoles,
         space: &Space,
         pairs: &NeighbourList,
         out: &mut SiteResponse,
+        scope: Scope,
     );
 }
 
@@ -228,6 +232,7 @@ impl Electrostatics for CutoffSum {
         _space: &Space,
         pairs: &NeighbourList,
         out: &mut SiteResponse,
+        scope: Scope,
     ) {
         let n = sites.positions.len();
         if self.quadrupoles {
@@ -251,6 +256,8 @@ impl Electrostatics for CutoffSum {
             lennard_jones: None,
             electrostatics: Some((self.cutoff, self.truncation, sites)),
         };
-        self.pass.run(&terms, pairs, &sites.positions).fill(out);
+        self.pass
+            .run(&terms, pairs, &sites.positions, scope)
+            .fill(out);
     }
 }

@@ -42,6 +42,7 @@
 //! ([`AutoChoice`]), the direct sum when PME cannot reach the accuracy.
 
 use super::electrostatics::{add_pairs, Electrostatics, Exclusions, SiteMultipoles, SiteResponse};
+use super::evaluate::Scope;
 use super::neighbours::NeighbourList;
 use super::space::Space;
 use crate::checks::{num, InputError};
@@ -323,10 +324,16 @@ impl Electrostatics for BodyEwald {
         _space: &Space,
         pairs: &NeighbourList,
         out: &mut SiteResponse,
+        scope: Scope,
     ) {
         let sources = sites.sources();
         let (alpha, real_cutoff) = self.long_range.splitting();
         let summed = mesh_pairs(&self.long_range, self.carried);
+        // The mesh sum of charges: the same forces without the virial.
+        let virial = scope == Scope::Full || !summed;
+        if let LongRange::Mesh(mesh, _) = &mut self.long_range {
+            mesh.set_virial(virial);
+        }
         let Ok((derivatives, long_range)) = self.long_range.derivatives(&sources, summed) else {
             // Only non-finite positions fail here: the run reports the blow-up.
             out.energy = f64::NAN;
@@ -354,18 +361,23 @@ impl Electrostatics for BodyEwald {
                 real_cutoff,
                 exclusions,
                 (derivatives, &mut self.virials),
+                virial,
             );
         }
         out.fill(&sources, derivatives);
-        out.virial = long_range + self.virials.iter().sum::<Matrix3<f64>>();
+        out.virial = if virial {
+            long_range + self.virials.iter().sum::<Matrix3<f64>>()
+        } else {
+            Matrix3::repeat(f64::NAN)
+        };
     }
 }
 
 /// [`add_pairs`] for sites that carry charges only, unrolled: each pair of
 /// `pairs` within `cutoff` adds `q_j (B_0, -r B_1)` to site `i`'s potential
 /// and field (`d[0..4]`; the higher derivatives, which no charge uses, keep
-/// the long-range part only) and `1/2 r (q_i q_j B_1 r)^T` to its virial,
-/// with the tabulated `erfc` ([`ErfcTable::radial`]); each body's own pairs
+/// the long-range part only) and, `with_virial`, `1/2 r (q_i q_j B_1 r)^T`
+/// to its virial (else left as it was), with the tabulated `erfc` ([`ErfcTable::radial`]); each body's own pairs
 /// subtract `erf(alpha r) / r`, and without `pairs` (the mesh summed every
 /// pair within `cutoff`, a body's own included) `1 / r` within `cutoff`.
 fn add_charge_pairs(
@@ -374,6 +386,7 @@ fn add_charge_pairs(
     cutoff: f64,
     exclusions: Exclusions<'_>,
     (derivatives, virials): (&mut [[f64; DERIVATIVES]], &mut [Matrix3<f64>]),
+    with_virial: bool,
 ) {
     let table = ErfcTable::get();
     let Exclusions {
@@ -394,7 +407,9 @@ fn add_charge_pairs(
             for a in 0..3 {
                 sums[1 + a] -= g * r[a];
             }
-            virial += r * (r.transpose() * (0.5 * q_i * g));
+            if with_virial {
+                virial += r * (r.transpose() * (0.5 * q_i * g));
+            }
         };
         for (j, r) in pairs.iter().flat_map(|p| p.separations(i, positions)) {
             let r2 = r.norm_squared();
@@ -550,7 +565,7 @@ mod tests {
         let mut pairs = NeighbourList::new(cutoff, 0.0).unwrap();
         pairs.build(&sites.positions, site_body, &space);
         let mut out = SiteResponse::zeros(sites.positions.len());
-        sum.evaluate(sites, &space, &pairs, &mut out);
+        sum.evaluate(sites, &space, &pairs, &mut out, Scope::Full);
         out
     }
 

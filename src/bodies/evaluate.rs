@@ -15,6 +15,22 @@ use super::pair_pass::PairTerms;
 use super::system::BodySystem;
 use nalgebra::{Matrix3, Vector3};
 
+/// What an evaluation computes: everything, or the forces and torques only
+/// (what a step needs: its energies and virial are read only at the steps
+/// a run records or checks, and a run asks for them there).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scope {
+    /// Energies by term, forces, torques and the virial.
+    #[default]
+    Full,
+    /// Forces and torques, the same bits as [`Scope::Full`]'s, the energies
+    /// and the virial NaN (the short-range pass skips their sums, the mesh
+    /// sum of charges its virial; other electrostatic methods run as for
+    /// [`Scope::Full`]: the mesh sum's forces of dipoles, for one, are the
+    /// same bits only with its virial).
+    Forces,
+}
+
 /// The state of a body system's interactions at one configuration.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Evaluation {
@@ -49,6 +65,11 @@ impl BodySystem {
     /// the centres into a periodic box) if a site has moved more than half
     /// the skin or the space has changed.
     pub fn evaluate(&mut self, out: &mut Evaluation) {
+        self.evaluate_in(out, Scope::Full);
+    }
+
+    /// [`BodySystem::evaluate`] in `scope`.
+    pub fn evaluate_in(&mut self, out: &mut Evaluation, scope: Scope) {
         let mut positions = std::mem::take(&mut self.scratch.multipoles.positions);
         self.site_positions(&mut positions);
         if self.neighbours.is_stale(&positions, &self.space) {
@@ -79,10 +100,12 @@ impl BodySystem {
         if self.electrostatics.is_some() && response.potential.len() != n {
             *response = SiteResponse::zeros(n);
         }
-        let sums =
-            self.scratch
-                .pairs
-                .run(&terms, &self.neighbours, &self.scratch.multipoles.positions);
+        let sums = self.scratch.pairs.run(
+            &terms,
+            &self.neighbours,
+            &self.scratch.multipoles.positions,
+            scope,
+        );
         let mut virial = sums.virial;
         out.lennard_jones = sums.lennard_jones;
         out.site_force.copy_from_slice(&sums.force);
@@ -99,12 +122,20 @@ impl BodySystem {
                 &self.space,
                 &self.neighbours,
                 response,
+                scope,
             );
             out.electrostatic = response.energy;
             virial += response.virial;
             add(&mut out.site_force, &response.force);
         }
         self.body_sums(out, virial);
+        if scope == Scope::Forces {
+            out.lennard_jones = f64::NAN;
+            out.lennard_jones_tail = f64::NAN;
+            out.electrostatic = f64::NAN;
+            out.pressure_tail = f64::NAN;
+            out.virial = Matrix3::repeat(f64::NAN);
+        }
     }
 
     /// The pressure of an evaluation `e` of the current state, `None` in

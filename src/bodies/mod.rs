@@ -54,7 +54,7 @@ pub use body_type::{BodyType, BodyTypeSpec, ZERO_MOMENT_TOLERANCE};
 pub use electrostatics::{CutoffSum, Electrostatics, SiteMultipoles, SiteResponse};
 pub use electrostatics_ewald::{direct_costs, BodyEwald, EwaldOptions, DEFAULT_ACCURACY};
 pub use electrostatics_shifted::ElectrostaticTruncation;
-pub use evaluate::Evaluation;
+pub use evaluate::{Evaluation, Scope};
 pub use generate::{lattice_start, random_start, Lattice, LatticeStart, RandomStart, MAX_PACKING};
 pub use integrators::{
     BodyDlm, BodyGearA, BodyGearB, BodyIntegrator, BodyKicked, BodyNoSquish, BodyRichardson,

@@ -7,6 +7,10 @@
 //! (`super::within`), so the kernels take four such pairs per row and no
 //! lanes go to the list's skin.
 //!
+//! A pass for the forces only ([`Scope::Forces`], the steps whose energies
+//! and virial nothing reads) is another monomorphisation without the
+//! energies' and the virial's sums: the forces are the same bits.
+//!
 //! Threads take contiguous ranges of sites with about equal numbers of
 //! pairs, each accumulating into its own block of per-site sums; the blocks
 //! are added in range order, so the results are the same bits for a given
@@ -14,6 +18,7 @@
 
 use super::electrostatics::{SiteMultipoles, SiteResponse};
 use super::electrostatics_shifted::{ChargeDipoles, ElectrostaticTruncation};
+use super::evaluate::Scope;
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
 use super::pair_kernels::{
@@ -69,13 +74,15 @@ pub(super) struct PairPass {
 }
 
 impl PairPass {
-    /// Sums `terms` over the pairs of `list` at site positions `positions`;
-    /// the totals are returned.
+    /// Sums `terms` over the pairs of `list` at site positions `positions`
+    /// (in `scope`: without the energies and the virial, left NaN, for
+    /// [`Scope::Forces`]); the totals are returned.
     pub(super) fn run(
         &mut self,
         terms: &PairTerms<'_>,
         list: &NeighbourList,
         positions: &[Vector3<f64>],
+        scope: Scope,
     ) -> &PairSums {
         let n = positions.len();
         let threads = rayon::current_num_threads().clamp(1, n.max(1));
@@ -97,17 +104,9 @@ impl PairPass {
             lengths: list.image_lengths(),
         };
         let blocks = (&mut self.blocks[..], &mut self.within[..]);
-        use ElectrostaticTruncation as E;
-        match terms.electrostatics.map(|(_, t, m)| (t, m.carried.charges)) {
-            None => inputs.with_lennard_jones::<NoCharges>(blocks),
-            Some((E::Plain, true)) => inputs.with_lennard_jones::<Truncated<Bare, true>>(blocks),
-            Some((E::Plain, false)) => inputs.with_lennard_jones::<Truncated<Bare, false>>(blocks),
-            Some((E::ShiftedForce, true)) => {
-                inputs.with_lennard_jones::<Truncated<ShiftedForce, true>>(blocks)
-            }
-            Some((E::ShiftedForce, false)) => {
-                inputs.with_lennard_jones::<Truncated<ShiftedForce, false>>(blocks)
-            }
+        match scope {
+            Scope::Full => inputs.with_charges::<true>(blocks),
+            Scope::Forces => inputs.with_charges::<false>(blocks),
         }
         let (first, rest) = self.blocks.split_at_mut(1);
         let total = &mut first[0];
@@ -137,7 +136,10 @@ impl PairPass {
                     });
             }
         }
-        if let Some((_, _, m)) = terms.electrostatics {
+        if scope == Scope::Forces {
+            (total.lennard_jones, total.electrostatic) = (f64::NAN, f64::NAN);
+            total.virial = Matrix3::repeat(f64::NAN);
+        } else if let Some((_, _, m)) = terms.electrostatics {
             // Half of each site's charge in its potential and dipole in its field.
             total.electrostatic = (0..n)
                 .map(|i| {
@@ -204,9 +206,9 @@ fn charged(m: &SiteMultipoles, i: usize) -> ChargeDipole {
 
 /// Newton's third law for a chunk of pairs: the chunk's forces `f` on the
 /// site taken from its partners `js` (the lanes in use), and `r f^T` added
-/// to the virial's rows.
+/// to the virial's rows (with `SUMS`).
 #[inline(always)]
-fn react<T: Lanes>(
+fn react<T: Lanes, const SUMS: bool>(
     f: &V4<T>,
     r: &V4<T>,
     js: &[usize],
@@ -216,6 +218,9 @@ fn react<T: Lanes>(
     let forces = f.to_vectors();
     for (&j, fj) in js.iter().zip(forces) {
         force[j] -= fj;
+    }
+    if !SUMS {
+        return;
     }
     let (rs, fs) = ([r.x, r.y, r.z], [f.x, f.y, f.z]);
     for a in 0..3 {
@@ -248,18 +253,46 @@ const NO_KIND: u32 = u32::MAX;
 type Blocks<'b> = (&'b mut [PairSums], &'b mut [Within]);
 
 impl<'a> Inputs<'a> {
+    /// The pass with the charge kernel of the terms (the energies and the
+    /// virial summed with `SUMS`).
+    fn with_charges<const SUMS: bool>(&self, blocks: Blocks<'_>) {
+        use ElectrostaticTruncation as E;
+        match self
+            .terms
+            .electrostatics
+            .map(|(_, t, m)| (t, m.carried.charges))
+        {
+            None => self.with_lennard_jones::<NoCharges, SUMS>(blocks),
+            Some((E::Plain, true)) => {
+                self.with_lennard_jones::<Truncated<Bare, true>, SUMS>(blocks)
+            }
+            Some((E::Plain, false)) => {
+                self.with_lennard_jones::<Truncated<Bare, false>, SUMS>(blocks)
+            }
+            Some((E::ShiftedForce, true)) => {
+                self.with_lennard_jones::<Truncated<ShiftedForce, true>, SUMS>(blocks)
+            }
+            Some((E::ShiftedForce, false)) => {
+                self.with_lennard_jones::<Truncated<ShiftedForce, false>, SUMS>(blocks)
+            }
+        }
+    }
+
     /// The pass with the charge kernel `C` and the Lennard-Jones kernel of the terms.
-    fn with_lennard_jones<C: ChargeKernel>(&self, blocks: Blocks<'_>) {
+    fn with_lennard_jones<C: ChargeKernel, const SUMS: bool>(&self, blocks: Blocks<'_>) {
         match self.terms.lennard_jones.map(|(t, _)| t.force_shifted()) {
-            None if C::ON => self.sum::<NoLennardJones, C>(blocks),
+            None if C::ON => self.sum::<NoLennardJones, C, SUMS>(blocks),
             None => {}
-            Some(false) => self.sum::<LennardJones<'_, false>, C>(blocks),
-            Some(true) => self.sum::<LennardJones<'_, true>, C>(blocks),
+            Some(false) => self.sum::<LennardJones<'_, false>, C, SUMS>(blocks),
+            Some(true) => self.sum::<LennardJones<'_, true>, C, SUMS>(blocks),
         }
     }
 
     /// The pass with the kernels `L` and `C`, one range of sites per block.
-    fn sum<L: PairKernel<'a>, C: ChargeKernel>(&self, (blocks, within): Blocks<'_>) {
+    fn sum<L: PairKernel<'a>, C: ChargeKernel, const SUMS: bool>(
+        &self,
+        (blocks, within): Blocks<'_>,
+    ) {
         let n = self.positions.len();
         let (threads, pairs) = (blocks.len(), self.list.pairs());
         // The first site with at least `k pairs / threads` pairs before it.
@@ -280,19 +313,19 @@ impl<'a> Inputs<'a> {
             .map(|k| if k == threads { n } else { bound(k) })
             .collect();
         if threads == 1 {
-            self.range::<L, C>(0..n, (&mut blocks[0], &mut within[0]));
+            self.range::<L, C, SUMS>(0..n, (&mut blocks[0], &mut within[0]));
         } else {
             blocks
                 .par_iter_mut()
                 .zip(within.par_iter_mut())
                 .enumerate()
-                .for_each(|(k, out)| self.range::<L, C>(bounds[k]..bounds[k + 1], out));
+                .for_each(|(k, out)| self.range::<L, C, SUMS>(bounds[k]..bounds[k + 1], out));
         }
     }
 
     /// [`Inputs::lanes`] in AVX registers where the CPU has AVX2, else in
     /// arrays (the same bits: the lanes round as the scalar operations do).
-    fn range<L: PairKernel<'a>, C: ChargeKernel>(
+    fn range<L: PairKernel<'a>, C: ChargeKernel, const SUMS: bool>(
         &self,
         sites: std::ops::Range<usize>,
         out: (&mut PairSums, &mut Within),
@@ -300,28 +333,28 @@ impl<'a> Inputs<'a> {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2, checked just above.
-            unsafe { self.lanes_avx2::<L, C>(sites, out) };
+            unsafe { self.lanes_avx2::<L, C, SUMS>(sites, out) };
             return;
         }
-        self.lanes::<F4, L, C>(sites, out);
+        self.lanes::<F4, L, C, SUMS>(sites, out);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn lanes_avx2<L: PairKernel<'a>, C: ChargeKernel>(
+    fn lanes_avx2<L: PairKernel<'a>, C: ChargeKernel, const SUMS: bool>(
         &self,
         sites: std::ops::Range<usize>,
         out: (&mut PairSums, &mut Within),
     ) {
-        self.lanes::<Avx, L, C>(sites, out);
+        self.lanes::<Avx, L, C, SUMS>(sites, out);
     }
 
     /// The pairs listed under the sites of `sites` into `out`, those
     /// within a cutoff four at a time (each site's kept in `near` first):
-    /// each site's force, field and potential, the energy and the virial
-    /// summed in four lanes, added up at the end.
+    /// each site's force, field and potential, and with `SUMS` the energy
+    /// and the virial, summed in four lanes, added up at the end.
     #[inline(always)]
-    fn lanes<T: Lanes, L: PairKernel<'a>, C: ChargeKernel>(
+    fn lanes<T: Lanes, L: PairKernel<'a>, C: ChargeKernel, const SUMS: bool>(
         &self,
         sites: std::ops::Range<usize>,
         (out, near): (&mut PairSums, &mut Within),
@@ -375,21 +408,32 @@ impl<'a> Inputs<'a> {
                 if L::ON && a != NO_KIND {
                     let within = r2.lt(lj_cutoff2).keep(listed);
                     let (u, f_over_r) = self.lennard_jones_pairs(&lj, (a, &js), r2, within);
-                    lj_energy += u;
+                    if SUMS {
+                        lj_energy += u;
+                    }
                     f = r * f_over_r;
                 }
                 if let (Some(t), Some(m)) = (&target, multipoles) {
                     let within = r2.lt(coulomb_cutoff2).keep(listed);
                     let sums = (&mut field_i, &mut potential_i);
                     let chunk = (&r, r2, within, &js[..n]);
-                    f += self.charge_pairs(&coulomb, coulomb_cutoff, chunk, (t, m), sums, out);
+                    f += self.charge_pairs::<T, C, SUMS>(
+                        &coulomb,
+                        coulomb_cutoff,
+                        chunk,
+                        (t, m),
+                        sums,
+                        out,
+                    );
                 }
                 force_i += f;
-                react(&f, &r, &js[..n], &mut out.force, &mut virial);
+                react::<T, SUMS>(&f, &r, &js[..n], &mut out.force, &mut virial);
             }
             out.force[i] += force_i.total();
             if target.is_some() {
-                out.potential[i] += potential_i.total();
+                if SUMS {
+                    out.potential[i] += potential_i.total();
+                }
                 out.field[i] += field_i.total();
             }
         }
@@ -421,10 +465,10 @@ impl<'a> Inputs<'a> {
 
     /// The charge-dipole pairs of target `t` with the partners `js` (the
     /// first lanes) at separations `r` within the lanes `within` of the
-    /// cutoff: the target's field and potential added to `sums`, the
-    /// partners' to `out`; the forces on the target returned.
+    /// cutoff: the target's field and (with `SUMS`) potential added to
+    /// `sums`, the partners' to `out`; the forces on the target returned.
     #[inline(always)]
-    fn charge_pairs<T: Lanes, C: ChargeKernel>(
+    fn charge_pairs<T: Lanes, C: ChargeKernel, const SUMS: bool>(
         &self,
         coulomb: &C,
         cutoff: f64,
@@ -446,7 +490,7 @@ impl<'a> Inputs<'a> {
         }
         let pair = coulomb.pair(r, r2, cutoff, t, &source);
         *field_i += pair.field.keep(within);
-        if C::CHARGES {
+        if C::CHARGES && SUMS {
             *potential_i += pair.potential.keep(within);
             let source_potential = pair.source_potential.keep(within).to_array();
             for (l, &j) in js.iter().enumerate() {
@@ -630,7 +674,7 @@ mod tests {
                     .unwrap();
                 pool.install(|| {
                     PairPass::default()
-                        .run(&terms, &list, &sites.positions)
+                        .run(&terms, &list, &sites.positions, Scope::Full)
                         .clone()
                 })
             };

@@ -5,7 +5,8 @@
 //! ([`Rows`], [`super::gsd::GsdWriter`], [`super::CheckpointWriter`], the locked
 //! [`super::OutputFolder`], the atomic summary) and a restart placed as
 //! the rotors' ([`super::resume::Placement`]). Energies are computed at every sample and
-//! every blow-up check; the energy error and the drift follow as for
+//! every blow-up check (the other steps evaluate forces and torques only:
+//! [`crate::bodies::Scope`]); the energy error and the drift follow as for
 //! rotors. A blow-up names the step and the bodies (and their sites).
 
 use super::body_outputs::{open_series, record, trajectory, write_frame, Trajectory};
@@ -138,13 +139,18 @@ fn run_steps(
     };
     let (mut history, mut last, mut row) = (EnergyHistory::default(), None, Vec::new());
     let mut step = start_step;
+    // Whether the energies are read at `step`: a sample, a blow-up check, the last step.
+    let evaluated = |step: u64| {
+        let due = |every: u64| step % every == 0;
+        bodies.series.iter().any(|s| due(s.every))
+            || due(scene.record.check_every)
+            || step == scene.steps
+    };
     let stop = loop {
         let time = step as f64 * scene.dt;
         let due = |every: u64| step % every == 0;
-        let sampled = bodies.series.iter().any(|s| due(s.every));
         let thermostat = integrator.thermostat_energy();
-        let evaluation = (sampled || due(scene.record.check_every) || step == scene.steps)
-            .then(|| integrator.evaluated(system, &mut current));
+        let evaluation = evaluated(step).then(|| integrator.evaluated(system, &mut current));
         if let Some(e) = evaluation {
             let energies = energies(system, e, thermostat, &reference);
             history.push(time, energies.kinetic, energies.conserved);
@@ -186,7 +192,7 @@ fn run_steps(
             }
             break Stop::Interrupted { step };
         }
-        integrator.step(system);
+        integrator.step_read(system, evaluated(step + 1));
         step += 1;
         outputs.control.iter().for_each(|c| c.set_step(step));
     };

@@ -34,7 +34,7 @@
 use super::gear_chains::GearChains;
 use super::gear_start::{evaluate_at, GearSetup};
 use crate::bodies::checkpoint::{take_nordsieck, take_thermostat};
-use crate::bodies::evaluate::Evaluation;
+use crate::bodies::evaluate::{Evaluation, Scope};
 use crate::bodies::system::BodySystem;
 use crate::checks::InputError;
 use crate::integrators::gear::{correct_pair, Nordsieck};
@@ -151,6 +151,12 @@ impl BodyGearA {
     /// One step (module doc). The centres are read from `system` first
     /// (where a neighbour-list build may have wrapped them).
     pub fn step(&mut self, system: &mut BodySystem) {
+        self.step_in(system, Scope::Full);
+    }
+
+    /// One step, its evaluation at the predicted configuration (the one
+    /// [`Self::evaluation`] then gives) in `scope`.
+    pub fn step_in(&mut self, system: &mut BodySystem, scope: Scope) {
         let h = self.dt;
         for (r, body) in self.position.r[0].iter_mut().zip(&system.bodies) {
             *r = body.position;
@@ -160,7 +166,7 @@ impl BodyGearA {
         self.q.predict();
         self.omega_body.predict();
         let e = &mut self.evaluation;
-        evaluate_at(system, &mut self.position.r[0], &self.q.r[0], e);
+        evaluate_at(system, &mut self.position.r[0], &self.q.r[0], e, scope);
         let frictions =
             (self.chains.as_mut()).map(|c| (c.step(&self.omega_body, &self.velocity, h), &*c));
         let (mut r, mut v) = (self.position.as_chunk(), self.velocity.as_chunk());

@@ -25,7 +25,7 @@
 
 use super::gear_start::{evaluate_at, GearSetup};
 use crate::bodies::checkpoint::take_nordsieck;
-use crate::bodies::evaluate::Evaluation;
+use crate::bodies::evaluate::{Evaluation, Scope};
 use crate::bodies::system::BodySystem;
 use crate::checks::InputError;
 use crate::integrators::gear::{second_order_6, Nordsieck};
@@ -111,6 +111,12 @@ impl BodyGearB {
     /// One step (module doc). The centres are read from `system` first
     /// (where a neighbour-list build may have wrapped them).
     pub fn step(&mut self, system: &mut BodySystem) {
+        self.step_in(system, Scope::Full);
+    }
+
+    /// One step, its evaluation at the predicted configuration (the one
+    /// [`Self::evaluation`] then gives) in `scope`.
+    pub fn step_in(&mut self, system: &mut BodySystem, scope: Scope) {
         let h = self.dt;
         let half_h2 = 0.5 * h * h;
         for (r, body) in self.position.r[0].iter_mut().zip(&system.bodies) {
@@ -119,7 +125,7 @@ impl BodyGearB {
         self.position.predict();
         self.q.predict();
         let e = &mut self.evaluation;
-        evaluate_at(system, &mut self.position.r[0], &self.q.r[0], e);
+        evaluate_at(system, &mut self.position.r[0], &self.q.r[0], e, scope);
         let (mut r, mut q) = (self.position.as_chunk(), self.q.as_chunk());
         for (i, body) in system.bodies.iter().enumerate() {
             let delta = e.force[i] * (half_h2 / system.types[body.kind].mass) - r.r[2][i];

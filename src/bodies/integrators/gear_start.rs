@@ -10,7 +10,7 @@
 //! their moments, and the evaluation at predicted values.
 
 use super::gear_chains::{ChainStates, GearChains};
-use crate::bodies::evaluate::Evaluation;
+use crate::bodies::evaluate::{Evaluation, Scope};
 use crate::bodies::system::{Body, BodySystem};
 use crate::checks::{finite_and_positive, InputError};
 use crate::integrators::gear::Nordsieck;
@@ -73,7 +73,7 @@ impl Equations<'_> {
     /// less the chains' frictions, and the chains' rates.
     fn rate(&self, system: &mut BodySystem, evaluation: &mut Evaluation, y: &State) -> State {
         let mut positions = axpy(self.start, &y.displacement, 1.0);
-        evaluate_at(system, &mut positions, &y.q, evaluation);
+        evaluate_at(system, &mut positions, &y.q, evaluation, Scope::Full);
         let mass = |i: usize| system.types[system.bodies[i].kind].mass;
         let n = y.q.len();
         let mut rate = State {
@@ -219,19 +219,20 @@ fn positive_moments(system: &BodySystem) -> Result<Vec<PrincipalMoments>, InputE
 }
 
 /// Evaluates `system` at the centres `positions` and the orientations
-/// `q / |q|` (a Gear scheme's predicted values); the centres come back
+/// `q / |q|` (a Gear scheme's predicted values) in `scope`; the centres come back
 /// wrapped into a periodic box if the neighbour list was rebuilt.
 pub(super) fn evaluate_at(
     system: &mut BodySystem,
     positions: &mut [Vector3<f64>],
     q: &[Quat],
     evaluation: &mut Evaluation,
+    scope: Scope,
 ) {
     for ((body, r), q) in system.bodies.iter_mut().zip(&*positions).zip(q) {
         body.position = *r;
         body.orientation = *q * (1.0 / q.norm());
     }
-    system.evaluate(evaluation);
+    system.evaluate_in(evaluation, scope);
     for (r, body) in positions.iter_mut().zip(&system.bodies) {
         *r = body.position;
     }

@@ -24,7 +24,7 @@
 //! the step is the one above.
 
 use crate::bodies::checkpoint::{take_thermostat, take_values};
-use crate::bodies::evaluate::Evaluation;
+use crate::bodies::evaluate::{Evaluation, Scope};
 use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
 use crate::dynamics::AnyThermostat;
@@ -120,11 +120,18 @@ impl<S: Splitting> BodyKicked<S> {
 
     /// One step, arranged by the thermostat.
     pub fn step(&mut self, system: &mut BodySystem) {
+        self.step_in(system, Scope::Full);
+    }
+
+    /// One step, its evaluation (the one [`BodyKicked::evaluation`] then
+    /// gives) in `scope`.
+    pub fn step_in(&mut self, system: &mut BodySystem, scope: Scope) {
         let mut step = BodyStep {
             rotation: &self.rotation,
             dt: self.dt,
             momentum: &mut self.momentum,
             evaluation: &mut self.evaluation,
+            scope,
             system,
         };
         self.thermostat.step(&mut step);
@@ -138,6 +145,7 @@ pub struct BodyStep<'a, S: Splitting> {
     dt: f64,
     momentum: &'a mut [S::Momentum],
     evaluation: &'a mut Evaluation,
+    scope: Scope,
     system: &'a mut BodySystem,
 }
 
@@ -182,7 +190,7 @@ impl<S: Splitting> SplitDynamics for BodyStep<'_, S> {
     }
 
     fn evaluate(&mut self) {
-        self.system.evaluate(self.evaluation);
+        self.system.evaluate_in(self.evaluation, self.scope);
     }
 
     /// Summed in body order on one thread.

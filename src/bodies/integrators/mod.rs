@@ -30,7 +30,7 @@ pub use kicked::BodyKicked;
 pub use no_squish::BodyNoSquish;
 pub use richardson::BodyRichardson;
 
-use crate::bodies::evaluate::Evaluation;
+use crate::bodies::evaluate::{Evaluation, Scope};
 use crate::bodies::system::BodySystem;
 use crate::checks::InputError;
 use crate::integrators::{IntegratorError, IntegratorSpec};
@@ -120,12 +120,22 @@ impl BodyIntegrator {
 
     /// One step.
     pub fn step(&mut self, system: &mut BodySystem) {
+        self.step_read(system, true);
+    }
+
+    /// One step, `read` saying whether [`Self::evaluated`] will be asked
+    /// for the state it ends on: the kick-based integrators then evaluate
+    /// in full, else for the forces only ([`Scope::Forces`]); the Gear
+    /// schemes always for the forces only, since they evaluate at the
+    /// predicted configuration and [`Self::evaluated`] evaluates afresh.
+    pub fn step_read(&mut self, system: &mut BodySystem, read: bool) {
+        let scope = if read { Scope::Full } else { Scope::Forces };
         match self {
-            Self::NoSquish(i) => i.step(system),
-            Self::Dlm(i) => i.step(system),
-            Self::Richardson(i) => i.step(system),
-            Self::GearA(i) => i.step(system),
-            Self::GearB(i) => i.step(system),
+            Self::NoSquish(i) => i.step_in(system, scope),
+            Self::Dlm(i) => i.step_in(system, scope),
+            Self::Richardson(i) => i.step_in(system, scope),
+            Self::GearA(i) => i.step_in(system, Scope::Forces),
+            Self::GearB(i) => i.step_in(system, Scope::Forces),
         }
     }
 

@@ -113,8 +113,16 @@ impl MeshEwald {
     /// The sum, its evaluations also computing the virial (see
     /// [`SiteResponse::virial`]; it costs one pair force per real-space pair).
     pub fn with_virial(mut self) -> Self {
-        self.virial = true;
+        self.set_virial(true);
         self
+    }
+
+    /// Whether the next evaluations compute the virial (as
+    /// [`Self::with_virial`]; without it the virial is zero, and the forces
+    /// of charges alone the same bits, those of dipoles not: their
+    /// real-space kernel differs).
+    pub(crate) fn set_virial(&mut self, virial: bool) {
+        self.virial = virial;
     }
 
     /// The sum, its evaluations of charges alone leaving
