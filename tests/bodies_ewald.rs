@@ -228,8 +228,8 @@ fn charged_molecule() -> BodyType {
 /// bit for bit, and NaN for the energies and the virial it leaves out: for
 /// the cutoff sum in the pair pass (charges and dipoles), the cutoff sum
 /// of quadrupoles (its own path), PME of charges alone (the mesh without
-/// its virial) and PME of dipoles (the mesh as in full: its dipoles'
-/// kernel depends on the virial).
+/// its virial) and PME of dipoles (the mesh without its virial, the
+/// real-space pairs by the bodies' own sum).
 #[test]
 fn forces_only_evaluations_are_the_full_forces_bit_for_bit() {
     let cutoff = |sphere: BodyType| {

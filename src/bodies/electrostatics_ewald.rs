@@ -329,8 +329,9 @@ impl Electrostatics for BodyEwald {
         let sources = sites.sources();
         let (alpha, real_cutoff) = self.long_range.splitting();
         let summed = mesh_pairs(&self.long_range, self.carried);
-        // The mesh sum of charges: the same forces without the virial.
-        let virial = scope == Scope::Full || !summed;
+        // The same forces without the virial: the mesh's real space, whose
+        // kernel of dipoles would differ, serves charges alone here.
+        let virial = scope == Scope::Full;
         if let LongRange::Mesh(mesh, _) = &mut self.long_range {
             mesh.set_virial(virial);
         }

@@ -25,9 +25,8 @@ pub enum Scope {
     Full,
     /// Forces and torques, the same bits as [`Scope::Full`]'s, the energies
     /// and the virial NaN (the short-range pass skips their sums, the mesh
-    /// sum of charges its virial; other electrostatic methods run as for
-    /// [`Scope::Full`]: the mesh sum's forces of dipoles, for one, are the
-    /// same bits only with its virial).
+    /// sum and the exclusions of charges their virial; the direct Ewald sum
+    /// runs as in full), and no count of overlapping pairs.
     Forces,
 }
 
@@ -50,6 +49,11 @@ pub struct Evaluation {
     pub virial: Matrix3<f64>,
     /// The tail correction to the pressure (periodic, plain truncation).
     pub pressure_tail: f64,
+    /// How many Lennard-Jones site pairs may overlap: closer than a part
+    /// in 1e9 over [`super::OVERLAP_FRACTION`] of their sigma (none
+    /// farther does; [`BodySystem::closest_pair`] finds the closest).
+    /// `None` for [`Scope::Forces`].
+    pub overlaps: Option<usize>,
 }
 
 impl Evaluation {
@@ -108,6 +112,7 @@ impl BodySystem {
         );
         let mut virial = sums.virial;
         out.lennard_jones = sums.lennard_jones;
+        out.overlaps = (scope == Scope::Full).then_some(sums.overlaps as usize);
         out.site_force.copy_from_slice(&sums.force);
         if cutoff_sum.is_some() {
             sums.fill(response);

@@ -12,6 +12,7 @@
 //! `x = sigma / r_c` (all site pairs counted, those within a body too, as
 //! LAMMPS does).
 
+use super::overlap::OVERLAP_FRACTION;
 use super::site::LennardJones;
 use crate::checks::{named_choices, positive, InputError};
 use crate::lanes::{Lanes, LANES};
@@ -66,6 +67,10 @@ pub struct LennardJonesOptions {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct PairConstants {
     sigma: f64,
+    /// `(OVERLAP_FRACTION sigma)^2`, a part in 1e9 wider: a pair closer
+    /// than that may overlap ([`super::overlap`] decides), a pair farther
+    /// does not, whatever the roundings of either test.
+    core2: f64,
     c12: f64,
     c6: f64,
     /// `u(r_c)` (shifted and force-shifted) or 0.
@@ -94,6 +99,7 @@ impl LennardJonesTerm {
                 let (c12, c6) = (4.0 * eps * s6 * s6, 4.0 * eps * s6);
                 let plain = PairConstants {
                     sigma,
+                    core2: (OVERLAP_FRACTION * sigma).powi(2) * (1.0 + 1e-9),
                     c12,
                     c6,
                     shift: 0.0,
@@ -170,14 +176,15 @@ impl LennardJonesTerm {
 
     /// [`LennardJonesTerm::pair_of`] of four pairs: kind `a` with kinds
     /// `b` at squared distances `r2` (lanes beyond the cutoff hold values
-    /// to be dropped).
+    /// to be dropped), and 1 in the lanes of pairs that may overlap
+    /// ([`PairConstants::core2`]), else 0.
     #[inline(always)]
     pub(super) fn pair_lanes<T: Lanes, const FORCE_SHIFTED: bool>(
         &self,
         a: usize,
         b: [usize; LANES],
         r2: T,
-    ) -> (T, T) {
+    ) -> (T, T, T) {
         let row = &self.table[a * self.kinds.len()..(a + 1) * self.kinds.len()];
         let lanes = |f: fn(&PairConstants) -> f64| {
             if row.len() == 1 {
@@ -187,17 +194,19 @@ impl LennardJonesTerm {
             }
         };
         let (c12, c6, shift) = (lanes(|p| p.c12), lanes(|p| p.c6), lanes(|p| p.shift));
+        let core = T::splat(1.0).keep(r2.lt(lanes(|p| p.core2)));
         let inv_r2 = T::splat(1.0) / r2;
         let inv_r6 = inv_r2 * inv_r2 * inv_r2;
         let u = inv_r6 * (c12 * inv_r6 - c6) - shift;
         let f_over_r = inv_r6 * (c12 * 12.0 * inv_r6 - c6 * 6.0) * inv_r2;
         if !FORCE_SHIFTED {
-            return (u, f_over_r);
+            return (u, f_over_r, core);
         }
         let (r, slope) = (r2.sqrt(), lanes(|p| p.slope));
         (
             u - (r - T::splat(self.options.cutoff)) * slope,
             f_over_r + slope * (r * inv_r2),
+            core,
         )
     }
 

@@ -14,8 +14,9 @@ pub(super) trait PairKernel<'a>: Sync + Sized {
     const ON: bool;
     /// The kernel of `term` (`None` if the pass needs the term and has none).
     fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self>;
-    /// Energies and `-(1/r) du/dr` of kind `a` with kinds `b` at `r2`.
-    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T);
+    /// Energies, `-(1/r) du/dr` and 1 for a pair that may overlap (else 0)
+    /// of kind `a` with kinds `b` at `r2`.
+    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T, T);
 }
 
 pub(super) struct NoLennardJones;
@@ -25,8 +26,8 @@ impl PairKernel<'_> for NoLennardJones {
     fn new(_: Option<&LennardJonesTerm>) -> Option<Self> {
         Some(NoLennardJones)
     }
-    fn pair<T: Lanes>(&self, _: usize, _: [usize; LANES], _: T) -> (T, T) {
-        (T::default(), T::default())
+    fn pair<T: Lanes>(&self, _: usize, _: [usize; LANES], _: T) -> (T, T, T) {
+        (T::default(), T::default(), T::default())
     }
 }
 
@@ -39,7 +40,7 @@ impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SH
         term.map(LennardJones)
     }
     #[inline(always)]
-    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T) {
+    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T, T) {
         self.0.pair_lanes::<T, FORCE_SHIFTED>(a, b, r2)
     }
 }

@@ -48,6 +48,10 @@ pub(super) struct PairTerms<'a> {
 pub(super) struct PairSums {
     /// The Lennard-Jones energy.
     pub lennard_jones: f64,
+    /// How many Lennard-Jones pairs may overlap (closer than a part in 1e9
+    /// over [`super::overlap::OVERLAP_FRACTION`] of their sigma), NaN
+    /// when not summed.
+    pub overlaps: f64,
     /// The electrostatic energy.
     pub electrostatic: f64,
     /// The atomic virial `sum_pairs r_ij f_ij^T` of both terms.
@@ -112,6 +116,7 @@ impl PairPass {
         let total = &mut first[0];
         for block in rest.iter() {
             total.lennard_jones += block.lennard_jones;
+            total.overlaps += block.overlaps;
             total.virial += block.virial;
         }
         if !rest.is_empty() {
@@ -138,6 +143,7 @@ impl PairPass {
         }
         if scope == Scope::Forces {
             (total.lennard_jones, total.electrostatic) = (f64::NAN, f64::NAN);
+            total.overlaps = f64::NAN;
             total.virial = Matrix3::repeat(f64::NAN);
         } else if let Some((_, _, m)) = terms.electrostatics {
             // Half of each site's charge in its potential and dipole in its field.
@@ -183,7 +189,7 @@ impl PairSums {
 
     /// Zero sums for `n` sites (with the electrostatic ones or not).
     fn reset(&mut self, n: usize, electrostatics: bool) {
-        (self.lennard_jones, self.electrostatic) = (0.0, 0.0);
+        (self.lennard_jones, self.electrostatic, self.overlaps) = (0.0, 0.0, 0.0);
         self.virial = Matrix3::zeros();
         self.force.clear();
         self.force.resize(n, Vector3::zeros());
@@ -377,7 +383,7 @@ impl<'a> Inputs<'a> {
         let reach2 = lj_cutoff.max(coulomb_cutoff).powi(2);
         // Which lanes a chunk of `n` pairs uses, at `n - 1`.
         let listed: [T; LANES] = std::array::from_fn(|n| T::mask(std::array::from_fn(|l| l <= n)));
-        let mut lj_energy = T::default();
+        let (mut lj_energy, mut overlaps) = (T::default(), T::default());
         // The virial's components, row by row.
         let mut virial = [T::default(); 9];
         for i in sites {
@@ -407,9 +413,10 @@ impl<'a> Inputs<'a> {
                 let mut f = V4::<T>::default();
                 if L::ON && a != NO_KIND {
                     let within = r2.lt(lj_cutoff2).keep(listed);
-                    let (u, f_over_r) = self.lennard_jones_pairs(&lj, (a, &js), r2, within);
+                    let (u, f_over_r, core) = self.lennard_jones_pairs(&lj, (a, &js), r2, within);
                     if SUMS {
                         lj_energy += u;
+                        overlaps += core;
                     }
                     f = r * f_over_r;
                 }
@@ -438,12 +445,13 @@ impl<'a> Inputs<'a> {
             }
         }
         out.lennard_jones = lj_energy.total();
+        out.overlaps = overlaps.total();
         out.virial = Matrix3::from_fn(|a, b| virial[3 * a + b].total());
     }
 
-    /// The Lennard-Jones energies and `-(1/r) du/dr` of site kind `a` with
-    /// the partners `js` at `r2`, zero outside the lanes `within` of the
-    /// cutoff and for partners without Lennard-Jones.
+    /// The Lennard-Jones energies, `-(1/r) du/dr` and overlap marks of
+    /// site kind `a` with the partners `js` at `r2`, zero outside the lanes
+    /// `within` of the cutoff and for partners without Lennard-Jones.
     #[inline(always)]
     fn lennard_jones_pairs<T: Lanes, L: PairKernel<'a>>(
         &self,
@@ -451,7 +459,7 @@ impl<'a> Inputs<'a> {
         (a, js): (u32, &[usize; LANES]),
         r2: T,
         mut within: T,
-    ) -> (T, T) {
+    ) -> (T, T, T) {
         // With one kind, every site's is `a`.
         let mut b = [a as usize; LANES];
         if !self.one_kind {
@@ -459,8 +467,8 @@ impl<'a> Inputs<'a> {
             within = within.keep(T::mask(kinds.map(|b| b != NO_KIND)));
             b = kinds.map(|b| if b == NO_KIND { 0 } else { b as usize });
         }
-        let (u, f_over_r) = lj.pair(a as usize, b, r2);
-        (u.keep(within), f_over_r.keep(within))
+        let (u, f_over_r, core) = lj.pair(a as usize, b, r2);
+        (u.keep(within), f_over_r.keep(within), core.keep(within))
     }
 
     /// The charge-dipole pairs of target `t` with the partners `js` (the
@@ -573,8 +581,8 @@ mod tests {
             dipole: V4::gather(std::array::from_fn(|l| &sources[l].dipole)),
         };
         let pair = K::new().pair(&r, r2, 2.5, &ChargeDipoles::splat(target), &source);
-        let (u, f_over_r) = term.pair_lanes::<T, false>(0, [0; LANES], r2);
-        let (u_fs, f_fs) = term.pair_lanes::<T, true>(0, [0; LANES], r2);
+        let (u, f_over_r, _) = term.pair_lanes::<T, false>(0, [0; LANES], r2);
+        let (u_fs, f_fs, _) = term.pair_lanes::<T, true>(0, [0; LANES], r2);
         let mut out = vec![
             u,
             f_over_r,

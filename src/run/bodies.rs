@@ -155,7 +155,7 @@ fn run_steps(
             let energies = energies(system, e, thermostat, &reference);
             history.push(time, energies.kinetic, energies.conserved);
             last = Some((step, energies));
-            if let Some((rotor, reason)) = blown_up(system, energies.total) {
+            if let Some((rotor, reason)) = blown_up(system, e, energies.total) {
                 break Stop::BlewUp {
                     step,
                     rotor,
@@ -319,8 +319,10 @@ fn save(
 /// (closer than [`OVERLAP_FRACTION`] of their sigma), else the first body
 /// whose state is not finite, else a non-finite total energy `total` with
 /// the closest pair of sites (body 0 when the sites have no sigma). The
-/// pair is that of the last evaluation, which is at the current state.
-fn blown_up(system: &BodySystem, total: f64) -> Option<(usize, String)> {
+/// pair is that of the last evaluation `e`, which is at the current state
+/// and counted the pairs that may overlap (so that a sound step looks for
+/// none).
+fn blown_up(system: &BodySystem, e: &Evaluation, total: f64) -> Option<(usize, String)> {
     let pair = |o: &Overlap| {
         let ((a, s), (b, t)) = (o.sites[0], o.sites[1]);
         let reason = format!(
@@ -331,7 +333,9 @@ fn blown_up(system: &BodySystem, total: f64) -> Option<(usize, String)> {
         );
         (a, reason)
     };
-    let closest = system.closest_pair();
+    // The pass counted the pairs that may overlap: the closest is looked for only then.
+    let overlaps = e.overlaps != Some(0);
+    let closest = overlaps.then(|| system.closest_pair()).flatten();
     if let Some(o) = closest.filter(|o| o.distance < OVERLAP_FRACTION * o.sigma) {
         let (body, reason) = pair(&o);
         return Some((
@@ -352,7 +356,7 @@ fn blown_up(system: &BodySystem, total: f64) -> Option<(usize, String)> {
     if total.is_finite() {
         return None;
     }
-    Some(match closest {
+    Some(match closest.or_else(|| system.closest_pair()) {
         Some(o) => {
             let (body, reason) = pair(&o);
             (
