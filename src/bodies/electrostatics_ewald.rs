@@ -702,25 +702,27 @@ mod tests {
     /// The molecular virial `W - sum_s d_s F_s^T` (centres scaled with the
     /// box, offsets and multipoles fixed) against central differences of
     /// the energy under a stretch along each axis, for molecules carrying
-    /// charges, dipoles and quadrupoles, at fixed parameters (`alpha r_c =
-    /// 5`: pairs crossing the cutoff change the energy by ~1e-12, far below
-    /// the step's 1e-5; the direct sum's at `alpha r_c = 7` and `k_c = 14
-    /// alpha`, so that wave vectors crossing `k_c` change nothing), by PME
-    /// and by the direct sum.
+    /// charges alone (the mesh's own real space and the unrolled
+    /// exclusions) and charges, dipoles and quadrupoles, at fixed
+    /// parameters (`alpha r_c = 5`: pairs crossing the cutoff change the
+    /// energy by ~1e-12, far below the step's 1e-5; the direct sum's at
+    /// `alpha r_c = 7` and `k_c = 14 alpha`, so that wave vectors crossing
+    /// `k_c` change nothing), by PME and by the direct sum.
     #[test]
     fn the_molecular_virial_is_the_strain_derivative_of_the_energy() {
         let box_lengths = Vector3::new(6.0, 6.4, 5.8);
-        let (sites, site_body, offsets) = molecules(32, 8, box_lengths, true);
         let mesh = Fixed::Mesh(MeshParameters {
             grid: [24, 24, 24],
             order: 6,
             ..fine(&box_lengths, 5.0)
         });
         let surfaces = [Surface::Conducting, Surface::Vacuum];
-        for (parameters, surface) in [mesh, converged_waves(&box_lengths)]
-            .into_iter()
-            .flat_map(|p| surfaces.map(|s| (p, s)))
-        {
+        for (multipoles, parameters, surface) in [false, true].into_iter().flat_map(|m| {
+            [mesh, converged_waves(&box_lengths)]
+                .into_iter()
+                .flat_map(move |p| surfaces.map(|s| (m, p, s)))
+        }) {
+            let (sites, site_body, offsets) = molecules(32, 8, box_lengths, multipoles);
             let out = evaluate(&sites, &site_body, box_lengths, parameters, surface);
             let mut virial = out.virial;
             for (d, f) in offsets.iter().zip(&out.force) {
@@ -740,7 +742,7 @@ mod tests {
                 let fd = -(energy(h) - energy(-h)) / (2.0 * h);
                 assert!(
                     (virial[(axis, axis)] - fd).abs() < 1e-7 * virial.abs().max(),
-                    "{surface:?} W[{axis}{axis}] {} vs {fd}",
+                    "multipoles {multipoles}, {surface:?} W[{axis}{axis}] {} vs {fd}",
                     virial[(axis, axis)]
                 );
             }
