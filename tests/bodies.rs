@@ -227,3 +227,55 @@ fn the_pass_counts_the_pairs_inside_the_core() {
         assert_eq!(e.overlaps, None);
     }
 }
+
+/// A list of some sites (`NeighbourList::listing`: the Lennard-Jones sites
+/// when no electrostatic sum reads the list, as in rigid water under PME)
+/// holds exactly the full list's pairs of those sites, with the same
+/// separations, gives the others no partners, and does not go stale when
+/// only an unlisted site moves.
+#[test]
+fn a_list_of_some_sites_holds_their_pairs_of_the_full_list() {
+    use quatrot::bodies::NeighbourList;
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let space = Space::Periodic(Vector3::new(7.0, 6.5, 8.0));
+    let mut sites: Vec<Vector3<f64>> = (0..300)
+        .map(|_| Vector3::from_fn(|a, _| rng.random::<f64>() * [7.0, 6.5, 8.0][a]))
+        .collect();
+    // Bodies of three sites; the second and third of each unlisted.
+    let body: Vec<u32> = (0..300).map(|s| s / 3).collect();
+    let listed: Vec<bool> = (0..300).map(|s| s % 3 == 0).collect();
+    let mut full = NeighbourList::new(2.5, 0.3).unwrap();
+    let mut some = NeighbourList::new(2.5, 0.3)
+        .unwrap()
+        .listing(listed.clone());
+    full.build(&sites, &body, &space);
+    some.build(&sites, &body, &space);
+    let mut kept = 0;
+    for i in 0..sites.len() {
+        let bits = |v: Vector3<f64>| v.map(f64::to_bits);
+        let expected: Vec<_> = match listed[i] {
+            true => full
+                .half_pairs(i, &sites)
+                .filter(|&(j, _)| listed[j])
+                .map(|(j, r)| (j, bits(r)))
+                .collect(),
+            false => Vec::new(),
+        };
+        let found: Vec<_> = some
+            .half_pairs(i, &sites)
+            .map(|(j, r)| (j, bits(r)))
+            .collect();
+        assert_eq!(found, expected, "site {i}");
+        kept += found.len();
+    }
+    assert!(
+        kept > 100 && kept < full.pairs() / 4,
+        "{kept} of {} pairs",
+        full.pairs()
+    );
+    sites[1] += Vector3::new(0.2, 0.0, 0.0);
+    assert!(full.is_stale(&sites, &space) && !some.is_stale(&sites, &space));
+    sites[0] += Vector3::new(0.2, 0.0, 0.0);
+    assert!(some.is_stale(&sites, &space));
+}

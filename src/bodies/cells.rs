@@ -38,8 +38,14 @@ pub(super) struct Cells {
 }
 
 impl Cells {
-    /// The grid of `sites` in `space` for pairs within `reach`.
-    pub fn new(sites: &[Vector3<f64>], space: &Space, reach: f64) -> Cells {
+    /// The grid of `sites` in `space` for pairs within `reach`, holding
+    /// the sites `listed` (all for `None`; the others are found by no scan).
+    pub fn new(
+        sites: &[Vector3<f64>],
+        listed: Option<&[bool]>,
+        space: &Space,
+        reach: f64,
+    ) -> Cells {
         let (origin, width, counts, lengths) = match space {
             Space::Periodic(l) => {
                 let counts = [0, 1, 2].map(|k| ((l[k] / reach).floor() as usize).max(1));
@@ -81,16 +87,17 @@ impl Cells {
             cell_of.push((c[0] * counts[1] + c[1]) * counts[2] + c[2]);
         }
         let total = counts.iter().product::<usize>();
+        let is_listed = |i: usize| listed.is_none_or(|l| l[i]);
         let mut first = vec![0; total + 1];
-        for &c in &cell_of {
-            first[c + 1] += 1;
+        for (i, &c) in cell_of.iter().enumerate() {
+            first[c + 1] += usize::from(is_listed(i));
         }
         for c in 0..total {
             first[c + 1] += first[c];
         }
         let mut fill = first.clone();
-        let mut site = vec![0; sites.len()];
-        for (i, &c) in cell_of.iter().enumerate() {
+        let mut site = vec![0; first[total]];
+        for (i, &c) in cell_of.iter().enumerate().filter(|&(i, _)| is_listed(i)) {
             site[fill[c]] = i as u32;
             fill[c] += 1;
         }

@@ -10,6 +10,10 @@
 //! list (each pair once, under its lower site, for sums that use Newton's
 //! third law); a full view (each pair under both sites, for per-site sums
 //! without shared writes) is derived from it when asked for at construction.
+//! A list may hold some sites only ([`NeighbourList::listing`]: the
+//! Lennard-Jones sites when no electrostatic sum reads the list, so that
+//! rigid water's hydrogens, whose charges a mesh sum pairs itself, are
+//! neither scanned nor anyone's partners, nor make the list stale).
 
 use super::cells::Cells;
 pub use super::cells::CELLS_PER_SITE;
@@ -37,6 +41,9 @@ pub struct NeighbourList {
     space: Space,
     /// Site positions at the last build.
     reference: Vec<Vector3<f64>>,
+    /// The sites the list holds (all for `None`): the others have no
+    /// partners and are no one's.
+    listed: Option<Vec<bool>>,
     builds: u64,
 }
 
@@ -63,8 +70,17 @@ impl NeighbourList {
             full: Some(Pairs::default()),
             space: Space::Open,
             reference: Vec::new(),
+            listed: None,
             builds: 0,
         })
+    }
+
+    /// The list of the sites `listed` only (those whose pairs some sum
+    /// reads): the others have no partners and are no one's, and their
+    /// moves do not make the list stale.
+    pub fn listing(mut self, listed: Vec<bool>) -> Self {
+        self.listed = Some(listed);
+        self
     }
 
     /// The list without its full view (half the memory and no
@@ -156,24 +172,28 @@ impl NeighbourList {
     /// at the last build.
     pub fn is_stale(&self, sites: &[Vector3<f64>], space: &Space) -> bool {
         let limit = (0.5 * self.skin).powi(2);
+        let listed = self.listed.as_deref();
         self.reference.len() != sites.len()
             || self.half.start.is_empty()
             || self.space != *space
             || sites
                 .par_iter()
                 .zip(&self.reference)
-                .any(|(x, x0)| (x - x0).norm_squared() > limit)
+                .enumerate()
+                .any(|(i, (x, x0))| listed.is_none_or(|l| l[i]) && (x - x0).norm_squared() > limit)
     }
 
     /// Builds the list of `sites` (`body[i]` the body of site `i`; pairs
     /// within one body are left out).
     pub fn build(&mut self, sites: &[Vector3<f64>], body: &[u32], space: &Space) {
         let reach = self.reach();
-        let cells = Cells::new(sites, space, reach);
+        let listed = self.listed.as_deref();
+        let cells = Cells::new(sites, listed, space, reach);
         let scan = Scan {
             cells: &cells,
             sites,
             body,
+            listed,
             reach2: reach * reach,
         };
         let tasks: Vec<Task> = (0..sites.len().div_ceil(SITES_PER_TASK))
@@ -214,6 +234,8 @@ struct Scan<'a> {
     cells: &'a Cells,
     sites: &'a [Vector3<f64>],
     body: &'a [u32],
+    /// The sites listed (all for `None`).
+    listed: Option<&'a [bool]>,
     reach2: f64,
 }
 
@@ -242,6 +264,10 @@ impl Scan<'_> {
         let mut counts = Vec::with_capacity(range.len());
         let (mut partners, mut images) = (Vec::new(), Vec::new());
         for i in range {
+            if self.listed.is_some_and(|l| !l[i]) {
+                counts.push(0);
+                continue;
+            }
             let (before, own) = (partners.len(), body[i]);
             let wanted = |j: usize| body[j] != own;
             self.cells
@@ -492,7 +518,7 @@ mod tests {
         let sites: Vec<Vector3<f64>> = (0..10)
             .map(|k| Vector3::new(1e6 * k as f64, 0.0, 0.0))
             .collect();
-        let cells = Cells::new(&sites, &Space::Open, 1.0);
+        let cells = Cells::new(&sites, None, &Space::Open, 1.0);
         assert!(cells.cells() <= 27 + CELLS_PER_SITE * 10);
     }
 }

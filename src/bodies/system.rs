@@ -155,6 +155,15 @@ impl BodySystem {
             Some(e) if e.cutoff_pairs().is_none() && e.pair_cutoff().is_some() => neighbours,
             _ => neighbours.half_only(),
         };
+        // Only the Lennard-Jones sites when no electrostatic sum reads the list
+        // (none, or a mesh sum that finds its pairs itself: rigid water's hydrogens).
+        let reads = electrostatics
+            .as_ref()
+            .is_some_and(|e| e.cutoff_pairs().is_some() || e.pair_cutoff().is_some());
+        let neighbours = match (reads, lj_kind.iter().any(Option::is_none)) {
+            (false, true) => neighbours.listing(lj_kind.iter().map(Option::is_some).collect()),
+            _ => neighbours,
+        };
         space.check(neighbours.reach())?;
         Ok(BodySystem {
             types,
