@@ -7,6 +7,7 @@
 use super::electrostatics_shifted::{ChargeDipoles, Factors, Plain, ShiftedForceFactors};
 use super::lennard_jones::LennardJonesTerm;
 use crate::lanes::{Lanes, LANES, V4};
+use nalgebra::Vector3;
 
 /// The Lennard-Jones pairs of a pass.
 pub(super) trait PairKernel<'a>: Sync + Sized {
@@ -144,6 +145,32 @@ impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> 
             force: factors.force(r, r2, target, source),
             source_potential,
             source_field,
+        }
+    }
+}
+
+/// Newton's third law for a chunk of pairs: the chunk's forces `f` on the
+/// site taken from its partners `js` (the lanes in use), and `r f^T` added
+/// to the virial's rows (with `SUMS`).
+#[inline(always)]
+pub(super) fn react<T: Lanes, const SUMS: bool>(
+    f: &V4<T>,
+    r: &V4<T>,
+    js: &[usize],
+    force: &mut [Vector3<f64>],
+    virial: &mut [T; 9],
+) {
+    let forces = f.to_vectors();
+    for (&j, fj) in js.iter().zip(forces) {
+        force[j] -= fj;
+    }
+    if !SUMS {
+        return;
+    }
+    let (rs, fs) = ([r.x, r.y, r.z], [f.x, f.y, f.z]);
+    for a in 0..3 {
+        for b in 0..3 {
+            virial[3 * a + b] += rs[a] * fs[b];
         }
     }
 }

@@ -22,7 +22,7 @@ use super::evaluate::Scope;
 use super::lennard_jones::LennardJonesTerm;
 use super::neighbours::NeighbourList;
 use super::pair_kernels::{
-    Bare, ChargeKernel, LennardJones, NoCharges, NoLennardJones, PairKernel, ShiftedForce,
+    react, Bare, ChargeKernel, LennardJones, NoCharges, NoLennardJones, PairKernel, ShiftedForce,
     Truncated,
 };
 use super::within::Within;
@@ -210,32 +210,6 @@ fn charged(m: &SiteMultipoles, i: usize) -> ChargeDipole {
     }
 }
 
-/// Newton's third law for a chunk of pairs: the chunk's forces `f` on the
-/// site taken from its partners `js` (the lanes in use), and `r f^T` added
-/// to the virial's rows (with `SUMS`).
-#[inline(always)]
-fn react<T: Lanes, const SUMS: bool>(
-    f: &V4<T>,
-    r: &V4<T>,
-    js: &[usize],
-    force: &mut [Vector3<f64>],
-    virial: &mut [T; 9],
-) {
-    let forces = f.to_vectors();
-    for (&j, fj) in js.iter().zip(forces) {
-        force[j] -= fj;
-    }
-    if !SUMS {
-        return;
-    }
-    let (rs, fs) = ([r.x, r.y, r.z], [f.x, f.y, f.z]);
-    for a in 0..3 {
-        for b in 0..3 {
-            virial[3 * a + b] += rs[a] * fs[b];
-        }
-    }
-}
-
 /// What the kernels read.
 struct Inputs<'a> {
     terms: &'a PairTerms<'a>,
@@ -368,19 +342,14 @@ impl<'a> Inputs<'a> {
         let Some(lj) = L::new(self.terms.lennard_jones.map(|t| t.0)) else {
             return;
         };
-        let lj_cutoff = self.terms.lennard_jones.map_or(0.0, |(t, _)| t.cutoff());
         let (coulomb_cutoff, multipoles) = match self.terms.electrostatics {
             Some((cutoff, _, m)) => (cutoff, Some(m)),
             None => (0.0, None),
         };
         let coulomb = C::new();
-        let (lj_cutoff2, coulomb_cutoff2) = (
-            T::splat(lj_cutoff * lj_cutoff),
-            T::splat(coulomb_cutoff * coulomb_cutoff),
-        );
+        let charges = (&coulomb, coulomb_cutoff);
+        let (lj_cutoff2, coulomb_cutoff2, reach2) = self.squared_cutoffs::<T>();
         let kind = self.kind;
-        // Pairs beyond both cutoffs (zero for a term the pass lacks) are not kept.
-        let reach2 = lj_cutoff.max(coulomb_cutoff).powi(2);
         // Which lanes a chunk of `n` pairs uses, at `n - 1`.
         let listed: [T; LANES] = std::array::from_fn(|n| T::mask(std::array::from_fn(|l| l <= n)));
         let (mut lj_energy, mut overlaps) = (T::default(), T::default());
@@ -424,14 +393,7 @@ impl<'a> Inputs<'a> {
                     let within = r2.lt(coulomb_cutoff2).keep(listed);
                     let sums = (&mut field_i, &mut potential_i);
                     let chunk = (&r, r2, within, &js[..n]);
-                    f += self.charge_pairs::<T, C, SUMS>(
-                        &coulomb,
-                        coulomb_cutoff,
-                        chunk,
-                        (t, m),
-                        sums,
-                        out,
-                    );
+                    f += self.charge_pairs::<T, C, SUMS>(charges, chunk, (t, m), sums, out);
                 }
                 force_i += f;
                 react::<T, SUMS>(&f, &r, &js[..n], &mut out.force, &mut virial);
@@ -447,6 +409,16 @@ impl<'a> Inputs<'a> {
         out.lennard_jones = lj_energy.total();
         out.overlaps = overlaps.total();
         out.virial = Matrix3::from_fn(|a, b| virial[3 * a + b].total());
+    }
+
+    /// The squared cutoffs of the pass's Lennard-Jones and charge-dipole
+    /// terms (zero for a term it lacks) in lanes, and the larger: the
+    /// pairs beyond both are not kept.
+    fn squared_cutoffs<T: Lanes>(&self) -> (T, T, f64) {
+        let lj = self.terms.lennard_jones.map_or(0.0, |(t, _)| t.cutoff());
+        let coulomb = self.terms.electrostatics.map_or(0.0, |(c, _, _)| c);
+        let (lj2, coulomb2) = (lj * lj, coulomb * coulomb);
+        (T::splat(lj2), T::splat(coulomb2), lj2.max(coulomb2))
     }
 
     /// The Lennard-Jones energies, `-(1/r) du/dr` and overlap marks of
@@ -478,8 +450,7 @@ impl<'a> Inputs<'a> {
     #[inline(always)]
     fn charge_pairs<T: Lanes, C: ChargeKernel, const SUMS: bool>(
         &self,
-        coulomb: &C,
-        cutoff: f64,
+        (coulomb, cutoff): (&C, f64),
         (r, r2, mut within, js): (&V4<T>, T, T, &[usize]),
         (t, m): (&ChargeDipoles<T>, &SiteMultipoles),
         (field_i, potential_i): (&mut V4<T>, &mut T),

@@ -141,29 +141,12 @@ impl BodySystem {
         };
         let skin = non_negative(options.skin).map_err(|e| e.at("skin"))?;
         let electrostatics = electrostatics(options, carried, &site_body, (&space, skin))?;
-        let cutoff = [
-            lennard_jones.as_ref().map(|t| t.cutoff()),
-            electrostatics.as_ref().and_then(|e| e.pair_cutoff()),
-        ]
-        .into_iter()
-        .flatten()
-        .fold(0.0, f64::max);
-        // Bodies without interacting sites still get a (never used) list.
-        let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
-        // Only an electrostatic sum outside the pair pass that reads the list reads the full view.
-        let neighbours = match &electrostatics {
-            Some(e) if e.cutoff_pairs().is_none() && e.pair_cutoff().is_some() => neighbours,
-            _ => neighbours.half_only(),
-        };
-        // Only the Lennard-Jones sites when no electrostatic sum reads the list
-        // (none, or a mesh sum that finds its pairs itself: rigid water's hydrogens).
-        let reads = electrostatics
-            .as_ref()
-            .is_some_and(|e| e.cutoff_pairs().is_some() || e.pair_cutoff().is_some());
-        let neighbours = match (reads, lj_kind.iter().any(Option::is_none)) {
-            (false, true) => neighbours.listing(lj_kind.iter().map(Option::is_some).collect()),
-            _ => neighbours,
-        };
+        let neighbours = neighbour_list(
+            lennard_jones.as_ref(),
+            electrostatics.as_deref(),
+            &lj_kind,
+            skin,
+        )?;
         space.check(neighbours.reach())?;
         Ok(BodySystem {
             types,
@@ -339,4 +322,39 @@ fn electrostatics(
         }
         (_, false) => None,
     })
+}
+
+/// The neighbour list of the sites: its reach the longest cutoff that reads
+/// it plus `skin`; the full view only for an electrostatic sum outside the
+/// pair pass that reads the list; only the Lennard-Jones sites (`lj_kind`)
+/// when no electrostatic sum reads it.
+fn neighbour_list(
+    lennard_jones: Option<&LennardJonesTerm>,
+    electrostatics: Option<&dyn Electrostatics>,
+    lj_kind: &[Option<u32>],
+    skin: f64,
+) -> Result<NeighbourList, InputError> {
+    let cutoff = [
+        lennard_jones.map(|t| t.cutoff()),
+        electrostatics.and_then(|e| e.pair_cutoff()),
+    ]
+    .into_iter()
+    .flatten()
+    .fold(0.0, f64::max);
+    // Bodies without interacting sites still get a (never used) list.
+    let neighbours = NeighbourList::new(if cutoff > 0.0 { cutoff } else { 1.0 }, skin)?;
+    // Only an electrostatic sum outside the pair pass that reads the list reads the full view.
+    let neighbours = match electrostatics {
+        Some(e) if e.cutoff_pairs().is_none() && e.pair_cutoff().is_some() => neighbours,
+        _ => neighbours.half_only(),
+    };
+    // Only the Lennard-Jones sites when no electrostatic sum reads the list
+    // (none, or a mesh sum that finds its pairs itself: rigid water's hydrogens).
+    let reads =
+        electrostatics.is_some_and(|e| e.cutoff_pairs().is_some() || e.pair_cutoff().is_some());
+    let neighbours = match (reads, lj_kind.iter().any(Option::is_none)) {
+        (false, true) => neighbours.listing(lj_kind.iter().map(Option::is_some).collect()),
+        _ => neighbours,
+    };
+    Ok(neighbours)
 }

@@ -139,13 +139,7 @@ fn run_steps(
     };
     let (mut history, mut last, mut row) = (EnergyHistory::default(), None, Vec::new());
     let mut step = start_step;
-    // Whether the energies are read at `step`: a sample, a blow-up check, the last step.
-    let evaluated = |step: u64| {
-        let due = |every: u64| step % every == 0;
-        bodies.series.iter().any(|s| due(s.every))
-            || due(scene.record.check_every)
-            || step == scene.steps
-    };
+    let evaluated = |step: u64| energies_read((scene, bodies), step);
     let stop = loop {
         let time = step as f64 * scene.dt;
         let due = |every: u64| step % every == 0;
@@ -207,6 +201,15 @@ fn run_steps(
         energy_history: history,
         wall_seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Whether the energies are read at `step`: a sample, a blow-up check,
+/// the last step.
+fn energies_read((scene, bodies): (&Scene, &BodyScene), step: u64) -> bool {
+    let due = |every: u64| step % every == 0;
+    bodies.series.iter().any(|s| due(s.every))
+        || due(scene.record.check_every)
+        || step == scene.steps
 }
 
 /// The energies of `system` after its evaluation `e`, with the
