@@ -199,25 +199,29 @@ fn an_impossible_density_is_refused() {
 /// closer than `OVERLAP_FRACTION` of their sigma (0.5; a part in 1e9 of
 /// margin), and the run looks for the closest pair only when it counted
 /// some: Stockmayer spheres (sigma 1) spread 1.6 apart, three pairs moved
-/// to 0.45, 0.49 and 0.51 of each other count 2, and the closest pair is
-/// the first; a forces-only evaluation counts nothing (`None`).
+/// to 0.45, 0.51 and 0.49 of each other count 2, and the closest pair is
+/// the first; a forces-only evaluation counts nothing (`None`). The pairs
+/// lie at the first, middle and last sites, so that with 3 threads the two
+/// counted fall in different threads' blocks, whose counts add.
 #[test]
 fn the_pass_counts_the_pairs_inside_the_core() {
     use quatrot::bodies::{Scope, OVERLAP_FRACTION};
     assert_eq!(OVERLAP_FRACTION, 0.5);
     let mut moved = bodies(27, 1.6, 4, 1);
-    for (k, gap) in [0.45, 0.49, 0.51].into_iter().enumerate() {
-        moved[2 * k + 1].position = moved[2 * k].position + Vector3::new(0.0, gap, 0.0);
+    for (k, gap) in [(0, 0.45), (12, 0.51), (24, 0.49)] {
+        moved[k + 1].position = moved[k].position + Vector3::new(0.0, gap, 0.0);
     }
     let interactions = options(Truncation::Plain, 2.5, 2.5);
-    for (start, expected) in [(bodies(27, 1.6, 4, 1), 0), (moved, 2)] {
+    let cases = [(bodies(27, 1.6, 4, 1), 0), (moved, 2)];
+    for ((start, expected), threads) in cases.iter().flat_map(|c| [(c, 1), (c, 3)]) {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         let mut system =
-            BodySystem::new(vec![stockmayer()], start, Space::Open, &interactions).unwrap();
+            BodySystem::new(vec![stockmayer()], start.clone(), Space::Open, &interactions).unwrap();
         let mut e = Evaluation::default();
-        system.evaluate(&mut e);
-        assert_eq!(e.overlaps, Some(expected));
+        pool.install(|| system.evaluate(&mut e));
+        assert_eq!(e.overlaps, Some(*expected), "{threads} threads");
         let closest = system.closest_pair().expect("pairs of sites");
-        if expected > 0 {
+        if *expected > 0 {
             assert_eq!(closest.bodies, (0, 1));
             assert!((closest.distance - 0.45).abs() < 1e-12, "{closest:?}");
         } else {
