@@ -214,9 +214,17 @@ fn the_pass_counts_the_pairs_inside_the_core() {
     let interactions = options(Truncation::Plain, 2.5, 2.5);
     let cases = [(bodies(27, 1.6, 4, 1), 0), (moved, 2)];
     for ((start, expected), threads) in cases.iter().flat_map(|c| [(c, 1), (c, 3)]) {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        let mut system =
-            BodySystem::new(vec![stockmayer()], start.clone(), Space::Open, &interactions).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut system = BodySystem::new(
+            vec![stockmayer()],
+            start.clone(),
+            Space::Open,
+            &interactions,
+        )
+        .unwrap();
         let mut e = Evaluation::default();
         pool.install(|| system.evaluate(&mut e));
         assert_eq!(e.overlaps, Some(*expected), "{threads} threads");
