@@ -19,6 +19,10 @@ pub const CELLS_PER_SITE: usize = 8;
 /// those within reach as the bits of a `u64`).
 const RUN: usize = 64;
 
+/// The cells next to one (itself included) with their shifts, and how
+/// many of the array's are ([`Cells::neighbours`]).
+pub(super) type Neighbours = ([(usize, [i8; 3]); 27], usize);
+
 /// A grid of cells over the sites.
 pub(super) struct Cells {
     counts: [usize; 3],
@@ -122,10 +126,15 @@ impl Cells {
         self.first.len() - 1
     }
 
+    /// The cell of site `i`.
+    pub fn cell_of(&self, i: usize) -> usize {
+        self.cell_of[i]
+    }
+
     /// The cells next to cell `c` (itself included) with the box lengths
     /// each is shifted by across the faces: the first `count` of the array,
     /// the first axis slowest.
-    fn neighbours(&self, c: usize) -> ([(usize, [i8; 3]); 27], usize) {
+    pub fn neighbours(&self, c: usize) -> Neighbours {
         let [_, ny, nz] = self.counts;
         let own = [c / (ny * nz), (c / nz) % ny, c % nz];
         // Along each axis, the cells one below, at and one above the own
@@ -161,23 +170,23 @@ impl Cells {
     }
 
     /// Calls `found(j, counts)` for every site `j > i` within `reach2 =
-    /// reach^2` of site `i` (at `x`) that `wanted(j)` accepts, `counts` the
-    /// box lengths between `x_i - x_j` and that separation's minimum image.
-    /// A cell's sites are in ascending order: those above `i` are the end
-    /// of its run.
+    /// reach^2` of site `i` (at `x`; `near` the neighbours of its cell)
+    /// that `wanted(j)` accepts, `counts` the box lengths between
+    /// `x_i - x_j` and that separation's minimum image. A cell's sites are
+    /// in ascending order: those above `i` are the end of its run.
     #[inline(always)]
     pub fn scan_above(
         &self,
         (i, x): (usize, &Vector3<f64>),
+        (near, count): &Neighbours,
         reach2: f64,
         wanted: impl Fn(usize) -> bool,
         mut found: impl FnMut(u32, [i8; 3]),
     ) {
         let a = self.wraps[i];
         let w = x - Vector3::from_fn(|k, _| f64::from(a[k]) * self.lengths[k]);
-        let (near, count) = self.neighbours(self.cell_of[i]);
         let mut r2 = [0.0; RUN];
-        for &(c, shift) in &near[..count] {
+        for &(c, shift) in &near[..*count] {
             // `w` seen from the cell's image: `x_i - x_j - L shift` is `p - w_j`.
             let p = w - Vector3::from_fn(|k, _| f64::from(shift[k]) * self.lengths[k]);
             let run = &self.site[self.first[c]..self.first[c + 1]];

@@ -15,8 +15,8 @@
 //! rigid water's hydrogens, whose charges a mesh sum pairs itself, are
 //! neither scanned nor anyone's partners, nor make the list stale).
 
-use super::cells::Cells;
 pub use super::cells::CELLS_PER_SITE;
+use super::cells::{Cells, Neighbours};
 use super::checkpoint::{bad, take_values, whole};
 use super::space::Space;
 use crate::checks::{non_negative, positive, InputError};
@@ -263,15 +263,22 @@ impl Scan<'_> {
         let (sites, body) = (self.sites, self.body);
         let mut counts = Vec::with_capacity(range.len());
         let (mut partners, mut images) = (Vec::new(), Vec::new());
+        // The neighbours of the last site's cell (the sites of a body,
+        // which follow each other, are often in one cell).
+        let mut near: (usize, Neighbours) = (usize::MAX, ([(0, [0; 3]); 27], 0));
         for i in range {
             if self.listed.is_some_and(|l| !l[i]) {
                 counts.push(0);
                 continue;
             }
+            let cell = self.cells.cell_of(i);
+            if near.0 != cell {
+                near = (cell, self.cells.neighbours(cell));
+            }
             let (before, own) = (partners.len(), body[i]);
             let wanted = |j: usize| body[j] != own;
             self.cells
-                .scan_above((i, &sites[i]), self.reach2, wanted, |j, image| {
+                .scan_above((i, &sites[i]), &near.1, self.reach2, wanted, |j, image| {
                     partners.push(j);
                     images.push(image);
                 });

@@ -50,9 +50,22 @@ pub trait BodyMomentum {
     /// The body angular momentum `L_b` given the orientation `q` (unit).
     fn angular_momentum_body(&self, q: &Quat) -> Vector3<f64>;
 
+    /// The component `axis` of `L_b`.
+    fn angular_momentum_about(&self, q: &Quat, axis: usize) -> f64 {
+        self.angular_momentum_body(q)[axis]
+    }
+
     /// Updates the momentum for the body rotation `Q <- Q*E` (unit `E`) with
     /// the space-fixed angular momentum unchanged.
     fn carry(&mut self, e: &Quat);
+
+    /// [`BodyMomentum::carry`] for `E = (c, s e_axis)`, a rotation about
+    /// body axis `axis`.
+    fn carry_about(&mut self, axis: usize, c: f64, s: f64) {
+        let mut e = Quat([c, 0.0, 0.0, 0.0]);
+        e.0[axis + 1] = s;
+        self.carry(&e);
+    }
 }
 
 /// DLM's variable: `L_b <- A(E) L_b`.
@@ -71,8 +84,14 @@ impl BodyMomentum for Quat {
     fn angular_momentum_body(&self, q: &Quat) -> Vector3<f64> {
         (q.conjugate() * *self).vector() * 0.5
     }
+    fn angular_momentum_about(&self, q: &Quat, axis: usize) -> f64 {
+        vector_component_of_product(&q.conjugate(), self, axis) * 0.5
+    }
     fn carry(&mut self, e: &Quat) {
         *self = *self * *e;
+    }
+    fn carry_about(&mut self, axis: usize, c: f64, s: f64) {
+        *self = times_axis_rotation(self, axis, c, s);
     }
 }
 
@@ -89,12 +108,50 @@ pub fn rotate_about_body_axis<M: BodyMomentum>(
     if inertia_k == 0.0 {
         return;
     }
-    let angle = duration * momentum.angular_momentum_body(q)[axis] / inertia_k;
+    let angle = duration * momentum.angular_momentum_about(q, axis) / inertia_k;
     let (s, c) = (0.5 * angle).sin_cos();
-    let mut e = Quat([c, 0.0, 0.0, 0.0]);
-    e.0[axis + 1] = s;
-    *q = *q * e;
-    momentum.carry(&e);
+    *q = times_axis_rotation(q, axis, c, s);
+    momentum.carry_about(axis, c, s);
+}
+
+/// Component `axis` (0, 1, 2) of `vec(p*q)`: the operations of that
+/// component of `*`, so the same bits.
+#[inline]
+fn vector_component_of_product(p: &Quat, q: &Quat, axis: usize) -> f64 {
+    let ([p0, p1, p2, p3], [q0, q1, q2, q3]) = (p.0, q.0);
+    match axis {
+        0 => p0 * q1 + q0 * p1 + p2 * q3 - p3 * q2,
+        1 => p0 * q2 + q0 * p2 + p3 * q1 - p1 * q3,
+        _ => p0 * q3 + q0 * p3 + p1 * q2 - p2 * q1,
+    }
+}
+
+/// `p*(c, s e)` with `e` the unit vector along `axis` (0, 1, 2), the
+/// rotation of an axis flow: `*` without its terms in the zero components
+/// (the same bits but for the sign of an exact zero).
+#[inline]
+fn times_axis_rotation(p: &Quat, axis: usize, c: f64, s: f64) -> Quat {
+    let [p0, p1, p2, p3] = p.0;
+    Quat(match axis {
+        0 => [
+            c * p0 - s * p1,
+            c * p1 + s * p0,
+            c * p2 + s * p3,
+            c * p3 - s * p2,
+        ],
+        1 => [
+            c * p0 - s * p2,
+            c * p1 - s * p3,
+            c * p2 + s * p0,
+            c * p3 + s * p1,
+        ],
+        _ => [
+            c * p0 - s * p3,
+            c * p1 + s * p2,
+            c * p2 - s * p1,
+            c * p3 + s * p0,
+        ],
+    })
 }
 
 /// The symmetric sweep over `duration`: flows about `axes[0]`, `axes[1]`
@@ -165,6 +222,45 @@ pub fn omega_from_momentum(momentum_body: &Vector3<f64>, inertia: &Vector3<f64>)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The products of one component and with an axis rotation are `*`'s
+    /// bits: for random quaternions (zeros among their components too) and
+    /// each axis, `vector_component_of_product` equals the component of the
+    /// full product, and `times_axis_rotation` equals the full product with
+    /// `(c, s e_axis)` but for the sign of a zero.
+    #[test]
+    fn sparse_products_are_the_full_products_bits() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut draw = |zeros: bool| {
+            Quat(std::array::from_fn(|_| {
+                match zeros && rng.random::<f64>() < 0.3 {
+                    true => 0.0,
+                    false => rng.random::<f64>() * 2.0 - 1.0,
+                }
+            }))
+        };
+        for n in 0..2_000 {
+            let (p, q) = (draw(n % 2 == 1), draw(n % 2 == 1));
+            let (c, s) = (q.0[0], q.0[1]);
+            for axis in 0..3 {
+                let full = p * q;
+                assert_eq!(
+                    vector_component_of_product(&p, &q, axis).to_bits(),
+                    full.0[axis + 1].to_bits()
+                );
+                let mut e = Quat::new(c, 0.0, 0.0, 0.0);
+                e.0[axis + 1] = s;
+                let (sparse, full) = (times_axis_rotation(&p, axis, c, s), p * e);
+                for (a, b) in sparse.0.iter().zip(full.0) {
+                    assert!(
+                        a.to_bits() == b.to_bits() || (*a == 0.0 && b == 0.0),
+                        "{p:?} {axis}"
+                    );
+                }
+            }
+        }
+    }
 
     /// One axis flow conserves the space-fixed angular momentum and matches
     /// eq 10 for a constant `w_b` along the axis; both momentum forms agree.
