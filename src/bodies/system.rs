@@ -358,3 +358,34 @@ fn neighbour_list(
     };
     Ok(neighbours)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The neighbour list keeps its full view only for an electrostatic sum
+    /// that reads it outside the pair pass: a cutoff sum of quadrupoles
+    /// (summed over the full view) has it, a cutoff sum of dipoles (summed
+    /// in the pair pass, over the half list) has none; both list the one
+    /// pair of two sites 1 apart once in the half list.
+    #[test]
+    fn only_a_sum_outside_the_pair_pass_keeps_the_full_view() {
+        let sites = [Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
+        for (quadrupoles, full_view) in [(true, 1), (false, 0)] {
+            let carried = Carried {
+                charges: false,
+                dipoles: true,
+                quadrupoles,
+            };
+            let sum = CutoffSum::new(2.0, ElectrostaticTruncation::Plain, carried).unwrap();
+            let mut list = neighbour_list(None, Some(&sum), &[None, None], 0.5).unwrap();
+            list.build(&sites, &[0, 1], &Space::Open);
+            assert_eq!(
+                list.separations(0, &sites).count(),
+                full_view,
+                "quadrupoles {quadrupoles}"
+            );
+            assert_eq!(list.half_pairs(0, &sites).count(), 1);
+        }
+    }
+}
