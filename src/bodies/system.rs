@@ -367,9 +367,11 @@ mod tests {
     /// that reads it outside the pair pass: a cutoff sum of quadrupoles
     /// (summed over the full view) has it, a cutoff sum of dipoles (summed
     /// in the pair pass, over the half list) has none; both list the one
-    /// pair of two sites 1 apart once in the half list.
+    /// pair of two sites 1 apart once in the half list, although only the
+    /// first has Lennard-Jones (a list of the Lennard-Jones sites alone is
+    /// for sums that do not read it).
     #[test]
-    fn only_a_sum_outside_the_pair_pass_keeps_the_full_view() {
+    fn the_list_holds_what_the_electrostatic_sum_reads() {
         let sites = [Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)];
         for (quadrupoles, full_view) in [(true, 1), (false, 0)] {
             let carried = Carried {
@@ -378,7 +380,7 @@ mod tests {
                 quadrupoles,
             };
             let sum = CutoffSum::new(2.0, ElectrostaticTruncation::Plain, carried).unwrap();
-            let mut list = neighbour_list(None, Some(&sum), &[None, None], 0.5).unwrap();
+            let mut list = neighbour_list(None, Some(&sum), &[Some(0), None], 0.5).unwrap();
             list.build(&sites, &[0, 1], &Space::Open);
             assert_eq!(
                 list.separations(0, &sites).count(),
