@@ -62,10 +62,16 @@ pub trait BodyMomentum {
     /// [`BodyMomentum::carry`] for `E = (c, s e_axis)`, a rotation about
     /// body axis `axis`.
     fn carry_about(&mut self, axis: usize, c: f64, s: f64) {
-        let mut e = Quat([c, 0.0, 0.0, 0.0]);
-        e.0[axis + 1] = s;
-        self.carry(&e);
+        self.carry(&axis_rotation(axis, c, s));
     }
+}
+
+/// The rotation `(c, s e)` about body axis `axis` (0, 1, 2), `e` the unit
+/// vector along it.
+fn axis_rotation(axis: usize, c: f64, s: f64) -> Quat {
+    let mut e = Quat([c, 0.0, 0.0, 0.0]);
+    e.0[axis + 1] = s;
+    e
 }
 
 /// DLM's variable: `L_b <- A(E) L_b`.
@@ -126,8 +132,7 @@ fn vector_component_of_product(p: &Quat, q: &Quat, axis: usize) -> f64 {
     }
 }
 
-/// `p*(c, s e)` with `e` the unit vector along `axis` (0, 1, 2), the
-/// rotation of an axis flow: `*` without its terms in the zero components
+/// `p*axis_rotation(axis, c, s)`, the rotation of an axis flow: `*` without its terms in the zero components
 /// (the same bits but for the sign of an exact zero).
 #[inline]
 fn times_axis_rotation(p: &Quat, axis: usize, c: f64, s: f64) -> Quat {
@@ -249,9 +254,8 @@ mod tests {
                     vector_component_of_product(&p, &q, axis).to_bits(),
                     full.0[axis + 1].to_bits()
                 );
-                let mut e = Quat::new(c, 0.0, 0.0, 0.0);
-                e.0[axis + 1] = s;
-                let (sparse, full) = (times_axis_rotation(&p, axis, c, s), p * e);
+                let full = p * axis_rotation(axis, c, s);
+                let sparse = times_axis_rotation(&p, axis, c, s);
                 for (a, b) in sparse.0.iter().zip(full.0) {
                     assert!(
                         a.to_bits() == b.to_bits() || (*a == 0.0 && b == 0.0),
