@@ -132,8 +132,9 @@ fn vector_component_of_product(p: &Quat, q: &Quat, axis: usize) -> f64 {
     }
 }
 
-/// `p*axis_rotation(axis, c, s)`, the rotation of an axis flow: `*` without its terms in the zero components
-/// (the same bits but for the sign of an exact zero).
+/// `p*axis_rotation(axis, c, s)`, the rotation of an axis flow: `*`
+/// without its terms in the zero components (the same bits but for the
+/// sign of an exact zero).
 #[inline]
 fn times_axis_rotation(p: &Quat, axis: usize, c: f64, s: f64) -> Quat {
     let [p0, p1, p2, p3] = p.0;
