@@ -135,14 +135,12 @@ impl NeighbourList {
         self.half.separations(i, range, positions, self.space)
     }
 
-    /// The partners listed under site `i` in the half list and their image
-    /// counts (the lane kernels' form of [`NeighbourList::half_pairs`]: the
-    /// separation of partner `j` with counts `c` is `x_i - x_j - shift(c)`
-    /// in the space of the build, [`NeighbourList::space`]).
+    /// The partners listed under site `i` in the half list (the lane
+    /// kernels' form of [`NeighbourList::half_pairs`], which take each
+    /// pair's minimum image: `super::within`).
     #[inline]
-    pub(crate) fn half_run(&self, i: usize) -> (&[u32], &[[i8; 3]]) {
-        let range = self.half.start[i]..self.half.start[i + 1];
-        (&self.half.partner[range.clone()], &self.half.image[range])
+    pub(crate) fn half_run(&self, i: usize) -> &[u32] {
+        &self.half.partner[self.half.start[i]..self.half.start[i + 1]]
     }
 
     /// The space of the last build.
@@ -150,8 +148,8 @@ impl NeighbourList {
         &self.space
     }
 
-    /// The box lengths of the image counts of [`NeighbourList::half_run`]
-    /// (zero in open space).
+    /// The box lengths of the last build's space (zero in open space): the
+    /// minimum images' of [`NeighbourList::half_run`]'s partners.
     pub(crate) fn image_lengths(&self) -> Vector3<f64> {
         match self.space {
             Space::Periodic(l) => l,

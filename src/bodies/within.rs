@@ -6,9 +6,18 @@
 //! listed pairs beyond every cutoff (about 30 % of a list with a skin of
 //! 0.3 at a cutoff of 2.5: the shell's share `1 - (2.5 / 2.8)^3`).
 //!
-//! A separation is `x_i - x_j - shift`, the shift `c L` of the pair's image
-//! counts `c` (zero for most pairs, their own minimum image): the bits of
-//! [`super::neighbours::NeighbourList::half_pairs`]' separations.
+//! A separation is the minimum image `d - c L` of `d = x_i - x_j`, its
+//! image counts `c = round(d / L)` computed here rather than read from the
+//! list. For every pair within reach they are the list's image counts, so
+//! a kept separation has the bits of
+//! [`super::neighbours::NeighbourList::half_pairs`]': a periodic box is at
+//! least twice the list's reach (`cutoff + skin`, [`super::space::Space::check`])
+//! wide, so at most one image of a pair is within that reach; an image within
+//! the cutoff now was within the list's reach at the last build (no site has
+//! moved half the skin since), so it is the image listed; and with `|d - c
+//! L| < cutoff < L / 2` along each axis, `c` is the nearest integer to `d /
+//! L`. A listed pair beyond reach may take another image here; it is not
+//! kept either way (no image of it is within reach).
 //!
 //! On x86-64 CPUs with AVX2 the listed partners are taken four at a time
 //! (their positions loaded, the four separations computed in lanes and
@@ -35,15 +44,15 @@ pub(super) struct Within {
 }
 
 impl Within {
-    /// Keeps the partners `partners` (image counts `images`) of the site at
-    /// `x` among `positions` whose squared separation is below `reach2`,
-    /// in their listed order; `lengths` are the box lengths of the image
-    /// counts (zero in open space).
+    /// Keeps the partners `partners` of the site at `x` among `positions`
+    /// whose squared minimum-image separation is below `reach2`, in their
+    /// listed order; `lengths` are the box lengths (zero in open space),
+    /// and `reach2` below a quarter of the smallest's square.
     #[inline(always)]
     pub fn collect(
         &mut self,
         x: &Vector3<f64>,
-        (partners, images): (&[u32], &[[i8; 3]]),
+        partners: &[u32],
         positions: &[Vector3<f64>],
         lengths: &Vector3<f64>,
         reach2: f64,
@@ -63,13 +72,14 @@ impl Within {
             x,
             positions,
             lengths,
+            inverse_lengths: lengths.map(|l| if l > 0.0 { 1.0 / l } else { 0.0 }),
             reach2,
         };
         let (mut done, mut n) = (0, 0);
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2, checked just above.
-            (done, n) = unsafe { self.keep_rows_avx2(&site, (partners, images)) };
+            (done, n) = unsafe { self.keep_rows_avx2(&site, partners) };
         }
         let partner = &mut self.partner[..room];
         let (xs, ys, zs, r2s) = (
@@ -78,9 +88,9 @@ impl Within {
             &mut self.z[..room],
             &mut self.r2[..room],
         );
-        for (&j, c) in partners[done..].iter().zip(&images[done..]) {
+        for &j in &partners[done..] {
             let j = j as usize;
-            let (r, r2) = site.separation(j, c);
+            let (r, r2) = site.separation(j);
             let k = n.min(room - 1);
             (partner[k], xs[k], ys[k], zs[k], r2s[k]) = (j, r.x, r.y, r.z, r2);
             n += usize::from(r2 < reach2);
@@ -111,26 +121,26 @@ impl Within {
 }
 
 /// The site whose partners are kept: its position, the positions of all
-/// sites, the box lengths and the squared reach.
+/// sites, the box lengths and their inverses (zero in open space) and the
+/// squared reach.
 struct Site<'a> {
     x: &'a Vector3<f64>,
     positions: &'a [Vector3<f64>],
     lengths: &'a Vector3<f64>,
+    inverse_lengths: Vector3<f64>,
     reach2: f64,
 }
 
 impl Site<'_> {
-    /// The separation from partner `j` with image counts `c` and its
-    /// squared length.
+    /// The minimum-image separation from partner `j` and its squared
+    /// length: `d - L round(d / L)`, the quotient as `d (1 / L)`, ties to
+    /// even (as the lanes round).
     #[inline(always)]
-    fn separation(&self, j: usize, c: &[i8; 3]) -> (Vector3<f64>, f64) {
-        let l = self.lengths;
-        let shift = Vector3::new(
-            l.x * f64::from(c[0]),
-            l.y * f64::from(c[1]),
-            l.z * f64::from(c[2]),
-        );
-        let r = self.x - self.positions[j] - shift;
+    fn separation(&self, j: usize) -> (Vector3<f64>, f64) {
+        let d = self.x - self.positions[j];
+        let r = Vector3::from_fn(|k, _| {
+            d[k] - self.lengths[k] * (d[k] * self.inverse_lengths[k]).round_ties_even()
+        });
         (r, r.x * r.x + r.y * r.y + r.z * r.z)
     }
 }
@@ -162,22 +172,6 @@ mod avx2 {
         table
     };
 
-    /// Which byte of four pairs' image counts (three bytes each) is the
-    /// count along each axis, in the low four bytes (the rest cleared).
-    const AXIS_BYTES: [[i8; 16]; 3] = {
-        let mut table = [[-1; 16]; 3];
-        let mut k = 0;
-        while k < 3 {
-            let mut l = 0;
-            while l < LANES {
-                table[k][l] = (3 * l + k) as i8;
-                l += 1;
-            }
-            k += 1;
-        }
-        table
-    };
-
     impl Within {
         /// [`Within::collect`] of the first whole rows of four listed
         /// partners (the rows' room already made): how many partners were
@@ -187,14 +181,12 @@ mod avx2 {
         pub(super) fn keep_rows_avx2(
             &mut self,
             site: &Site<'_>,
-            (partners, images): (&[u32], &[[i8; 3]]),
+            partners: &[u32],
         ) -> (usize, usize) {
-            let rows = partners.len().min(images.len()) / LANES * LANES;
+            let rows = partners.len() / LANES * LANES;
             // The intrinsics need AVX2, which the CPU has (the caller's
             // promise for this function); each load and store says why it
             // stays in bounds.
-            // SAFETY: a table row is 16 bytes.
-            let [ax, ay, az] = AXIS_BYTES.map(|b| unsafe { _mm_loadu_si128(b.as_ptr().cast()) });
             let reach2 = _mm256_set1_pd(site.reach2);
             // Every row is stored from the count `n <= k` (the kept of the
             // `k` partners before it), so within the room of the listed
@@ -213,13 +205,10 @@ mod avx2 {
                 [&mut self.x, &mut self.y, &mut self.z, &mut self.r2].map(|v| v.as_mut_ptr());
             let partner_out = self.partner.as_mut_ptr();
             let mut n = 0;
-            for (js, cs) in partners[..rows]
-                .chunks_exact(LANES)
-                .zip(images[..rows].chunks_exact(LANES))
-            {
+            for js in partners[..rows].chunks_exact(LANES) {
                 // SAFETY: four u32 are 16 bytes.
                 let j = unsafe { _mm_loadu_si128(js.as_ptr().cast()) };
-                let [rx, ry, rz, r2] = row_separations(site, js, cs, [ax, ay, az]);
+                let [rx, ry, rz, r2] = row_separations(site, js);
                 let kept = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(r2, reach2)) as usize;
                 // SAFETY: a table row is 32 bytes.
                 let front = unsafe { _mm256_loadu_si256(FRONT[kept].as_ptr().cast()) };
@@ -243,24 +232,21 @@ mod avx2 {
         }
     }
 
-    /// The separations `x_i - x_j - L n` of four listed partners `js` with
-    /// image counts `cs` (the byte shuffles `axes` pick each axis's counts),
-    /// as rows by component, and their squares: each lane rounded as the
-    /// one-by-one separation is (no fused multiply-add).
+    /// The minimum-image separations of four listed partners `js`, as rows
+    /// by component, and their squares: each lane rounded as
+    /// [`Site::separation`] rounds (no fused multiply-add).
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn row_separations(
-        site: &Site<'_>,
-        js: &[u32],
-        cs: &[[i8; 3]],
-        [ax, ay, az]: [__m128i; 3],
-    ) -> [__m256d; 4] {
+    fn row_separations(site: &Site<'_>, js: &[u32]) -> [__m256d; 4] {
         let [lx, ly, lz] =
             [site.lengths.x, site.lengths.y, site.lengths.z].map(|l| _mm256_set1_pd(l));
+        let inverse = site.inverse_lengths;
+        let [ix, iy, iz] = [inverse.x, inverse.y, inverse.z].map(|l| _mm256_set1_pd(l));
         let [x, y, z] = [site.x.x, site.x.y, site.x.z].map(|c| _mm256_set1_pd(c));
         // Each partner's position loaded whole (`x, y` as a pair,
         // `z` alone), then turned into rows by component (no
         // gather instructions: slower than loads on some CPUs).
+        assert_eq!(js.len(), LANES, "a row of partners");
         let [p0, p1, p2, p3] = [0, 1, 2, 3].map(|l| &site.positions[js[l] as usize]);
         let xy = |p: &Vector3<f64>| _mm_set_pd(p.y, p.x);
         let (xy02, xy13) = (
@@ -272,19 +258,15 @@ mod avx2 {
             _mm256_unpackhi_pd(xy02, xy13),
             _mm256_set_pd(p3.z, p2.z, p1.z, p0.z),
         );
-        assert_eq!(cs.len(), LANES, "a row of image counts");
-        // SAFETY: four image counts are 12 bytes, read as 8 and 4.
-        let counts = unsafe {
-            let at = cs.as_ptr().cast::<u8>();
-            _mm_insert_epi32::<2>(
-                _mm_loadl_epi64(at.cast()),
-                at.add(8).cast::<i32>().read_unaligned(),
-            )
+        let image = |d: __m256d, l: __m256d, inverse: __m256d| {
+            let c = _mm256_round_pd::<{ _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC }>(
+                _mm256_mul_pd(d, inverse),
+            );
+            _mm256_sub_pd(d, _mm256_mul_pd(l, c))
         };
-        let count = |axis| _mm256_cvtepi32_pd(_mm_cvtepi8_epi32(_mm_shuffle_epi8(counts, axis)));
-        let rx = _mm256_sub_pd(_mm256_sub_pd(x, px), _mm256_mul_pd(lx, count(ax)));
-        let ry = _mm256_sub_pd(_mm256_sub_pd(y, py), _mm256_mul_pd(ly, count(ay)));
-        let rz = _mm256_sub_pd(_mm256_sub_pd(z, pz), _mm256_mul_pd(lz, count(az)));
+        let rx = image(_mm256_sub_pd(x, px), lx, ix);
+        let ry = image(_mm256_sub_pd(y, py), ly, iy);
+        let rz = image(_mm256_sub_pd(z, pz), lz, iz);
         let r2 = _mm256_add_pd(
             _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry)),
             _mm256_mul_pd(rz, rz),
@@ -297,11 +279,11 @@ mod avx2 {
 mod tests {
     use super::*;
 
-    /// Of five listed partners in a periodic box of side 10, those within
-    /// reach 2 are kept in their order with the separations written out
-    /// here (two of them through their images; two beyond reach, one
-    /// across the box where its zero image counts leave it), and the last row is
-    /// padded with the last kept; none is kept of a partner beyond reach.
+    /// Of five listed partners in a periodic box of side 10, those whose
+    /// minimum image is within reach 2 are kept in their order with the
+    /// separations written out here (three through an image across a face,
+    /// one of them two boxes away; one beyond reach); none is kept of a
+    /// partner beyond reach (the padding: `rows_of_four_keep_what_a_plain_loop_keeps`).
     #[test]
     fn keeps_the_partners_within_reach_with_their_separations() {
         let positions = [
@@ -311,53 +293,57 @@ mod tests {
             Vector3::new(3.0, 0.5, 0.5),
             Vector3::new(0.5, 9.0, 0.5),
             Vector3::new(0.5, 0.5, 9.0),
+            Vector3::new(0.5, 0.5, 19.5),
         ];
         let lengths = Vector3::repeat(10.0);
-        let partners = [1, 2, 3, 4, 5];
-        let images = [[0; 3], [-1, 0, 0], [0; 3], [0, 0, 0], [0, 0, -1]];
+        let partners = [1, 2, 3, 4, 6];
         let mut within = Within::default();
-        within.collect(
-            &positions[0],
-            (&partners, &images),
-            &positions,
-            &lengths,
-            4.0,
-        );
-        assert_eq!(within.count, 3);
-        assert_eq!(&within.partner[..LANES], &[1, 2, 5, 5]);
+        within.collect(&positions[0], &partners, &positions, &lengths, 4.0);
+        assert_eq!(within.count, 4);
+        assert_eq!(&within.partner[..LANES], &[1, 2, 4, 6]);
         assert_eq!(&within.x[..LANES], &[-1.0, 1.0, 0.0, 0.0]);
-        assert_eq!(&within.z[..LANES], &[0.0, 0.0, 1.5, 1.5]);
-        assert_eq!(&within.r2[..LANES], &[1.0, 1.0, 2.25, 2.25]);
-        within.collect(&positions[0], (&[3], &[[0; 3]]), &positions, &lengths, 4.0);
+        assert_eq!(&within.y[..LANES], &[0.0, 0.0, 1.5, 0.0]);
+        assert_eq!(&within.z[..LANES], &[0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(&within.r2[..LANES], &[1.0, 1.0, 2.25, 1.0]);
+        within.collect(&positions[0], &[3], &positions, &lengths, 4.0);
         assert_eq!(within.count, 0);
+    }
+
+    /// In open space (zero box lengths) the separations are the plain
+    /// differences.
+    #[test]
+    fn open_space_takes_no_image() {
+        let positions = [Vector3::new(0.5, 0.5, 0.5), Vector3::new(30.5, -19.5, 0.5)];
+        let mut within = Within::default();
+        within.collect(&positions[0], &[1], &positions, &Vector3::zeros(), 2000.0);
+        assert_eq!(within.count, 1);
+        assert_eq!((within.x[0], within.y[0], within.z[0]), (-30.0, 20.0, 0.0));
     }
 
     /// Taken four at a time (on CPUs with AVX2) or one by one, the kept
     /// partners, their separations (to the bit) and the padding are those
-    /// of a plain loop over the listed partners, for lists of every length
-    /// from 0 to 40 (whole rows and remainders) of random partners with
-    /// image counts -1, 0 or 1 in a box of sides 7, 8 and 9.
+    /// of a plain loop over the listed partners with the minimum image
+    /// `d - L round(d / L)`, for lists of every length from 0 to 40 (whole
+    /// rows and remainders) of random partners, some of them a few boxes
+    /// away, in a box of sides 7, 8 and 9.
     #[test]
     fn rows_of_four_keep_what_a_plain_loop_keeps() {
         use rand::{RngExt, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(39);
         let lengths = Vector3::new(7.0, 8.0, 9.0);
         let positions: Vec<Vector3<f64>> = (0..300)
-            .map(|_| Vector3::from_fn(|k, _| rng.random_range(0.0..lengths[k])))
+            .map(|_| Vector3::from_fn(|k, _| rng.random_range(-2.0..3.0) * lengths[k]))
             .collect();
         let mut within = Within::default();
         for listed in 0..=40 {
             let x = positions[rng.random_range(0..positions.len())];
             let partners: Vec<u32> = (0..listed).map(|_| rng.random_range(0..300)).collect();
-            let images: Vec<[i8; 3]> = (0..listed)
-                .map(|_| [0; 3].map(|_: i8| rng.random_range(-1..=1)))
-                .collect();
             let reach2 = 9.0;
-            within.collect(&x, (&partners, &images), &positions, &lengths, reach2);
+            within.collect(&x, &partners, &positions, &lengths, reach2);
             let mut expected = Vec::new();
-            for (&j, c) in partners.iter().zip(&images) {
-                let shift = Vector3::from_fn(|k, _| lengths[k] * f64::from(c[k]));
-                let r = x - positions[j as usize] - shift;
+            for &j in &partners {
+                let d = x - positions[j as usize];
+                let r = Vector3::from_fn(|k, _| d[k] - lengths[k] * (d[k] / lengths[k]).round());
                 let r2 = r.x * r.x + r.y * r.y + r.z * r.z;
                 if r2 < reach2 {
                     expected.push((j as usize, r.x, r.y, r.z, r2));
@@ -380,5 +366,64 @@ mod tests {
                 .collect();
             assert_eq!(kept, expected, "{listed} listed");
         }
+    }
+
+    /// The module's claim: after the sites have moved (each by less than
+    /// half the skin, across the box's faces too), the partners each site
+    /// keeps within the cutoff are the list's pairs within it, in the
+    /// list's order, with the bits of its separations (through the image
+    /// counts it stored at the build).
+    #[test]
+    fn the_kept_pairs_are_the_lists_within_the_cutoff() {
+        use super::super::neighbours::NeighbourList;
+        use super::super::space::Space;
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(41);
+        // The box exactly twice the list's reach along x, the least allowed.
+        let (n, lengths, cutoff, skin) = (400, Vector3::new(5.2, 6.5, 7.0), 2.0, 0.6);
+        let space = Space::Periodic(lengths);
+        let mut sites: Vec<Vector3<f64>> = (0..n)
+            .map(|_| Vector3::from_fn(|k, _| rng.random::<f64>() * lengths[k]))
+            .collect();
+        let body: Vec<u32> = (0..n as u32).collect();
+        let mut list = NeighbourList::new(cutoff, skin).unwrap();
+        list.build(&sites, &body, &space);
+        for x in &mut sites {
+            *x += Vector3::from_fn(|_, _| (rng.random::<f64>() - 0.5) * 0.3);
+        }
+        assert!(!list.is_stale(&sites, &space));
+        let mut within = Within::default();
+        let mut kept = 0;
+        for i in 0..n {
+            within.collect(
+                &sites[i],
+                list.half_run(i),
+                &sites,
+                &lengths,
+                cutoff * cutoff,
+            );
+            let expected: Vec<(usize, [u64; 4])> = list
+                .half_pairs(i, &sites)
+                .map(|(j, r)| (j, [r.x, r.y, r.z, r.norm_squared()]))
+                .filter(|(_, r)| r[3] < cutoff * cutoff)
+                .map(|(j, r)| (j, r.map(f64::to_bits)))
+                .collect();
+            let found: Vec<(usize, [u64; 4])> = (0..within.count)
+                .map(|k| {
+                    let r = [within.x[k], within.y[k], within.z[k], within.r2[k]];
+                    (within.partner[k], r.map(f64::to_bits))
+                })
+                .collect();
+            assert_eq!(
+                found.iter().map(|p| p.0).collect::<Vec<_>>(),
+                expected.iter().map(|p| p.0).collect::<Vec<_>>(),
+                "site {i}"
+            );
+            for ((j, a), (_, b)) in found.iter().zip(&expected) {
+                assert_eq!(a[..3], b[..3], "site {i}, partner {j}");
+            }
+            kept += within.count;
+        }
+        assert!(kept > 5 * n, "{kept} pairs within the cutoff");
     }
 }
