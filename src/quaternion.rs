@@ -53,6 +53,29 @@ const SINC_SERIES: [f64; 5] = [
     1.0 / 362_880.0,
 ];
 
+/// The polynomial `c[0] + c[1] h2 + ... + c[4] h2^4` (Horner's rule).
+#[inline(always)]
+fn series(c: &[f64; 5], h2: f64) -> f64 {
+    c[..4].iter().rev().fold(c[4], |sum, &c| sum * h2 + c)
+}
+
+/// `cos(angle / 2)` and `sin(angle / 2)`: the series of [`Quat::exp`]
+/// below `EXP_SERIES_MAX_ANGLE` (exact to rounding there, cheaper than
+/// libm's `sin_cos`), libm above.
+#[inline]
+pub(crate) fn half_angle_cos_sin(angle: f64) -> (f64, f64) {
+    if angle.abs() < EXP_SERIES_MAX_ANGLE {
+        let h2 = 0.25 * angle * angle;
+        (
+            series(&COS_SERIES, h2),
+            0.5 * angle * series(&SINC_SERIES, h2),
+        )
+    } else {
+        let (s, c) = (0.5 * angle).sin_cos();
+        (c, s)
+    }
+}
+
 /// A quaternion `(q0, q1, q2, q3)`, scalar first (eq 1). Not necessarily unit.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Quat(pub [f64; 4]);
@@ -307,8 +330,7 @@ impl Quat {
         // losing accuracy as |v| -> 0), libm above.
         let (cos_half, sinc) = if angle_squared < EXP_SERIES_MAX_ANGLE * EXP_SERIES_MAX_ANGLE {
             let h2 = 0.25 * angle_squared;
-            let series = |c: &[f64; 5]| c[..4].iter().rev().fold(c[4], |sum, &c| sum * h2 + c);
-            (series(&COS_SERIES), 0.5 * series(&SINC_SERIES))
+            (series(&COS_SERIES, h2), 0.5 * series(&SINC_SERIES, h2))
         } else {
             let angle = angle_squared.sqrt();
             let (sin_half, cos_half) = (0.5 * angle).sin_cos();
@@ -559,6 +581,28 @@ mod tests {
             assert!((q.norm_squared() - 1.0).abs() <= ULPS, "angle {angle}");
             angle *= 1.07;
         }
+    }
+
+    /// `half_angle_cos_sin` is libm's `cos` and `sin` of half the angle to
+    /// about an ulp, below, at and above `EXP_SERIES_MAX_ANGLE`, for angles
+    /// of either sign.
+    #[test]
+    fn half_angle_series_matches_libm() {
+        const ULPS: f64 = 4.0 * f64::EPSILON;
+        let mut angle = 1e-9;
+        while angle < 4.0 * EXP_SERIES_MAX_ANGLE {
+            for a in [angle, -angle] {
+                let (c, s) = half_angle_cos_sin(a);
+                let (libm_s, libm_c) = (0.5 * a).sin_cos();
+                assert!((c - libm_c).abs() <= ULPS * libm_c.abs(), "cos, angle {a}");
+                assert!((s - libm_s).abs() <= ULPS * libm_s.abs(), "sin, angle {a}");
+            }
+            angle *= 1.07;
+        }
+        assert_eq!(half_angle_cos_sin(0.0), (1.0, 0.0));
+        let above = 1.5 * EXP_SERIES_MAX_ANGLE;
+        let (s, c) = (0.5 * above).sin_cos();
+        assert_eq!(half_angle_cos_sin(above), (c, s));
     }
 
     /// The derivative matrices agree with central differences of eq 7.

@@ -115,7 +115,7 @@ pub fn rotate_about_body_axis<M: BodyMomentum>(
         return;
     }
     let angle = duration * momentum.angular_momentum_about(q, axis) / inertia_k;
-    let (s, c) = (0.5 * angle).sin_cos();
+    let (c, s) = crate::quaternion::half_angle_cos_sin(angle);
     *q = times_axis_rotation(q, axis, c, s);
     momentum.carry_about(axis, c, s);
 }
