@@ -149,9 +149,13 @@ impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> 
     }
 }
 
-/// Newton's third law for a chunk of pairs: the chunk's forces `f` on the
-/// site taken from its partners `js` (the lanes in use), and `r f^T` added
-/// to the virial's rows (with `SUMS`).
+/// Newton's third law for a row of pairs: the row's forces `f` on the
+/// site taken from its partners `js`, and `r f^T` added to the virial's
+/// rows (with `SUMS`). Every lane is taken, with no branch on how many are
+/// in use: an unused lane's force is a signed zero (its factor masked to
+/// +0.0), and subtracting it leaves a force that is not -0.0 unchanged to
+/// the bit; the sums start at +0.0 and a sum or difference rounded to
+/// nearest is -0.0 only from a -0.0 operand, so none is.
 #[inline(always)]
 pub(super) fn react<T: Lanes, const SUMS: bool>(
     f: &V4<T>,

@@ -396,7 +396,7 @@ impl<'a> Inputs<'a> {
                     f += self.charge_pairs::<T, C, SUMS>(charges, chunk, (t, m), sums, out);
                 }
                 force_i += f;
-                react::<T, SUMS>(&f, &r, &js[..n], &mut out.force, &mut virial);
+                react::<T, SUMS>(&f, &r, &js, &mut out.force, &mut virial);
             }
             out.force[i] += force_i.total();
             if target.is_some() {
