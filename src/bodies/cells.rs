@@ -11,6 +11,7 @@
 //! also where two or three cells across the box make neighbours repeat.
 
 use super::space::Space;
+use crate::lanes::LANES;
 use nalgebra::Vector3;
 
 /// Open space: at most this many cells per site (plus 27).
@@ -105,7 +106,13 @@ impl Cells {
             site[fill[c]] = i as u32;
             fill[c] += 1;
         }
-        let component = |k: usize| site.iter().map(|&i| wrapped[i as usize][k]).collect();
+        // Each component padded with `LANES - 1` NaNs, so that a run's last
+        // lanes load in bounds (their distances compare false, and are
+        // masked off anyway).
+        let component = |k: usize| {
+            let wrapped = site.iter().map(|&i| wrapped[i as usize][k]);
+            wrapped.chain([f64::NAN; LANES - 1]).collect()
+        };
         Cells {
             counts,
             x: component(0),
@@ -169,6 +176,67 @@ impl Cells {
         (out, count)
     }
 
+    /// Bit `k` set for each slot `slots.start + k` (at most [`RUN`] slots)
+    /// whose squared distance from `p` is below `reach2`: four slots at a
+    /// time on CPUs with AVX2 (the same squares, rounded alike: no fused
+    /// multiply-add), one by one elsewhere.
+    #[inline(always)]
+    fn within_bits(&self, p: &Vector3<f64>, slots: std::ops::Range<usize>, reach2: f64) -> u64 {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked just above.
+            return unsafe { self.within_bits_avx2(p, slots, reach2) };
+        }
+        let mut within = 0u64;
+        for (k, s) in slots.enumerate() {
+            let d = [p.x - self.x[s], p.y - self.y[s], p.z - self.z[s]];
+            within |= u64::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach2) << k;
+        }
+        within
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn within_bits_avx2(
+        &self,
+        p: &Vector3<f64>,
+        slots: std::ops::Range<usize>,
+        reach2: f64,
+    ) -> u64 {
+        use std::arch::x86_64::*;
+        let n = slots.len();
+        // The components hold `LANES - 1` slots of padding past the last,
+        // so the last load ends within them.
+        let len = self.x.len().min(self.y.len()).min(self.z.len());
+        assert!(
+            n <= RUN && slots.start + n.next_multiple_of(LANES) <= len,
+            "slots out of bounds"
+        );
+        let [px, py, pz] = [p.x, p.y, p.z].map(|c| _mm256_set1_pd(c));
+        let reach2 = _mm256_set1_pd(reach2);
+        let mut within = 0u64;
+        for k in (0..n).step_by(LANES) {
+            let at = slots.start + k;
+            // SAFETY: four slots from `at` are within the padded components
+            // (asserted above).
+            let [x, y, z] =
+                [&self.x, &self.y, &self.z].map(|c| unsafe { _mm256_loadu_pd(c.as_ptr().add(at)) });
+            let (dx, dy, dz) = (
+                _mm256_sub_pd(px, x),
+                _mm256_sub_pd(py, y),
+                _mm256_sub_pd(pz, z),
+            );
+            let d2 = _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                _mm256_mul_pd(dz, dz),
+            );
+            let bits = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(d2, reach2)) as u64;
+            within |= bits << k;
+        }
+        // Only the run's slots (the last lanes may be the next cell's).
+        within & u64::MAX.checked_shr((RUN - n) as u32).unwrap_or(0)
+    }
+
     /// Calls `found(j, counts)` for every site `j > i` within `reach2 =
     /// reach^2` of site `i` (at `x`; `near` the neighbours of its cell)
     /// that `wanted(j)` accepts, `counts` the box lengths between
@@ -185,7 +253,6 @@ impl Cells {
     ) {
         let a = self.wraps[i];
         let w = x - Vector3::from_fn(|k, _| f64::from(a[k]) * self.lengths[k]);
-        let mut r2 = [0.0; RUN];
         for &(c, shift) in &near[..*count] {
             // `w` seen from the cell's image: `x_i - x_j - L shift` is `p - w_j`.
             let p = w - Vector3::from_fn(|k, _| f64::from(shift[k]) * self.lengths[k]);
@@ -193,21 +260,9 @@ impl Cells {
             let mut start = self.first[c] + run.partition_point(|&j| j as usize <= i);
             while start < self.first[c + 1] {
                 let end = (start + RUN).min(self.first[c + 1]);
-                let (xs, ys, zs) = (
-                    &self.x[start..end],
-                    &self.y[start..end],
-                    &self.z[start..end],
-                );
-                for (k, d2) in r2[..end - start].iter_mut().enumerate() {
-                    let d = [p.x - xs[k], p.y - ys[k], p.z - zs[k]];
-                    *d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                }
                 // The sites within reach as bits (no branch per site: most
                 // are beyond reach), then those sites in order.
-                let mut within = 0u64;
-                for (k, &d2) in r2[..end - start].iter().enumerate() {
-                    within |= u64::from(d2 < reach2) << k;
-                }
+                let mut within = self.within_bits(&p, start..end, reach2);
                 let slots = &self.site[start..end];
                 while within != 0 {
                     let j = slots[within.trailing_zeros() as usize];
@@ -222,6 +277,44 @@ impl Cells {
                 }
                 start = end;
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// The bits of the sites within reach are those of a plain loop over
+    /// the slots (four at a time on CPUs with AVX2), for runs of every
+    /// length from 1 to `RUN` starting anywhere, the last slots included
+    /// (whose lanes load the padding), and none beyond the run.
+    #[test]
+    fn within_bits_are_those_of_a_plain_loop() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let lengths = Vector3::new(9.0, 9.0, 9.0);
+        let sites: Vec<Vector3<f64>> = (0..150)
+            .map(|_| Vector3::from_fn(|k, _| rng.random::<f64>() * lengths[k]))
+            .collect();
+        let cells = Cells::new(&sites, None, &Space::Periodic(lengths), 4.5);
+        let n = sites.len();
+        for _ in 0..400 {
+            let p = Vector3::from_fn(|k, _| rng.random::<f64>() * lengths[k]);
+            let len = rng.random_range(1..=RUN.min(n));
+            let start = if rng.random::<bool>() {
+                n - len
+            } else {
+                rng.random_range(0..=n - len)
+            };
+            let reach2 = rng.random_range(1.0..30.0);
+            let mut expected = 0u64;
+            for k in 0..len {
+                let s = start + k;
+                let d = p - Vector3::new(cells.x[s], cells.y[s], cells.z[s]);
+                expected |= u64::from(d.x * d.x + d.y * d.y + d.z * d.z < reach2) << k;
+            }
+            assert_eq!(cells.within_bits(&p, start..start + len, reach2), expected);
         }
     }
 }
