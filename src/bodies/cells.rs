@@ -91,21 +91,7 @@ impl Cells {
             wraps.push(a);
             cell_of.push((c[0] * counts[1] + c[1]) * counts[2] + c[2]);
         }
-        let total = counts.iter().product::<usize>();
-        let is_listed = |i: usize| listed.is_none_or(|l| l[i]);
-        let mut first = vec![0; total + 1];
-        for (i, &c) in cell_of.iter().enumerate() {
-            first[c + 1] += usize::from(is_listed(i));
-        }
-        for c in 0..total {
-            first[c + 1] += first[c];
-        }
-        let mut fill = first.clone();
-        let mut site = vec![0; first[total]];
-        for (i, &c) in cell_of.iter().enumerate().filter(|&(i, _)| is_listed(i)) {
-            site[fill[c]] = i as u32;
-            fill[c] += 1;
-        }
+        let (first, site) = sort_by_cell(&cell_of, listed, counts.iter().product());
         // Each component padded with `LANES - 1` NaNs, so that a run's last
         // lanes load in bounds (their distances compare false, and are
         // masked off anyway).
@@ -279,6 +265,31 @@ impl Cells {
             }
         }
     }
+}
+
+/// The listed sites (all for `None`) sorted by their cells `cell_of`
+/// (`total` cells), in ascending order within each: where each cell's run
+/// starts (and the end, `first[total]`), and the runs' sites.
+fn sort_by_cell(
+    cell_of: &[usize],
+    listed: Option<&[bool]>,
+    total: usize,
+) -> (Vec<usize>, Vec<u32>) {
+    let is_listed = |i: usize| listed.is_none_or(|l| l[i]);
+    let mut first = vec![0; total + 1];
+    for (i, &c) in cell_of.iter().enumerate() {
+        first[c + 1] += usize::from(is_listed(i));
+    }
+    for c in 0..total {
+        first[c + 1] += first[c];
+    }
+    let mut fill = first.clone();
+    let mut site = vec![0; first[total]];
+    for (i, &c) in cell_of.iter().enumerate().filter(|&(i, _)| is_listed(i)) {
+        site[fill[c]] = i as u32;
+        fill[c] += 1;
+    }
+    (first, site)
 }
 
 #[cfg(test)]
