@@ -173,6 +173,16 @@ impl Cells {
             // SAFETY: the CPU has AVX2, checked just above.
             return unsafe { self.within_bits_avx2(p, slots, reach2) };
         }
+        self.within_bits_one_by_one(p, slots, reach2)
+    }
+
+    /// [`Cells::within_bits`] one slot at a time (CPUs without AVX2).
+    fn within_bits_one_by_one(
+        &self,
+        p: &Vector3<f64>,
+        slots: std::ops::Range<usize>,
+        reach2: f64,
+    ) -> u64 {
         let mut within = 0u64;
         for (k, s) in slots.enumerate() {
             let d = [p.x - self.x[s], p.y - self.y[s], p.z - self.z[s]];
@@ -298,7 +308,8 @@ mod tests {
     use rand::{RngExt, SeedableRng};
 
     /// The bits of the sites within reach are those of a plain loop over
-    /// the slots (four at a time on CPUs with AVX2), for runs of every
+    /// the slots, four at a time (on CPUs with AVX2) and one by one (the
+    /// path of CPUs without it), for runs of every
     /// length from 1 to `RUN` starting anywhere, the last slots included
     /// (whose lanes load the padding), and none beyond the run.
     #[test]
@@ -325,7 +336,9 @@ mod tests {
                 let d = p - Vector3::new(cells.x[s], cells.y[s], cells.z[s]);
                 expected |= u64::from(d.x * d.x + d.y * d.y + d.z * d.z < reach2) << k;
             }
-            assert_eq!(cells.within_bits(&p, start..start + len, reach2), expected);
+            let slots = start..start + len;
+            assert_eq!(cells.within_bits(&p, slots.clone(), reach2), expected);
+            assert_eq!(cells.within_bits_one_by_one(&p, slots, reach2), expected);
         }
     }
 }
