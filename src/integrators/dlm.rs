@@ -62,11 +62,11 @@ impl Splitting for DlmOptions {
         *momentum_body += q.space_to_body(torque_space) * half;
     }
 
-    fn rotate(
+    fn rotate<const K: usize>(
         &self,
-        q: &mut Quat,
-        momentum_body: &mut Vector3<f64>,
-        moments: &Vector3<f64>,
+        q: &mut [Quat; K],
+        momentum_body: &mut [Vector3<f64>; K],
+        moments: &[Vector3<f64>; K],
         dt: f64,
     ) {
         free_flow(

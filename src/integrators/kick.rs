@@ -28,6 +28,7 @@ use crate::quaternion::Quat;
 use crate::rotor::Inertia;
 use crate::thermostat_hook::{CoupledDegrees, Nve, SplitDynamics, Thermostat, ThermostatState};
 use nalgebra::Vector3;
+use std::array::{from_mut as one, from_ref as one_ref};
 use std::fmt::Debug;
 
 /// What distinguishes one kick-based baseline: its momentum variable, its
@@ -44,9 +45,16 @@ pub trait Splitting: IntegratorOptions + Clone + Debug + Send + Sync + 'static {
     /// A half kick of duration `half` with the space-fixed torque at `q`.
     fn kick(momentum: &mut Self::Momentum, q: &Quat, torque_space: &Vector3<f64>, half: f64);
 
-    /// The orientation update over a whole step `dt` (principal moments
-    /// `moments`, zero moments allowed).
-    fn rotate(&self, q: &mut Quat, momentum: &mut Self::Momentum, moments: &Vector3<f64>, dt: f64);
+    /// The orientation updates of `K` rotors over a whole step `dt`
+    /// (principal moments `moments`, zero moments allowed): each rotor's
+    /// the same bits as alone (`K = 1`).
+    fn rotate<const K: usize>(
+        &self,
+        q: &mut [Quat; K],
+        momentum: &mut [Self::Momentum; K],
+        moments: &[Vector3<f64>; K],
+        dt: f64,
+    );
 
     /// The body angular velocity of a rotor.
     fn omega_body(momentum: &Self::Momentum, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64>;
@@ -337,13 +345,14 @@ impl<S: Splitting> SplitDynamics for KickStep<'_, S> {
     fn free_flow(&mut self, duration: f64) {
         let splitting = self.splitting;
         self.state
-            .update(|q, p, i| splitting.rotate(q, p, i, duration));
+            .update(|q, p, i| splitting.rotate(one(q), one(p), one_ref(i), duration));
     }
 
     fn half_kick_then_flow(&mut self, duration: f64) {
         let splitting = self.splitting;
-        self.state
-            .half_kick_then_update(S::kick, |q, p, i| splitting.rotate(q, p, i, duration));
+        self.state.half_kick_then_update(S::kick, |q, p, i| {
+            splitting.rotate(one(q), one(p), one_ref(i), duration)
+        });
     }
 
     fn evaluate(&mut self) {

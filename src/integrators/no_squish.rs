@@ -112,7 +112,13 @@ impl Splitting for NoSquishOptions {
         *momentum += Quat::pure(torque_space) * *q * (2.0 * half * q.norm_squared());
     }
 
-    fn rotate(&self, q: &mut Quat, momentum: &mut Quat, moments: &Vector3<f64>, dt: f64) {
+    fn rotate<const K: usize>(
+        &self,
+        q: &mut [Quat; K],
+        momentum: &mut [Quat; K],
+        moments: &[Vector3<f64>; K],
+        dt: f64,
+    ) {
         let substeps = self.substeps.get() as usize;
         free_flow(
             q,

@@ -71,24 +71,22 @@ impl Splitting for RichardsonOptions {
         *momentum_space += torque_space * half;
     }
 
-    /// Step 2 of the module doc.
-    fn rotate(
+    /// Step 2 of the module doc, rotor by rotor.
+    fn rotate<const K: usize>(
         &self,
-        q: &mut Quat,
-        momentum_space: &mut Vector3<f64>,
-        moments: &Vector3<f64>,
+        q: &mut [Quat; K],
+        momentum_space: &mut [Vector3<f64>; K],
+        moments: &[Vector3<f64>; K],
         dt: f64,
     ) {
         let half = 0.5 * dt;
-        let w = omega_space(q, momentum_space, moments);
-        let q_full = euler(q, &w, dt);
-        let q_half = euler(q, &w, half);
-        let q_two = euler(
-            &q_half,
-            &omega_space(&q_half, momentum_space, moments),
-            half,
-        );
-        *q = (q_two * 2.0 - q_full).try_normalize().unwrap_or(q_two);
+        for ((q, l), moments) in q.iter_mut().zip(&*momentum_space).zip(moments) {
+            let w = omega_space(q, l, moments);
+            let q_full = euler(q, &w, dt);
+            let q_half = euler(q, &w, half);
+            let q_two = euler(&q_half, &omega_space(&q_half, l, moments), half);
+            *q = (q_two * 2.0 - q_full).try_normalize().unwrap_or(q_two);
+        }
     }
 
     fn omega_body(momentum_space: &Vector3<f64>, q: &Quat, moments: &Vector3<f64>) -> Vector3<f64> {

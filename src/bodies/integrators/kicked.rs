@@ -34,6 +34,11 @@ use crate::thermostat_hook::{SplitDynamics, Thermostat};
 use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use rayon::prelude::*;
+use std::array::from_mut;
+
+/// How many bodies' rotations the free flow takes together
+/// ([`Splitting::rotate`]: their chains of operations overlap).
+const ROTATED_TOGETHER: usize = 4;
 
 /// A body integrator: velocity Verlet for the centres, the splitting `S`
 /// for the rotations, with its thermostat.
@@ -171,21 +176,32 @@ impl<S: Splitting> SplitDynamics for BodyStep<'_, S> {
             });
     }
 
-    /// The drift `R += duration v` and the splitting's rotation.
+    /// The drift `R += duration v` and the splitting's rotation, of
+    /// [`ROTATED_TOGETHER`] bodies at a time (the last few one by one).
     fn free_flow(&mut self, duration: f64) {
         let (types, rotation) = (&self.system.types, self.rotation);
-        self.system
-            .bodies
-            .par_iter_mut()
-            .zip(&mut *self.momentum)
-            .for_each(|(body, momentum)| {
-                body.position += body.velocity * duration;
-                rotation.rotate(
-                    &mut body.orientation,
-                    momentum,
-                    &types[body.kind].moments,
-                    duration,
-                );
+        let bodies = self.system.bodies.par_chunks_mut(ROTATED_TOGETHER);
+        bodies
+            .zip(self.momentum.par_chunks_mut(ROTATED_TOGETHER))
+            .for_each(|(bodies, momenta)| {
+                for body in bodies.iter_mut() {
+                    body.position += body.velocity * duration;
+                }
+                if let Ok(momenta) = <&mut [S::Momentum; ROTATED_TOGETHER]>::try_from(&mut *momenta)
+                {
+                    let mut q = std::array::from_fn(|k| bodies[k].orientation);
+                    let moments = std::array::from_fn(|k| types[bodies[k].kind].moments);
+                    rotation.rotate(&mut q, momenta, &moments, duration);
+                    for (body, q) in bodies.iter_mut().zip(q) {
+                        body.orientation = q;
+                    }
+                    return;
+                }
+                for (body, momentum) in bodies.iter_mut().zip(momenta) {
+                    let moments = [types[body.kind].moments];
+                    let (q, p) = (&mut body.orientation, momentum);
+                    rotation.rotate(from_mut(q), from_mut(p), &moments, duration);
+                }
             });
     }
 
