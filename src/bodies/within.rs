@@ -188,6 +188,16 @@ mod avx2 {
             // promise for this function); each load and store says why it
             // stays in bounds.
             let reach2 = _mm256_set1_pd(site.reach2);
+            // The site's position and the box in every lane, set once here:
+            // the stores below go through raw pointers, so the compiler
+            // would load them again for every row.
+            let lanes = SiteLanes::new(site);
+            // Every partner is a site (so no row needs a bounds check).
+            let highest = partners[..rows].iter().fold(0, |m, &j| m.max(j));
+            assert!(
+                rows == 0 || (highest as usize) < site.positions.len(),
+                "a partner beyond the sites"
+            );
             // Every row is stored from the count `n <= k` (the kept of the
             // `k` partners before it), so within the room of the listed
             // partners and a row.
@@ -208,7 +218,8 @@ mod avx2 {
             for js in partners[..rows].chunks_exact(LANES) {
                 // SAFETY: four u32 are 16 bytes.
                 let j = unsafe { _mm_loadu_si128(js.as_ptr().cast()) };
-                let [rx, ry, rz, r2] = row_separations(site, js);
+                // SAFETY: every partner indexes `positions` (asserted above).
+                let [rx, ry, rz, r2] = unsafe { lanes.row_separations(site.positions, js) };
                 let kept = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(r2, reach2)) as usize;
                 // SAFETY: a table row is 32 bytes.
                 let front = unsafe { _mm256_loadu_si256(FRONT[kept].as_ptr().cast()) };
@@ -232,46 +243,65 @@ mod avx2 {
         }
     }
 
-    /// The minimum-image separations of four listed partners `js`, as rows
-    /// by component, and their squares: each lane rounded as
-    /// [`Site::separation`] rounds (no fused multiply-add).
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn row_separations(site: &Site<'_>, js: &[u32]) -> [__m256d; 4] {
-        let [lx, ly, lz] =
-            [site.lengths.x, site.lengths.y, site.lengths.z].map(|l| _mm256_set1_pd(l));
-        let inverse = site.inverse_lengths;
-        let [ix, iy, iz] = [inverse.x, inverse.y, inverse.z].map(|l| _mm256_set1_pd(l));
-        let [x, y, z] = [site.x.x, site.x.y, site.x.z].map(|c| _mm256_set1_pd(c));
-        // Each partner's position loaded whole (`x, y` as a pair,
-        // `z` alone), then turned into rows by component (no
-        // gather instructions: slower than loads on some CPUs).
-        assert_eq!(js.len(), LANES, "a row of partners");
-        let [p0, p1, p2, p3] = [0, 1, 2, 3].map(|l| &site.positions[js[l] as usize]);
-        let xy = |p: &Vector3<f64>| _mm_set_pd(p.y, p.x);
-        let (xy02, xy13) = (
-            _mm256_set_m128d(xy(p2), xy(p0)),
-            _mm256_set_m128d(xy(p3), xy(p1)),
-        );
-        let (px, py, pz) = (
-            _mm256_unpacklo_pd(xy02, xy13),
-            _mm256_unpackhi_pd(xy02, xy13),
-            _mm256_set_pd(p3.z, p2.z, p1.z, p0.z),
-        );
-        let image = |d: __m256d, l: __m256d, inverse: __m256d| {
-            let c = _mm256_round_pd::<{ _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC }>(
-                _mm256_mul_pd(d, inverse),
+    /// [`Site`]'s position, box lengths and their inverses in every lane.
+    struct SiteLanes {
+        x: [__m256d; 3],
+        lengths: [__m256d; 3],
+        inverse: [__m256d; 3],
+    }
+
+    impl SiteLanes {
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        fn new(site: &Site<'_>) -> Self {
+            let lanes = |v: &Vector3<f64>| [v.x, v.y, v.z].map(|c| _mm256_set1_pd(c));
+            SiteLanes {
+                x: lanes(site.x),
+                lengths: lanes(site.lengths),
+                inverse: lanes(&site.inverse_lengths),
+            }
+        }
+
+        /// The minimum-image separations of four listed partners `js`
+        /// among `positions`, as rows by component, and their squares:
+        /// each lane rounded as [`Site::separation`] rounds (no fused
+        /// multiply-add).
+        ///
+        /// # Safety
+        /// The CPU has AVX2, and every partner is an index of `positions`.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        unsafe fn row_separations(&self, positions: &[Vector3<f64>], js: &[u32]) -> [__m256d; 4] {
+            // Each partner's position loaded whole (`x, y` as a pair,
+            // `z` alone), then turned into rows by component (no
+            // gather instructions: slower than loads on some CPUs).
+            assert_eq!(js.len(), LANES, "a row of partners");
+            // SAFETY: the caller's promise.
+            let [p0, p1, p2, p3] =
+                [0, 1, 2, 3].map(|l| unsafe { positions.get_unchecked(js[l] as usize) });
+            let xy = |p: &Vector3<f64>| _mm_set_pd(p.y, p.x);
+            let (xy02, xy13) = (
+                _mm256_set_m128d(xy(p2), xy(p0)),
+                _mm256_set_m128d(xy(p3), xy(p1)),
             );
-            _mm256_sub_pd(d, _mm256_mul_pd(l, c))
-        };
-        let rx = image(_mm256_sub_pd(x, px), lx, ix);
-        let ry = image(_mm256_sub_pd(y, py), ly, iy);
-        let rz = image(_mm256_sub_pd(z, pz), lz, iz);
-        let r2 = _mm256_add_pd(
-            _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry)),
-            _mm256_mul_pd(rz, rz),
-        );
-        [rx, ry, rz, r2]
+            let p = [
+                _mm256_unpacklo_pd(xy02, xy13),
+                _mm256_unpackhi_pd(xy02, xy13),
+                _mm256_set_pd(p3.z, p2.z, p1.z, p0.z),
+            ];
+            let [rx, ry, rz] = [0, 1, 2].map(|k| {
+                let d = _mm256_sub_pd(self.x[k], p[k]);
+                let c = _mm256_round_pd::<{ _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC }>(
+                    _mm256_mul_pd(d, self.inverse[k]),
+                );
+                _mm256_sub_pd(d, _mm256_mul_pd(self.lengths[k], c))
+            });
+            let r2 = _mm256_add_pd(
+                _mm256_add_pd(_mm256_mul_pd(rx, rx), _mm256_mul_pd(ry, ry)),
+                _mm256_mul_pd(rz, rz),
+            );
+            [rx, ry, rz, r2]
+        }
     }
 }
 
@@ -318,6 +348,16 @@ mod tests {
         within.collect(&positions[0], &[1], &positions, &Vector3::zeros(), 2000.0);
         assert_eq!(within.count, 1);
         assert_eq!((within.x[0], within.y[0], within.z[0]), (-30.0, 20.0, 0.0));
+    }
+
+    /// A row of partners naming a site beyond the positions (the last one
+    /// just past them) stops the pass rather than read beyond them.
+    #[test]
+    #[should_panic]
+    fn a_partner_beyond_the_sites_is_refused() {
+        let positions = [Vector3::new(0.5, 0.5, 0.5); 4];
+        let mut within = Within::default();
+        within.collect(&positions[0], &[1, 2, 3, 4], &positions, &Vector3::zeros(), 2000.0);
     }
 
     /// Taken four at a time (on CPUs with AVX2) or one by one, the kept
