@@ -357,7 +357,13 @@ mod tests {
     fn a_partner_beyond_the_sites_is_refused() {
         let positions = [Vector3::new(0.5, 0.5, 0.5); 4];
         let mut within = Within::default();
-        within.collect(&positions[0], &[1, 2, 3, 4], &positions, &Vector3::zeros(), 2000.0);
+        within.collect(
+            &positions[0],
+            &[1, 2, 3, 4],
+            &positions,
+            &Vector3::zeros(),
+            2000.0,
+        );
     }
 
     /// Taken four at a time (on CPUs with AVX2) or one by one, the kept

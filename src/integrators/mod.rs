@@ -45,7 +45,7 @@ pub(crate) mod torque;
 pub use dlm::{Dlm, DlmOptions};
 pub use free_rotation::SphericalTops;
 pub use integrator::{GoOn, Integrator, IntegratorError, RotorState};
-pub use kick::{KickStep, Kicked, Splitting};
+pub use kick::{rotate_all, KickStep, Kicked, Splitting, ROTATED_TOGETHER};
 pub use no_squish::{NoSquish, NoSquishOptions, MAX_SUBSTEPS};
 pub use richardson::{Richardson, RichardsonOptions};
 pub use scheme_a::{GearA, GearAOptions};

@@ -29,16 +29,12 @@ use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
 use crate::dynamics::AnyThermostat;
 use crate::integrators::checkpoint::write_values;
-use crate::integrators::{IntegratorError, Splitting};
+use crate::integrators::{IntegratorError, Splitting, ROTATED_TOGETHER};
 use crate::thermostat_hook::{SplitDynamics, Thermostat};
 use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 use std::array::from_mut;
-
-/// How many bodies' rotations the free flow takes together
-/// ([`Splitting::rotate`]: their chains of operations overlap).
-const ROTATED_TOGETHER: usize = 4;
 
 /// A body integrator: velocity Verlet for the centres, the splitting `S`
 /// for the rotations, with its thermostat.
