@@ -29,12 +29,12 @@ use crate::bodies::system::BodySystem;
 use crate::checks::{finite_and_positive, InputError};
 use crate::dynamics::AnyThermostat;
 use crate::integrators::checkpoint::write_values;
-use crate::integrators::{IntegratorError, Splitting, ROTATED_TOGETHER};
+use crate::integrators::{rotate_all, IntegratorError, Splitting, ROTATED_TOGETHER};
+use crate::quaternion::Quat;
 use crate::thermostat_hook::{SplitDynamics, Thermostat};
 use crate::thermostats::ThermostatSpec;
 use nalgebra::Vector3;
 use rayon::prelude::*;
-use std::array::from_mut;
 
 /// A body integrator: velocity Verlet for the centres, the splitting `S`
 /// for the rotations, with its thermostat.
@@ -183,20 +183,15 @@ impl<S: Splitting> SplitDynamics for BodyStep<'_, S> {
                 for body in bodies.iter_mut() {
                     body.position += body.velocity * duration;
                 }
-                if let Ok(momenta) = <&mut [S::Momentum; ROTATED_TOGETHER]>::try_from(&mut *momenta)
-                {
-                    let mut q = std::array::from_fn(|k| bodies[k].orientation);
-                    let moments = std::array::from_fn(|k| types[bodies[k].kind].moments);
-                    rotation.rotate(&mut q, momenta, &moments, duration);
-                    for (body, q) in bodies.iter_mut().zip(q) {
-                        body.orientation = q;
-                    }
-                    return;
+                let mut q = [Quat::IDENTITY; ROTATED_TOGETHER];
+                let mut moments = [Vector3::zeros(); ROTATED_TOGETHER];
+                for (k, body) in bodies.iter().enumerate() {
+                    (q[k], moments[k]) = (body.orientation, types[body.kind].moments);
                 }
-                for (body, momentum) in bodies.iter_mut().zip(momenta) {
-                    let moments = [types[body.kind].moments];
-                    let (q, p) = (&mut body.orientation, momentum);
-                    rotation.rotate(from_mut(q), from_mut(p), &moments, duration);
+                let n = bodies.len();
+                rotate_all(rotation, &mut q[..n], momenta, &moments[..n], duration);
+                for (body, q) in bodies.iter_mut().zip(q) {
+                    body.orientation = q;
                 }
             });
     }
