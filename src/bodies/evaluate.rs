@@ -87,8 +87,6 @@ impl BodySystem {
         }
         self.scratch.multipoles.positions = positions;
         let n = self.sites();
-        out.site_force.clear();
-        out.site_force.resize(n, Vector3::zeros());
         (out.lennard_jones, out.lennard_jones_tail, out.pressure_tail) = (0.0, 0.0, 0.0);
         out.electrostatic = 0.0;
         if self.electrostatics.is_some() {
@@ -113,11 +111,11 @@ impl BodySystem {
         let mut virial = sums.virial;
         out.lennard_jones = sums.lennard_jones;
         out.overlaps = (scope == Scope::Full).then_some(sums.overlaps as usize);
-        out.site_force.copy_from_slice(&sums.force);
         if cutoff_sum.is_some() {
             sums.fill(response);
             out.electrostatic = response.energy;
         }
+        self.scratch.pairs.swap_forces(&mut out.site_force);
         if let (Some(term), Some(volume)) = (&self.lennard_jones, self.space.volume()) {
             (out.lennard_jones_tail, out.pressure_tail) = term.tail(&self.lj_counts, volume);
         }

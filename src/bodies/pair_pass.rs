@@ -158,6 +158,12 @@ impl PairPass {
 }
 
 impl PairPass {
+    /// Swaps the last pass's forces on the sites with `forces` (the next
+    /// pass clears what it is given back: no copy).
+    pub(super) fn swap_forces(&mut self, forces: &mut Vec<Vector3<f64>>) {
+        std::mem::swap(&mut self.blocks[0].force, forces);
+    }
+
     /// The pass's per-site tables for `n` sites: whether each is charged,
     /// its Lennard-Jones kind.
     fn site_tables(&mut self, terms: &PairTerms<'_>, n: usize) {
