@@ -15,6 +15,51 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 /// The number of lanes.
 pub(crate) const LANES: usize = 4;
 
+/// The machine code of a pass that takes lanes: its AVX2 code compiled
+/// with AVX-512 VL too (the same instructions but for the encoding, with
+/// 32 registers instead of 16: fewer values spilled to the stack), its AVX2
+/// code, or plain arrays ([`F4`]); the same operations rounded alike on
+/// each, so the same bits. The default is the first this CPU has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Path {
+    Avx512,
+    Avx2,
+    Arrays,
+}
+
+impl Path {
+    /// Whether this CPU has the path's instructions.
+    pub(crate) fn runs(self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::is_x86_feature_detected as has;
+            match self {
+                Path::Avx512 => has!("avx2") && has!("avx512f") && has!("avx512vl"),
+                Path::Avx2 => has!("avx2"),
+                Path::Arrays => true,
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            self == Path::Arrays
+        }
+    }
+
+    /// Every path this CPU has, the fastest first.
+    pub(crate) fn available() -> Vec<Path> {
+        [Path::Avx512, Path::Avx2, Path::Arrays]
+            .into_iter()
+            .filter(|p| p.runs())
+            .collect()
+    }
+}
+
+impl Default for Path {
+    fn default() -> Path {
+        Path::available()[0]
+    }
+}
+
 /// Four `f64` lanes. A mask is a value with all bits set in the lanes where
 /// it holds and none elsewhere.
 pub(crate) trait Lanes:

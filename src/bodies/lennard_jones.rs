@@ -65,7 +65,7 @@ pub struct LennardJonesOptions {
 /// One pair of site kinds: its sigma, `4 eps sigma^12`, `4 eps sigma^6`
 /// and the truncation's constants.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct PairConstants {
+pub(super) struct PairConstants {
     sigma: f64,
     /// `(OVERLAP_FRACTION sigma)^2`, a part in 1e9 wider: a pair closer
     /// than that may overlap ([`super::overlap`] decides), a pair farther
@@ -77,6 +77,14 @@ struct PairConstants {
     shift: f64,
     /// `u'(r_c)` (force-shifted) or 0.
     slope: f64,
+}
+
+/// One site kind's pair constants in lanes ([`LennardJonesTerm::kind_lanes`]):
+/// `c12, c6, shift, core2, slope` in every lane, or the kind's row of the
+/// table.
+pub(super) enum KindLanes<'t, T> {
+    One([T; 5]),
+    Row(&'t [PairConstants]),
 }
 
 /// The Lennard-Jones term over `kinds` distinct site parameters.
@@ -174,27 +182,43 @@ impl LennardJonesTerm {
         )
     }
 
-    /// [`LennardJonesTerm::pair_of`] of four pairs: kind `a` with kinds
-    /// `b` at squared distances `r2` (lanes beyond the cutoff hold values
-    /// to be dropped), and 1 in the lanes of pairs that may overlap
-    /// ([`PairConstants::core2`]), else 0.
+    /// Kind `a`'s constants for [`LennardJonesTerm::pair_lanes`], taken
+    /// once per site: in every lane when the term has one kind, else the
+    /// kind's row of the table, gathered by partner.
+    #[inline(always)]
+    pub(super) fn kind_lanes<T: Lanes>(&self, a: usize) -> KindLanes<'_, T> {
+        let row = &self.table[a * self.kinds.len()..(a + 1) * self.kinds.len()];
+        match row {
+            [p] => KindLanes::One([p.c12, p.c6, p.shift, p.core2, p.slope].map(T::splat)),
+            _ => KindLanes::Row(row),
+        }
+    }
+
+    /// [`LennardJonesTerm::pair_of`] of four pairs: the kind of `kind`
+    /// with kinds `b` at squared distances `r2` (lanes beyond the cutoff
+    /// hold values to be dropped), and 1 in the lanes of pairs that may
+    /// overlap ([`PairConstants::core2`]), else 0.
     #[inline(always)]
     pub(super) fn pair_lanes<T: Lanes, const FORCE_SHIFTED: bool>(
         &self,
-        a: usize,
+        kind: &KindLanes<'_, T>,
         b: [usize; LANES],
         r2: T,
     ) -> (T, T, T) {
-        let row = &self.table[a * self.kinds.len()..(a + 1) * self.kinds.len()];
-        let lanes = |f: fn(&PairConstants) -> f64| {
-            if row.len() == 1 {
-                T::splat(f(&row[0]))
-            } else {
-                T::from_array(b.map(|b| f(&row[b])))
+        let [c12, c6, shift, core2, slope] = match kind {
+            KindLanes::One(constants) => *constants,
+            KindLanes::Row(row) => {
+                let lanes = |f: fn(&PairConstants) -> f64| T::from_array(b.map(|b| f(&row[b])));
+                [
+                    lanes(|p| p.c12),
+                    lanes(|p| p.c6),
+                    lanes(|p| p.shift),
+                    lanes(|p| p.core2),
+                    lanes(|p| p.slope),
+                ]
             }
         };
-        let (c12, c6, shift) = (lanes(|p| p.c12), lanes(|p| p.c6), lanes(|p| p.shift));
-        let core = T::splat(1.0).keep(r2.lt(lanes(|p| p.core2)));
+        let core = T::splat(1.0).keep(r2.lt(core2));
         let inv_r2 = T::splat(1.0) / r2;
         let inv_r6 = inv_r2 * inv_r2 * inv_r2;
         let u = inv_r6 * (c12 * inv_r6 - c6) - shift;
@@ -202,7 +226,7 @@ impl LennardJonesTerm {
         if !FORCE_SHIFTED {
             return (u, f_over_r, core);
         }
-        let (r, slope) = (r2.sqrt(), lanes(|p| p.slope));
+        let r = r2.sqrt();
         (
             u - (r - T::splat(self.options.cutoff)) * slope,
             f_over_r + slope * (r * inv_r2),

@@ -43,6 +43,7 @@ pub mod neighbours;
 pub mod overlap;
 mod pair_kernels;
 mod pair_pass;
+mod pair_sums;
 pub mod quantity;
 pub mod site;
 pub mod space;

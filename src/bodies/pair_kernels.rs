@@ -5,7 +5,7 @@
 //! once per pass and monomorphised into its loop.
 
 use super::electrostatics_shifted::{ChargeDipoles, Factors, Plain, ShiftedForceFactors};
-use super::lennard_jones::LennardJonesTerm;
+use super::lennard_jones::{KindLanes, LennardJonesTerm};
 use crate::lanes::{Lanes, LANES, V4};
 use nalgebra::Vector3;
 
@@ -15,9 +15,12 @@ pub(super) trait PairKernel<'a>: Sync + Sized {
     const ON: bool;
     /// The kernel of `term` (`None` if the pass needs the term and has none).
     fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self>;
+    /// A site's constants, taken once per site: those of kind `a`.
+    type Site<T: Lanes>;
+    fn site<T: Lanes>(&self, a: usize) -> Self::Site<T>;
     /// Energies, `-(1/r) du/dr` and 1 for a pair that may overlap (else 0)
-    /// of kind `a` with kinds `b` at `r2`.
-    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T, T);
+    /// of the kind of `site` with kinds `b` at `r2`.
+    fn pair<T: Lanes>(&self, site: &Self::Site<T>, b: [usize; LANES], r2: T) -> (T, T, T);
 }
 
 pub(super) struct NoLennardJones;
@@ -27,7 +30,9 @@ impl PairKernel<'_> for NoLennardJones {
     fn new(_: Option<&LennardJonesTerm>) -> Option<Self> {
         Some(NoLennardJones)
     }
-    fn pair<T: Lanes>(&self, _: usize, _: [usize; LANES], _: T) -> (T, T, T) {
+    type Site<T: Lanes> = ();
+    fn site<T: Lanes>(&self, _: usize) {}
+    fn pair<T: Lanes>(&self, _: &(), _: [usize; LANES], _: T) -> (T, T, T) {
         (T::default(), T::default(), T::default())
     }
 }
@@ -40,9 +45,14 @@ impl<'a, const FORCE_SHIFTED: bool> PairKernel<'a> for LennardJones<'a, FORCE_SH
     fn new(term: Option<&'a LennardJonesTerm>) -> Option<Self> {
         term.map(LennardJones)
     }
+    type Site<T: Lanes> = KindLanes<'a, T>;
     #[inline(always)]
-    fn pair<T: Lanes>(&self, a: usize, b: [usize; LANES], r2: T) -> (T, T, T) {
-        self.0.pair_lanes::<T, FORCE_SHIFTED>(a, b, r2)
+    fn site<T: Lanes>(&self, a: usize) -> KindLanes<'a, T> {
+        self.0.kind_lanes(a)
+    }
+    #[inline(always)]
+    fn pair<T: Lanes>(&self, site: &KindLanes<'a, T>, b: [usize; LANES], r2: T) -> (T, T, T) {
+        self.0.pair_lanes::<T, FORCE_SHIFTED>(site, b, r2)
     }
 }
 
@@ -156,8 +166,11 @@ impl<F: Truncation, const CHARGES: bool> ChargeKernel for Truncated<F, CHARGES> 
 /// +0.0), and subtracting it leaves a force that is not -0.0 unchanged to
 /// the bit; the sums start at +0.0 and a sum or difference rounded to
 /// nearest is -0.0 only from a -0.0 operand, so none is.
+///
+/// # Safety
+/// Every partner indexes `force`.
 #[inline(always)]
-pub(super) fn react<T: Lanes, const SUMS: bool>(
+pub(super) unsafe fn react<T: Lanes, const SUMS: bool>(
     f: &V4<T>,
     r: &V4<T>,
     js: &[usize],
@@ -166,7 +179,8 @@ pub(super) fn react<T: Lanes, const SUMS: bool>(
 ) {
     let forces = f.to_vectors();
     for (&j, fj) in js.iter().zip(forces) {
-        force[j] -= fj;
+        // SAFETY: the caller's promise.
+        *unsafe { force.get_unchecked_mut(j) } -= fj;
     }
     if !SUMS {
         return;

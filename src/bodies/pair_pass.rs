@@ -16,7 +16,7 @@
 //! are added in range order, so the results are the same bits for a given
 //! number of threads (and, with one thread, no block is added at all).
 
-use super::electrostatics::{SiteMultipoles, SiteResponse};
+use super::electrostatics::SiteMultipoles;
 use super::electrostatics_shifted::{ChargeDipoles, ElectrostaticTruncation};
 use super::evaluate::Scope;
 use super::lennard_jones::LennardJonesTerm;
@@ -25,10 +25,11 @@ use super::pair_kernels::{
     react, Bare, ChargeKernel, LennardJones, NoCharges, NoLennardJones, PairKernel, ShiftedForce,
     Truncated,
 };
+use super::pair_sums::PairSums;
 use super::within::Within;
 #[cfg(target_arch = "x86_64")]
 use crate::lanes::Avx;
-use crate::lanes::{Lanes, F4, LANES, V4};
+use crate::lanes::{Lanes, Path, F4, LANES, V4};
 use crate::potential::multipole::ChargeDipole;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
@@ -42,28 +43,6 @@ pub(super) struct PairTerms<'a> {
     pub electrostatics: Option<(f64, ElectrostaticTruncation, &'a SiteMultipoles)>,
 }
 
-/// The sums of a pass (of one thread's range of sites, before they are
-/// added).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(super) struct PairSums {
-    /// The Lennard-Jones energy.
-    pub lennard_jones: f64,
-    /// How many Lennard-Jones pairs may overlap (closer than a part in 1e9
-    /// over [`super::overlap::OVERLAP_FRACTION`] of their sigma), NaN
-    /// when not summed.
-    pub overlaps: f64,
-    /// The electrostatic energy.
-    pub electrostatic: f64,
-    /// The atomic virial `sum_pairs r_ij f_ij^T` of both terms.
-    pub virial: Matrix3<f64>,
-    /// The force on each site, both terms.
-    pub force: Vec<Vector3<f64>>,
-    /// The electrostatic potential and field at each site (empty without
-    /// electrostatics).
-    pub potential: Vec<f64>,
-    pub field: Vec<Vector3<f64>>,
-}
-
 /// The buffers of a pass, reused from one to the next.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct PairPass {
@@ -75,6 +54,8 @@ pub(super) struct PairPass {
     charged: Vec<bool>,
     /// Each site's Lennard-Jones kind ([`NO_KIND`] without, or without the term).
     kind: Vec<u32>,
+    /// The machine code of the pass (the same bits on each).
+    path: Path,
 }
 
 impl PairPass {
@@ -106,6 +87,7 @@ impl PairPass {
             one_kind: self.kind.iter().all(|&k| k == self.kind[0] && k != NO_KIND),
             all_charged: self.charged.iter().all(|&c| c),
             lengths: list.image_lengths(),
+            path: self.path,
         };
         let blocks = (&mut self.blocks[..], &mut self.within[..]);
         match scope {
@@ -181,32 +163,6 @@ impl PairPass {
     }
 }
 
-impl PairSums {
-    /// The electrostatic response of the sums (their forces those of the
-    /// electrostatics only when the pass had no Lennard-Jones term).
-    pub(super) fn fill(&self, out: &mut SiteResponse) {
-        out.energy = self.electrostatic;
-        out.virial = self.virial;
-        out.potential.copy_from_slice(&self.potential);
-        out.field.copy_from_slice(&self.field);
-        out.force.copy_from_slice(&self.force);
-        out.quadrupole_conjugate.fill(Matrix3::zeros());
-    }
-
-    /// Zero sums for `n` sites (with the electrostatic ones or not).
-    fn reset(&mut self, n: usize, electrostatics: bool) {
-        (self.lennard_jones, self.electrostatic, self.overlaps) = (0.0, 0.0, 0.0);
-        self.virial = Matrix3::zeros();
-        self.force.clear();
-        self.force.resize(n, Vector3::zeros());
-        let m = if electrostatics { n } else { 0 };
-        self.potential.clear();
-        self.potential.resize(m, 0.0);
-        self.field.clear();
-        self.field.resize(m, Vector3::zeros());
-    }
-}
-
 /// Site `i`'s charge and dipole.
 #[inline]
 fn charged(m: &SiteMultipoles, i: usize) -> ChargeDipole {
@@ -230,6 +186,7 @@ struct Inputs<'a> {
     all_charged: bool,
     /// The box lengths of the list's image counts (zero in open space).
     lengths: Vector3<f64>,
+    path: Path,
 }
 
 /// A site without Lennard-Jones.
@@ -309,20 +266,37 @@ impl<'a> Inputs<'a> {
         }
     }
 
-    /// [`Inputs::lanes`] in AVX registers where the CPU has AVX2, else in
-    /// arrays (the same bits: the lanes round as the scalar operations do).
+    /// [`Inputs::lanes`] on the pass's [`Path`]: in AVX registers (with
+    /// AVX-512 VL's 32 or AVX2's 16) where the CPU has them, else in arrays
+    /// (the same bits: the lanes round as the scalar operations do).
     fn range<L: PairKernel<'a>, C: ChargeKernel, const SUMS: bool>(
         &self,
         sites: std::ops::Range<usize>,
         out: (&mut PairSums, &mut Within),
     ) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked just above.
-            unsafe { self.lanes_avx2::<L, C, SUMS>(sites, out) };
-            return;
+        match self.path {
+            Path::Avx512 if Path::Avx512.runs() => {
+                // SAFETY: the CPU has AVX-512 VL and AVX2, checked just above.
+                return unsafe { self.lanes_avx512::<L, C, SUMS>(sites, out) };
+            }
+            Path::Avx512 | Path::Avx2 if Path::Avx2.runs() => {
+                // SAFETY: the CPU has AVX2, checked just above.
+                return unsafe { self.lanes_avx2::<L, C, SUMS>(sites, out) };
+            }
+            _ => {}
         }
         self.lanes::<F4, L, C, SUMS>(sites, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,avx512f,avx512vl")]
+    fn lanes_avx512<L: PairKernel<'a>, C: ChargeKernel, const SUMS: bool>(
+        &self,
+        sites: std::ops::Range<usize>,
+        out: (&mut PairSums, &mut Within),
+    ) {
+        self.lanes::<Avx, L, C, SUMS>(sites, out);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -356,6 +330,8 @@ impl<'a> Inputs<'a> {
         let charges = (&coulomb, coulomb_cutoff);
         let (lj_cutoff2, coulomb_cutoff2, reach2) = self.squared_cutoffs::<T>();
         let kind = self.kind;
+        self.check_sites(out);
+        near.path = self.path;
         // Which lanes a chunk of `n` pairs uses, at `n - 1`.
         let listed: [T; LANES] = std::array::from_fn(|n| T::mask(std::array::from_fn(|l| l <= n)));
         let (mut lj_energy, mut overlaps) = (T::default(), T::default());
@@ -370,16 +346,12 @@ impl<'a> Inputs<'a> {
             if (!L::ON || a == NO_KIND) && target.is_none() {
                 continue;
             }
+            // Site `i`'s Lennard-Jones constants (any kind's where it has none: unused).
+            let lj_i = lj.site::<T>(if a == NO_KIND { 0 } else { a as usize });
             let (mut force_i, mut field_i, mut potential_i) =
                 (V4::<T>::default(), V4::<T>::default(), T::default());
-            let run = self.list.half_run(i);
-            near.collect(
-                &self.positions[i],
-                run,
-                self.positions,
-                &self.lengths,
-                reach2,
-            );
+            let (x, run) = (&self.positions[i], self.list.half_run(i));
+            near.collect(x, run, self.positions, &self.lengths, reach2);
             for start in (0..near.count).step_by(LANES) {
                 // Unused lanes repeat the last pair, their results dropped.
                 let n = (near.count - start).min(LANES);
@@ -388,7 +360,8 @@ impl<'a> Inputs<'a> {
                 let mut f = V4::<T>::default();
                 if L::ON && a != NO_KIND {
                     let within = r2.lt(lj_cutoff2).keep(listed);
-                    let (u, f_over_r, core) = self.lennard_jones_pairs(&lj, (a, &js), r2, within);
+                    let (u, f_over_r, core) =
+                        self.lennard_jones_pairs(&lj, (&lj_i, a, &js), r2, within);
                     if SUMS {
                         lj_energy += u;
                         overlaps += core;
@@ -399,17 +372,18 @@ impl<'a> Inputs<'a> {
                     let within = r2.lt(coulomb_cutoff2).keep(listed);
                     let sums = (&mut field_i, &mut potential_i);
                     let chunk = (&r, r2, within, &js[..n]);
-                    f += self.charge_pairs::<T, C, SUMS>(charges, chunk, (t, m), sums, out);
+                    // SAFETY: every partner is a site (`check_sites`).
+                    f += unsafe {
+                        self.charge_pairs::<T, C, SUMS>(charges, chunk, (t, m), sums, out)
+                    };
                 }
                 force_i += f;
-                react::<T, SUMS>(&f, &r, &js, &mut out.force, &mut virial);
+                // SAFETY: every partner is a site (`check_sites`).
+                unsafe { react::<T, SUMS>(&f, &r, &js, &mut out.force, &mut virial) };
             }
             out.force[i] += force_i.total();
             if target.is_some() {
-                if SUMS {
-                    out.potential[i] += potential_i.total();
-                }
-                out.field[i] += field_i.total();
+                out.add_field::<T, SUMS>(i, field_i, potential_i);
             }
         }
         out.lennard_jones = lj_energy.total();
@@ -428,24 +402,26 @@ impl<'a> Inputs<'a> {
     }
 
     /// The Lennard-Jones energies, `-(1/r) du/dr` and overlap marks of
-    /// site kind `a` with the partners `js` at `r2`, zero outside the lanes
-    /// `within` of the cutoff and for partners without Lennard-Jones.
+    /// site kind `a` (its constants `site`) with the partners `js` at `r2`,
+    /// zero outside the lanes `within` of the cutoff and for partners
+    /// without Lennard-Jones.
     #[inline(always)]
     fn lennard_jones_pairs<T: Lanes, L: PairKernel<'a>>(
         &self,
         lj: &L,
-        (a, js): (u32, &[usize; LANES]),
+        (site, a, js): (&L::Site<T>, u32, &[usize; LANES]),
         r2: T,
         mut within: T,
     ) -> (T, T, T) {
         // With one kind, every site's is `a`.
         let mut b = [a as usize; LANES];
         if !self.one_kind {
-            let kinds = js.map(|j| self.kind[j]);
+            // SAFETY: the partners are sites (checked before the rows).
+            let kinds = js.map(|j| *unsafe { self.kind.get_unchecked(j) });
             within = within.keep(T::mask(kinds.map(|b| b != NO_KIND)));
             b = kinds.map(|b| if b == NO_KIND { 0 } else { b as usize });
         }
-        let (u, f_over_r, core) = lj.pair(a as usize, b, r2);
+        let (u, f_over_r, core) = lj.pair(site, b, r2);
         (u.keep(within), f_over_r.keep(within), core.keep(within))
     }
 
@@ -453,8 +429,12 @@ impl<'a> Inputs<'a> {
     /// first lanes) at separations `r` within the lanes `within` of the
     /// cutoff: the target's field and (with `SUMS`) potential added to
     /// `sums`, the partners' to `out`; the forces on the target returned.
+    ///
+    /// # Safety
+    /// Every partner indexes the multipoles, the pass's tables and `out`'s
+    /// per-site sums.
     #[inline(always)]
-    fn charge_pairs<T: Lanes, C: ChargeKernel, const SUMS: bool>(
+    unsafe fn charge_pairs<T: Lanes, C: ChargeKernel, const SUMS: bool>(
         &self,
         (coulomb, cutoff): (&C, f64),
         (r, r2, mut within, js): (&V4<T>, T, T, &[usize]),
@@ -462,16 +442,18 @@ impl<'a> Inputs<'a> {
         (field_i, potential_i): (&mut V4<T>, &mut T),
         out: &mut PairSums,
     ) -> V4<T> {
+        // SAFETY (of every unchecked access below): the caller's promise.
         let lanes: [usize; LANES] = std::array::from_fn(|l| js[l.min(js.len() - 1)]);
         let source = ChargeDipoles {
             charge: match C::CHARGES {
-                true => T::from_array(lanes.map(|j| m.charges[j])),
+                true => T::from_array(lanes.map(|j| *unsafe { m.charges.get_unchecked(j) })),
                 false => T::default(),
             },
-            dipole: V4::gather(lanes.map(|j| &m.dipoles[j])),
+            dipole: V4::gather(lanes.map(|j| unsafe { m.dipoles.get_unchecked(j) })),
         };
         if !self.all_charged {
-            within = within.keep(T::mask(lanes.map(|j| self.charged[j])));
+            let charged = lanes.map(|j| *unsafe { self.charged.get_unchecked(j) });
+            within = within.keep(T::mask(charged));
         }
         let pair = coulomb.pair(r, r2, cutoff, t, &source);
         *field_i += pair.field.keep(within);
@@ -479,14 +461,38 @@ impl<'a> Inputs<'a> {
             *potential_i += pair.potential.keep(within);
             let source_potential = pair.source_potential.keep(within).to_array();
             for (l, &j) in js.iter().enumerate() {
-                out.potential[j] += source_potential[l];
+                *unsafe { out.potential.get_unchecked_mut(j) } += source_potential[l];
             }
         }
         let source_field = pair.source_field.keep(within).to_vectors();
         for (l, &j) in js.iter().enumerate() {
-            out.field[j] += source_field[l];
+            *unsafe { out.field.get_unchecked_mut(j) } += source_field[l];
         }
         pair.force.keep(within)
+    }
+
+    /// The partners of the kept rows are sites ([`Within`]'s promise), so
+    /// they index the per-site arrays that the rows read and write, all of
+    /// one entry per site: checked here once, not at every partner.
+    fn check_sites(&self, out: &PairSums) {
+        let n = self.positions.len();
+        let electrostatic = self.terms.electrostatics.map_or([n; 5], |(_, _, m)| {
+            let sums = [out.potential.len(), out.field.len()];
+            [
+                m.charges.len(),
+                m.dipoles.len(),
+                self.charged.len(),
+                sums[0],
+                sums[1],
+            ]
+        });
+        let lengths = [out.force.len(), self.kind.len()]
+            .into_iter()
+            .chain(electrostatic);
+        assert!(
+            lengths.into_iter().all(|l| l == n),
+            "per-site arrays of the pass's sites"
+        );
     }
 }
 
@@ -558,8 +564,8 @@ mod tests {
             dipole: V4::gather(std::array::from_fn(|l| &sources[l].dipole)),
         };
         let pair = K::new().pair(&r, r2, 2.5, &ChargeDipoles::splat(target), &source);
-        let (u, f_over_r, _) = term.pair_lanes::<T, false>(0, [0; LANES], r2);
-        let (u_fs, f_fs, _) = term.pair_lanes::<T, true>(0, [0; LANES], r2);
+        let (u, f_over_r, _) = term.pair_lanes::<T, false>(&term.kind_lanes(0), [0; LANES], r2);
+        let (u_fs, f_fs, _) = term.pair_lanes::<T, true>(&term.kind_lanes(0), [0; LANES], r2);
         let mut out = vec![
             u,
             f_over_r,
@@ -613,6 +619,62 @@ mod tests {
                     Truncated<ShiftedForce, true>,
                     Truncated<ShiftedForce, false>
                 );
+            }
+        }
+    }
+
+    /// Every machine path this CPU has ([`Path`]: the AVX2 code with
+    /// AVX-512 VL's registers, the AVX2 code, arrays) gives the pass the
+    /// same bits (debug-printed sums: every bit of every value), with and
+    /// without charges, for both truncations of the electrostatics and of
+    /// Lennard-Jones (shifted against force-shifted), in full and forces
+    /// only, with one kind and with two (mixed) and sites without any (every
+    /// seventh): each kernel and each choice of the rows, on 500 sites.
+    #[test]
+    fn every_path_gives_the_same_bits() {
+        let paths = Path::available();
+        assert_eq!(paths.last(), Some(&Path::Arrays));
+        for charges in [false, true] {
+            let (sites, one_kind, kinds, space) = fluid(charges);
+            let n = sites.positions.len();
+            let mut list = NeighbourList::new(2.5, 0.3).unwrap().half_only();
+            list.build(&sites.positions, &(0..n as u32).collect::<Vec<_>>(), &space);
+            let options = LennardJonesOptions {
+                cutoff: 2.5,
+                truncation: Truncation::ForceShifted,
+                mixing: Mixing::LorentzBerthelot,
+            };
+            let two =
+                [(1.0, 1.0), (0.7, 1.2)].map(|(epsilon, sigma)| Parameters { epsilon, sigma });
+            let two_kinds = LennardJonesTerm::new(options, two.to_vec()).unwrap();
+            let mixed: Vec<Option<u32>> = (0..n)
+                .map(|i| (i % 7 != 0).then_some((i % 2) as u32))
+                .collect();
+            for (term, kinds) in [(&one_kind, &kinds), (&two_kinds, &mixed)] {
+                for truncation in [
+                    ElectrostaticTruncation::Plain,
+                    ElectrostaticTruncation::ShiftedForce,
+                ] {
+                    let terms = PairTerms {
+                        lennard_jones: Some((term, kinds)),
+                        electrostatics: Some((2.5, truncation, &sites)),
+                    };
+                    for scope in [Scope::Full, Scope::Forces] {
+                        let sums: Vec<String> = paths
+                            .iter()
+                            .map(|&path| {
+                                let mut pass = PairPass {
+                                    path,
+                                    ..PairPass::default()
+                                };
+                                format!("{:?}", pass.run(&terms, &list, &sites.positions, scope))
+                            })
+                            .collect();
+                        for (path, s) in paths.iter().zip(&sums) {
+                            assert_eq!(s, &sums[0], "{path:?}, charges {charges}, {scope:?}");
+                        }
+                    }
+                }
             }
         }
     }

@@ -25,11 +25,14 @@
 //! lanes chosen by their mask), the last few one by one: the same
 //! partners, separations and padding as one by one throughout.
 
-use crate::lanes::{Lanes, LANES, V4};
+use crate::lanes::{Lanes, Path, LANES, V4};
 use nalgebra::Vector3;
 /// One site's partners within reach and their separations, padded to whole
 /// rows of [`LANES`] by repeating the last (the padding's results are
-/// dropped by the kernels' mask of used lanes).
+/// dropped by the kernels' mask of used lanes). Every partner of the rows
+/// up to the count (its padding included) is an index of the positions
+/// [`Within::collect`] was last given: the pair pass indexes its per-site
+/// arrays with them unchecked.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct Within {
     /// The partners.
@@ -41,6 +44,8 @@ pub(super) struct Within {
     pub r2: Vec<f64>,
     /// How many partners are within reach (the rows hold more: padding).
     pub count: usize,
+    /// The machine code that keeps them (the same partners on each).
+    pub path: Path,
 }
 
 impl Within {
@@ -75,12 +80,20 @@ impl Within {
             inverse_lengths: lengths.map(|l| if l > 0.0 { 1.0 / l } else { 0.0 }),
             reach2,
         };
-        let (mut done, mut n) = (0, 0);
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked just above.
-            (done, n) = unsafe { self.keep_rows_avx2(&site, partners) };
-        }
+        let (done, mut n) = match self.path {
+            Path::Avx512 if Path::Avx512.runs() => {
+                // SAFETY: the CPU has AVX-512 VL and AVX2, checked just above.
+                unsafe { self.keep_rows_avx512(&site, partners) }
+            }
+            Path::Avx512 | Path::Avx2 if Path::Avx2.runs() => {
+                // SAFETY: the CPU has AVX2, checked just above.
+                unsafe { self.keep_rows_avx2(&site, partners) }
+            }
+            _ => (0, 0),
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let (done, mut n) = (0, 0);
         let partner = &mut self.partner[..room];
         let (xs, ys, zs, r2s) = (
             &mut self.x[..room],
@@ -183,6 +196,27 @@ mod avx2 {
             site: &Site<'_>,
             partners: &[u32],
         ) -> (usize, usize) {
+            // SAFETY: the CPU has AVX2 (this function's promise).
+            unsafe { self.keep_rows(site, partners) }
+        }
+
+        /// [`Within::keep_rows_avx2`] with AVX-512 VL's 32 registers.
+        #[target_feature(enable = "avx2,avx512f,avx512vl")]
+        pub(super) fn keep_rows_avx512(
+            &mut self,
+            site: &Site<'_>,
+            partners: &[u32],
+        ) -> (usize, usize) {
+            // SAFETY: the CPU has AVX-512 VL (this function's promise).
+            unsafe { self.keep_rows(site, partners) }
+        }
+
+        /// The body of both.
+        ///
+        /// # Safety
+        /// The CPU has AVX2.
+        #[inline(always)]
+        unsafe fn keep_rows(&mut self, site: &Site<'_>, partners: &[u32]) -> (usize, usize) {
             let rows = partners.len() / LANES * LANES;
             // The intrinsics need AVX2, which the CPU has (the caller's
             // promise for this function); each load and store says why it
@@ -366,7 +400,8 @@ mod tests {
         );
     }
 
-    /// Taken four at a time (on CPUs with AVX2) or one by one, the kept
+    /// Taken four at a time (on every [`Path`] the CPU has: AVX2 with or
+    /// without AVX-512 VL's registers) or one by one, the kept
     /// partners, their separations (to the bit) and the padding are those
     /// of a plain loop over the listed partners with the minimum image
     /// `d - L round(d / L)`, for lists of every length from 0 to 40 (whole
@@ -381,10 +416,13 @@ mod tests {
             .map(|_| Vector3::from_fn(|k, _| rng.random_range(-2.0..3.0) * lengths[k]))
             .collect();
         let mut within = Within::default();
-        for listed in 0..=40 {
+        for (listed, path) in
+            (0..=40).flat_map(|l| Path::available().into_iter().map(move |p| (l, p)))
+        {
             let x = positions[rng.random_range(0..positions.len())];
             let partners: Vec<u32> = (0..listed).map(|_| rng.random_range(0..300)).collect();
             let reach2 = 9.0;
+            within.path = path;
             within.collect(&x, &partners, &positions, &lengths, reach2);
             let mut expected = Vec::new();
             for &j in &partners {
@@ -395,7 +433,7 @@ mod tests {
                     expected.push((j as usize, r.x, r.y, r.z, r2));
                 }
             }
-            assert_eq!(within.count, expected.len(), "{listed} listed");
+            assert_eq!(within.count, expected.len(), "{listed} listed, {path:?}");
             if let Some(&last) = expected.last() {
                 expected.resize(expected.len().next_multiple_of(LANES), last);
             }
@@ -410,7 +448,7 @@ mod tests {
                     )
                 })
                 .collect();
-            assert_eq!(kept, expected, "{listed} listed");
+            assert_eq!(kept, expected, "{listed} listed, {path:?}");
         }
     }
 
