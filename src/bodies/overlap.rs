@@ -59,7 +59,7 @@ impl BodySystem {
             let Some(a) = kind else { continue };
             let run = self.neighbours.half_run(i);
             near.collect(&positions[i], run, positions, &lengths, f64::INFINITY);
-            for (&j, &r2) in near.partner[..near.count].iter().zip(&near.r2) {
+            for (j, r2) in near.kept() {
                 let Some(b) = self.lj_kind[j] else { continue };
                 let sigma = term.sigma(*a as usize, b as usize);
                 let sigma2 = sigma * sigma;

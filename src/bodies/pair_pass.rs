@@ -352,9 +352,9 @@ impl<'a> Inputs<'a> {
                 (V4::<T>::default(), V4::<T>::default(), T::default());
             let (x, run) = (&self.positions[i], self.list.half_run(i));
             near.collect(x, run, self.positions, &self.lengths, reach2);
-            for start in (0..near.count).step_by(LANES) {
+            for start in (0..near.count()).step_by(LANES) {
                 // Unused lanes repeat the last pair, their results dropped.
-                let n = (near.count - start).min(LANES);
+                let n = (near.count() - start).min(LANES);
                 let listed = listed[n - 1];
                 let (js, r, r2) = near.row::<T>(start);
                 let mut f = V4::<T>::default();

@@ -35,15 +35,16 @@ use nalgebra::Vector3;
 /// arrays with them unchecked.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct Within {
-    /// The partners.
-    pub partner: Vec<usize>,
+    /// The partners (all five arrays are as long, and never shorter than
+    /// the padded count: [`Within::row`] relies on it).
+    partner: Vec<usize>,
     /// The separations' components and squared lengths.
-    pub x: Vec<f64>,
-    pub y: Vec<f64>,
-    pub z: Vec<f64>,
-    pub r2: Vec<f64>,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    r2: Vec<f64>,
     /// How many partners are within reach (the rows hold more: padding).
-    pub count: usize,
+    count: usize,
     /// The machine code that keeps them (the same partners on each).
     pub path: Path,
 }
@@ -117,19 +118,43 @@ impl Within {
         }
     }
 
-    /// The row of four pairs from the kept pair `start`: the partners,
-    /// the separations and their squared lengths.
+    /// The row of four pairs from the kept pair `start` (a row within the
+    /// padded count): the partners, the separations and their squared
+    /// lengths.
     #[inline(always)]
     pub fn row<T: Lanes>(&self, start: usize) -> ([usize; LANES], V4<T>, T) {
-        let row = start..start + LANES;
-        let load = |v: &[f64]| T::from_array(v[row.clone()].try_into().unwrap_or_default());
+        // One check for the five arrays: none is shorter than the padded
+        // count (`collect` makes room for the listed partners and a row).
+        let end = start + LANES;
+        assert!(
+            end <= self.count.next_multiple_of(LANES),
+            "a row beyond the kept"
+        );
+        // SAFETY: the row is within every array (just above).
+        let read = |v: &[f64]| unsafe { *v.as_ptr().add(start).cast::<[f64; LANES]>() };
         let r = V4 {
-            x: load(&self.x),
-            y: load(&self.y),
-            z: load(&self.z),
+            x: T::from_array(read(&self.x)),
+            y: T::from_array(read(&self.y)),
+            z: T::from_array(read(&self.z)),
         };
-        let js = self.partner[row.clone()].try_into().unwrap_or_default();
-        (js, r, load(&self.r2))
+        // SAFETY: as for the separations.
+        let js = unsafe { *self.partner.as_ptr().add(start).cast::<[usize; LANES]>() };
+        (js, r, T::from_array(read(&self.r2)))
+    }
+
+    /// How many partners are within reach (the rows hold more: padding).
+    #[inline(always)]
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// The kept partners and their squared separations.
+    pub fn kept(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let n = self.count;
+        self.partner[..n]
+            .iter()
+            .copied()
+            .zip(self.r2[..n].iter().copied())
     }
 }
 
