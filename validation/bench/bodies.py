@@ -53,7 +53,9 @@ CLI = Path("target/release/quatrot")
 SIDE_BY_SIDE_BODIES = 4000  # fcc, 10^3 cells
 # `s` of each system: runs of s and 2 s steps (module doc).
 SIDE_BY_SIDE_STEPS = {"stockmayer_fluid": 500, "lewis_wahnstrom_otp": 250}
-REPEATS = 3
+# Rounds: a step by difference moves 10-20 % from round to round on a shared
+# 2-vCPU guest (RESULTS.md, sessions 41 and 43), so five for the median.
+REPEATS = 5
 # (bodies, steps) of the scaling sweep, simple-cubic n^3 starts: each run
 # with `steps` and `2 steps + 1` steps (see `scaling`); at least 3 at the
 # large sizes, where one extra step is below the noise of the set-up.
