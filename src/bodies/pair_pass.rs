@@ -629,7 +629,8 @@ mod tests {
     /// without charges, for both truncations of the electrostatics and of
     /// Lennard-Jones (shifted against force-shifted), in full and forces
     /// only, with one kind and with two (mixed) and sites without any (every
-    /// seventh): each kernel and each choice of the rows, on 500 sites.
+    /// seventh): each kernel and each choice of the rows, on 500 sites;
+    /// and the two kinds' energy is a direct loop's over all pairs.
     #[test]
     fn every_path_gives_the_same_bits() {
         let paths = Path::available();
@@ -650,6 +651,29 @@ mod tests {
             let mixed: Vec<Option<u32>> = (0..n)
                 .map(|i| (i % 7 != 0).then_some((i % 2) as u32))
                 .collect();
+            // The two kinds' energy against a direct loop over all pairs
+            // with the scalar pair (each kind's own row of the table).
+            let mut direct = 0.0;
+            for i in 0..n {
+                for j in i + 1..n {
+                    let r = space.minimum_image(sites.positions[i] - sites.positions[j]);
+                    if let (Some(a), Some(b), true) = (mixed[i], mixed[j], r.norm() < 2.5) {
+                        direct += two_kinds.pair(a as usize, b as usize, r.norm_squared()).0;
+                    }
+                }
+            }
+            let only_lj = PairTerms {
+                lennard_jones: Some((&two_kinds, &mixed)),
+                electrostatics: None,
+            };
+            let mut pass = PairPass::default();
+            let lj = pass
+                .run(&only_lj, &list, &sites.positions, Scope::Full)
+                .lennard_jones;
+            assert!(
+                (lj - direct).abs() < ROUND_OFF * direct.abs(),
+                "{lj} {direct}"
+            );
             for (term, kinds) in [(&one_kind, &kinds), (&two_kinds, &mixed)] {
                 for truncation in [
                     ElectrostaticTruncation::Plain,
