@@ -22,7 +22,18 @@ const RUN: usize = 64;
 
 /// The cells next to one (itself included) with their shifts, and how
 /// many of the array's are ([`Cells::neighbours`]).
-pub(super) type Neighbours = ([(usize, [i8; 3]); 27], usize);
+type Neighbours = ([(usize, [i8; 3]); 27], usize);
+
+/// The cells next to a site's cell ([`Cells::near`]) with, in each, the
+/// first slot whose site is above the last site scanned from them: sites of
+/// one cell scanned in ascending order ([`Cells::scan_above`]) start where
+/// the last left off, a few slots on at most, instead of searching the run.
+pub(super) struct Near {
+    /// The cell whose neighbours these are.
+    pub cell: usize,
+    cells: Neighbours,
+    above: [usize; 27],
+}
 
 /// A grid of cells over the sites.
 pub(super) struct Cells {
@@ -127,7 +138,7 @@ impl Cells {
     /// The cells next to cell `c` (itself included) with the box lengths
     /// each is shifted by across the faces: the first `count` of the array,
     /// the first axis slowest.
-    pub fn neighbours(&self, c: usize) -> Neighbours {
+    fn neighbours(&self, c: usize) -> Neighbours {
         let [_, ny, nz] = self.counts;
         let own = [c / (ny * nz), (c / nz) % ny, c % nz];
         // Along each axis, the cells one below, at and one above the own
@@ -160,6 +171,22 @@ impl Cells {
             }
         }
         (out, count)
+    }
+
+    /// The neighbours of cell `c` seen from site `i` of it, each cell's
+    /// run searched once for its first site above `i`.
+    pub fn near(&self, c: usize, i: usize) -> Near {
+        let cells = self.neighbours(c);
+        let mut above = [0; 27];
+        for (above, &(c, _)) in above.iter_mut().zip(&cells.0[..cells.1]) {
+            let run = &self.site[self.first[c]..self.first[c + 1]];
+            *above = self.first[c] + run.partition_point(|&j| j as usize <= i);
+        }
+        Near {
+            cell: c,
+            cells,
+            above,
+        }
     }
 
     /// Bit `k` set for each slot `slots.start + k` (at most [`RUN`] slots)
@@ -234,32 +261,40 @@ impl Cells {
     }
 
     /// Calls `found(j, counts)` for every site `j > i` within `reach2 =
-    /// reach^2` of site `i` (at `x`; `near` the neighbours of its cell)
-    /// that `wanted(j)` accepts, `counts` the box lengths between
-    /// `x_i - x_j` and that separation's minimum image. A cell's sites are
-    /// in ascending order: those above `i` are the end of its run.
+    /// reach^2` of site `i` (at `x`; `near` the neighbours of its cell,
+    /// from [`Cells::near`] for a site of the cell not above `i`, and
+    /// since then scanned for sites of the cell below `i` only, in
+    /// ascending order) that `wanted(j)` accepts, `counts` the box lengths
+    /// between `x_i - x_j` and that separation's minimum image. A cell's
+    /// sites are in ascending order: those above `i` are the end of its run.
     #[inline(always)]
     pub fn scan_above(
         &self,
         (i, x): (usize, &Vector3<f64>),
-        (near, count): &Neighbours,
+        near: &mut Near,
         reach2: f64,
         wanted: impl Fn(usize) -> bool,
         mut found: impl FnMut(u32, [i8; 3]),
     ) {
         let a = self.wraps[i];
         let w = x - Vector3::from_fn(|k, _| f64::from(a[k]) * self.lengths[k]);
-        for &(c, shift) in &near[..*count] {
+        let (cells, count) = &near.cells;
+        for (&(c, shift), above) in cells[..*count].iter().zip(&mut near.above) {
             // `w` seen from the cell's image: `x_i - x_j - L shift` is `p - w_j`.
             let p = w - Vector3::from_fn(|k, _| f64::from(shift[k]) * self.lengths[k]);
-            let run = &self.site[self.first[c]..self.first[c + 1]];
-            let mut start = self.first[c] + run.partition_point(|&j| j as usize <= i);
-            while start < self.first[c + 1] {
-                let end = (start + RUN).min(self.first[c + 1]);
+            // The first site above `i`: at or after the first above the
+            // last site scanned (not above `i`).
+            let end = self.first[c + 1];
+            while *above < end && self.site[*above] as usize <= i {
+                *above += 1;
+            }
+            let mut start = *above;
+            while start < end {
+                let stop = (start + RUN).min(end);
                 // The sites within reach as bits (no branch per site: most
                 // are beyond reach), then those sites in order.
-                let mut within = self.within_bits(&p, start..end, reach2);
-                let slots = &self.site[start..end];
+                let mut within = self.within_bits(&p, start..stop, reach2);
+                let slots = &self.site[start..stop];
                 while within != 0 {
                     let j = slots[within.trailing_zeros() as usize];
                     within &= within - 1;
@@ -271,7 +306,7 @@ impl Cells {
                         );
                     }
                 }
-                start = end;
+                start = stop;
             }
         }
     }

@@ -16,7 +16,7 @@
 //! neither scanned nor anyone's partners, nor make the list stale).
 
 pub use super::cells::CELLS_PER_SITE;
-use super::cells::{Cells, Neighbours};
+use super::cells::{Cells, Near};
 use super::checkpoint::{bad, take_values, whole};
 use super::space::Space;
 use crate::checks::{non_negative, positive, InputError};
@@ -262,21 +262,23 @@ impl Scan<'_> {
         let mut counts = Vec::with_capacity(range.len());
         let (mut partners, mut images) = (Vec::new(), Vec::new());
         // The neighbours of the last site's cell (the sites of a body,
-        // which follow each other, are often in one cell).
-        let mut near: (usize, Neighbours) = (usize::MAX, ([(0, [0; 3]); 27], 0));
+        // which follow each other, are often in one cell), the sites
+        // taken in ascending order (as `scan_above` needs).
+        let mut near: Option<Near> = None;
         for i in range {
             if self.listed.is_some_and(|l| !l[i]) {
                 counts.push(0);
                 continue;
             }
             let cell = self.cells.cell_of(i);
-            if near.0 != cell {
-                near = (cell, self.cells.neighbours(cell));
-            }
+            let near = match &mut near {
+                Some(n) if n.cell == cell => n,
+                _ => near.insert(self.cells.near(cell, i)),
+            };
             let (before, own) = (partners.len(), body[i]);
             let wanted = |j: usize| body[j] != own;
             self.cells
-                .scan_above((i, &sites[i]), &near.1, self.reach2, wanted, |j, image| {
+                .scan_above((i, &sites[i]), near, self.reach2, wanted, |j, image| {
                     partners.push(j);
                     images.push(image);
                 });
