@@ -342,6 +342,62 @@ mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
 
+    /// Scanning the sites in ascending order with each cell's cursors
+    /// carried from the last site of the same cell (as a build does) finds
+    /// the partners, in the same order, that a fresh search of every run for
+    /// each site finds: rigid three-site molecules (so that consecutive
+    /// sites share cells) in periodic boxes of 2 to 5 cells per edge, and in
+    /// open space.
+    #[test]
+    fn carried_cursors_find_what_fresh_searches_find() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(44);
+        for (lengths, molecules, reach) in [(6.0, 60, 2.9), (13.0, 250, 2.6), (9.5, 120, 4.0)] {
+            let lengths = Vector3::repeat(lengths);
+            let mut sites = Vec::new();
+            for _ in 0..molecules {
+                let centre = Vector3::from_fn(|k, _| rng.random::<f64>() * lengths[k]);
+                for _ in 0..3 {
+                    sites.push(centre + Vector3::from_fn(|_, _| rng.random_range(-0.6..0.6)));
+                }
+            }
+            for space in [Space::Periodic(lengths), Space::Open] {
+                let cells = Cells::new(&sites, None, &space, reach);
+                let scan = |i: usize, near: &mut Near| {
+                    let mut found = Vec::new();
+                    cells.scan_above(
+                        (i, &sites[i]),
+                        near,
+                        reach * reach,
+                        |j| j / 3 != i / 3,
+                        |j, c| found.push((j, c)),
+                    );
+                    found
+                };
+                let mut carried: Option<Near> = None;
+                let mut pairs = 0;
+                for i in 0..sites.len() {
+                    let cell = cells.cell_of(i);
+                    let near = match &mut carried {
+                        Some(n) if n.cell == cell => n,
+                        _ => carried.insert(cells.near(cell, i)),
+                    };
+                    let found = scan(i, near);
+                    assert_eq!(
+                        found,
+                        scan(i, &mut cells.near(cell, i)),
+                        "site {i} in {space:?}"
+                    );
+                    pairs += found.len();
+                }
+                assert!(
+                    pairs > 5 * sites.len(),
+                    "{pairs} pairs of {} sites",
+                    sites.len()
+                );
+            }
+        }
+    }
+
     /// The bits of the sites within reach are those of a plain loop over
     /// the slots, four at a time (on CPUs with AVX2) and one by one (the
     /// path of CPUs without it), for runs of every
